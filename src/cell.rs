@@ -1,0 +1,275 @@
+//! Cells of the covering space: which copy `g(D)` of the fundamental domain
+//! a point is in, as an id that depends on the group element `g` only,
+//! never on the path (the word) that reached it (DESIGN.md §3).
+//!
+//! - **Lattice**: Euclidean box domains (the 3-torus, the mirrored cube),
+//!   whose copies sit on a lattice of boxes. The id packs the integer triple
+//!   `(i, j, k)` of the copy's centre.
+//! - **Finite**: spherical spaces, whose group is finite. The elements are
+//!   enumerated once and the id is an index into that list, with a Cayley
+//!   table for the step across each face (Poincaré: 120 elements).
+//! - **Hashed**: infinite groups that are no lattice (hyperbolic spaces).
+//!   The copy's centre `g(origin)` on the hyperboloid is rounded to a grid
+//!   finer than half the distance between any two centres and hashed. Two
+//!   words for the same element land on the same grid point unless rounding
+//!   error reaches a grid boundary, which in f64 needs an error ~1e-10 times
+//!   the grid step; the tests measure the margin.
+//!
+//! ```
+//! use bevy_manifold::space::catalog;
+//! use glam::DMat4;
+//! let torus = catalog::torus(1.0);
+//! let g = torus.crossing(0) * torus.crossing(2); // across +x, then +y
+//! assert_eq!(torus.cell_id(&g).lattice(), Some(glam::IVec3::new(1, 1, 0)));
+//! assert_eq!(torus.cell_id(&DMat4::IDENTITY).0, 0);
+//! ```
+
+use crate::geometry::Geometry;
+use crate::space::Space;
+use glam::{DMat3, DMat4, DVec3, DVec4, IVec3};
+
+/// The id of one copy of the fundamental domain in the cover. The origin
+/// copy is 0 in every scheme.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
+pub struct CellId(pub u64);
+
+const LATTICE_BITS: u32 = 21;
+const LATTICE_MASK: u64 = (1 << LATTICE_BITS) - 1;
+/// Marks lattice ids so they can be decoded.
+const LATTICE_TAG: u64 = 1 << 63;
+
+impl CellId {
+    /// The id of lattice cell `(i, j, k)`; each coordinate keeps 21 bits.
+    #[must_use]
+    pub fn from_lattice(c: IVec3) -> Self {
+        if c == IVec3::ZERO {
+            return CellId(0);
+        }
+        let pack = |x: i32| (x as i64 as u64) & LATTICE_MASK;
+        CellId(LATTICE_TAG | pack(c.x) | (pack(c.y) << LATTICE_BITS) | (pack(c.z) << (2 * LATTICE_BITS)))
+    }
+
+    /// The lattice triple of a lattice id (`Some(ZERO)` for the origin).
+    #[must_use]
+    pub fn lattice(self) -> Option<IVec3> {
+        if self.0 == 0 {
+            return Some(IVec3::ZERO);
+        }
+        if self.0 & LATTICE_TAG == 0 {
+            return None;
+        }
+        let unpack = |s: u32| {
+            let v = (self.0 >> s) & LATTICE_MASK;
+            // sign-extend 21 bits
+            ((v << (64 - LATTICE_BITS)) as i64 >> (64 - LATTICE_BITS)) as i32
+        };
+        Some(IVec3::new(unpack(0), unpack(LATTICE_BITS), unpack(2 * LATTICE_BITS)))
+    }
+
+    /// A colour for per-cell shading, the same for every path to the cell.
+    #[must_use]
+    pub fn color(self) -> [f32; 3] {
+        if self.0 == 0 {
+            return [1.0, 1.0, 1.0];
+        }
+        let h = mix64(self.0);
+        let c = |s: u32| 0.25 + 0.75 * ((h >> s) & 0xff) as f32 / 255.0;
+        [c(0), c(8), c(16)]
+    }
+}
+
+/// How a space numbers the copies of its domain.
+#[derive(Clone, Debug)]
+pub enum CellScheme {
+    /// Box lattice: the centre of `g(D)` is `B (i, j, k)`.
+    Lattice {
+        /// Inverse of the lattice basis `B` (the box's edge lengths).
+        inverse_basis: DMat3,
+    },
+    /// A finite group, enumerated.
+    Finite {
+        /// The elements; index 0 is the identity.
+        elements: Vec<DMat4>,
+        /// `table[k][f]`: the index of `elements[k] * T_f`.
+        table: Vec<Vec<u32>>,
+    },
+    /// Rounded hyperboloid (or chart) coordinates of the centre, hashed.
+    Hashed {
+        /// The grid step.
+        quantum: f64,
+    },
+}
+
+/// Most elements a finite group may have before it is treated as infinite.
+pub const MAX_FINITE_GROUP: usize = 5_000;
+
+impl CellScheme {
+    /// The scheme that fits a space.
+    #[must_use]
+    pub fn for_space(space: &Space) -> Self {
+        match space.geometry() {
+            Geometry::Spherical => match enumerate_group(space, MAX_FINITE_GROUP) {
+                Some((elements, table)) => CellScheme::Finite { elements, table },
+                None => CellScheme::Hashed {
+                    quantum: hashed_quantum(space),
+                },
+            },
+            Geometry::Euclidean => match box_lattice(space) {
+                Some(inverse_basis) => CellScheme::Lattice { inverse_basis },
+                None => CellScheme::Hashed {
+                    quantum: hashed_quantum(space),
+                },
+            },
+            Geometry::Hyperbolic => CellScheme::Hashed {
+                quantum: hashed_quantum(space),
+            },
+        }
+    }
+
+    /// The id of the copy `g(D)`.
+    #[must_use]
+    pub fn id_of(&self, g: &DMat4) -> CellId {
+        let centre = g.w_axis;
+        match self {
+            CellScheme::Lattice { inverse_basis } => {
+                let c = *inverse_basis * (centre.truncate() / centre.w);
+                CellId::from_lattice(c.round().as_ivec3())
+            }
+            CellScheme::Finite { elements, .. } => {
+                let best = elements
+                    .iter()
+                    .enumerate()
+                    .map(|(i, e)| (i, (e.w_axis - centre).length_squared()))
+                    .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
+                CellId(best.0 as u64)
+            }
+            CellScheme::Hashed { quantum } => hashed_id(centre, *quantum),
+        }
+    }
+
+    /// For a finite group, the id after crossing: `id * T_f`.
+    #[must_use]
+    pub fn step(&self, id: CellId, right_factor_face: usize) -> Option<CellId> {
+        match self {
+            CellScheme::Finite { table, .. } => Some(CellId(u64::from(table[id.0 as usize][right_factor_face]))),
+            _ => None,
+        }
+    }
+
+    /// A short name: "lattice", "finite" or "hashed".
+    #[must_use]
+    pub fn kind(&self) -> &'static str {
+        match self {
+            CellScheme::Lattice { .. } => "lattice",
+            CellScheme::Finite { .. } => "finite",
+            CellScheme::Hashed { .. } => "hashed",
+        }
+    }
+
+    /// For the hashed scheme, how far (in grid steps, at most 0.5) the
+    /// coordinates of `g(origin)` are from a rounding boundary: the margin
+    /// that keeps the id path-independent.
+    #[must_use]
+    pub fn rounding_margin(&self, g: &DMat4) -> f64 {
+        match self {
+            CellScheme::Hashed { quantum } => (g.w_axis / *quantum)
+                .to_array()
+                .iter()
+                .map(|x| 0.5 - (x - x.round()).abs())
+                .fold(0.5, f64::min),
+            _ => 0.5,
+        }
+    }
+}
+
+/// Half the smallest possible distance between two copies' centres,
+/// shrunk so that a grid cube (diagonal 2 steps in 4D) fits between them.
+/// Centres are at least `2 r` apart (`r` the inradius), and in H3 the
+/// Euclidean norm of a difference of hyperboloid points is at least its
+/// Minkowski norm `2 sinh(d/2) >= 2 sinh r`.
+fn hashed_quantum(space: &Space) -> f64 {
+    let r = space.inradius();
+    match space.geometry() {
+        Geometry::Hyperbolic => r.sinh() / 2.0,
+        Geometry::Spherical => r.sin() / 2.0,
+        Geometry::Euclidean => r / 2.0,
+    }
+}
+
+fn hashed_id(centre: DVec4, quantum: f64) -> CellId {
+    let key = (centre / quantum).round();
+    let origin = (DVec4::W / quantum).round();
+    if key == origin {
+        return CellId(0);
+    }
+    let mut h = 0x9e37_79b9_7f4a_7c15u64;
+    for x in key.to_array() {
+        h = mix64(h ^ (x as i64 as u64));
+    }
+    // Keep the lattice tag bit clear, and never produce the origin's 0.
+    CellId((h & !LATTICE_TAG).max(1))
+}
+
+/// A 64-bit finaliser (splitmix64): spreads every input bit over the output.
+#[must_use]
+pub fn mix64(mut x: u64) -> u64 {
+    x = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    x ^ (x >> 31)
+}
+
+/// A Euclidean domain that is an axis-aligned box centred at the origin:
+/// the inverse of `diag(edge lengths)`.
+fn box_lattice(space: &Space) -> Option<DMat3> {
+    let mut half = [0.0f64; 3];
+    if space.faces().len() != 6 {
+        return None;
+    }
+    for f in space.faces() {
+        let n = f.plane.truncate();
+        let axis = (0..3).find(|&a| (n[a].abs() - n.length()).abs() < 1e-12)?;
+        let h = -f.plane.w / n.length();
+        if half[axis] != 0.0 && (half[axis] - h).abs() > 1e-12 {
+            return None;
+        }
+        half[axis] = h;
+    }
+    if half.contains(&0.0) {
+        return None;
+    }
+    Some(DMat3::from_diagonal(DVec3::from_array(half).recip() * 0.5))
+}
+
+/// Breadth-first enumeration of the group generated by the pairings, up to
+/// `limit` elements, with its right Cayley table. Elements are told apart by
+/// where they send the origin, which no non-identity element fixes (the
+/// origin is interior, where the action is free).
+fn enumerate_group(space: &Space, limit: usize) -> Option<(Vec<DMat4>, Vec<Vec<u32>>)> {
+    let g = space.geometry();
+    let gens: Vec<DMat4> = space.faces().iter().map(|f| f.pairing).collect();
+    let mut elements = vec![DMat4::IDENTITY];
+    let mut table: Vec<Vec<u32>> = Vec::new();
+    let find = |els: &[DMat4], m: &DMat4| els.iter().position(|e| (e.w_axis - m.w_axis).length() < 1e-6);
+    let mut k = 0;
+    while k < elements.len() {
+        let mut row = Vec::with_capacity(gens.len());
+        for t in &gens {
+            let m = crate::geometry::isometry::orthonormalize(g, elements[k] * *t);
+            let idx = match find(&elements, &m) {
+                Some(i) => i,
+                None => {
+                    if elements.len() >= limit {
+                        return None;
+                    }
+                    elements.push(m);
+                    elements.len() - 1
+                }
+            };
+            row.push(idx as u32);
+        }
+        table.push(row);
+        k += 1;
+    }
+    Some((elements, table))
+}

@@ -1,0 +1,188 @@
+//! Command-line parsing and dispatch. The command names and flags are a
+//! contract other tools rely on; change them only by adding.
+
+mod bench;
+mod show;
+
+use bevy_manifold::prelude::*;
+use bevy_manifold::space::SpaceFileError;
+use bevy_manifold::trace::{write_ids_png, write_png};
+use clap::{Args, CommandFactory, Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "bevy_manifold",
+    version,
+    about = "Look inside non-Euclidean 3-manifolds and orbifolds by ray tracing"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Inspect and export spaces.
+    #[command(subcommand)]
+    Space(SpaceCommand),
+    /// Render a view of a space to PNG.
+    Render(RenderArgs),
+    /// Benchmarks.
+    #[command(subcommand)]
+    Bench(bench::BenchCommand),
+}
+
+#[derive(Subcommand)]
+enum SpaceCommand {
+    /// Print the catalog's space names, one per line.
+    List,
+    /// Describe a space: faces, vertices, edge cycles, radii, volume, group.
+    Show {
+        /// A catalog name or the path of a space file.
+        name: String,
+    },
+    /// Print a space as JSON (the space-file format).
+    Export {
+        /// A catalog name or the path of a space file.
+        name: String,
+    },
+}
+
+#[derive(Args)]
+struct RenderArgs {
+    /// A catalog name or the path of a space file.
+    #[arg(long)]
+    space: String,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 640)]
+    width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 360)]
+    height: u32,
+    /// Output PNG.
+    #[arg(long)]
+    out: PathBuf,
+    /// Scene file (JSON); without it, the space's default scene.
+    #[arg(long)]
+    scene: Option<PathBuf>,
+    /// Also write the id buffer (R object, G levels, B cell id low byte).
+    #[arg(long)]
+    ids: Option<PathBuf>,
+    /// Most face crossings per ray (the paper's levels).
+    #[arg(long, default_value_t = 8)]
+    bounces: u32,
+    /// Fog density (adds fog, or overrides the scene's).
+    #[arg(long)]
+    fog: Option<f64>,
+    /// Colour objects by the copy of the domain they are seen in.
+    #[arg(long)]
+    cells: bool,
+    /// Use the CPU reference tracer (the only tracer in this version).
+    #[arg(long)]
+    cpu: bool,
+    /// Trace in f32, the GPU's precision, instead of f64.
+    #[arg(long)]
+    f32: bool,
+}
+
+/// Parses the arguments and runs the command.
+pub fn run() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        None => {
+            // Reserved for the interactive explorer.
+            let _ = Cli::command().print_help();
+            println!();
+            Ok(())
+        }
+        Some(Command::Space(SpaceCommand::List)) => {
+            for name in catalog::NAMES {
+                println!("{name}");
+            }
+            Ok(())
+        }
+        Some(Command::Space(SpaceCommand::Show { name })) => {
+            resolve_space(&name).map(|s| print!("{}", show::describe(&s)))
+        }
+        Some(Command::Space(SpaceCommand::Export { name })) => {
+            resolve_space(&name).map(|s| println!("{}", s.to_json()))
+        }
+        Some(Command::Render(args)) => render_command(&args),
+        Some(Command::Bench(b)) => bench::run(&b),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// A catalog space by name, or a space file by path.
+pub(crate) fn resolve_space(name: &str) -> Result<Space, String> {
+    if let Some(s) = catalog::by_name(name) {
+        return Ok(s);
+    }
+    let path = std::path::Path::new(name);
+    if path.exists() {
+        return Space::load(path).map_err(|e: SpaceFileError| e.to_string());
+    }
+    Err(format!(
+        "'{name}' is neither a catalog space ({}) nor a space file",
+        catalog::NAMES.join(", ")
+    ))
+}
+
+fn render_command(args: &RenderArgs) -> Result<(), String> {
+    let space = resolve_space(&args.space)?;
+    if args.width == 0 || args.height == 0 {
+        return Err(format!(
+            "the image must be at least 1x1, got {}x{}",
+            args.width, args.height
+        ));
+    }
+    let mut scene = match &args.scene {
+        Some(p) => Scene::load(p, &space).map_err(|e| e.to_string())?,
+        None => Scene::default_for(&space),
+    };
+    if let Some(density) = args.fog {
+        if !(density >= 0.0 && density.is_finite()) {
+            return Err(format!("--fog must be a density >= 0, got {density}"));
+        }
+        let color = scene.fog.as_ref().map_or([0.75, 0.78, 0.82], |f| f.color);
+        scene.fog = Some(Fog { density, color });
+    }
+    let settings = TraceSettings {
+        width: args.width,
+        height: args.height,
+        max_level: args.bounces,
+        cell_colors: args.cells,
+        ..TraceSettings::default()
+    };
+    let _ = args.cpu; // the CPU tracer is the only one for now
+    let start = std::time::Instant::now();
+    let img = if args.f32 {
+        render::<f32>(&space, &scene, &settings)
+    } else {
+        render::<f64>(&space, &scene, &settings)
+    };
+    let secs = start.elapsed().as_secs_f64();
+    write_png(&img, &args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    if let Some(ids) = &args.ids {
+        write_ids_png(&img, ids).map_err(|e| format!("{}: {e}", ids.display()))?;
+    }
+    eprintln!(
+        "rendered {} ({}x{}, {} levels, CPU {}) in {:.2} s -> {}",
+        space.name(),
+        args.width,
+        args.height,
+        args.bounces,
+        if args.f32 { "f32" } else { "f64" },
+        secs,
+        args.out.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,42 @@
+//! # bevy_manifold
+//!
+//! Look around and move inside non-Euclidean 3-manifolds and orbifolds,
+//! rendered by ray tracing: a ray that leaves the fundamental polyhedron
+//! through a face comes back in through its partner, so the whole
+//! tessellated cover is seen (Velho, da Silva, Novello, GI 2020).
+//!
+//! The crate is layered like avian: a math core free of the ECS and the
+//! renderer, shared by tests, the CLI, the CPU reference tracer and (in
+//! later versions) the Bevy plugin and its WGSL pass.
+//!
+//! - [`geometry`]: E3, H3 and S3 in one projective chart; isometries; planes.
+//! - [`space`]: fundamental polyhedra with face pairings, validation, the
+//!   catalog of the paper's five spaces, space files.
+//! - [`cell`]: path-independent ids for the copies of the domain.
+//! - [`trace`]: the CPU reference ray tracer (Algorithm 1), in f64 and in an
+//!   f32 mode that mirrors the GPU arithmetic.
+//!
+//! ```
+//! use bevy_manifold::prelude::*;
+//!
+//! let space = catalog::poincare();
+//! let scene = Scene::default_for(&space);
+//! let settings = TraceSettings { width: 32, height: 18, ..TraceSettings::default() };
+//! let image = render::<f64>(&space, &scene, &settings);
+//! assert_eq!(image.pixels.len(), 32 * 18);
+//! // The ball at the centre of the domain is seen in the middle of the view.
+//! assert!(image.pixels.iter().any(|p| p.object == 1));
+//! ```
+
+pub mod cell;
+pub mod geometry;
+pub mod space;
+pub mod trace;
+
+/// The types most users need.
+pub mod prelude {
+    pub use crate::cell::CellId;
+    pub use crate::geometry::{Geometry, Real, isometry, plane};
+    pub use crate::space::{Face, FaceKind, Space, SpaceDesc, SpaceError, catalog};
+    pub use crate::trace::{Ball, Fog, Light, Scene, TraceImage, TraceSettings, render};
+}

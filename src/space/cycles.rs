@@ -1,0 +1,287 @@
+//! Edge cycles (the classes of edges the pairings identify) and the first
+//! homology they give.
+//!
+//! A cycle is walked as a ray would turn around an edge: standing on edge
+//! `e` about to leave through face `a`, the pairing `T_a` carries `e` to an
+//! edge `e'` of the partner face; the walk goes on through the other face
+//! of `e'`, until it is back on `e` leaving through `a`. Around a mirror the
+//! walk bounces, visiting the edge twice. The dihedral angles met on the
+//! walk add up to the cycle's angle sum, which must be `2 pi / k`: `k = 1`
+//! for a manifold edge, `k > 1` for an orbifold's cone or corner edge.
+
+use super::{FaceKind, Space, SpaceError, max_abs_diff};
+use glam::DMat4;
+
+/// One class of identified edges.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EdgeCycle {
+    /// Edges in walk order (a mirror edge appears once per visit).
+    pub edges: Vec<usize>,
+    /// The face left through at each step.
+    pub faces: Vec<usize>,
+    /// Sum of the dihedral angles along the walk, in radians.
+    pub angle_sum: f64,
+    /// `k` with `angle_sum * k = 2 pi` (1 for a manifold edge).
+    pub order: u32,
+    /// The cycle transformation `T_{a_m} ... T_{a_1}`: a rotation about the
+    /// first edge by the angle sum.
+    pub holonomy: DMat4,
+}
+
+impl EdgeCycle {
+    /// How many distinct edges the cycle identifies.
+    #[must_use]
+    pub fn distinct_edges(&self) -> usize {
+        let mut e = self.edges.clone();
+        e.sort_unstable();
+        e.dedup();
+        e.len()
+    }
+}
+
+/// Walks every edge cycle of the space.
+pub(super) fn edge_cycles(space: &Space) -> Result<Vec<EdgeCycle>, SpaceError> {
+    let poly = &space.poly;
+    let mut seen = vec![false; poly.edges.len()];
+    let mut cycles = Vec::new();
+    for start in 0..poly.edges.len() {
+        if seen[start] {
+            continue;
+        }
+        let start_face = poly.edges[start].faces[0];
+        let (mut e, mut a) = (start, start_face);
+        let mut cycle = EdgeCycle {
+            edges: Vec::new(),
+            faces: Vec::new(),
+            angle_sum: 0.0,
+            order: 0,
+            holonomy: DMat4::IDENTITY,
+        };
+        loop {
+            seen[e] = true;
+            cycle.edges.push(e);
+            cycle.faces.push(a);
+            cycle.angle_sum += poly.edges[e].dihedral;
+            let t = space.faces[a].pairing;
+            cycle.holonomy = t * cycle.holonomy;
+            let [v0, v1] = poly.edges[e].vertices;
+            let image = |v: usize| poly.vertex_at(t * poly.vertices[v].point);
+            let next = match (image(v0), image(v1)) {
+                (Some(w0), Some(w1)) => poly.edge_between(w0, w1),
+                _ => None,
+            };
+            let partner = space.faces[a].partner;
+            let Some(next) = next.filter(|&n| poly.edges[n].faces.contains(&partner)) else {
+                return Err(SpaceError::EdgeCycle {
+                    edges: cycle.edges,
+                    faces: cycle.faces,
+                    detail: format!("the pairing of face {a} does not carry edge {e} onto an edge of face {partner}"),
+                });
+            };
+            let [f0, f1] = poly.edges[next].faces;
+            let other = if f0 == partner { f1 } else { f0 };
+            (e, a) = (next, other);
+            if (e, a) == (start, start_face) {
+                break;
+            }
+            if cycle.edges.len() > 2 * poly.edges.len() {
+                return Err(SpaceError::EdgeCycle {
+                    edges: cycle.edges,
+                    faces: cycle.faces,
+                    detail: "the walk around the edge never closes".into(),
+                });
+            }
+        }
+        let k = core::f64::consts::TAU / cycle.angle_sum;
+        cycle.order = if (k - k.round()).abs() < 1e-6 && k.round() >= 1.0 {
+            k.round() as u32
+        } else {
+            0
+        };
+        cycles.push(cycle);
+    }
+    Ok(cycles)
+}
+
+/// Every cycle must close after a whole number of turns: angle sum `2 pi/k`
+/// and holonomy of order `k`.
+pub(super) fn check_cycles(space: &Space) -> Result<(), SpaceError> {
+    for c in &space.cycles {
+        let fail = |detail: String| SpaceError::EdgeCycle {
+            edges: c.edges.clone(),
+            faces: c.faces.clone(),
+            detail,
+        };
+        if c.order == 0 {
+            return Err(fail(format!(
+                "the dihedral angles add up to {:.6} deg, which is not 360/k deg for a whole k",
+                c.angle_sum.to_degrees()
+            )));
+        }
+        let mut power = DMat4::IDENTITY;
+        for _ in 0..c.order {
+            power = c.holonomy * power;
+        }
+        let err = max_abs_diff(power, DMat4::IDENTITY);
+        if err > 1e-7 {
+            return Err(fail(format!(
+                "the cycle transformation to the power {} is not the identity (error {err:.3e}): the gluing twists the edge",
+                c.order
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// A finitely generated abelian group `Z^rank + Z/t1 + Z/t2 + ...`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Homology {
+    /// Free rank.
+    pub rank: usize,
+    /// Torsion coefficients greater than 1, each dividing the next.
+    pub torsion: Vec<u64>,
+}
+
+impl core::fmt::Display for Homology {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let mut parts: Vec<String> = Vec::new();
+        match self.rank {
+            0 => {}
+            1 => parts.push("Z".into()),
+            r => parts.push(format!("Z^{r}")),
+        }
+        parts.extend(self.torsion.iter().map(|t| format!("Z/{t}")));
+        if parts.is_empty() {
+            f.write_str("0")
+        } else {
+            f.write_str(&parts.join(" + "))
+        }
+    }
+}
+
+/// The abelianised group: one generator per face pair (or mirror), one
+/// relation per edge cycle (its word to the power `k`), `2 g = 0` per mirror.
+pub(super) fn first_homology(space: &Space) -> Homology {
+    let faces = &space.faces;
+    let gens: Vec<usize> = (0..faces.len()).filter(|&i| faces[i].partner >= i).collect();
+    let gen_of = |f: usize| -> (usize, i64) {
+        let p = faces[f].partner;
+        let rep = f.min(p);
+        let col = gens.iter().position(|&g| g == rep).unwrap_or(0);
+        (col, if f <= p { 1 } else { -1 })
+    };
+    let mut rows: Vec<Vec<i64>> = Vec::new();
+    for c in &space.cycles {
+        let mut row = vec![0i64; gens.len()];
+        for &f in &c.faces {
+            let (col, s) = gen_of(f);
+            row[col] += s * i64::from(c.order.max(1));
+        }
+        rows.push(row);
+    }
+    for (i, f) in faces.iter().enumerate() {
+        if f.kind == FaceKind::Mirror {
+            let mut row = vec![0i64; gens.len()];
+            row[gen_of(i).0] = 2;
+            rows.push(row);
+        }
+    }
+    let diag = smith_diagonal(rows, gens.len());
+    let rank = gens.len() - diag.iter().filter(|&&d| d != 0).count();
+    let torsion = diag.into_iter().filter(|&d| d > 1).map(|d| d as u64).collect();
+    Homology { rank, torsion }
+}
+
+/// The nonzero diagonal of the Smith normal form of an integer matrix.
+fn smith_diagonal(mut a: Vec<Vec<i64>>, cols: usize) -> Vec<i64> {
+    let rows = a.len();
+    let mut diag = Vec::new();
+    let mut t = 0;
+    while t < rows.min(cols) {
+        // Pivot: the smallest nonzero entry in the remaining block.
+        let mut pivot = None;
+        for i in t..rows {
+            for j in t..cols {
+                if a[i][j] != 0 && pivot.is_none_or(|(pi, pj): (usize, usize)| a[i][j].abs() < a[pi][pj].abs()) {
+                    pivot = Some((i, j));
+                }
+            }
+        }
+        let Some((pi, pj)) = pivot else { break };
+        a.swap(t, pi);
+        for row in a.iter_mut() {
+            row.swap(t, pj);
+        }
+        loop {
+            let p = a[t][t];
+            let mut done = true;
+            for i in t + 1..rows {
+                let q = a[i][t] / p;
+                if q != 0 {
+                    for j in t..cols {
+                        a[i][j] -= q * a[t][j];
+                    }
+                }
+                if a[i][t] != 0 {
+                    done = false;
+                }
+            }
+            for j in t + 1..cols {
+                let q = a[t][j] / p;
+                if q != 0 {
+                    for row in a.iter_mut() {
+                        row[j] -= q * row[t];
+                    }
+                }
+                if a[t][j] != 0 {
+                    done = false;
+                }
+            }
+            if done {
+                // Divisibility: every remaining entry must be a multiple of p.
+                let bad = (t + 1..rows).find(|&i| (t + 1..cols).any(|j| a[i][j] % p != 0));
+                match bad {
+                    Some(i) => {
+                        for j in t..cols {
+                            a[t][j] += a[i][j];
+                        }
+                        continue;
+                    }
+                    None => break,
+                }
+            }
+            // Move the smallest nonzero entry of row/column t to the pivot.
+            let mut best = (t, t);
+            for i in t..rows {
+                if a[i][t] != 0 && a[i][t].abs() < a[best.0][best.1].abs() {
+                    best = (i, t);
+                }
+            }
+            for j in t..cols {
+                if a[t][j] != 0 && a[t][j].abs() < a[best.0][best.1].abs() {
+                    best = (t, j);
+                }
+            }
+            a.swap(t, best.0);
+            for row in a.iter_mut() {
+                row.swap(t, best.1);
+            }
+        }
+        diag.push(a[t][t].abs());
+        t += 1;
+    }
+    diag
+}
+
+#[cfg(test)]
+mod tests {
+    use super::smith_diagonal;
+
+    #[test]
+    fn smith_of_known_matrices() {
+        assert_eq!(smith_diagonal(vec![vec![2, 4], vec![6, 8]], 2), vec![2, 4]);
+        assert_eq!(smith_diagonal(vec![vec![5, 0, 0], vec![0, 5, 0]], 3), vec![5, 5]);
+        assert_eq!(smith_diagonal(vec![vec![2, 0], vec![0, 3]], 2), vec![1, 6]);
+        assert_eq!(smith_diagonal(vec![vec![0, 0]], 2), Vec::<i64>::new());
+    }
+}
