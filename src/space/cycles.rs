@@ -105,8 +105,8 @@ pub(super) fn edge_cycles(space: &Space) -> Result<Vec<EdgeCycle>, SpaceError> {
 
 /// Every cycle must close after a whole number of turns: angle sum `2 pi/k`
 /// and holonomy of order `k`.
-pub(super) fn check_cycles(space: &Space) -> Result<(), SpaceError> {
-    for c in &space.cycles {
+pub(super) fn check_cycles(cycles: &[EdgeCycle]) -> Result<(), SpaceError> {
+    for c in cycles {
         let fail = |detail: String| SpaceError::EdgeCycle {
             edges: c.edges.clone(),
             faces: c.faces.clone(),

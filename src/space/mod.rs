@@ -100,13 +100,18 @@ impl Space {
     /// # Errors
     /// The first property that fails, as a [`SpaceError`] naming the face.
     pub fn new(name: impl Into<String>, geometry: Geometry, faces: Vec<Face>) -> Result<Self, SpaceError> {
-        let space = Self::build(name.into(), geometry, faces)?;
-        space.validate()?;
+        let mut space = Self::build(name.into(), geometry, faces)?;
+        // Pairings first: the edge-cycle walk relies on them mapping faces
+        // onto faces, and their errors name the face that is wrong.
+        space.check_pairings()?;
+        space.cycles = cycles::edge_cycles(&space)?;
+        cycles::check_cycles(&space.cycles)?;
+        space.cells = CellScheme::for_space(&space);
         Ok(space)
     }
 
-    /// Derives the polyhedron and everything else without checking the
-    /// pairings (they are checked by [`Space::validate`]).
+    /// Derives the polyhedron, radii and volume from the planes; the
+    /// pairings, edge cycles and cells are checked and derived by `new`.
     fn build(name: String, geometry: Geometry, mut faces: Vec<Face>) -> Result<Self, SpaceError> {
         if faces.len() < 4 {
             return Err(SpaceError::TooFewFaces { count: faces.len() });
@@ -182,7 +187,7 @@ impl Space {
             .fold(0.0, f64::max);
         let points: Vec<DVec4> = poly.vertices.iter().map(|v| v.point).collect();
         let volume = volume::polyhedron_volume(geometry, &planes, &points, &poly.face_vertices);
-        let mut space = Space {
+        let space = Space {
             name,
             geometry,
             faces,
@@ -193,8 +198,6 @@ impl Space {
             volume,
             cells: CellScheme::Hashed { quantum: 1.0 },
         };
-        space.cycles = cycles::edge_cycles(&space)?;
-        space.cells = CellScheme::for_space(&space);
         Ok(space)
     }
 
@@ -207,6 +210,11 @@ impl Space {
     /// # Errors
     /// The [`SpaceError`] that names the face or edge cycle and the property.
     pub fn validate(&self) -> Result<(), SpaceError> {
+        self.check_pairings()?;
+        cycles::check_cycles(&cycles::edge_cycles(self)?)
+    }
+
+    fn check_pairings(&self) -> Result<(), SpaceError> {
         let g = self.geometry;
         for (i, f) in self.faces.iter().enumerate() {
             let error = isometry::isometry_error(g, f.pairing);
@@ -275,7 +283,7 @@ impl Space {
                 });
             }
         }
-        cycles::check_cycles(self)
+        Ok(())
     }
 
     /// The space's name.

@@ -11,12 +11,14 @@
 //! assert!(img.pixels.iter().all(|p| p.color.iter().all(|c| c.is_finite())));
 //! ```
 
+mod flow;
 mod output;
 mod prepare;
 mod render;
 mod scene;
 pub mod step;
 
+pub use flow::{Flowed, flow};
 pub use output::{id_pixel, write_ids_png, write_png};
 pub use prepare::{EDGE_ID, Prepared, PreparedBall, PreparedLight, PreparedTube, ghost_centres};
 pub use render::{PathStep, Stop, TraceImage, TracePixel, TraceSettings, camera_ray, render, trace_ray};

@@ -169,6 +169,22 @@ struct SceneDesc {
 const POINT_TOLERANCE: f64 = 1e-6;
 
 impl Scene {
+    /// A scene with nothing in it, the camera at the origin: rays only
+    /// cross faces (used to follow geodesics and in tests).
+    #[must_use]
+    pub fn empty() -> Scene {
+        Scene {
+            camera: Camera {
+                isometry: DMat4::IDENTITY,
+                fov_y_degrees: 60.0,
+            },
+            balls: Vec::new(),
+            lights: Vec::new(),
+            edge_radius: None,
+            fog: None,
+        }
+    }
+
     /// The default scene for a space: a ball at the centre of the domain,
     /// the domain's edges as tubes, a light at the camera, and the camera
     /// off-centre looking along -z so the ball is in view.
