@@ -19,7 +19,7 @@
 //! use bevy_manifold::space::catalog;
 //! use glam::DMat4;
 //! let torus = catalog::torus(1.0);
-//! let g = torus.crossing(0) * torus.crossing(2); // across +x, then +y
+//! let g = torus.crossing(0) * torus.crossing(1); // across +x, then +y
 //! assert_eq!(torus.cell_id(&g).lattice(), Some(glam::IVec3::new(1, 1, 0)));
 //! assert_eq!(torus.cell_id(&DMat4::IDENTITY).0, 0);
 //! ```

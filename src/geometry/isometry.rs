@@ -123,8 +123,8 @@ pub fn orthonormalize(g: Geometry, m: DMat4) -> DMat4 {
     let mut cols = [m.x_axis, m.y_axis, m.z_axis];
     for i in 0..3 {
         let mut v = g.project_tangent::<f64>(p, cols[i]);
-        for j in 0..i {
-            v -= cols[j] * g.form::<f64>(v, cols[j]);
+        for prev in &cols[..i] {
+            v -= *prev * g.form::<f64>(v, *prev);
         }
         cols[i] = v / g.form::<f64>(v, v).sqrt();
     }

@@ -20,7 +20,7 @@
 //! let h = Geometry::Hyperbolic;
 //! let origin = DVec4::W;
 //! let t = isometry::translation(h, DVec3::X * 1.5);
-//! assert!((h.distance(origin, t * origin) - 1.5).abs() < 1e-12);
+//! assert!((h.distance::<f64>(origin, t * origin) - 1.5).abs() < 1e-12);
 //! ```
 
 pub mod isometry;

@@ -218,9 +218,7 @@ fn smith_diagonal(mut a: Vec<Vec<i64>>, cols: usize) -> Vec<i64> {
             for i in t + 1..rows {
                 let q = a[i][t] / p;
                 if q != 0 {
-                    for j in t..cols {
-                        a[i][j] -= q * a[t][j];
-                    }
+                    add_row(&mut a, i, t, -q);
                 }
                 if a[i][t] != 0 {
                     done = false;
@@ -242,9 +240,7 @@ fn smith_diagonal(mut a: Vec<Vec<i64>>, cols: usize) -> Vec<i64> {
                 let bad = (t + 1..rows).find(|&i| (t + 1..cols).any(|j| a[i][j] % p != 0));
                 match bad {
                     Some(i) => {
-                        for j in t..cols {
-                            a[t][j] += a[i][j];
-                        }
+                        add_row(&mut a, t, i, 1);
                         continue;
                     }
                     None => break,
@@ -271,6 +267,15 @@ fn smith_diagonal(mut a: Vec<Vec<i64>>, cols: usize) -> Vec<i64> {
         t += 1;
     }
     diag
+}
+
+/// Row operation `a[dst] += factor * a[src]` (columns left of the pivot
+/// are zero in both rows, so the whole row can be added).
+fn add_row(a: &mut [Vec<i64>], dst: usize, src: usize, factor: i64) {
+    let src_row = a[src].clone();
+    for (d, s) in a[dst].iter_mut().zip(&src_row) {
+        *d += factor * s;
+    }
 }
 
 #[cfg(test)]

@@ -79,7 +79,8 @@ impl SpaceDesc {
             check_vertices(&space, vs)?;
         }
         if let Some(v) = self.volume {
-            if !((v - space.volume()).abs() <= 1e-6 * space.volume().max(1.0)) {
+            let close = (v - space.volume()).abs() <= 1e-6 * space.volume().max(1.0);
+            if !close {
                 return Err(SpaceError::VolumeMismatch {
                     given: v,
                     computed: space.volume(),

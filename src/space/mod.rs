@@ -218,7 +218,7 @@ impl Space {
         let g = self.geometry;
         for (i, f) in self.faces.iter().enumerate() {
             let error = isometry::isometry_error(g, f.pairing);
-            if !(error < 1e-8) {
+            if error.is_nan() || error >= 1e-8 {
                 return Err(SpaceError::NotIsometry {
                     face: i,
                     geometry: g.name(),
@@ -230,7 +230,7 @@ impl Space {
             // face j, and the domain goes to the far side of face j.
             let pulled = f.pairing.transpose() * partner.plane;
             let scale = -pulled.dot(f.plane) / f.plane.dot(f.plane);
-            if !(scale > 0.0) || (pulled + f.plane * scale).length() > 1e-8 * scale.abs().max(1.0) {
+            if scale.is_nan() || scale <= 0.0 || (pulled + f.plane * scale).length() > 1e-8 * scale.abs().max(1.0) {
                 return Err(SpaceError::FaceNotMapped {
                     face: i,
                     partner: f.partner,

@@ -169,10 +169,11 @@ pub fn trace_ray<R: Real>(
     // max_distance times), so no input makes it spin.
     let max_passes = settings.max_level as usize + settings.max_distance.min(1e4) as usize + 2;
     for _ in 0..max_passes {
-        if let Some((density, _)) = prep.fog {
-            if settings.fog_early_stop && density * travelled > fog_cut {
-                return (finish(background, 0, levels, cell, travelled), Stop::Fog);
-            }
+        if let Some((density, _)) = prep.fog
+            && settings.fog_early_stop
+            && density * travelled > fog_cut
+        {
+            return (finish(background, 0, levels, cell, travelled), Stop::Fog);
         }
         let exit = exit_face(&prep.planes, &ray, entered).filter(|&(_, t)| t < t_cap);
         let t_end = exit.map_or(t_cap, |(_, t)| t);
@@ -241,17 +242,19 @@ fn nearest_object<R: Real>(g: Geometry, prep: &Prepared<R>, ray: &Ray<R>, t_end:
     let zero = R::of(0.0);
     let mut best: Option<(R, Hit)> = None;
     for (i, b) in prep.balls.iter().enumerate() {
-        if let Some(t) = hit_ball(g, ray, b.center, b.k, zero) {
-            if t <= t_end && best.is_none_or(|(bt, _)| t < bt) {
-                best = Some((t, Hit::Ball(i)));
-            }
+        if let Some(t) = hit_ball(g, ray, b.center, b.k, zero)
+            && t <= t_end
+            && best.is_none_or(|(bt, _)| t < bt)
+        {
+            best = Some((t, Hit::Ball(i)));
         }
     }
     for (i, tube) in prep.tubes.iter().enumerate() {
-        if let Some(t) = hit_tube(g, ray, &tube.segment, prep.tube_k, zero) {
-            if t <= t_end && best.is_none_or(|(bt, _)| t < bt) {
-                best = Some((t, Hit::Tube(i)));
-            }
+        if let Some(t) = hit_tube(g, ray, &tube.segment, prep.tube_k, zero)
+            && t <= t_end
+            && best.is_none_or(|(bt, _)| t < bt)
+        {
+            best = Some((t, Hit::Tube(i)));
         }
     }
     best
