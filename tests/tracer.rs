@@ -518,3 +518,42 @@ fn scene_files_report_the_bad_field() {
     .to_string();
     assert!(e.contains("unknown field `bals`"), "{e}");
 }
+
+#[test]
+fn a_camera_placed_in_another_copy_sees_the_same_view() {
+    // The camera isometry may point anywhere in the cover: it is wrapped into
+    // the domain first, and the cells it reports are offset by its own.
+    for (s, shift) in [
+        (catalog::torus(1.0), DMat4::from_translation(DVec3::new(1.0, -2.0, 0.0))),
+        (
+            catalog::seifert_weber(),
+            catalog::seifert_weber().crossing(3) * catalog::seifert_weber().crossing(7),
+        ),
+    ] {
+        let scene = Scene::default_for(&s);
+        let mut moved = scene.clone();
+        moved.camera.isometry = shift * scene.camera.isometry;
+        let settings = TraceSettings {
+            width: 40,
+            height: 24,
+            max_level: 4,
+            ..TraceSettings::default()
+        };
+        let (a, b) = (
+            render::<f64>(&s, &scene, &settings),
+            render::<f64>(&s, &moved, &settings),
+        );
+        for (p, q) in a.pixels.iter().zip(&b.pixels) {
+            assert_eq!((p.object, p.levels), (q.object, q.levels), "{}", s.name());
+            assert!((p.distance - q.distance).abs() < 1e-5, "{}", s.name());
+        }
+        let centre = (a.at(20, 12), b.at(20, 12));
+        assert_eq!(centre.0.cell.0, 0);
+        assert_eq!(
+            centre.1.cell,
+            s.cell_id(&shift),
+            "{}: the view starts in the camera's copy",
+            s.name()
+        );
+    }
+}

@@ -93,7 +93,7 @@ const PALETTE: [[f32; 3]; 10] = [
 ];
 
 /// Longest word of pairings tried when looking for ghost copies of a ball.
-const GHOST_WORD_LENGTH: usize = 3;
+pub const GHOST_WORD_LENGTH: usize = 3;
 
 impl<R: Real> Prepared<R> {
     /// Prepares `scene` in `space` for tracing in precision `R`.

@@ -209,8 +209,9 @@ impl Scene {
             }],
             lights: vec![Light {
                 position: eye,
-                // Irradiance 1.2 on the near side of the ball.
-                intensity: 1.2 * g.sphere_area::<f64>(to_ball),
+                // Irradiance 0.8 on the near side of the ball: lit, with
+                // room left for the highlight.
+                intensity: 0.8 * g.sphere_area::<f64>(to_ball),
                 color: [1.0, 1.0, 1.0],
             }],
             edge_radius: Some(0.035 * r),
