@@ -1,9 +1,10 @@
 //! Geodesic flow through the manifold: carry a point and direction a given
-//! distance, crossing faces as a ray does. The tracer's loop without the
+//! distance, crossing faces as a ray does. The tracer's walk without the
 //! objects; entities moving along geodesics use the same steps.
 
 use super::prepare::Prepared;
-use super::step::{Ray, advance, exit_face, transport};
+use super::step::{Ray, advance};
+use super::walk::Walker;
 use crate::geometry::Real;
 
 /// Where a flowed ray ended.
@@ -23,47 +24,29 @@ pub struct Flowed<R: Real> {
 /// Moves `ray` the distance `distance` along its geodesic through the
 /// manifold, crossing at most `max_crossings` faces.
 #[must_use]
-pub fn flow<R: Real>(prep: &Prepared<R>, mut ray: Ray<R>, distance: R, max_crossings: u32) -> Flowed<R> {
+pub fn flow<R: Real>(prep: &Prepared<R>, ray: Ray<R>, distance: R, max_crossings: u32) -> Flowed<R> {
     let g = prep.geometry;
-    let t_cap = g.max_chart_parameter::<R>();
+    let mut walk = Walker::new(ray, R::m4_of(glam::DMat4::IDENTITY));
     let mut left = distance;
-    let mut cell = R::m4_of(glam::DMat4::IDENTITY);
-    let mut entered = usize::MAX;
-    let mut crossings = 0;
+    // Each pass crosses a face or (S3) covers a distance of 1, so the walk
+    // ends: after max_crossings faces, or when the distance is used up.
     loop {
-        let exit = exit_face(&prep.planes, &ray, entered).filter(|&(_, t)| t < t_cap);
-        let t_end = exit.map_or(t_cap, |(_, t)| t);
+        let (face, t_end) = walk.segment_end(prep);
         let length = g.chart_to_distance::<R>(t_end);
+        let done = |ray, complete| Flowed {
+            ray,
+            cell: walk.cell,
+            crossings: walk.crossings,
+            complete,
+        };
         if length >= left {
-            let t = g.distance_to_chart::<R>(left);
-            return Flowed {
-                ray: advance(g, &ray, t),
-                cell,
-                crossings,
-                complete: true,
-            };
+            return done(advance(g, &walk.ray, g.distance_to_chart::<R>(left)), true);
+        }
+        let end = advance(g, &walk.ray, t_end);
+        if face.is_some() && walk.crossings >= max_crossings {
+            return done(end, false);
         }
         left = left - length;
-        let end = advance(g, &ray, t_end);
-        match exit {
-            Some((face, _)) => {
-                if crossings >= max_crossings {
-                    return Flowed {
-                        ray: end,
-                        cell,
-                        crossings,
-                        complete: false,
-                    };
-                }
-                ray = transport(g, prep.pairings[face], &end);
-                entered = prep.partners[face];
-                cell = cell * prep.crossings[face];
-                crossings += 1;
-            }
-            None => {
-                ray = end;
-                entered = usize::MAX;
-            }
-        }
+        walk.step(prep, face, end, true);
     }
 }

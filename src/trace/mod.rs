@@ -17,9 +17,11 @@ mod prepare;
 mod render;
 mod scene;
 pub mod step;
+mod walk;
 
 pub use flow::{Flowed, flow};
 pub use output::{id_pixel, write_ids_png, write_png};
 pub use prepare::{EDGE_ID, Prepared, PreparedBall, PreparedLight, PreparedTube, ghost_centres};
 pub use render::{PathStep, Stop, TraceImage, TracePixel, TraceSettings, camera_ray, render, trace_ray};
 pub use scene::{Ball, Camera, Fog, Light, Scene, SceneError};
+pub use walk::Walker;

@@ -2,7 +2,8 @@
 
 use super::prepare::{EDGE_ID, Prepared};
 use super::scene::Scene;
-use super::step::{Ray, advance, exit_face, foot_on_line, hit_ball, hit_tube, normal_from, transport};
+use super::step::{Ray, advance, foot_on_line, hit_ball, hit_tube, normal_from};
+use super::walk::Walker;
 use crate::cell::CellId;
 use crate::geometry::{Geometry, Real};
 use crate::space::Space;
@@ -143,25 +144,21 @@ pub fn camera_ray<R: Real>(prep: &Prepared<R>, i: u32, j: u32, w: u32, h: u32) -
 pub fn trace_ray<R: Real>(
     space: &Space,
     prep: &Prepared<R>,
-    mut ray: Ray<R>,
+    ray: Ray<R>,
     settings: &TraceSettings,
     on_step: &mut dyn FnMut(&PathStep<R>),
 ) -> (TracePixel, Stop) {
     let g = prep.geometry;
-    let zero = R::of(0.0);
-    let t_cap = g.max_chart_parameter::<R>();
     let fog_cut = R::of((255.0f64).ln());
     let max_distance = R::of(settings.max_distance);
-    let mut cell = R::m4_of(prep.camera_cell);
-    let mut entered = usize::MAX;
-    let mut travelled = zero;
-    let mut levels = 0u32;
+    let mut walk = Walker::new(ray, R::m4_of(prep.camera_cell));
+    let mut travelled = R::of(0.0);
     let background = prep.fog.map_or([0.0; 3], |(_, c)| c);
-    let finish = |color, object, levels, cell: R::M4, travelled: R| TracePixel {
+    let finish = |color, object, walk: &Walker<R>, travelled: R| TracePixel {
         color,
         object,
-        levels,
-        cell: space.cell_id(&R::m4_f64(cell)),
+        levels: walk.crossings,
+        cell: space.cell_id(&R::m4_f64(walk.cell)),
         distance: travelled.f64() as f32,
     };
     // A hard bound on the loop: every pass either transports (at most
@@ -173,52 +170,32 @@ pub fn trace_ray<R: Real>(
             && settings.fog_early_stop
             && density * travelled > fog_cut
         {
-            return (finish(background, 0, levels, cell, travelled), Stop::Fog);
+            return (finish(background, 0, &walk, travelled), Stop::Fog);
         }
-        let exit = exit_face(&prep.planes, &ray, entered).filter(|&(_, t)| t < t_cap);
-        let t_end = exit.map_or(t_cap, |(_, t)| t);
-        if let Some((t, hit)) = nearest_object(g, prep, &ray, t_end) {
+        let (face, t_end) = walk.segment_end(prep);
+        if let Some((t, hit)) = nearest_object(g, prep, &walk.ray, t_end) {
             let dist = travelled + g.chart_to_distance::<R>(t);
-            let color = shade(g, prep, &ray, t, hit, dist, space, cell, settings);
-            return (finish(color, hit.id(prep), levels, cell, dist), Stop::Hit(hit.id(prep)));
+            let color = shade(g, prep, &walk.ray, t, hit, dist, space, walk.cell, settings);
+            return (finish(color, hit.id(prep), &walk, dist), Stop::Hit(hit.id(prep)));
         }
-        let end = advance(g, &ray, t_end);
+        let end = advance(g, &walk.ray, t_end);
         let length = g.chart_to_distance::<R>(t_end);
         on_step(&PathStep {
-            start: ray,
+            start: walk.ray,
             end,
-            face: exit.map(|(f, _)| f),
+            face,
             length,
         });
         travelled = travelled + length;
         if travelled > max_distance {
-            return (finish(background, 0, levels, cell, travelled), Stop::MaxDistance);
+            return (finish(background, 0, &walk, travelled), Stop::MaxDistance);
         }
-        match exit {
-            Some((face, _)) => {
-                if levels >= settings.max_level {
-                    return (finish(background, 0, levels, cell, travelled), Stop::MaxLevel);
-                }
-                ray = if settings.renormalize {
-                    transport(g, prep.pairings[face], &end)
-                } else {
-                    Ray {
-                        origin: prep.pairings[face] * end.origin,
-                        dir: prep.pairings[face] * end.dir,
-                    }
-                };
-                entered = prep.partners[face];
-                cell = cell * prep.crossings[face];
-                levels += 1;
-            }
-            // S3 only: no face within a quarter turn; go on from here.
-            None => {
-                ray = end;
-                entered = usize::MAX;
-            }
+        if face.is_some() && walk.crossings >= settings.max_level {
+            return (finish(background, 0, &walk, travelled), Stop::MaxLevel);
         }
+        walk.step(prep, face, end, settings.renormalize);
     }
-    (finish(background, 0, levels, cell, travelled), Stop::MaxDistance)
+    (finish(background, 0, &walk, travelled), Stop::MaxDistance)
 }
 
 /// Which object a ray hit.
