@@ -13,7 +13,12 @@
 //!   finer than half the distance between any two centres and hashed. Two
 //!   words for the same element land on the same grid point unless rounding
 //!   error reaches a grid boundary, which in f64 needs an error ~1e-10 times
-//!   the grid step; the tests measure the margin.
+//!   the grid step; the tests measure the margin. An f64 matrix product
+//!   loses digits like `e^(2d)` at distance `d` from the origin copy, so
+//!   beyond [`HASHED_HORIZON`] (about distance 12) the id carries
+//!   [`CellId::FAR`]: a best effort that two paths may not agree on. Exact
+//!   ids there need an exact solution of the group's word problem, which
+//!   this version does not have.
 //!
 //! ```
 //! use bevy_manifold::space::catalog;
@@ -38,7 +43,21 @@ const LATTICE_MASK: u64 = (1 << LATTICE_BITS) - 1;
 /// Marks lattice ids so they can be decoded.
 const LATTICE_TAG: u64 = 1 << 63;
 
+/// `|w|` of a copy's centre on the hyperboloid beyond which hashed ids are
+/// flagged [`CellId::FAR`] (distance `acosh(1e5) ~ 12.2`).
+pub const HASHED_HORIZON: f64 = 1e5;
+
 impl CellId {
+    /// Set on hashed ids of copies beyond [`HASHED_HORIZON`], where f64 can
+    /// no longer tell the copies apart reliably.
+    pub const FAR: u64 = 1 << 62;
+
+    /// True for a best-effort id beyond the precision horizon.
+    #[must_use]
+    pub fn is_far(self) -> bool {
+        self.0 & LATTICE_TAG == 0 && self.0 & Self::FAR != 0
+    }
+
     /// The id of lattice cell `(i, j, k)`; each coordinate keeps 21 bits.
     #[must_use]
     pub fn from_lattice(c: IVec3) -> Self {
@@ -197,6 +216,10 @@ fn hashed_quantum(space: &Space) -> f64 {
 }
 
 fn hashed_id(centre: DVec4, quantum: f64) -> CellId {
+    if !centre.is_finite() {
+        return CellId(CellId::FAR | 1);
+    }
+    let far = centre.w.abs() >= HASHED_HORIZON;
     let key = (centre / quantum).round();
     let origin = (DVec4::W / quantum).round();
     if key == origin {
@@ -206,8 +229,10 @@ fn hashed_id(centre: DVec4, quantum: f64) -> CellId {
     for x in key.to_array() {
         h = mix64(h ^ (x as i64 as u64));
     }
-    // Keep the lattice tag bit clear, and never produce the origin's 0.
-    CellId((h & !LATTICE_TAG).max(1))
+    // Keep the lattice tag and far bits clear, and never produce the
+    // origin's 0; then mark far ids.
+    let id = (h & !(LATTICE_TAG | CellId::FAR)).max(1);
+    CellId(if far { id | CellId::FAR } else { id })
 }
 
 /// A 64-bit finaliser (splitmix64): spreads every input bit over the output.

@@ -28,15 +28,27 @@
 //! assert!(image.pixels.iter().any(|p| p.object == 1));
 //! ```
 
+pub mod camera_controller;
 pub mod cell;
 pub mod geometry;
+pub mod motion;
+pub mod placement;
+mod plugin;
 pub mod space;
 pub mod trace;
 
+pub use plugin::ManifoldPlugin;
+
 /// The types most users need.
 pub mod prelude {
+    pub use crate::ManifoldPlugin;
+    pub use crate::camera_controller::{FlyCamera, FlyCameraPlugin};
     pub use crate::cell::CellId;
     pub use crate::geometry::{Geometry, Real, isometry, plane};
+    pub use crate::placement::{
+        DomainCell, FaceCrossed, GeodesicVelocity, ManifoldCollider, ManifoldRayCast, ManifoldSpace, ManifoldSystems,
+        Placement, PlacementPlugin, RayCastSettings, RayHit,
+    };
     pub use crate::space::{Face, FaceKind, Space, SpaceDesc, SpaceError, catalog};
     pub use crate::trace::{Ball, Fog, Light, Scene, TraceImage, TraceSettings, render};
 }

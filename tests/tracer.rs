@@ -5,7 +5,7 @@
 use bevy_manifold::geometry::{Geometry, isometry};
 use bevy_manifold::prelude::*;
 use bevy_manifold::trace::step::{Ray, exit_face};
-use bevy_manifold::trace::{Prepared, Stop, flow, ghost_centres, trace_ray, write_ids_png};
+use bevy_manifold::trace::{FaceTables, Prepared, Stop, flow, ghost_centres, trace_ray, write_ids_png};
 use glam::{DMat4, DVec3, DVec4, IVec3};
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
@@ -44,6 +44,10 @@ fn random_ray(space: &Space, rng: &mut Rng) -> Ray<f64> {
 
 fn empty(space: &Space) -> Prepared<f64> {
     Prepared::new(space, &Scene::empty())
+}
+
+fn tables(space: &Space) -> FaceTables<f64> {
+    FaceTables::new(space)
 }
 
 #[test]
@@ -99,7 +103,7 @@ fn a_ray_leaving_through_a_face_reenters_through_its_partner() {
 #[test]
 fn torus_ray_along_x_comes_back_after_distance_one() {
     let s = catalog::torus(1.0);
-    let prep = empty(&s);
+    let prep = tables(&s);
     let o = DVec4::new(0.2, -0.1, 0.3, 1.0);
     let ray = Ray {
         origin: o,
@@ -124,7 +128,7 @@ fn every_geodesic_of_the_poincare_space_closes_after_two_pi() {
     // 2 pi. The group also contains -I, so after pi a ray is back at its
     // start in the quotient too, in the antipodal copy.
     let s = catalog::poincare();
-    let prep = empty(&s);
+    let prep = tables(&s);
     let mut rng = Rng(1);
     let minus_one = s.cell_id(&(-DMat4::IDENTITY));
     assert_ne!(minus_one.0, 0);

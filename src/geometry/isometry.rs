@@ -157,3 +157,38 @@ pub fn isometry_error(g: Geometry, m: DMat4) -> f64 {
 pub fn is_orientation_reversing(m: DMat4) -> bool {
     m.determinant() < 0.0
 }
+
+/// The isometry exponential: the motion after unit time at constant linear
+/// velocity `v` and angular velocity `w` (both in the frame at the origin),
+/// `exp(X)` with `X` the Lie algebra element `[[W, v], [-k v^T, 0]]`
+/// (`W u = w x u`, `k` the curvature). Exact up to rounding for any speed:
+/// scaling and squaring of a Taylor series, then re-orthonormalised.
+/// Entities move by `M <- M * exp_twist(v dt, w dt)`, never by Euler steps
+/// in the chart.
+#[must_use]
+pub fn exp_twist(g: Geometry, v: DVec3, w: DVec3) -> DMat4 {
+    let k = g.curvature();
+    let x = DMat4::from_cols(
+        DVec4::new(0.0, w.z, -w.y, -k * v.x),
+        DVec4::new(-w.z, 0.0, w.x, -k * v.y),
+        DVec4::new(w.y, -w.x, 0.0, -k * v.z),
+        v.extend(0.0),
+    );
+    let norm = x.to_cols_array().iter().fold(0.0f64, |a, e| a + e.abs());
+    if !norm.is_finite() {
+        return DMat4::IDENTITY;
+    }
+    // Scale so the series converges fast, then square back up.
+    let squarings = (norm / 0.25).log2().ceil().max(0.0) as i32;
+    let y = x * 0.5f64.powi(squarings);
+    let mut term = DMat4::IDENTITY;
+    let mut sum = DMat4::IDENTITY;
+    for n in 1..=18 {
+        term = term * y * (1.0 / f64::from(n));
+        sum += term;
+    }
+    for _ in 0..squarings {
+        sum = sum * sum;
+    }
+    orthonormalize(g, sum)
+}

@@ -413,6 +413,12 @@ impl Space {
     /// after `max_steps` steps, returning what it has.
     #[must_use]
     pub fn wrap(&self, placement: DMat4, max_steps: usize) -> (DMat4, DMat4) {
+        self.wrap_with(placement, max_steps, &mut |_| {})
+    }
+
+    /// [`Space::wrap`], calling `on_face` with each face it carries the
+    /// placement through.
+    pub fn wrap_with(&self, placement: DMat4, max_steps: usize, on_face: &mut dyn FnMut(usize)) -> (DMat4, DMat4) {
         let g = self.geometry;
         let mut m = placement;
         let mut cell = DMat4::IDENTITY;
@@ -422,6 +428,7 @@ impl Space {
             };
             m = isometry::orthonormalize(g, self.faces[f].pairing * m);
             cell *= self.crossing(f);
+            on_face(f);
         }
         (m, cell)
     }

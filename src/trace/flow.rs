@@ -2,7 +2,7 @@
 //! distance, crossing faces as a ray does. The tracer's walk without the
 //! objects; entities moving along geodesics use the same steps.
 
-use super::prepare::Prepared;
+use super::prepare::FaceTables;
 use super::step::{Ray, advance};
 use super::walk::Walker;
 use crate::geometry::Real;
@@ -24,14 +24,14 @@ pub struct Flowed<R: Real> {
 /// Moves `ray` the distance `distance` along its geodesic through the
 /// manifold, crossing at most `max_crossings` faces.
 #[must_use]
-pub fn flow<R: Real>(prep: &Prepared<R>, ray: Ray<R>, distance: R, max_crossings: u32) -> Flowed<R> {
-    let g = prep.geometry;
+pub fn flow<R: Real>(tables: &FaceTables<R>, ray: Ray<R>, distance: R, max_crossings: u32) -> Flowed<R> {
+    let g = tables.geometry;
     let mut walk = Walker::new(ray, R::m4_of(glam::DMat4::IDENTITY));
     let mut left = distance;
     // Each pass crosses a face or (S3) covers a distance of 1, so the walk
     // ends: after max_crossings faces, or when the distance is used up.
     loop {
-        let (face, t_end) = walk.segment_end(prep);
+        let (face, t_end) = walk.segment_end(tables);
         let length = g.chart_to_distance::<R>(t_end);
         let done = |ray, complete| Flowed {
             ray,
@@ -47,6 +47,6 @@ pub fn flow<R: Real>(prep: &Prepared<R>, ray: Ray<R>, distance: R, max_crossings
             return done(end, false);
         }
         left = left - length;
-        walk.step(prep, face, end, true);
+        walk.step(tables, face, end, true);
     }
 }

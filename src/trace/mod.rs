@@ -11,6 +11,7 @@
 //! assert!(img.pixels.iter().all(|p| p.color.iter().all(|c| c.is_finite())));
 //! ```
 
+mod cast;
 mod flow;
 mod output;
 mod prepare;
@@ -19,9 +20,10 @@ mod scene;
 pub mod step;
 mod walk;
 
+pub use cast::{CastBall, CastHit, cast_balls};
 pub use flow::{Flowed, flow};
 pub use output::{id_pixel, write_ids_png, write_png};
-pub use prepare::{EDGE_ID, Prepared, PreparedBall, PreparedLight, PreparedTube, ghost_centres};
+pub use prepare::{EDGE_ID, FaceTables, Prepared, PreparedBall, PreparedLight, PreparedTube, ghost_centres};
 pub use render::{PathStep, Stop, TraceImage, TracePixel, TraceSettings, camera_ray, render, trace_ray};
 pub use scene::{Ball, Camera, Fog, Light, Scene, SceneError};
 pub use walk::Walker;

@@ -46,9 +46,9 @@ pub struct PreparedLight<R: Real> {
     pub color: [f32; 3],
 }
 
-/// Everything the per-pixel loop reads.
+/// The per-face arrays a walk through the manifold reads, in precision `R`.
 #[derive(Clone, Debug)]
-pub struct Prepared<R: Real> {
+pub struct FaceTables<R: Real> {
     /// The geometry.
     pub geometry: Geometry,
     /// Face planes.
@@ -60,6 +60,30 @@ pub struct Prepared<R: Real> {
     /// What the ray's group element is right-multiplied by on crossing face
     /// `i`: `T_i^-1`.
     pub crossings: Vec<R::M4>,
+}
+
+impl<R: Real> FaceTables<R> {
+    /// The tables of `space`.
+    #[must_use]
+    pub fn new(space: &Space) -> Self {
+        let faces = space.faces();
+        FaceTables {
+            geometry: space.geometry(),
+            planes: faces.iter().map(|f| R::v4_of(f.plane)).collect(),
+            pairings: faces.iter().map(|f| R::m4_of(f.pairing)).collect(),
+            partners: faces.iter().map(|f| f.partner).collect(),
+            crossings: (0..faces.len()).map(|i| R::m4_of(space.crossing(i))).collect(),
+        }
+    }
+}
+
+/// Everything the per-pixel loop reads.
+#[derive(Clone, Debug)]
+pub struct Prepared<R: Real> {
+    /// The geometry.
+    pub geometry: Geometry,
+    /// The faces' planes and pairings.
+    pub faces: FaceTables<R>,
     /// Balls, ghosts included, then the vertex joints of the edge tubes.
     pub balls: Vec<PreparedBall<R>>,
     /// Edge tubes.
@@ -100,7 +124,6 @@ impl<R: Real> Prepared<R> {
     #[must_use]
     pub fn new(space: &Space, scene: &Scene) -> Self {
         let g = space.geometry();
-        let faces = space.faces();
         let mut balls = Vec::new();
         for (i, b) in scene.balls.iter().enumerate() {
             let k = R::of(radius_param(g, b.radius));
@@ -166,10 +189,7 @@ impl<R: Real> Prepared<R> {
         let (camera, camera_cell) = space.wrap(scene.camera.isometry, 1000);
         Prepared {
             geometry: g,
-            planes: faces.iter().map(|f| R::v4_of(f.plane)).collect(),
-            pairings: faces.iter().map(|f| R::m4_of(f.pairing)).collect(),
-            partners: faces.iter().map(|f| f.partner).collect(),
-            crossings: (0..faces.len()).map(|i| R::m4_of(space.crossing(i))).collect(),
+            faces: FaceTables::new(space),
             balls,
             tubes,
             tube_k,

@@ -172,7 +172,7 @@ pub fn trace_ray<R: Real>(
         {
             return (finish(background, 0, &walk, travelled), Stop::Fog);
         }
-        let (face, t_end) = walk.segment_end(prep);
+        let (face, t_end) = walk.segment_end(&prep.faces);
         if let Some((t, hit)) = nearest_object(g, prep, &walk.ray, t_end) {
             let dist = travelled + g.chart_to_distance::<R>(t);
             let color = shade(g, prep, &walk.ray, t, hit, dist, space, walk.cell, settings);
@@ -193,7 +193,7 @@ pub fn trace_ray<R: Real>(
         if face.is_some() && walk.crossings >= settings.max_level {
             return (finish(background, 0, &walk, travelled), Stop::MaxLevel);
         }
-        walk.step(prep, face, end, settings.renormalize);
+        walk.step(&prep.faces, face, end, settings.renormalize);
     }
     (finish(background, 0, &walk, travelled), Stop::MaxDistance)
 }

@@ -1,7 +1,7 @@
 //! A ray walking segment by segment through the manifold: the part of
 //! Algorithm 1 shared by the tracer and by geodesic flow (objects aside).
 
-use super::prepare::Prepared;
+use super::prepare::FaceTables;
 use super::step::{Ray, exit_face, transport};
 use crate::geometry::Real;
 
@@ -36,9 +36,9 @@ impl<R: Real> Walker<R> {
     /// Where the current segment ends: the face it leaves through (none in
     /// S3 when no face is within a quarter turn) and the chart parameter.
     #[must_use]
-    pub fn segment_end(&self, prep: &Prepared<R>) -> (Option<usize>, R) {
-        let t_cap = prep.geometry.max_chart_parameter::<R>();
-        match exit_face(&prep.planes, &self.ray, self.entered) {
+    pub fn segment_end(&self, tables: &FaceTables<R>) -> (Option<usize>, R) {
+        let t_cap = tables.geometry.max_chart_parameter::<R>();
+        match exit_face(&tables.planes, &self.ray, self.entered) {
             Some((face, t)) if t < t_cap => (Some(face), t),
             _ => (None, t_cap),
         }
@@ -48,23 +48,23 @@ impl<R: Real> Walker<R> {
     /// through the pairing of `face` (moving to the neighbouring cell), or
     /// straight on when there is no face. `renormalize` is off only to
     /// measure drift.
-    pub fn step(&mut self, prep: &Prepared<R>, face: Option<usize>, end: Ray<R>, renormalize: bool) {
+    pub fn step(&mut self, tables: &FaceTables<R>, face: Option<usize>, end: Ray<R>, renormalize: bool) {
         let Some(face) = face else {
             self.ray = end;
             self.entered = usize::MAX;
             return;
         };
-        let t = prep.pairings[face];
+        let t = tables.pairings[face];
         self.ray = if renormalize {
-            transport(prep.geometry, t, &end)
+            transport(tables.geometry, t, &end)
         } else {
             Ray {
                 origin: t * end.origin,
                 dir: t * end.dir,
             }
         };
-        self.entered = prep.partners[face];
-        self.cell = self.cell * prep.crossings[face];
+        self.entered = tables.partners[face];
+        self.cell = self.cell * tables.crossings[face];
         self.crossings += 1;
     }
 }

@@ -1,0 +1,145 @@
+//! [`ManifoldRayCast`]: geodesic ray casts for gameplay (hits, line of
+//! sight), through the face pairings like light.
+
+use super::components::{DomainCell, ManifoldCollider, ManifoldSpace, Placement};
+use super::systems::space_of;
+use crate::cell::CellId;
+use crate::trace::step::Ray;
+use crate::trace::{CastBall, cast_balls};
+use bevy::ecs::system::SystemParam;
+use bevy::prelude::*;
+use glam::{DMat4, DVec3, DVec4};
+
+/// How far a cast goes and what it ignores.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RayCastSettings {
+    /// Stop after this distance.
+    pub max_distance: f64,
+    /// Stop after crossing this many faces.
+    pub max_faces: u32,
+    /// An entity not to hit (usually the caster).
+    pub exclude: Option<Entity>,
+}
+
+impl Default for RayCastSettings {
+    fn default() -> Self {
+        RayCastSettings {
+            max_distance: 100.0,
+            max_faces: 32,
+            exclude: None,
+        }
+    }
+}
+
+/// One hit, in the order of distance.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RayHit {
+    /// The entity hit.
+    pub entity: Entity,
+    /// Distance along the ray.
+    pub distance: f64,
+    /// The hit point, in the domain's chart.
+    pub point: DVec4,
+    /// The faces the ray crossed before the hit.
+    pub faces: Vec<usize>,
+    /// The copy of the domain the hit is in (absolute: the caster's cell
+    /// times the crossings).
+    pub cell: CellId,
+    /// The group element of that copy.
+    pub element: DMat4,
+}
+
+/// Casts geodesic rays through the manifold against entities with a
+/// [`ManifoldCollider`].
+///
+/// ```
+/// use bevy::prelude::*;
+/// use bevy_manifold::prelude::*;
+/// fn shoot(cast: ManifoldRayCast, players: Query<Entity, With<GeodesicVelocity>>) {
+///     for player in &players {
+///         let settings = RayCastSettings { exclude: Some(player), ..default() };
+///         if let Some(hit) = cast.cast(player, glam::DVec3::NEG_Z, &settings).first() {
+///             info!("hit {} at {:.2} after {} faces", hit.entity, hit.distance, hit.faces.len());
+///         }
+///     }
+/// }
+/// # bevy::ecs::system::assert_is_system(shoot);
+/// ```
+#[derive(SystemParam)]
+pub struct ManifoldRayCast<'w, 's> {
+    spaces: Query<'w, 's, &'static ManifoldSpace>,
+    parents: Query<'w, 's, &'static ChildOf>,
+    placed: Query<'w, 's, (&'static Placement, Option<&'static DomainCell>)>,
+    colliders: Query<'w, 's, (Entity, &'static Placement, &'static ManifoldCollider)>,
+}
+
+impl ManifoldRayCast<'_, '_> {
+    /// Casts from the entity `from` in the direction `direction` of its own
+    /// frame (`DVec3::NEG_Z` is straight ahead), against the colliders in
+    /// the same space. Every hit, nearest first; empty when `from` has no
+    /// placement or no space.
+    #[must_use]
+    pub fn cast(&self, from: Entity, direction: DVec3, settings: &RayCastSettings) -> Vec<RayHit> {
+        let Ok((placement, cell)) = self.placed.get(from) else {
+            return Vec::new();
+        };
+        let Some(ms) = space_of(from, &self.parents, &self.spaces) else {
+            return Vec::new();
+        };
+        let cell = cell.copied().unwrap_or_default();
+        self.cast_in(ms, placement, &cell, direction, settings)
+    }
+
+    fn cast_in(
+        &self,
+        ms: &ManifoldSpace,
+        placement: &Placement,
+        cell: &DomainCell,
+        direction: DVec3,
+        settings: &RayCastSettings,
+    ) -> Vec<RayHit> {
+        let space = ms.space();
+        let g = space.geometry();
+        if direction.length_squared() == 0.0 || !direction.is_finite() {
+            return Vec::new();
+        }
+        let o = g.normalize_point::<f64>(placement.isometry.w_axis);
+        let d = g.normalize_tangent::<f64>(o, placement.isometry * direction.normalize().extend(0.0));
+        let balls: Vec<CastBall<Entity>> = self
+            .colliders
+            .iter()
+            .filter(|(e, ..)| Some(*e) != settings.exclude)
+            .filter(|(e, ..)| {
+                space_of(*e, &self.parents, &self.spaces).is_some_and(|s| core::ptr::eq(s.space(), space))
+            })
+            .map(|(e, p, c)| match *c {
+                ManifoldCollider::Ball { radius } => CastBall {
+                    key: e,
+                    center: p.isometry.w_axis,
+                    radius,
+                },
+            })
+            .collect();
+        cast_balls(
+            space,
+            ms.tables(),
+            Ray { origin: o, dir: d },
+            &balls,
+            settings.max_distance,
+            settings.max_faces,
+        )
+        .into_iter()
+        .map(|h| {
+            let element = cell.element * h.element;
+            RayHit {
+                entity: h.key,
+                distance: h.distance,
+                point: h.point,
+                faces: h.faces,
+                cell: space.cell_id(&element),
+                element,
+            }
+        })
+        .collect()
+    }
+}
