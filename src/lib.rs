@@ -6,15 +6,45 @@
 //! tessellated cover is seen (Velho, da Silva, Novello, GI 2020).
 //!
 //! The crate is layered like avian: a math core free of the ECS and the
-//! renderer, shared by tests, the CLI, the CPU reference tracer and (in
-//! later versions) the Bevy plugin and its WGSL pass.
+//! renderer, shared by tests, the CLI, the CPU reference tracer, the Bevy
+//! plugin and (in a later version) its WGSL pass.
+//!
+//! ## In a Bevy app
+//!
+//! Add [`ManifoldPlugin`], put a [`placement::ManifoldSpace`] on a root
+//! entity and give its descendants a [`placement::Placement`]; they move
+//! along geodesics and wrap through the face pairings like light does
+//! (`examples/drop_in.rs` is a whole app):
+//!
+//! ```no_run
+//! use bevy::prelude::*;
+//! use bevy_manifold::prelude::*;
+//! use glam::DVec3;
+//!
+//! fn setup(mut commands: Commands) {
+//!     let space = catalog::seifert_weber();
+//!     let root = commands.spawn(ManifoldSpace::new(space.clone())).id();
+//!     commands.spawn((ChildOf(root), FlyCamera::default(), Placement::at(&space, DVec3::Z * 0.3)));
+//!     commands.spawn((ChildOf(root), Placement::default(), ManifoldCollider::Ball { radius: 0.2 }));
+//! }
+//!
+//! App::new()
+//!     .add_plugins((MinimalPlugins, ManifoldPlugin::default(), FlyCameraPlugin))
+//!     .add_systems(Startup, setup)
+//!     .run();
+//! ```
+//!
+//! ## The math alone
 //!
 //! - [`geometry`]: E3, H3 and S3 in one projective chart; isometries; planes.
 //! - [`space`]: fundamental polyhedra with face pairings, validation, the
 //!   catalog of the paper's five spaces, space files.
 //! - [`cell`]: path-independent ids for the copies of the domain.
 //! - [`trace`]: the CPU reference ray tracer (Algorithm 1), in f64 and in an
-//!   f32 mode that mirrors the GPU arithmetic.
+//!   f32 mode that mirrors the GPU arithmetic; geodesic flow; ray casts.
+//! - [`motion`]: moving placements through the faces (the math of wrapping).
+//! - [`placement`]: the ECS layer: components, wrapping systems, ray casts.
+//! - [`camera_controller`]: an optional fly camera.
 //!
 //! ```
 //! use bevy_manifold::prelude::*;

@@ -435,3 +435,43 @@ fn fly_camera_keys_set_the_velocity() {
         p.position()
     );
 }
+
+#[test]
+fn two_spaces_at_once_each_wrap_their_own() {
+    let mut app = app(Duration::from_millis(10));
+    let torus = spawn_space(&mut app, catalog::torus(1.0));
+    let cube = spawn_space(&mut app, catalog::mirrored_cube(2.0));
+    let v = GeodesicVelocity {
+        linear: DVec3::X,
+        ..default()
+    };
+    let a = app.world_mut().spawn((ChildOf(torus), v)).id();
+    // Nested deeper in the hierarchy: still in its root's space.
+    let group = app.world_mut().spawn(ChildOf(cube)).id();
+    let b = app.world_mut().spawn((ChildOf(group), v)).id();
+    run_until(&mut app, Duration::from_millis(1200));
+    // Torus: through +x once, on at x = 0.2. Mirrored cube of edge 2: hits
+    // the mirror at x = 1 and comes back to x = 0.8, mirrored.
+    let (pa, pb) = (
+        *app.world().get::<Placement>(a).unwrap(),
+        *app.world().get::<Placement>(b).unwrap(),
+    );
+    assert!(
+        (pa.position().x - 0.2).abs() < 1e-9 && !pa.mirrored,
+        "{:?}",
+        pa.position()
+    );
+    assert!(
+        (pb.position().x - 0.8).abs() < 1e-9 && pb.mirrored,
+        "{:?}",
+        pb.position()
+    );
+    let faces: Vec<(Entity, usize)> = app
+        .world()
+        .resource::<Crossings>()
+        .0
+        .iter()
+        .map(|c| (c.entity, c.face))
+        .collect();
+    assert_eq!(faces, vec![(a, 0), (b, 0)]);
+}
