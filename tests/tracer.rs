@@ -561,3 +561,54 @@ fn a_camera_placed_in_another_copy_sees_the_same_view() {
         );
     }
 }
+
+#[test]
+fn rays_through_vertices_along_edges_and_tangent_to_faces_stay_sane() {
+    // The degenerate cases of the face test: a ray that meets several faces
+    // at once (a vertex, an edge) or slides along one. None may produce NaN,
+    // leave the domain, or burn its levels without moving on.
+    for name in catalog::NAMES {
+        let s = catalog::by_name(name).expect("catalog");
+        let g = s.geometry();
+        let prep = empty(&s);
+        let settings = TraceSettings { max_level: 64, max_distance: 1e6, ..TraceSettings::default() };
+        let mut rays = Vec::new();
+        let o = DVec4::W;
+        for v in s.vertices() {
+            rays.push(Ray { origin: o, dir: g.normalize_tangent::<f64>(o, v.point) });
+        }
+        for e in s.edges() {
+            let [a, b] = e.vertices.map(|i| s.vertices()[i].point);
+            let mid = g.normalize_point::<f64>(a + b);
+            rays.push(Ray { origin: o, dir: g.normalize_tangent::<f64>(o, mid) });
+            // Along the edge itself, from one end.
+            rays.push(Ray { origin: a, dir: g.normalize_tangent::<f64>(a, b) });
+        }
+        for (i, ring) in s.polyhedron().face_vertices.iter().enumerate() {
+            // From the middle of a face, sliding along it towards a vertex.
+            let mid = g.normalize_point::<f64>(ring.iter().map(|&v| s.vertices()[v].point).sum::<DVec4>());
+            let target = s.vertices()[ring[0]].point;
+            let dir = g.normalize_tangent::<f64>(mid, target);
+            assert!(s.faces()[i].plane.dot(dir).abs() < 1e-12, "{name}: tangent to face {i}");
+            rays.push(Ray { origin: mid, dir });
+        }
+        for ray in rays {
+            let mut steps = 0usize;
+            let mut length = 0.0;
+            let (_, stop) = trace_ray(&s, &prep, ray, &settings, &mut |st| {
+                for r in [st.start, st.end] {
+                    assert!(r.origin.is_finite() && r.dir.is_finite(), "{name}: NaN");
+                    let out = s.faces().iter().map(|f| f.plane.dot(r.origin / r.origin.w)).fold(f64::MIN, f64::max);
+                    assert!(out <= 1e-9, "{name}: {out:e} outside");
+                    assert!(g.tangent_error::<f64>(r.origin, r.dir) < 1e-9, "{name}");
+                }
+                steps += 1;
+                length += st.length;
+            });
+            assert_eq!(stop, Stop::MaxLevel, "{name}");
+            // Zero-length hops at a vertex are allowed, a stall is not: the
+            // 64 crossings must cover real distance.
+            assert!(length > 8.0 * s.inradius(), "{name}: only {length} after {steps} segments");
+        }
+    }
+}
