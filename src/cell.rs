@@ -91,7 +91,8 @@ impl CellId {
         if self.0 == 0 {
             return [1.0, 1.0, 1.0];
         }
-        let h = mix64(self.0);
+        // 32-bit arithmetic only, so the GPU shades cells the same way.
+        let h = hash32((self.0 as u32) ^ hash32((self.0 >> 32) as u32));
         let c = |s: u32| 0.25 + 0.75 * ((h >> s) & 0xff) as f32 / 255.0;
         [c(0), c(8), c(16)]
     }
@@ -225,23 +226,32 @@ fn hashed_id(centre: DVec4, quantum: f64) -> CellId {
     if key == origin {
         return CellId(0);
     }
-    let mut h = 0x9e37_79b9_7f4a_7c15u64;
-    for x in key.to_array() {
-        h = mix64(h ^ (x as i64 as u64));
-    }
+    // Two independent 32-bit hashes of the integer key make the 64-bit id:
+    // u32 arithmetic only, so the WGSL tracer computes the same id.
+    let key = key.to_array().map(|x| x as i32);
+    let h = (u64::from(hash_key(key, HASH_SEED_HI)) << 32) | u64::from(hash_key(key, HASH_SEED_LO));
     // Keep the lattice tag and far bits clear, and never produce the
     // origin's 0; then mark far ids.
     let id = (h & !(LATTICE_TAG | CellId::FAR)).max(1);
     CellId(if far { id | CellId::FAR } else { id })
 }
 
-/// A 64-bit finaliser (splitmix64): spreads every input bit over the output.
+const HASH_SEED_LO: u32 = 0x9e37_79b9;
+const HASH_SEED_HI: u32 = 0x85eb_ca6b;
+
+/// A 32-bit integer hash (PCG's output permutation), identical in WGSL
+/// (`hash32` in `shaders/trace.wgsl`).
 #[must_use]
-pub fn mix64(mut x: u64) -> u64 {
-    x = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    x = (x ^ (x >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    x ^ (x >> 31)
+pub fn hash32(x: u32) -> u32 {
+    let state = x.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+    let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277_803_737);
+    (word >> 22) ^ word
+}
+
+/// Hash of a rounded cell centre, seeded; identical in WGSL (`hash_key`).
+#[must_use]
+pub fn hash_key(key: [i32; 4], seed: u32) -> u32 {
+    key.iter().fold(seed, |h, &k| hash32(h ^ k as u32))
 }
 
 /// A Euclidean domain that is an axis-aligned box centred at the origin:
