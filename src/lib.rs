@@ -64,6 +64,7 @@ pub mod geometry;
 pub mod motion;
 pub mod placement;
 mod plugin;
+pub mod render;
 pub mod space;
 pub mod trace;
 

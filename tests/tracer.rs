@@ -571,18 +571,31 @@ fn rays_through_vertices_along_edges_and_tangent_to_faces_stay_sane() {
         let s = catalog::by_name(name).expect("catalog");
         let g = s.geometry();
         let prep = empty(&s);
-        let settings = TraceSettings { max_level: 64, max_distance: 1e6, ..TraceSettings::default() };
+        let settings = TraceSettings {
+            max_level: 64,
+            max_distance: 1e6,
+            ..TraceSettings::default()
+        };
         let mut rays = Vec::new();
         let o = DVec4::W;
         for v in s.vertices() {
-            rays.push(Ray { origin: o, dir: g.normalize_tangent::<f64>(o, v.point) });
+            rays.push(Ray {
+                origin: o,
+                dir: g.normalize_tangent::<f64>(o, v.point),
+            });
         }
         for e in s.edges() {
             let [a, b] = e.vertices.map(|i| s.vertices()[i].point);
             let mid = g.normalize_point::<f64>(a + b);
-            rays.push(Ray { origin: o, dir: g.normalize_tangent::<f64>(o, mid) });
+            rays.push(Ray {
+                origin: o,
+                dir: g.normalize_tangent::<f64>(o, mid),
+            });
             // Along the edge itself, from one end.
-            rays.push(Ray { origin: a, dir: g.normalize_tangent::<f64>(a, b) });
+            rays.push(Ray {
+                origin: a,
+                dir: g.normalize_tangent::<f64>(a, b),
+            });
         }
         for (i, ring) in s.polyhedron().face_vertices.iter().enumerate() {
             // From the middle of a face, sliding along it towards a vertex.
@@ -598,7 +611,11 @@ fn rays_through_vertices_along_edges_and_tangent_to_faces_stay_sane() {
             let (_, stop) = trace_ray(&s, &prep, ray, &settings, &mut |st| {
                 for r in [st.start, st.end] {
                     assert!(r.origin.is_finite() && r.dir.is_finite(), "{name}: NaN");
-                    let out = s.faces().iter().map(|f| f.plane.dot(r.origin / r.origin.w)).fold(f64::MIN, f64::max);
+                    let out = s
+                        .faces()
+                        .iter()
+                        .map(|f| f.plane.dot(r.origin / r.origin.w))
+                        .fold(f64::MIN, f64::max);
                     assert!(out <= 1e-9, "{name}: {out:e} outside");
                     assert!(g.tangent_error::<f64>(r.origin, r.dir) < 1e-9, "{name}");
                 }
@@ -608,7 +625,10 @@ fn rays_through_vertices_along_edges_and_tangent_to_faces_stay_sane() {
             assert_eq!(stop, Stop::MaxLevel, "{name}");
             // Zero-length hops at a vertex are allowed, a stall is not: the
             // 64 crossings must cover real distance.
-            assert!(length > 8.0 * s.inradius(), "{name}: only {length} after {steps} segments");
+            assert!(
+                length > 8.0 * s.inradius(),
+                "{name}: only {length} after {steps} segments"
+            );
         }
     }
 }
