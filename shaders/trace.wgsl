@@ -33,7 +33,8 @@ struct Params {
     max_distance: f32,
     fog_density: f32,
     tube_k: f32,
-    // CELLS_LATTICE: 1 / edge lengths of the box; CELLS_HASHED: 1 / grid step.
+    // CELLS_LATTICE: 1 / edge lengths of the box; CELLS_HASHED: 1 / grid
+    // step in x, the f32 horizon (HASHED_HORIZON_F32) in y.
     cell_scale: vec4<f32>,
 }
 
@@ -367,8 +368,8 @@ fn cell_id(cell: mat4x4<f32>, index: u32) -> vec2<u32> {
     }
     let lo = hash_key(key, 0x9e3779b9u);
     var hi = hash_key(key, 0x85ebca6bu) & 0x3fffffffu;
-    if abs(c.w) >= 1.0e5 {
-        hi |= 0x40000000u; // CellId::FAR
+    if abs(c.w) >= params.cell_scale.y {
+        hi |= 0x40000000u; // CellId::FAR, past the f32 horizon
     }
     return vec2<u32>(select(lo, 1u, lo == 0u && hi == 0u), hi);
 #endif

@@ -47,6 +47,12 @@ const LATTICE_TAG: u64 = 1 << 63;
 /// flagged [`CellId::FAR`] (distance `acosh(1e5) ~ 12.2`).
 pub const HASHED_HORIZON: f64 = 1e5;
 
+/// The same horizon for an element accumulated in f32 (the GPU, and the
+/// CPU tracer's f32 mode): a product of a few H3 matrices in f32 is off by
+/// about `eps_32 |w|^2` in its centre, a good fraction of a grid step once
+/// `|w|` passes a few hundred (distance ~6).
+pub const HASHED_HORIZON_F32: f64 = 200.0;
+
 impl CellId {
     /// Set on hashed ids of copies beyond [`HASHED_HORIZON`], where f64 can
     /// no longer tell the copies apart reliably.
@@ -149,6 +155,15 @@ impl CellScheme {
     /// The id of the copy `g(D)`.
     #[must_use]
     pub fn id_of(&self, g: &DMat4) -> CellId {
+        self.id_within(g, HASHED_HORIZON)
+    }
+
+    /// [`CellScheme::id_of`] for an element known only to the precision
+    /// whose hashed-id horizon is `horizon` (`|w|` of the copy's centre):
+    /// [`HASHED_HORIZON`] in f64, [`HASHED_HORIZON_F32`] for an element
+    /// accumulated in f32 as the GPU does.
+    #[must_use]
+    pub fn id_within(&self, g: &DMat4, horizon: f64) -> CellId {
         let centre = g.w_axis;
         match self {
             CellScheme::Lattice { inverse_basis } => {
@@ -163,7 +178,7 @@ impl CellScheme {
                     .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
                 CellId(best.0 as u64)
             }
-            CellScheme::Hashed { quantum } => hashed_id(centre, *quantum),
+            CellScheme::Hashed { quantum } => hashed_id(centre, *quantum, horizon),
         }
     }
 
@@ -216,11 +231,11 @@ fn hashed_quantum(space: &Space) -> f64 {
     }
 }
 
-fn hashed_id(centre: DVec4, quantum: f64) -> CellId {
+fn hashed_id(centre: DVec4, quantum: f64, horizon: f64) -> CellId {
     if !centre.is_finite() {
         return CellId(CellId::FAR | 1);
     }
-    let far = centre.w.abs() >= HASHED_HORIZON;
+    let far = centre.w.abs() >= horizon;
     let key = (centre / quantum).round();
     let origin = (DVec4::W / quantum).round();
     if key == origin {

@@ -178,3 +178,51 @@ fn render_reports_a_bad_scene_field() {
     );
     assert!(!out.exists(), "no image is written for a bad scene");
 }
+
+#[test]
+fn render_defaults_to_the_gpu_and_matches_the_cpu_ids() {
+    let (gpu_ids, cpu_ids, out) = (tmp("gpu_ids.png"), tmp("cpu_ids.png"), tmp("gpu.png"));
+    let args = |ids: &PathBuf, extra: &[&str]| {
+        let mut a: Vec<String> = [
+            "render", "--space", "poincare", "--width", "64", "--height", "48", "--out",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        a.push(out.to_str().expect("utf-8").into());
+        a.push("--ids".into());
+        a.push(ids.to_str().expect("utf-8").into());
+        a.extend(extra.iter().map(|s| s.to_string()));
+        a
+    };
+    let g = Command::new(env!("CARGO_BIN_EXE_bevy_manifold"))
+        .args(args(&gpu_ids, &[]))
+        .output()
+        .expect("runs");
+    assert!(g.status.success(), "{}", stderr(&g));
+    let said = stderr(&g);
+    if said.contains("rendering with the CPU reference tracer instead") {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI must render on a GPU adapter: {said}"
+        );
+        eprintln!("SKIPPED: no GPU adapter: {said}");
+        return;
+    }
+    assert!(said.contains("GPU: "), "{said}");
+    let c = Command::new(env!("CARGO_BIN_EXE_bevy_manifold"))
+        .args(args(&cpu_ids, &["--cpu"]))
+        .output()
+        .expect("runs");
+    assert!(c.status.success(), "{}", stderr(&c));
+    let (a, b) = (
+        image::open(&gpu_ids).expect("gpu ids").to_rgba8(),
+        image::open(&cpu_ids).expect("cpu ids").to_rgba8(),
+    );
+    let same = a.pixels().zip(b.pixels()).filter(|(p, q)| p == q).count();
+    assert!(
+        same * 1000 >= 995 * a.pixels().len(),
+        "only {same} of {} id pixels agree",
+        a.pixels().len()
+    );
+}

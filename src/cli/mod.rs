@@ -5,6 +5,7 @@ mod bench;
 mod show;
 
 use bevy_manifold::prelude::*;
+use bevy_manifold::render::GpuTracer;
 use bevy_manifold::space::SpaceFileError;
 use bevy_manifold::trace::{write_ids_png, write_png};
 use clap::{Args, CommandFactory, Parser, Subcommand};
@@ -79,10 +80,10 @@ struct RenderArgs {
     /// Colour objects by the copy of the domain they are seen in.
     #[arg(long)]
     cells: bool,
-    /// Use the CPU reference tracer (the only tracer in this version).
+    /// Use the CPU reference tracer instead of the GPU (f64 unless --f32).
     #[arg(long)]
     cpu: bool,
-    /// Trace in f32, the GPU's precision, instead of f64.
+    /// With --cpu: trace in f32, the GPU's precision, instead of f64.
     #[arg(long)]
     f32: bool,
 }
@@ -162,12 +163,29 @@ fn render_command(args: &RenderArgs) -> Result<(), String> {
         cell_colors: args.cells,
         ..TraceSettings::default()
     };
-    let _ = args.cpu; // the CPU tracer is the only one for now
     let start = std::time::Instant::now();
-    let img = if args.f32 {
-        render::<f32>(&space, &scene, &settings)
+    let mut tracer = "CPU f64".to_string();
+    let gpu_image = if args.cpu {
+        None
     } else {
-        render::<f64>(&space, &scene, &settings)
+        match GpuTracer::new() {
+            Ok(mut gpu) => {
+                tracer = format!("GPU: {}", gpu.adapter_name());
+                Some(gpu.render(&space, &scene, &settings).map_err(|e| e.to_string())?)
+            }
+            Err(e) => {
+                eprintln!("warning: {e}; rendering with the CPU reference tracer instead");
+                None
+            }
+        }
+    };
+    let img = match gpu_image {
+        Some(img) => img,
+        None if args.f32 => {
+            tracer = "CPU f32".into();
+            render::<f32>(&space, &scene, &settings)
+        }
+        None => render::<f64>(&space, &scene, &settings),
     };
     let secs = start.elapsed().as_secs_f64();
     write_png(&img, &args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
@@ -175,12 +193,11 @@ fn render_command(args: &RenderArgs) -> Result<(), String> {
         write_ids_png(&img, ids).map_err(|e| format!("{}: {e}", ids.display()))?;
     }
     eprintln!(
-        "rendered {} ({}x{}, {} levels, CPU {}) in {:.2} s -> {}",
+        "rendered {} ({}x{}, {} levels, {tracer}) in {:.2} s -> {}",
         space.name(),
         args.width,
         args.height,
         args.bounces,
-        if args.f32 { "f32" } else { "f64" },
         secs,
         args.out.display()
     );

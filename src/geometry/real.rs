@@ -36,6 +36,9 @@ pub trait Real:
 
     /// Machine epsilon of this precision.
     const EPSILON: Self;
+    /// How far (as `|w|` of a copy's centre) a cell element accumulated in
+    /// this precision still names its copy (see `crate::cell`).
+    const CELL_HORIZON: f64;
     /// Converts from f64 (rounding for f32).
     fn of(x: f64) -> Self;
     /// Widens to f64.
@@ -85,11 +88,12 @@ pub trait Real:
 }
 
 macro_rules! impl_real {
-    ($t:ty, $v:ty, $m:ty, $to_v:expr, $from_v:expr, $to_m:expr, $from_m:expr) => {
+    ($t:ty, $v:ty, $m:ty, $horizon:expr, $to_v:expr, $from_v:expr, $to_m:expr, $from_m:expr) => {
         impl Real for $t {
             type V4 = $v;
             type M4 = $m;
             const EPSILON: Self = <$t>::EPSILON;
+            const CELL_HORIZON: f64 = $horizon;
             #[inline]
             fn of(x: f64) -> Self {
                 x as $t
@@ -190,6 +194,7 @@ impl_real!(
     f64,
     DVec4,
     DMat4,
+    crate::cell::HASHED_HORIZON,
     |v: DVec4| v,
     |v: DVec4| v,
     |m: DMat4| m,
@@ -199,6 +204,7 @@ impl_real!(
     f32,
     Vec4,
     Mat4,
+    crate::cell::HASHED_HORIZON_F32,
     |v: DVec4| v.as_vec4(),
     |v: Vec4| v.as_dvec4(),
     |m: DMat4| m.as_mat4(),

@@ -158,7 +158,7 @@ pub fn trace_ray<R: Real>(
         color,
         object,
         levels: walk.crossings,
-        cell: space.cell_id(&R::m4_f64(walk.cell)),
+        cell: space.cells().id_within(&R::m4_f64(walk.cell), R::CELL_HORIZON),
         distance: travelled.f64() as f32,
     };
     // A hard bound on the loop: every pass either transports (at most
@@ -265,7 +265,7 @@ fn shade<R: Real>(
     let view = -g.normalize_tangent::<R>(x, ray.dir);
     let mut albedo = albedo;
     if settings.cell_colors {
-        let c = space.cell_id(&R::m4_f64(cell)).color();
+        let c = space.cells().id_within(&R::m4_f64(cell), R::CELL_HORIZON).color();
         albedo = [albedo[0] * c[0], albedo[1] * c[1], albedo[2] * c[2]];
     }
     let ambient = 0.08f32;

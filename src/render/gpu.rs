@@ -1,0 +1,250 @@
+//! The tracer's GPU data: `#[repr(C)]` twins of the structs in
+//! `shaders/trace.wgsl`, packed from the same [`Prepared`] scene the CPU
+//! tracer reads (in f32), so both trace identical inputs.
+
+use crate::cell::CellScheme;
+use crate::space::Space;
+use crate::trace::{Prepared, TraceSettings};
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec4};
+
+/// WGSL `Params`.
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuParams {
+    /// Camera isometry (wrapped into the domain).
+    pub camera: [f32; 16],
+    /// The camera's cell element.
+    pub camera_cell: [f32; 16],
+    /// Fog colour (rgb, 1).
+    pub fog_color: [f32; 4],
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Most transports per ray.
+    pub max_level: u32,
+    /// Number of faces.
+    pub face_count: u32,
+    /// Number of balls.
+    pub ball_count: u32,
+    /// Number of tubes.
+    pub tube_count: u32,
+    /// Number of lights.
+    pub light_count: u32,
+    /// The camera's index in the Cayley table (finite groups).
+    pub camera_cell_index: u32,
+    /// `tan(fov_y / 2)`.
+    pub tan_half_fov: f32,
+    /// Rays stop after this distance.
+    pub max_distance: f32,
+    /// Fog density (0 without fog).
+    pub fog_density: f32,
+    /// `k` of the edge tubes.
+    pub tube_k: f32,
+    /// Lattice: 1 / box edges; hashed: 1 / grid step in x, the f32 horizon
+    /// in y.
+    pub cell_scale: [f32; 4],
+}
+
+/// WGSL `Face`.
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuFace {
+    /// Plane.
+    pub plane: [f32; 4],
+    /// `T_i`.
+    pub pairing: [f32; 16],
+    /// `T_i^-1`.
+    pub crossing: [f32; 16],
+    /// Partner face.
+    pub partner: u32,
+    /// Padding to 16 bytes.
+    pub pad: [u32; 3],
+}
+
+/// WGSL `Ball`.
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuBall {
+    /// Centre.
+    pub center: [f32; 4],
+    /// Albedo.
+    pub color: [f32; 3],
+    /// `cosh r`, `cos r` or `r^2`.
+    pub k: f32,
+    /// Object id.
+    pub id: u32,
+    /// Padding to 16 bytes.
+    pub pad: [u32; 3],
+}
+
+/// WGSL `Tube`.
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuTube {
+    /// Start point.
+    pub a: [f32; 4],
+    /// Unit tangent at `a` towards `b`.
+    pub e: [f32; 4],
+    /// End point.
+    pub b: [f32; 4],
+    /// Unit tangent at `b`, away from `a`.
+    pub e_b: [f32; 4],
+    /// Albedo (rgb, 1).
+    pub color: [f32; 4],
+}
+
+/// WGSL `Light`.
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuLight {
+    /// Position.
+    pub position: [f32; 4],
+    /// Colour.
+    pub color: [f32; 3],
+    /// Power.
+    pub intensity: f32,
+}
+
+/// WGSL `Pixel`.
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuPixel {
+    /// Colour, and the distance in `w`.
+    pub color: [f32; 4],
+    /// Object id.
+    pub object: u32,
+    /// Levels used.
+    pub levels: u32,
+    /// Cell id, low word.
+    pub cell_lo: u32,
+    /// Cell id, high word.
+    pub cell_hi: u32,
+}
+
+/// Everything one trace uploads.
+#[derive(Clone, Debug)]
+pub struct GpuScene {
+    /// The uniform.
+    pub params: GpuParams,
+    /// Faces.
+    pub faces: Vec<GpuFace>,
+    /// Balls (at least one element: empty storage buffers are not allowed).
+    pub balls: Vec<GpuBall>,
+    /// Tubes (likewise).
+    pub tubes: Vec<GpuTube>,
+    /// Lights (likewise).
+    pub lights: Vec<GpuLight>,
+    /// Cayley table, `[k * faces + f]` (likewise).
+    pub cell_table: Vec<u32>,
+}
+
+fn m(m: Mat4) -> [f32; 16] {
+    m.to_cols_array()
+}
+
+fn v(v: Vec4) -> [f32; 4] {
+    v.to_array()
+}
+
+fn non_empty<T: Zeroable>(mut x: Vec<T>) -> Vec<T> {
+    if x.is_empty() {
+        x.push(T::zeroed());
+    }
+    x
+}
+
+impl GpuScene {
+    /// Packs a prepared scene for the GPU.
+    #[must_use]
+    pub fn pack(space: &Space, prep: &Prepared<f32>, settings: &TraceSettings) -> Self {
+        let t = &prep.faces;
+        let faces = (0..t.planes.len())
+            .map(|i| GpuFace {
+                plane: v(t.planes[i]),
+                pairing: m(t.pairings[i]),
+                crossing: m(t.crossings[i]),
+                partner: t.partners[i] as u32,
+                pad: [0; 3],
+            })
+            .collect();
+        let (cell_scale, cell_table) = match space.cells() {
+            CellScheme::Lattice { inverse_basis } => (
+                [
+                    inverse_basis.x_axis.x as f32,
+                    inverse_basis.y_axis.y as f32,
+                    inverse_basis.z_axis.z as f32,
+                    0.0,
+                ],
+                Vec::new(),
+            ),
+            CellScheme::Finite { table, .. } => ([0.0; 4], table.iter().flatten().copied().collect()),
+            CellScheme::Hashed { quantum } => (
+                [(1.0 / quantum) as f32, crate::cell::HASHED_HORIZON_F32 as f32, 0.0, 0.0],
+                Vec::new(),
+            ),
+        };
+        let (fog_density, fog_color) = prep.fog.map_or((0.0, [0.0; 3]), |(d, c)| (d, c));
+        let params = GpuParams {
+            camera: m(prep.camera),
+            camera_cell: m(prep.camera_cell.as_mat4()),
+            fog_color: [fog_color[0], fog_color[1], fog_color[2], 1.0],
+            width: settings.width,
+            height: settings.height,
+            max_level: settings.max_level,
+            face_count: t.planes.len() as u32,
+            ball_count: prep.balls.len() as u32,
+            tube_count: prep.tubes.len() as u32,
+            light_count: prep.lights.len() as u32,
+            camera_cell_index: match space.cells() {
+                CellScheme::Finite { .. } => space.cell_id(&prep.camera_cell).0 as u32,
+                _ => 0,
+            },
+            tan_half_fov: prep.tan_half_fov,
+            max_distance: settings.max_distance as f32,
+            fog_density,
+            tube_k: prep.tube_k,
+            cell_scale,
+        };
+        GpuScene {
+            params,
+            faces,
+            balls: non_empty(
+                prep.balls
+                    .iter()
+                    .map(|b| GpuBall {
+                        center: v(b.center),
+                        color: b.color,
+                        k: b.k,
+                        id: b.id,
+                        pad: [0; 3],
+                    })
+                    .collect(),
+            ),
+            tubes: non_empty(
+                prep.tubes
+                    .iter()
+                    .map(|tb| GpuTube {
+                        a: v(tb.segment.a),
+                        e: v(tb.segment.e),
+                        b: v(tb.segment.b),
+                        e_b: v(tb.segment.e_b),
+                        color: [tb.color[0], tb.color[1], tb.color[2], 1.0],
+                    })
+                    .collect(),
+            ),
+            lights: non_empty(
+                prep.lights
+                    .iter()
+                    .map(|l| GpuLight {
+                        position: v(l.position),
+                        color: l.color,
+                        intensity: l.intensity,
+                    })
+                    .collect(),
+            ),
+            cell_table: non_empty(cell_table),
+        }
+    }
+}
