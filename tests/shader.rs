@@ -3,27 +3,12 @@
 
 use bevy_manifold::geometry::Geometry;
 use bevy_manifold::prelude::*;
-use bevy_manifold::render::{TRACE_WGSL, TraceDefs};
-use naga_oil::compose::{Composer, NagaModuleDescriptor, ShaderDefValue, ShaderLanguage, ShaderType};
-use std::collections::HashMap;
+use bevy_manifold::render::{GpuTracer, TraceDefs};
 
+/// Composed exactly as the GPU tracer composes it (naga_oil, Bevy's
+/// preprocessor).
 fn compose(defs: &TraceDefs) -> Result<naga::Module, String> {
-    let mut composer = Composer::default();
-    let shader_defs: HashMap<String, ShaderDefValue> = defs
-        .names()
-        .into_iter()
-        .map(|n| (n.to_string(), ShaderDefValue::Bool(true)))
-        .collect();
-    let _ = ShaderLanguage::Wgsl;
-    composer
-        .make_naga_module(NagaModuleDescriptor {
-            source: TRACE_WGSL,
-            file_path: "shaders/trace.wgsl",
-            shader_type: ShaderType::Wgsl,
-            shader_defs,
-            additional_imports: &[],
-        })
-        .map_err(|e| e.emit_to_string(&composer))
+    GpuTracer::compose(defs).map_err(|e| e.to_string())
 }
 
 fn validate(module: &naga::Module) -> Result<(), String> {

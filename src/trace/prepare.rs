@@ -80,9 +80,7 @@ impl<R: Real> FaceTables<R> {
 /// Everything the per-pixel loop reads.
 #[derive(Clone, Debug)]
 pub struct Prepared<R: Real> {
-    /// The geometry.
-    pub geometry: Geometry,
-    /// The faces' planes and pairings.
+    /// The faces' planes and pairings (and the geometry).
     pub faces: FaceTables<R>,
     /// Balls, ghosts included, then the vertex joints of the edge tubes.
     pub balls: Vec<PreparedBall<R>>,
@@ -188,7 +186,6 @@ impl<R: Real> Prepared<R> {
             .collect();
         let (camera, camera_cell) = space.wrap(scene.camera.isometry, 1000);
         Prepared {
-            geometry: g,
             faces: FaceTables::new(space),
             balls,
             tubes,

@@ -130,7 +130,7 @@ pub fn camera_ray<R: Real>(prep: &Prepared<R>, i: u32, j: u32, w: u32, h: u32) -
     let aspect = R::of(f64::from(w) / f64::from(h));
     let d = R::v4(x * prep.tan_half_fov * aspect, y * prep.tan_half_fov, -one, R::of(0.0));
     let d = d * (one / R::dot4(d, d).sqrt());
-    let g = prep.geometry;
+    let g = prep.faces.geometry;
     let o = g.normalize_point::<R>(prep.camera * g.origin::<R>());
     Ray {
         origin: o,
@@ -148,7 +148,7 @@ pub fn trace_ray<R: Real>(
     settings: &TraceSettings,
     on_step: &mut dyn FnMut(&PathStep<R>),
 ) -> (TracePixel, Stop) {
-    let g = prep.geometry;
+    let g = prep.faces.geometry;
     let fog_cut = R::of((255.0f64).ln());
     let max_distance = R::of(settings.max_distance);
     let mut walk = Walker::new(ray, R::m4_of(prep.camera_cell));
