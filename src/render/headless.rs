@@ -185,9 +185,25 @@ impl GpuTracer {
     /// # Errors
     /// A shader, validation or readback failure, as [`GpuError`].
     pub fn render(&mut self, space: &Space, scene: &Scene, settings: &TraceSettings) -> Result<TraceImage, GpuError> {
+        let defs = TraceDefs::for_scene(space, scene, settings.cell_colors);
+        self.render_with(space, scene, settings, defs)
+    }
+
+    /// [`GpuTracer::render`] with the shader specialised by `defs` instead
+    /// of by the scene (they must include what the scene uses; used to
+    /// measure what specialisation saves).
+    ///
+    /// # Errors
+    /// As [`GpuTracer::render`].
+    pub fn render_with(
+        &mut self,
+        space: &Space,
+        scene: &Scene,
+        settings: &TraceSettings,
+        defs: TraceDefs,
+    ) -> Result<TraceImage, GpuError> {
         let prep = Prepared::<f32>::new(space, scene);
         let gpu = GpuScene::pack(space, &prep, settings);
-        let defs = TraceDefs::for_scene(space, scene, settings.cell_colors);
         self.pipeline(defs)?;
         let pipeline = &self.pipelines[&defs];
         let d = &self.device;
