@@ -50,6 +50,15 @@ fn tables(space: &Space) -> FaceTables<f64> {
     FaceTables::new(space)
 }
 
+/// The middle of face `i` (normalised mean of its vertices).
+fn face_middle(s: &Space, i: usize) -> DVec4 {
+    let sum = s.polyhedron().face_vertices[i]
+        .iter()
+        .map(|&v| s.vertices()[v].point)
+        .sum::<DVec4>();
+    s.geometry().normalize_point::<f64>(sum)
+}
+
 #[test]
 fn a_ray_leaving_through_a_face_reenters_through_its_partner() {
     for name in catalog::NAMES {
@@ -63,8 +72,7 @@ fn a_ray_leaving_through_a_face_reenters_through_its_partner() {
         };
         for (i, f) in s.faces().iter().enumerate() {
             // Aim from near the centre at the middle of face i.
-            let ring = &s.polyhedron().face_vertices[i];
-            let mid = g.normalize_point::<f64>(ring.iter().map(|&v| s.vertices()[v].point).sum::<DVec4>());
+            let mid = face_middle(&s, i);
             let o = g.normalize_point::<f64>(DVec4::W * 0.9 + mid * 0.1);
             let ray = Ray {
                 origin: o,
@@ -610,7 +618,7 @@ fn rays_through_vertices_along_edges_and_tangent_to_faces_stay_sane() {
         }
         for (i, ring) in s.polyhedron().face_vertices.iter().enumerate() {
             // From the middle of a face, sliding along it towards a vertex.
-            let mid = g.normalize_point::<f64>(ring.iter().map(|&v| s.vertices()[v].point).sum::<DVec4>());
+            let mid = face_middle(&s, i);
             let target = s.vertices()[ring[0]].point;
             let dir = g.normalize_tangent::<f64>(mid, target);
             assert!(s.faces()[i].plane.dot(dir).abs() < 1e-12, "{name}: tangent to face {i}");
