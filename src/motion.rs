@@ -6,8 +6,8 @@
 //! motion `M -> M'` whose position has left the domain, the chord from the
 //! old position to the new one is walked as a ray walks (the same
 //! [`Walker`]), face by face; the placement is carried back by the pairings
-//! of the faces crossed, in order, and the cell element picks up the
-//! crossings. Fast movers crossing many faces in one step therefore end
+//! of the faces crossed, in order; the faces are reported so the caller
+//! can update the entity's cell. Fast movers crossing many faces in one step therefore end
 //! exactly where a finely stepped motion ends, with the same faces reported.
 //!
 //! ```
@@ -36,11 +36,9 @@ use glam::{DMat4, DVec3, DVec4};
 pub struct Moved {
     /// The placement, back inside the domain, re-orthonormalised.
     pub placement: DMat4,
-    /// The faces crossed, in order.
+    /// The faces crossed, in order (the entity's cell is the old cell times
+    /// their [`Space::crossing`]s).
     pub faces: Vec<usize>,
-    /// The product of the crossings' group elements (`T_f^-1` each): the
-    /// entity's cell is the old cell times this.
-    pub element: DMat4,
 }
 
 /// Carries the placement `to`, reached by a motion from the placement
@@ -76,20 +74,13 @@ pub fn move_placement(space: &Space, tables: &FaceTables<f64>, from: DMat4, to: 
     }
     // T_fk ... T_f1 M' = (product of crossings)^-1 M'.
     let mut placement = isometry::orthonormalize(g, isometry::inverse(g, walk.cell) * to);
-    let mut element = walk.cell;
     // Rounding can leave the end a hair outside; the nearest-face rule
     // settles it (and finishes a motion that crossed more than
     // max_crossings).
     if space.outside_face(placement.w_axis, 1e-12).is_some() {
-        let (wrapped, extra) = space.wrap_with(placement, 1000, &mut |f| faces.push(f));
-        placement = wrapped;
-        element *= extra;
+        placement = space.wrap_with(placement, 1000, &mut |f| faces.push(f)).0;
     }
-    Moved {
-        placement,
-        faces,
-        element: isometry::orthonormalize(g, element),
-    }
+    Moved { placement, faces }
 }
 
 /// Longest distance moved between two wraps. Longer motions are cut into
@@ -105,8 +96,8 @@ pub const MAX_SUBSTEPS: usize = 100_000;
 
 /// Moves a placement for time `dt` at constant velocity (`linear`,
 /// `angular`, in its own frame) by the isometry exponential, wrapping it
-/// back into the domain along the way. Returns the placement, the faces
-/// crossed in order and their product. `complete` is false when the motion
+/// back into the domain along the way. Returns the placement and the faces
+/// crossed in order. `complete` is false when the motion
 /// was cut at [`MAX_SUBSTEPS`].
 #[must_use]
 pub fn advance_placement(
@@ -130,23 +121,13 @@ pub fn advance_placement(
     let mut out = Moved {
         placement,
         faces: Vec::new(),
-        element: DMat4::IDENTITY,
     };
     for _ in 0..n {
         let moved = move_placement(space, tables, out.placement, out.placement * step, usize::MAX);
         out.placement = moved.placement;
         out.faces.extend(moved.faces);
-        out.element *= moved.element;
     }
-    out.element = isometry::orthonormalize(g, out.element);
     (out, complete)
-}
-
-/// True when the placement's position lies inside the domain (within
-/// `eps` in chart units).
-#[must_use]
-pub fn is_inside(space: &Space, placement: &DMat4, eps: f64) -> bool {
-    space.outside_face(placement.w_axis, eps).is_none()
 }
 
 /// The chart position of a placement: `(x, y, z) / w`.

@@ -1,7 +1,6 @@
 //! The systems of [`super::PlacementPlugin`], in the order they run.
 
 use super::components::{DomainCell, FaceCrossed, GeodesicVelocity, ManifoldSpace, Placement, WrapOrigin};
-use crate::cell::CellId;
 use crate::geometry::isometry;
 use crate::motion::{Moved, advance_placement, chart_position, move_placement};
 use crate::space::FaceKind;
@@ -126,20 +125,18 @@ fn apply_crossings(
         let old_cell = cell.id;
         let product = cell.element * space.crossing(face);
         // Re-orthonormalising a huge H3 element does more harm than good
-        // (its form has cancelled to noise); beyond the horizon the id is
-        // flagged far anyway. A product that overflows is not stored.
-        if product.is_finite() {
+        // (its form has cancelled to noise), so only elements inside the
+        // horizon are. A product that overflowed is not stored; the cell
+        // scheme gives it a FAR id.
+        let finite = product.is_finite();
+        if finite {
             cell.element = if product.w_axis.w.abs() < crate::cell::HASHED_HORIZON {
                 isometry::orthonormalize(g, product)
             } else {
                 product
             };
         }
-        cell.id = if product.is_finite() {
-            space.cell_id(&cell.element)
-        } else {
-            CellId(CellId::FAR | 1)
-        };
+        cell.id = space.cell_id(if finite { &cell.element } else { &product });
         if space.faces()[face].kind == FaceKind::Mirror {
             placement.mirrored = !placement.mirrored;
         }
