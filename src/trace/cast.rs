@@ -5,7 +5,6 @@
 use super::prepare::{FaceTables, ghost_centres};
 use super::step::{Ray, advance, hit_ball, radius_param};
 use super::walk::Walker;
-use crate::geometry::plane;
 use crate::space::Space;
 use glam::{DMat4, DVec4};
 
@@ -51,20 +50,12 @@ pub fn cast_balls<K: Copy>(
     // A ball that reaches across a face is also tested through it.
     let mut copies: Vec<(K, DVec4, f64)> = Vec::new();
     for b in balls {
-        let straddles = space
-            .faces()
-            .iter()
-            .any(|f| plane::signed_distance(g, f.plane, b.center) > -b.radius);
         let k = radius_param(g, b.radius);
-        if straddles {
-            copies.extend(
-                ghost_centres(space, b.center, b.radius)
-                    .into_iter()
-                    .map(|c| (b.key, c, k)),
-            );
-        } else {
-            copies.push((b.key, b.center, k));
-        }
+        copies.extend(
+            ghost_centres(space, b.center, b.radius)
+                .into_iter()
+                .map(|c| (b.key, c, k)),
+        );
     }
     let mut hits = Vec::new();
     let mut walk = Walker::new(ray, DMat4::IDENTITY);

@@ -209,6 +209,14 @@ impl<R: Real> Prepared<R> {
 #[must_use]
 pub fn ghost_centres(space: &Space, center: DVec4, radius: f64) -> Vec<DVec4> {
     let g = space.geometry();
+    // A ball that reaches no face has no copy reaching into the domain.
+    let straddles = space
+        .faces()
+        .iter()
+        .any(|f| crate::geometry::plane::signed_distance(g, f.plane, center) > -radius);
+    if !straddles {
+        return vec![center];
+    }
     let mut seen: HashSet<CellId> = HashSet::new();
     seen.insert(CellId(0));
     let mut out = vec![center];
