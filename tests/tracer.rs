@@ -4,7 +4,7 @@
 
 use bevy_manifold::geometry::{Geometry, isometry};
 use bevy_manifold::prelude::*;
-use bevy_manifold::trace::step::{Ray, exit_face};
+use bevy_manifold::trace::step::Ray;
 use bevy_manifold::trace::{FaceTables, Prepared, Stop, flow, ghost_centres, trace_ray, write_ids_png};
 use glam::{DMat4, DVec3, DVec4, IVec3};
 use rayon::prelude::*;
@@ -485,14 +485,6 @@ fn a_ball_straddling_a_face_is_drawn_through_it() {
     let p = img.at(2, 2);
     assert_eq!((p.object, p.levels), (1, 0));
     assert!((f64::from(p.distance) - 0.35).abs() < 1e-6);
-    let _ = exit_face::<f64>(
-        &[],
-        &Ray {
-            origin: DVec4::W,
-            dir: DVec4::X,
-        },
-        0,
-    );
 }
 
 #[test]
