@@ -16,6 +16,14 @@
 //   FOG                exponential fog and the early stop it allows
 //   BALLS, TUBES       which object kinds the scene has
 //   LIGHTS             point lights (else ambient only)
+//   ENCODE_SRGB        the render pass's target stores sRGB-encoded bytes
+//                      without doing the encoding itself (Bevy's
+//                      CompositingSpace::Srgb): the fragment entry encodes
+//
+// Entry points: `trace` (compute) writes every pixel with its ids to a
+// storage buffer (headless renders, the agreement tests); `fragment` is the
+// Bevy render pass's full-screen trace into a camera's view target, with
+// depth. Both call `trace_pixel`, so they cannot disagree.
 
 struct Params {
     camera: mat4x4<f32>,
@@ -33,6 +41,12 @@ struct Params {
     max_distance: f32,
     fog_density: f32,
     tube_k: f32,
+    // The render pass: the viewport's top-left pixel in the target, and the
+    // camera's near plane (Bevy's reverse-z depth is near / view depth).
+    origin_x: u32,
+    origin_y: u32,
+    near: f32,
+    _pad0: u32,
     // CELLS_LATTICE: 1 / edge lengths of the box; CELLS_HASHED: 1 / grid
     // step in x, the f32 horizon (HASHED_HORIZON_F32) in y.
     cell_scale: vec4<f32>,
@@ -460,13 +474,18 @@ fn shade(ray: Ray, hit: Hit, dist: f32, cell: vec2<u32>) -> vec3<f32> {
     return rgb;
 }
 
-fn camera_ray(i: u32, j: u32) -> Ray {
+// The pixel's view direction in the camera's frame (unit, -z forward).
+fn view_direction(i: u32, j: u32) -> vec4<f32> {
     let w = f32(params.width);
     let h = f32(params.height);
     let x = 2.0 * (f32(i) + 0.5) / w - 1.0;
     let y = 1.0 - 2.0 * (f32(j) + 0.5) / h;
-    var d = vec4<f32>(x * params.tan_half_fov * (w / h), y * params.tan_half_fov, -1.0, 0.0);
-    d = d * (1.0 / sqrt(dot(d, d)));
+    let d = vec4<f32>(x * params.tan_half_fov * (w / h), y * params.tan_half_fov, -1.0, 0.0);
+    return d * (1.0 / sqrt(dot(d, d)));
+}
+
+fn camera_ray(i: u32, j: u32) -> Ray {
+    let d = view_direction(i, j);
     let o = normalize_point(params.camera * vec4<f32>(0.0, 0.0, 0.0, 1.0));
     return Ray(o, normalize_tangent(o, params.camera * d));
 }
@@ -479,18 +498,14 @@ fn background() -> vec3<f32> {
 #endif
 }
 
-@compute @workgroup_size(8, 8, 1)
-fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x >= params.width || id.y >= params.height {
-        return;
-    }
-    var ray = camera_ray(id.x, id.y);
+// Algorithm 1 for the pixel (i, j) of the view.
+fn trace_pixel(i: u32, j: u32) -> Pixel {
+    var ray = camera_ray(i, j);
     var cell = params.camera_cell;
     var index = params.camera_cell_index;
     var entered = NO_FACE;
     var levels = 0u;
     var travelled = 0.0;
-    var out = Pixel(vec4<f32>(background(), 1.0), 0u, 0u, 0u, 0u);
     let t_cap = max_chart_parameter();
     // The same hard bound as the CPU: transports, plus (S3) unit advances.
     let max_passes = params.max_level + u32(min(params.max_distance, 1.0e4)) + 2u;
@@ -515,9 +530,7 @@ fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
                 object = balls[hit.index].id;
             }
 #endif
-            out = Pixel(vec4<f32>(shade(ray, hit, dist, cid), dist), object, levels, cid.x, cid.y);
-            pixels[id.y * params.width + id.x] = out;
-            return;
+            return Pixel(vec4<f32>(shade(ray, hit, dist, cid), dist), object, levels, cid.x, cid.y);
         }
         let end = advance(ray, t_end);
         travelled += chart_to_distance(t_end);
@@ -542,5 +555,45 @@ fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
         levels++;
     }
     let cid = cell_id(cell, index);
-    pixels[id.y * params.width + id.x] = Pixel(vec4<f32>(background(), travelled), 0u, levels, cid.x, cid.y);
+    return Pixel(vec4<f32>(background(), travelled), 0u, levels, cid.x, cid.y);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= params.width || id.y >= params.height {
+        return;
+    }
+    pixels[id.y * params.width + id.x] = trace_pixel(id.x, id.y);
+}
+
+#ifdef ENCODE_SRGB
+fn encode_srgb(c: vec3<f32>) -> vec3<f32> {
+    let x = clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));
+    return select(1.055 * pow(x, vec3<f32>(1.0 / 2.4)) - 0.055, 12.92 * x, x <= vec3<f32>(0.0031308));
+}
+#endif
+
+struct FragmentOutput {
+    @location(0) color: vec4<f32>,
+    @builtin(frag_depth) depth: f32,
+}
+
+@fragment
+fn fragment(@builtin(position) position: vec4<f32>) -> FragmentOutput {
+    let i = u32(position.x) - params.origin_x;
+    let j = u32(position.y) - params.origin_y;
+    let p = trace_pixel(i, j);
+    var rgb = p.color.xyz;
+#ifdef ENCODE_SRGB
+    rgb = encode_srgb(rgb);
+#endif
+    // Reverse-z depth of the hit along the view axis, so ordinary Bevy
+    // meshes drawn after the trace (overlays, a HUD) sort against it;
+    // 0 (infinitely far) where nothing was hit.
+    var depth = 0.0;
+    if p.object != 0u {
+        let along = p.color.w * -view_direction(i, j).z;
+        depth = params.near / max(along, params.near);
+    }
+    return FragmentOutput(vec4<f32>(rgb, 1.0), depth);
 }

@@ -60,6 +60,7 @@
 
 pub mod camera_controller;
 pub mod cell;
+pub mod drawables;
 pub mod geometry;
 pub mod motion;
 pub mod placement;
@@ -75,11 +76,14 @@ pub mod prelude {
     pub use crate::ManifoldPlugin;
     pub use crate::camera_controller::{FlyCamera, FlyCameraPlugin};
     pub use crate::cell::CellId;
+    pub use crate::drawables::{DomainEdges, DrawablesPlugin, ManifoldLight, ManifoldScene, TracedBall};
     pub use crate::geometry::{Geometry, Real, isometry, plane};
     pub use crate::placement::{
         DomainCell, FaceCrossed, GeodesicVelocity, ManifoldCollider, ManifoldRayCast, ManifoldSpace, ManifoldSystems,
         Placement, PlacementPlugin, RayCastSettings, RayHit,
     };
+    #[cfg(feature = "render")]
+    pub use crate::render::pass::{CellShading, ManifoldCamera, ManifoldFog};
     pub use crate::space::{Face, FaceKind, Space, SpaceDesc, SpaceError, catalog};
     pub use crate::trace::{Ball, Fog, Light, Scene, TraceImage, TraceSettings, render};
 }

@@ -28,8 +28,38 @@ fn every_specialisation_composes_and_validates() {
     for defs in &all {
         let module = compose(defs).unwrap_or_else(|e| panic!("{:?}: {e}", defs.names()));
         validate(&module).unwrap_or_else(|e| panic!("{:?}: {e}", defs.names()));
+        // The headless compute entry and the render pass's fragment entry.
         assert!(module.entry_points.iter().any(|e| e.name == "trace"));
+        assert!(module.entry_points.iter().any(|e| e.name == "fragment"));
     }
+}
+
+#[test]
+fn the_srgb_encoding_variant_composes_and_encodes() {
+    use naga_oil::compose::{Composer, NagaModuleDescriptor, ShaderDefValue};
+    let torus = catalog::torus(1.0);
+    let defs = TraceDefs::for_scene(&torus, &Scene::default_for(&torus), false);
+    let with = |extra: &[&str]| {
+        let mut composer = Composer::default();
+        let shader_defs = defs
+            .names()
+            .iter()
+            .chain(extra)
+            .map(|n| (n.to_string(), ShaderDefValue::Bool(true)))
+            .collect();
+        let module = composer
+            .make_naga_module(NagaModuleDescriptor {
+                source: bevy_manifold::render::TRACE_WGSL,
+                file_path: "shaders/trace.wgsl",
+                shader_defs,
+                ..Default::default()
+            })
+            .expect("compose");
+        validate(&module).expect("validate");
+        functions(&module)
+    };
+    assert!(with(&["ENCODE_SRGB"]).iter().any(|f| f == "encode_srgb"));
+    assert!(!with(&[]).iter().any(|f| f == "encode_srgb"));
 }
 
 /// The names of the functions a composed module kept.

@@ -9,7 +9,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec4};
 
 /// WGSL `Params`.
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 #[repr(C)]
 pub struct GpuParams {
     /// Camera isometry (wrapped into the domain).
@@ -42,13 +42,21 @@ pub struct GpuParams {
     pub fog_density: f32,
     /// `k` of the edge tubes.
     pub tube_k: f32,
+    /// The render pass: the viewport's left pixel column in the target.
+    pub origin_x: u32,
+    /// The render pass: the viewport's top pixel row in the target.
+    pub origin_y: u32,
+    /// The camera's near plane, for reverse-z depth.
+    pub near: f32,
+    /// Padding.
+    pub pad: u32,
     /// Lattice: 1 / box edges; hashed: 1 / grid step in x, the f32 horizon
     /// in y.
     pub cell_scale: [f32; 4],
 }
 
 /// WGSL `Face`.
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 #[repr(C)]
 pub struct GpuFace {
     /// Plane.
@@ -64,7 +72,7 @@ pub struct GpuFace {
 }
 
 /// WGSL `Ball`.
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 #[repr(C)]
 pub struct GpuBall {
     /// Centre.
@@ -80,7 +88,7 @@ pub struct GpuBall {
 }
 
 /// WGSL `Tube`.
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 #[repr(C)]
 pub struct GpuTube {
     /// Start point.
@@ -96,7 +104,7 @@ pub struct GpuTube {
 }
 
 /// WGSL `Light`.
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 #[repr(C)]
 pub struct GpuLight {
     /// Position.
@@ -108,7 +116,7 @@ pub struct GpuLight {
 }
 
 /// WGSL `Pixel`.
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 #[repr(C)]
 pub struct GpuPixel {
     /// Colour, and the distance in `w`.
@@ -123,21 +131,68 @@ pub struct GpuPixel {
     pub cell_hi: u32,
 }
 
-/// Everything one trace uploads.
-#[derive(Clone, Debug)]
-pub struct GpuScene {
-    /// The uniform.
-    pub params: GpuParams,
+/// The space's part of the GPU data: faces and the cell table. Uploaded
+/// when the space changes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GpuSpace {
     /// Faces.
     pub faces: Vec<GpuFace>,
+    /// Cayley table, `[k * faces + f]` (at least one element: empty storage
+    /// buffers are not allowed).
+    pub cell_table: Vec<u32>,
+    /// [`GpuParams::cell_scale`].
+    pub cell_scale: [f32; 4],
+}
+
+/// The scene's objects on the GPU: balls (ghost copies and the edge tubes'
+/// vertex joints included), tubes and lights. Uploaded when an object
+/// changes, not when the camera moves.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GpuObjects {
     /// Balls (at least one element: empty storage buffers are not allowed).
     pub balls: Vec<GpuBall>,
     /// Tubes (likewise).
     pub tubes: Vec<GpuTube>,
     /// Lights (likewise).
     pub lights: Vec<GpuLight>,
-    /// Cayley table, `[k * faces + f]` (likewise).
-    pub cell_table: Vec<u32>,
+    /// How many of each are real: balls, tubes, lights.
+    pub counts: [u32; 3],
+    /// `k` of the edge tubes.
+    pub tube_k: f32,
+}
+
+/// The per-frame view: where the camera is and what the frame looks like.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GpuView {
+    /// The camera isometry, inside the domain.
+    pub camera: Mat4,
+    /// The camera's cell element (f64: its id is computed from it).
+    pub camera_cell: glam::DMat4,
+    /// `tan(fov_y / 2)`.
+    pub tan_half_fov: f32,
+    /// Fog density and colour, when on.
+    pub fog: Option<(f32, [f32; 3])>,
+    /// Image (viewport) size in pixels.
+    pub size: [u32; 2],
+    /// The viewport's top-left pixel in its target.
+    pub origin: [u32; 2],
+    /// The near plane, for depth.
+    pub near: f32,
+    /// Most transports per ray.
+    pub max_level: u32,
+    /// Rays stop after this distance.
+    pub max_distance: f32,
+}
+
+/// Everything one trace uploads.
+#[derive(Clone, Debug)]
+pub struct GpuScene {
+    /// The uniform.
+    pub params: GpuParams,
+    /// The space's faces and cell table.
+    pub space: GpuSpace,
+    /// Balls, tubes, lights.
+    pub objects: GpuObjects,
 }
 
 fn m(m: Mat4) -> [f32; 16] {
@@ -155,11 +210,11 @@ fn non_empty<T: Zeroable>(mut x: Vec<T>) -> Vec<T> {
     x
 }
 
-impl GpuScene {
-    /// Packs a prepared scene for the GPU.
+impl GpuSpace {
+    /// Packs a space's faces (in f32) and its cell scheme.
     #[must_use]
-    pub fn pack(space: &Space, prep: &Prepared<f32>, settings: &TraceSettings) -> Self {
-        let t = &prep.faces;
+    pub fn pack(space: &Space) -> Self {
+        let t = crate::trace::FaceTables::<f32>::new(space);
         let faces = (0..t.planes.len())
             .map(|i| GpuFace {
                 plane: v(t.planes[i]),
@@ -185,31 +240,19 @@ impl GpuScene {
                 Vec::new(),
             ),
         };
-        let (fog_density, fog_color) = prep.fog.map_or((0.0, [0.0; 3]), |(d, c)| (d, c));
-        let params = GpuParams {
-            camera: m(prep.camera),
-            camera_cell: m(prep.camera_cell.as_mat4()),
-            fog_color: [fog_color[0], fog_color[1], fog_color[2], 1.0],
-            width: settings.width,
-            height: settings.height,
-            max_level: settings.max_level,
-            face_count: t.planes.len() as u32,
-            ball_count: prep.balls.len() as u32,
-            tube_count: prep.tubes.len() as u32,
-            light_count: prep.lights.len() as u32,
-            camera_cell_index: match space.cells() {
-                CellScheme::Finite { .. } => space.cell_id(&prep.camera_cell).0 as u32,
-                _ => 0,
-            },
-            tan_half_fov: prep.tan_half_fov,
-            max_distance: settings.max_distance as f32,
-            fog_density,
-            tube_k: prep.tube_k,
-            cell_scale,
-        };
-        GpuScene {
-            params,
+        GpuSpace {
             faces,
+            cell_table: non_empty(cell_table),
+            cell_scale,
+        }
+    }
+}
+
+impl GpuObjects {
+    /// Packs the objects of a prepared scene.
+    #[must_use]
+    pub fn pack(prep: &Prepared<f32>) -> Self {
+        GpuObjects {
             balls: non_empty(
                 prep.balls
                     .iter()
@@ -244,7 +287,70 @@ impl GpuScene {
                     })
                     .collect(),
             ),
-            cell_table: non_empty(cell_table),
+            counts: [
+                prep.balls.len() as u32,
+                prep.tubes.len() as u32,
+                prep.lights.len() as u32,
+            ],
+            tube_k: prep.tube_k,
+        }
+    }
+}
+
+impl GpuParams {
+    /// The uniform for one view of `objects` in `space`.
+    #[must_use]
+    pub fn new(space: &Space, packed: &GpuSpace, objects: &GpuObjects, view: &GpuView) -> Self {
+        let (fog_density, fog_color) = view.fog.unwrap_or((0.0, [0.0; 3]));
+        GpuParams {
+            camera: m(view.camera),
+            camera_cell: m(view.camera_cell.as_mat4()),
+            fog_color: [fog_color[0], fog_color[1], fog_color[2], 1.0],
+            width: view.size[0],
+            height: view.size[1],
+            max_level: view.max_level,
+            face_count: packed.faces.len() as u32,
+            ball_count: objects.counts[0],
+            tube_count: objects.counts[1],
+            light_count: objects.counts[2],
+            camera_cell_index: match space.cells() {
+                CellScheme::Finite { .. } => space.cell_id(&view.camera_cell).0 as u32,
+                _ => 0,
+            },
+            tan_half_fov: view.tan_half_fov,
+            max_distance: view.max_distance,
+            fog_density,
+            tube_k: objects.tube_k,
+            origin_x: view.origin[0],
+            origin_y: view.origin[1],
+            near: view.near,
+            pad: 0,
+            cell_scale: packed.cell_scale,
+        }
+    }
+}
+
+impl GpuScene {
+    /// Packs a prepared scene for the GPU.
+    #[must_use]
+    pub fn pack(space: &Space, prep: &Prepared<f32>, settings: &TraceSettings) -> Self {
+        let packed = GpuSpace::pack(space);
+        let objects = GpuObjects::pack(prep);
+        let view = GpuView {
+            camera: prep.camera,
+            camera_cell: prep.camera_cell,
+            tan_half_fov: prep.tan_half_fov,
+            fog: prep.fog,
+            size: [settings.width, settings.height],
+            origin: [0, 0],
+            near: 0.1,
+            max_level: settings.max_level,
+            max_distance: settings.max_distance as f32,
+        };
+        GpuScene {
+            params: GpuParams::new(space, &packed, &objects, &view),
+            space: packed,
+            objects,
         }
     }
 }

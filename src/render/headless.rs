@@ -217,11 +217,11 @@ impl GpuTracer {
         };
         let storage = wgpu::BufferUsages::STORAGE;
         let params = buffer("params", bytemuck::bytes_of(&gpu.params), wgpu::BufferUsages::UNIFORM);
-        let faces = buffer("faces", bytemuck::cast_slice(&gpu.faces), storage);
-        let balls = buffer("balls", bytemuck::cast_slice(&gpu.balls), storage);
-        let tubes = buffer("tubes", bytemuck::cast_slice(&gpu.tubes), storage);
-        let lights = buffer("lights", bytemuck::cast_slice(&gpu.lights), storage);
-        let table = buffer("cell table", bytemuck::cast_slice(&gpu.cell_table), storage);
+        let faces = buffer("faces", bytemuck::cast_slice(&gpu.space.faces), storage);
+        let balls = buffer("balls", bytemuck::cast_slice(&gpu.objects.balls), storage);
+        let tubes = buffer("tubes", bytemuck::cast_slice(&gpu.objects.tubes), storage);
+        let lights = buffer("lights", bytemuck::cast_slice(&gpu.objects.lights), storage);
+        let table = buffer("cell table", bytemuck::cast_slice(&gpu.space.cell_table), storage);
         let count = (settings.width * settings.height) as usize;
         let size = (count * std::mem::size_of::<GpuPixel>()) as u64;
         let pixels = d.create_buffer(&wgpu::BufferDescriptor {

@@ -1,13 +1,16 @@
 //! The GPU side of the tracer: the WGSL tracer (`shaders/trace.wgsl`, the
 //! twin of [`crate::trace`]), the shader defs that specialise it to a
-//! scene, its data packed for the GPU, and a headless wgpu runner. The Bevy
-//! render pass that runs it in a `Core3d` system comes next.
+//! scene, its data packed for the GPU, a headless wgpu runner, and (feature
+//! `render`) the Bevy render pass that runs it for manifold cameras.
 
 mod gpu;
 mod headless;
 mod shader_defs;
 
-pub use gpu::{GpuBall, GpuFace, GpuLight, GpuParams, GpuPixel, GpuScene, GpuTube};
+#[cfg(feature = "render")]
+pub mod pass;
+
+pub use gpu::{GpuBall, GpuFace, GpuLight, GpuObjects, GpuParams, GpuPixel, GpuScene, GpuSpace, GpuTube, GpuView};
 pub use headless::{GpuError, GpuTracer};
 pub use shader_defs::{CellScheme as GpuCellScheme, TraceDefs};
 

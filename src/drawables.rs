@@ -1,0 +1,303 @@
+//! What the tracer draws, as components: balls and lights placed in a
+//! manifold, and the domain's edges. [`gather_scenes`] collects them per
+//! space into a [`ManifoldScene`] on the space's root entity, rebuilt only
+//! when one of them (or the space) changed; the render pass uploads from it.
+//!
+//! ```
+//! use bevy::prelude::*;
+//! use bevy_manifold::prelude::*;
+//! use glam::DVec3;
+//!
+//! let mut app = App::new();
+//! app.add_plugins((MinimalPlugins, ManifoldPlugin::default()));
+//! let space = catalog::torus(1.0);
+//! let root = app.world_mut().spawn((ManifoldSpace::new(space.clone()), DomainEdges::default())).id();
+//! app.world_mut().spawn((ChildOf(root), TracedBall::new(0.2, Color::srgb(0.9, 0.3, 0.2))));
+//! app.world_mut().spawn((ChildOf(root), ManifoldLight::default(), Placement::at(&space, DVec3::Y * 0.3)));
+//! app.update();
+//! let scene = app.world().get::<ManifoldScene>(root).unwrap();
+//! assert_eq!(scene.scene().balls.len(), 1);
+//! assert_eq!(scene.scene().lights.len(), 1);
+//! assert!(scene.scene().edge_radius.is_some());
+//! ```
+
+use crate::placement::{ManifoldSpace, ManifoldSystems, Placement};
+use crate::render::{GpuObjects, GpuSpace};
+use crate::trace::{Ball, Light, Prepared, Scene};
+use bevy::color::{Color, LinearRgba};
+use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
+use bevy::prelude::*;
+use std::sync::Arc;
+
+/// A ball the tracer draws at the entity's [`Placement`]: an exact metric
+/// ball of the space (a round sphere in E3, a hyperbolic or spherical one
+/// elsewhere), seen in every copy of the domain.
+///
+/// ```
+/// use bevy::prelude::*;
+/// use bevy_manifold::prelude::*;
+/// let ball = TracedBall::new(0.25, Color::WHITE);
+/// assert_eq!(ball.radius, 0.25);
+/// ```
+#[derive(Component, Clone, Copy, Debug, PartialEq, Reflect)]
+#[reflect(Component, Debug)]
+#[require(Placement)]
+pub struct TracedBall {
+    /// Radius, in the space's own distance.
+    pub radius: f64,
+    /// Albedo.
+    pub color: Color,
+}
+
+impl TracedBall {
+    /// A ball of `radius` and albedo `color`.
+    #[must_use]
+    pub fn new(radius: f64, color: Color) -> Self {
+        TracedBall { radius, color }
+    }
+}
+
+/// A point light at the entity's [`Placement`]. Its irradiance at distance
+/// `d` is `intensity / area(d)`, the area of the geodesic sphere of radius
+/// `d` (so light falls off faster in H3 and refocuses in S3).
+#[derive(Component, Clone, Copy, Debug, PartialEq, Reflect)]
+#[reflect(Component, Debug)]
+#[require(Placement)]
+pub struct ManifoldLight {
+    /// Power.
+    pub intensity: f64,
+    /// Colour.
+    pub color: Color,
+}
+
+impl Default for ManifoldLight {
+    fn default() -> Self {
+        ManifoldLight {
+            intensity: 1.0,
+            color: Color::WHITE,
+        }
+    }
+}
+
+/// On a [`ManifoldSpace`] root: draw the fundamental domain's edges as tubes
+/// of this radius, coloured by edge cycle (edges the pairings glue together
+/// share a colour), with a ball at each vertex.
+#[derive(Component, Clone, Copy, Debug, PartialEq, Reflect)]
+#[reflect(Component, Debug)]
+pub struct DomainEdges {
+    /// Tube radius, in the space's distance.
+    pub radius: f64,
+}
+
+impl Default for DomainEdges {
+    fn default() -> Self {
+        DomainEdges { radius: 0.02 }
+    }
+}
+
+/// What the tracer draws in one space, kept on the space's root entity by
+/// [`gather_scenes`]: the scene (without a camera) for the CPU reference,
+/// and the same packed for the GPU. Ball `i` of the scene has object id
+/// `i + 1` in the id buffer and belongs to `entities()[i]`.
+#[derive(Component, Clone, Debug)]
+pub struct ManifoldScene {
+    scene: Arc<Scene>,
+    entities: Arc<Vec<Entity>>,
+    space: Arc<GpuSpace>,
+    objects: Arc<GpuObjects>,
+    generation: u64,
+}
+
+impl ManifoldScene {
+    /// The scene, for [`crate::trace::render`] (its camera is the identity).
+    #[must_use]
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The entity each ball belongs to, in object-id order (id 1 first).
+    #[must_use]
+    pub fn entities(&self) -> &[Entity] {
+        &self.entities
+    }
+
+    /// The space's faces and cell table, packed for the GPU (shared: a new
+    /// `Arc` means the space changed).
+    #[must_use]
+    pub fn gpu_space(&self) -> &Arc<GpuSpace> {
+        &self.space
+    }
+
+    /// The objects packed for the GPU, ghosts included (shared: a new `Arc`
+    /// means an object changed).
+    #[must_use]
+    pub fn gpu_objects(&self) -> &Arc<GpuObjects> {
+        &self.objects
+    }
+
+    /// Bumped each time the objects are rebuilt.
+    #[must_use]
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+}
+
+fn rgb(c: Color) -> [f32; 3] {
+    let LinearRgba { red, green, blue, .. } = c.to_linear();
+    [red, green, blue]
+}
+
+/// The root entity whose [`ManifoldSpace`] an entity lives in.
+fn root_of(entity: Entity, parents: &Query<&ChildOf>, roots: &Query<(), With<ManifoldSpace>>) -> Option<Entity> {
+    parents.iter_ancestors(entity).find(|a| roots.contains(*a))
+}
+
+/// Filter: a drawable whose placement, shape, light or parent changed.
+type ChangedDrawable = (
+    Or<(With<TracedBall>, With<ManifoldLight>)>,
+    Or<(
+        Changed<Placement>,
+        Changed<TracedBall>,
+        Changed<ManifoldLight>,
+        Changed<ChildOf>,
+    )>,
+);
+
+/// Filter: a space root whose space or edges changed.
+type ChangedRoot = Or<(Changed<ManifoldSpace>, Changed<DomainEdges>)>;
+
+/// Collects the drawables of every space into its [`ManifoldScene`], when
+/// anything they are made of changed (a drawable added, removed, moved,
+/// restyled or re-parented; the space or its edges changed). A frame where
+/// nothing changed costs a few change-detection checks.
+#[allow(clippy::too_many_arguments)]
+pub fn gather_scenes(
+    mut commands: Commands,
+    roots: Query<(Entity, &ManifoldSpace, Option<&DomainEdges>, Option<&ManifoldScene>)>,
+    root_filter: Query<(), With<ManifoldSpace>>,
+    changed_roots: Query<(), ChangedRoot>,
+    changed: Query<(), ChangedDrawable>,
+    balls: Query<(Entity, &Placement, &TracedBall)>,
+    lights: Query<(Entity, &Placement, &ManifoldLight)>,
+    parents: Query<&ChildOf>,
+    mut removed_balls: RemovedComponents<TracedBall>,
+    mut removed_lights: RemovedComponents<ManifoldLight>,
+    mut removed_edges: RemovedComponents<DomainEdges>,
+) {
+    let removed = removed_balls.read().count() + removed_lights.read().count() + removed_edges.read().count() > 0;
+    let any_missing = roots.iter().any(|(_, _, _, s)| s.is_none());
+    let dirty = removed || any_missing || !changed.is_empty() || !changed_roots.is_empty();
+    if !dirty {
+        return;
+    }
+    for (root, ms, edges, old) in &roots {
+        let space = ms.space();
+        let mine = |e: Entity| root_of(e, &parents, &root_filter) == Some(root);
+        let ball_list: Vec<(Entity, Ball)> = balls
+            .iter()
+            .filter(|(e, ..)| mine(*e))
+            .map(|(e, p, b)| {
+                (
+                    e,
+                    Ball {
+                        center: p.position(),
+                        radius: b.radius,
+                        color: rgb(b.color),
+                    },
+                )
+            })
+            .collect();
+        let light_list = lights
+            .iter()
+            .filter(|(e, ..)| mine(*e))
+            .map(|(_, p, l)| Light {
+                position: p.position(),
+                intensity: l.intensity,
+                color: rgb(l.color),
+            })
+            .collect();
+        let (entities, balls): (Vec<Entity>, Vec<Ball>) = ball_list.into_iter().unzip();
+        let mut scene = Scene::empty();
+        scene.balls = balls;
+        scene.lights = light_list;
+        scene.edge_radius = edges.map(|e| e.radius);
+        let prep = Prepared::<f32>::new(space, &scene);
+        let objects = GpuObjects::pack(&prep);
+        // The space's packing is kept while the space is the same one.
+        let gpu_space = match old {
+            Some(o) if !changed_roots.contains(root) => o.space.clone(),
+            _ => Arc::new(GpuSpace::pack(space)),
+        };
+        let objects = match old {
+            Some(o) if *o.objects == objects => o.objects.clone(),
+            _ => Arc::new(objects),
+        };
+        commands.entity(root).insert(ManifoldScene {
+            scene: Arc::new(scene),
+            entities: Arc::new(entities),
+            space: gpu_space,
+            objects,
+            generation: old.map_or(0, |o| o.generation + 1),
+        });
+    }
+}
+
+/// Runs [`gather_scenes`] after the placement systems, so it sees the
+/// frame's final placements. Part of [`crate::ManifoldPlugin`].
+#[derive(Debug, Clone)]
+pub struct DrawablesPlugin {
+    schedule: InternedScheduleLabel,
+}
+
+impl Default for DrawablesPlugin {
+    fn default() -> Self {
+        Self::in_schedule(PostUpdate)
+    }
+}
+
+impl DrawablesPlugin {
+    /// The plugin with its system in `schedule` (the placement systems'
+    /// schedule).
+    #[must_use]
+    pub fn in_schedule(schedule: impl ScheduleLabel) -> Self {
+        DrawablesPlugin {
+            schedule: schedule.intern(),
+        }
+    }
+}
+
+impl Plugin for DrawablesPlugin {
+    fn build(&self, app: &mut App) {
+        app.register_type::<TracedBall>()
+            .register_type::<ManifoldLight>()
+            .register_type::<DomainEdges>()
+            .add_systems(self.schedule, gather_scenes.after(ManifoldSystems::Sync));
+    }
+}
+
+/// Spawns a tracer [`Scene`]'s balls and lights under `root` (a
+/// [`ManifoldSpace`] root) and gives the root [`DomainEdges`] when the scene
+/// draws edges; the scene's camera and fog are per camera and left to the
+/// caller. What a scene file or [`Scene::default_for`] describes, as
+/// entities.
+pub fn spawn_scene(commands: &mut Commands, root: Entity, space: &crate::space::Space, scene: &Scene) {
+    let g = space.geometry();
+    let at = |p: glam::DVec4| Placement::from_isometry(crate::geometry::isometry::translation_to(g, p));
+    let color = |c: [f32; 3]| Color::linear_rgb(c[0], c[1], c[2]);
+    for b in &scene.balls {
+        commands.spawn((ChildOf(root), at(b.center), TracedBall::new(b.radius, color(b.color))));
+    }
+    for l in &scene.lights {
+        commands.spawn((
+            ChildOf(root),
+            at(l.position),
+            ManifoldLight {
+                intensity: l.intensity,
+                color: color(l.color),
+            },
+        ));
+    }
+    if let Some(radius) = scene.edge_radius {
+        commands.entity(root).insert(DomainEdges { radius });
+    }
+}

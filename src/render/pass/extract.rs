@@ -1,0 +1,96 @@
+//! Extraction: each frame, what a manifold camera sees is copied to the
+//! render world as an [`ExtractedManifoldView`]. The space and the objects
+//! are shared `Arc`s (the packing happened once, in
+//! [`crate::drawables::gather_scenes`]); only the camera is new data.
+
+use super::camera::{CellShading, ManifoldCamera, ManifoldFog};
+use super::prepare::ManifoldViewBinding;
+use crate::drawables::ManifoldScene;
+use crate::placement::{DomainCell, ManifoldSpace, Placement};
+use crate::render::TraceDefs;
+use bevy::platform::collections::HashSet;
+use bevy::prelude::*;
+use bevy::render::{Extract, sync_world::RenderEntity};
+use glam::DMat4;
+
+/// A manifold camera's view in the render world.
+#[derive(Component, Clone, Debug)]
+pub struct ExtractedManifoldView {
+    /// The space.
+    pub space: ManifoldSpace,
+    /// Its objects, packed.
+    pub scene: ManifoldScene,
+    /// The camera's placement (inside the domain).
+    pub camera: DMat4,
+    /// The camera's cell element.
+    pub cell: DMat4,
+    /// Fog density and linear colour, when on.
+    pub fog: Option<(f32, [f32; 3])>,
+    /// Most transports per ray.
+    pub max_level: u32,
+    /// Rays stop after this distance.
+    pub max_distance: f32,
+    /// The shader defs this view needs.
+    pub defs: TraceDefs,
+}
+
+/// Main-world data of one manifold camera.
+type CameraData<'a> = (
+    Entity,
+    &'a RenderEntity,
+    &'a Camera,
+    &'a ManifoldCamera,
+    &'a Placement,
+    &'a DomainCell,
+    Option<&'a ManifoldFog>,
+);
+
+/// Copies every active [`ManifoldCamera`]'s view to its render entity, and
+/// takes it off render entities whose camera stopped being one. A camera
+/// that is not under a [`ManifoldSpace`] is reported once and renders as a
+/// plain camera.
+pub fn extract_manifold_views(
+    mut commands: Commands,
+    cameras: Extract<Query<CameraData>>,
+    parents: Extract<Query<&ChildOf>>,
+    roots: Extract<Query<(&ManifoldSpace, Option<&ManifoldScene>)>>,
+    mut last: Local<HashSet<Entity>>,
+    mut warned: Local<HashSet<Entity>>,
+) {
+    let mut now = HashSet::new();
+    for (entity, render_entity, camera, mc, placement, cell, fog) in &cameras {
+        if !camera.is_active {
+            continue;
+        }
+        let root = parents.iter_ancestors(entity).find_map(|a| roots.get(a).ok());
+        let Some((space, scene)) = root else {
+            if warned.insert(entity) {
+                warn!("ManifoldCamera {entity} is not under a ManifoldSpace root: it renders as a plain camera");
+            }
+            continue;
+        };
+        // The scene is gathered in PostUpdate; a space created this frame
+        // has none yet.
+        let Some(scene) = scene else { continue };
+        let fog = fog.and_then(ManifoldFog::linear);
+        let mut defs = TraceDefs::for_scene(space.space(), scene.scene(), mc.cell_shading == CellShading::ByCell);
+        defs.fog = fog.is_some();
+        commands.entity(render_entity.id()).insert(ExtractedManifoldView {
+            space: space.clone(),
+            scene: scene.clone(),
+            camera: placement.isometry,
+            cell: cell.element,
+            fog,
+            max_level: mc.max_level,
+            max_distance: mc.max_distance,
+            defs,
+        });
+        now.insert(render_entity.id());
+    }
+    for gone in last.difference(&now) {
+        if let Ok(mut e) = commands.get_entity(*gone) {
+            e.remove::<(ExtractedManifoldView, ManifoldViewBinding)>();
+        }
+    }
+    *last = now;
+}

@@ -1,0 +1,42 @@
+//! The pass: a `Core3d` system, in the main-pass set before Bevy's opaque
+//! pass, that traces every pixel of a manifold camera's viewport into its
+//! view target and depth. Views without a [`ManifoldViewBinding`] (every
+//! ordinary camera) skip it: the `ViewQuery` does not match them.
+
+use super::prepare::ManifoldViewBinding;
+use bevy::prelude::*;
+use bevy::render::camera::ExtractedCamera;
+use bevy::render::render_resource::{PipelineCache, RenderPassDescriptor, StoreOp};
+use bevy::render::renderer::{RenderContext, ViewQuery};
+use bevy::render::view::{ViewDepthTexture, ViewTarget};
+
+/// Draws the full-screen trace of one manifold view. The colour target is
+/// taken with Bevy's clear-on-first-use, so the opaque pass that follows
+/// draws ordinary meshes over the trace, depth-tested against it.
+pub fn trace_pass(
+    view: ViewQuery<(&ExtractedCamera, &ViewTarget, &ViewDepthTexture, &ManifoldViewBinding)>,
+    pipeline_cache: Res<PipelineCache>,
+    mut ctx: RenderContext,
+) {
+    let (camera, target, depth, binding) = view.into_inner();
+    // Still compiling (or failed, which prepare reported): the view shows
+    // its clear colour this frame.
+    let Some(pipeline) = pipeline_cache.get_render_pipeline(binding.pipeline) else {
+        return;
+    };
+    let color = [Some(target.get_color_attachment())];
+    let mut pass = ctx.begin_tracked_render_pass(RenderPassDescriptor {
+        label: Some("manifold_trace"),
+        color_attachments: &color,
+        depth_stencil_attachment: Some(depth.get_attachment(StoreOp::Store)),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    if let Some(viewport) = camera.viewport.as_ref() {
+        pass.set_camera_viewport(viewport);
+    }
+    pass.set_render_pipeline(pipeline);
+    pass.set_bind_group(0, &binding.bind_group, &[]);
+    pass.draw(0..3, 0..1);
+}

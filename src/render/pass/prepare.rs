@@ -1,0 +1,230 @@
+//! Preparation: per manifold view, the pipeline variant it needs and its
+//! GPU buffers. The space's buffers are rebuilt only when the space
+//! changed, the objects' only when an object changed, and the 224-byte
+//! params uniform only when the camera or the settings changed.
+//! [`ManifoldUploads`] counts what was uploaded, so this is testable.
+
+use super::extract::ExtractedManifoldView;
+use super::pipeline::{TracePipeline, TracePipelineKey};
+use crate::render::{GpuObjects, GpuParams, GpuSpace, GpuView};
+use bevy::camera::CompositingSpace;
+use bevy::platform::collections::{HashMap, HashSet};
+use bevy::prelude::*;
+use bevy::render::camera::ExtractedCamera;
+use bevy::render::render_resource::{
+    BindGroup, BindGroupEntries, Buffer, BufferInitDescriptor, BufferUsages, CachedPipelineState,
+    CachedRenderPipelineId, PipelineCache, SpecializedRenderPipelines,
+};
+use bevy::render::renderer::{RenderDevice, RenderQueue};
+use bevy::render::view::{ExtractedView, Msaa};
+use std::sync::Arc;
+
+/// What the pass needs to draw a manifold view this frame.
+#[derive(Component, Clone)]
+pub struct ManifoldViewBinding {
+    /// The specialised pipeline.
+    pub pipeline: CachedRenderPipelineId,
+    /// Group 0.
+    pub bind_group: BindGroup,
+}
+
+/// Running totals of what the pass uploaded (render world). Uploads happen
+/// on change only: a still camera in a still scene uploads nothing.
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ManifoldUploads {
+    /// Times a space's faces and cell table were uploaded.
+    pub space: u64,
+    /// Times a scene's balls, tubes and lights were uploaded.
+    pub objects: u64,
+    /// Times a view's params uniform was written.
+    pub params: u64,
+    /// Bytes uploaded in all.
+    pub bytes: u64,
+}
+
+/// One view's buffers and what they hold.
+struct ViewBuffers {
+    space: Arc<GpuSpace>,
+    objects: Arc<GpuObjects>,
+    params: GpuParams,
+    params_buffer: Buffer,
+    faces: Buffer,
+    cell_table: Buffer,
+    balls: Buffer,
+    tubes: Buffer,
+    lights: Buffer,
+    bind_group: Option<BindGroup>,
+}
+
+/// Every manifold view's buffers, by render-world view entity; views that
+/// went away are dropped (with their buffers) the next frame.
+#[derive(Resource, Default)]
+pub struct ManifoldBufferCache {
+    views: HashMap<Entity, ViewBuffers>,
+    failed: HashSet<CachedRenderPipelineId>,
+}
+
+impl ManifoldBufferCache {
+    /// How many views hold buffers.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.views.len()
+    }
+
+    /// True when no view holds buffers.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.views.is_empty()
+    }
+}
+
+fn storage(device: &RenderDevice, label: &'static str, data: &[u8], stats: &mut ManifoldUploads) -> Buffer {
+    stats.bytes += data.len() as u64;
+    device.create_buffer_with_data(&BufferInitDescriptor {
+        label: Some(label),
+        contents: data,
+        usage: BufferUsages::STORAGE | BufferUsages::COPY_DST,
+    })
+}
+
+fn space_buffers(device: &RenderDevice, s: &GpuSpace, stats: &mut ManifoldUploads) -> (Buffer, Buffer) {
+    stats.space += 1;
+    (
+        storage(device, "manifold_faces", bytemuck::cast_slice(&s.faces), stats),
+        storage(
+            device,
+            "manifold_cell_table",
+            bytemuck::cast_slice(&s.cell_table),
+            stats,
+        ),
+    )
+}
+
+fn object_buffers(device: &RenderDevice, o: &GpuObjects, stats: &mut ManifoldUploads) -> [Buffer; 3] {
+    stats.objects += 1;
+    [
+        storage(device, "manifold_balls", bytemuck::cast_slice(&o.balls), stats),
+        storage(device, "manifold_tubes", bytemuck::cast_slice(&o.tubes), stats),
+        storage(device, "manifold_lights", bytemuck::cast_slice(&o.lights), stats),
+    ]
+}
+
+/// The per-frame view data of an extracted view.
+fn gpu_view(view: &ExtractedManifoldView, extracted: &ExtractedView) -> GpuView {
+    // Bevy's perspective projection: y_axis.y = 1 / tan(fov/2); the near
+    // plane sits in w_axis.z (infinite reverse z).
+    let p = extracted.clip_from_view;
+    GpuView {
+        camera: view.camera.as_mat4(),
+        camera_cell: view.cell,
+        tan_half_fov: 1.0 / p.y_axis.y,
+        fog: view.fog,
+        size: [extracted.viewport.z, extracted.viewport.w],
+        origin: [extracted.viewport.x, extracted.viewport.y],
+        near: p.w_axis.z,
+        max_level: view.max_level,
+        max_distance: view.max_distance,
+    }
+}
+
+/// Specialises the pipeline for each manifold view and brings its buffers
+/// up to date (uploading only what changed), then binds them.
+#[allow(clippy::too_many_arguments)]
+pub fn prepare_manifold_views(
+    mut commands: Commands,
+    views: Query<(
+        Entity,
+        &ExtractedManifoldView,
+        &ExtractedView,
+        &ExtractedCamera,
+        Option<&Msaa>,
+    )>,
+    pipeline: Option<Res<TracePipeline>>,
+    mut pipelines: ResMut<SpecializedRenderPipelines<TracePipeline>>,
+    pipeline_cache: Res<PipelineCache>,
+    device: Res<RenderDevice>,
+    queue: Res<RenderQueue>,
+    mut cache: ResMut<ManifoldBufferCache>,
+    mut stats: ResMut<ManifoldUploads>,
+) {
+    let Some(pipeline) = pipeline else { return };
+    let cache = &mut *cache;
+    let stats = &mut *stats;
+    let mut seen = HashSet::new();
+    for (entity, view, extracted, camera, msaa) in &views {
+        seen.insert(entity);
+        let key = TracePipelineKey {
+            defs: view.defs,
+            format: extracted.target_format,
+            samples: msaa.map_or(1, Msaa::samples),
+            encode_srgb: camera.compositing_space == Some(CompositingSpace::Srgb),
+        };
+        let id = pipelines.specialize(&pipeline_cache, &pipeline, key);
+        if let CachedPipelineState::Err(e) = pipeline_cache.get_render_pipeline_state(id)
+            && cache.failed.insert(id)
+        {
+            error!("the manifold tracer pipeline for {:?} failed: {e}", key.defs.names());
+        }
+        let space = view.scene.gpu_space();
+        let objects = view.scene.gpu_objects();
+        let params = GpuParams::new(view.space.space(), space, objects, &gpu_view(view, extracted));
+        let entry = cache.views.entry(entity).or_insert_with(|| {
+            let (faces, cell_table) = space_buffers(&device, space, stats);
+            let [balls, tubes, lights] = object_buffers(&device, objects, stats);
+            stats.params += 1;
+            stats.bytes += std::mem::size_of::<GpuParams>() as u64;
+            let params_buffer = device.create_buffer_with_data(&BufferInitDescriptor {
+                label: Some("manifold_params"),
+                contents: bytemuck::bytes_of(&params),
+                usage: BufferUsages::UNIFORM | BufferUsages::COPY_DST,
+            });
+            ViewBuffers {
+                space: space.clone(),
+                objects: objects.clone(),
+                params,
+                params_buffer,
+                faces,
+                cell_table,
+                balls,
+                tubes,
+                lights,
+                bind_group: None,
+            }
+        });
+        if !Arc::ptr_eq(&entry.space, space) {
+            (entry.faces, entry.cell_table) = space_buffers(&device, space, stats);
+            entry.space = space.clone();
+            entry.bind_group = None;
+        }
+        if !Arc::ptr_eq(&entry.objects, objects) {
+            [entry.balls, entry.tubes, entry.lights] = object_buffers(&device, objects, stats);
+            entry.objects = objects.clone();
+            entry.bind_group = None;
+        }
+        if bytemuck::bytes_of(&entry.params) != bytemuck::bytes_of(&params) {
+            queue.write_buffer(&entry.params_buffer, 0, bytemuck::bytes_of(&params));
+            entry.params = params;
+            stats.params += 1;
+            stats.bytes += std::mem::size_of::<GpuParams>() as u64;
+        }
+        let bind_group = entry.bind_group.get_or_insert_with(|| {
+            device.create_bind_group(
+                "manifold_trace",
+                &pipeline_cache.get_bind_group_layout(&pipeline.layout),
+                &BindGroupEntries::sequential((
+                    entry.params_buffer.as_entire_binding(),
+                    entry.faces.as_entire_binding(),
+                    entry.balls.as_entire_binding(),
+                    entry.tubes.as_entire_binding(),
+                    entry.lights.as_entire_binding(),
+                    entry.cell_table.as_entire_binding(),
+                )),
+            )
+        });
+        commands.entity(entity).insert(ManifoldViewBinding {
+            pipeline: id,
+            bind_group: bind_group.clone(),
+        });
+    }
+    cache.views.retain(|e, _| seen.contains(e));
+}
