@@ -1,17 +1,17 @@
-//! An ordinary Bevy 3D app (its own plugins, a light, UI text, keyboard
-//! input) into which a manifold is dropped in a handful of lines: the
-//! camera and a few balls live in the 3-torus, fly with WASD / Space /
-//! Shift, turn with the arrows or the mouse, and wrap through the faces.
+//! An ordinary Bevy 3D app (its own plugins, meshes, lights, UI text,
+//! gizmos, keyboard input) into which a manifold is dropped in a handful of
+//! lines marked "manifold": the main camera and a few balls live in the
+//! 3-torus; fly with WASD / Space / Shift, turn with the arrows or the
+//! mouse, and wrap through the faces. The main view is ray-traced (every
+//! copy of the domain); a plain Bevy camera in the corner shows a
+//! rasterised map of the one fundamental cube, untouched by the plugin.
 //!
-//! This version draws the domain with Bevy's rasteriser (one copy of the
-//! scene, the domain's edges as gizmo lines), so crossing a face shows as a
-//! jump to the far side; the ray-traced pass replaces this view in a later
-//! version without changing the lines marked "manifold".
-//!
-//! `cargo run --release --features app --example drop_in`
+//! `cargo run --release --example drop_in`
 //! (`-- --frames N` quits after N frames; `-- --screenshot FILE.png` saves
 //! a frame and quits)
 
+use bevy::camera::Viewport;
+use bevy::camera::visibility::RenderLayers;
 use bevy::prelude::*;
 use bevy_manifold::prelude::*;
 use glam::DVec3;
@@ -39,37 +39,81 @@ struct QuitAfter {
 #[derive(Component)]
 struct CellText;
 
-fn setup(mut commands: Commands, mut meshes: ResMut<Assets<Mesh>>, mut materials: ResMut<Assets<StandardMaterial>>) {
-    // manifold: a space at the root; its descendants live in it
+/// The map's render layer: what only the plain corner camera sees.
+const MAP: usize = 1;
+
+fn setup(
+    mut commands: Commands,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<StandardMaterial>>,
+    mut gizmos: ResMut<GizmoConfigStore>,
+) {
+    // manifold: a space at the root, with its edges drawn; its
+    // descendants live in it
     let space = catalog::torus(1.0);
     let root = commands
         .spawn((
             ManifoldSpace::new(space.clone()),
+            DomainEdges { radius: 0.012 },
             Transform::default(),
             Visibility::default(),
         ))
         .id();
+    // manifold: the main camera looks into the torus
+    let eye = commands
+        .spawn((
+            ChildOf(root),
+            ManifoldCamera::default(),
+            FlyCamera::default(),
+            Placement::at(&space, DVec3::new(0.1, 0.05, 0.35)),
+        ))
+        .id();
     commands.spawn((
         ChildOf(root),
-        Camera3d::default(),
-        FlyCamera::default(),
-        Placement::at(&space, DVec3::new(0.1, 0.05, 0.35)),
+        ManifoldLight {
+            intensity: 0.6,
+            ..default()
+        },
+        Placement::at(&space, DVec3::new(0.2, 0.4, 0.3)),
     ));
     let ball = meshes.add(Sphere::new(0.08).mesh().uv(32, 16));
     for (i, p) in [DVec3::ZERO, DVec3::new(0.3, 0.2, -0.25), DVec3::new(-0.3, -0.2, 0.1)]
         .into_iter()
         .enumerate()
     {
+        let color = Color::hsl(40.0 + 120.0 * i as f32, 0.8, 0.55);
         commands.spawn((
             ChildOf(root),
-            Mesh3d(ball.clone()),
-            MeshMaterial3d(materials.add(Color::hsl(40.0 + 120.0 * i as f32, 0.8, 0.55))),
-            Placement::at(&space, p),
+            // manifold: traced in the main view, hit by ray casts
+            TracedBall::new(0.08, color),
             ManifoldCollider::Ball { radius: 0.08 },
+            Placement::at(&space, p),
+            // plain Bevy: the same ball as a mesh on the map (Rasterized:
+            // a Bevy mesh, not one for the tracer)
+            Rasterized,
+            Mesh3d(ball.clone()),
+            MeshMaterial3d(materials.add(color)),
+            RenderLayers::layer(MAP),
         ));
     }
 
-    // The rest is plain Bevy.
+    // The rest is plain Bevy: the map camera in the top-right corner, its
+    // light, the gizmos it shows, and UI text over the main view.
+    commands.spawn((
+        Camera3d::default(),
+        Camera {
+            order: 1,
+            viewport: Some(Viewport {
+                physical_position: UVec2::new(16, 16),
+                physical_size: UVec2::new(256, 192),
+                ..default()
+            }),
+            clear_color: ClearColorConfig::Custom(Color::srgb(0.08, 0.09, 0.12)),
+            ..default()
+        },
+        Transform::from_xyz(1.3, 1.0, 1.6).looking_at(Vec3::ZERO, Vec3::Y),
+        RenderLayers::layer(MAP),
+    ));
     commands.spawn((
         PointLight {
             intensity: 40_000.0,
@@ -77,17 +121,16 @@ fn setup(mut commands: Commands, mut meshes: ResMut<Assets<Mesh>>, mut materials
             ..default()
         },
         Transform::from_xyz(0.2, 0.4, 0.3),
+        RenderLayers::layer(MAP),
     ));
-    commands.insert_resource(GlobalAmbientLight {
-        brightness: 300.0,
-        ..default()
-    });
+    gizmos.config_mut::<DefaultGizmoConfigGroup>().0.render_layers = RenderLayers::layer(MAP);
     commands.spawn((
         Text::new(""),
         CellText,
+        UiTargetCamera(eye),
         Node {
             position_type: PositionType::Absolute,
-            top: px(10.0),
+            bottom: px(10.0),
             left: px(10.0),
             ..default()
         },
@@ -121,8 +164,13 @@ fn show_cell(
     );
 }
 
-/// The fundamental domain's edges, in the chart.
-fn draw_domain(spaces: Query<&ManifoldSpace>, mut gizmos: Gizmos) {
+/// The map: the fundamental domain's edges in the chart, and where the
+/// manifold camera is and looks.
+fn draw_domain(spaces: Query<&ManifoldSpace>, eye: Query<&Transform, With<ManifoldCamera>>, mut gizmos: Gizmos) {
+    for t in &eye {
+        gizmos.sphere(Isometry3d::from_translation(t.translation), 0.03, Color::WHITE);
+        gizmos.arrow(t.translation, t.translation + t.forward() * 0.2, Color::WHITE);
+    }
     for ms in &spaces {
         let s = ms.space();
         for e in s.edges() {

@@ -14,7 +14,9 @@
 //                      the copy's rounded centre
 //   CELL_COLORS        per-cell shading
 //   FOG                exponential fog and the early stop it allows
-//   BALLS, TUBES       which object kinds the scene has
+//   BALLS, TUBES, MESHES  which object kinds the scene has
+//   BALL_HITS          derived: BALLS or MESHES (ball tests, also of the
+//                      meshes' bounding balls)
 //   LIGHTS             point lights (else ambient only)
 //   ENCODE_SRGB        the render pass's target stores sRGB-encoded bytes
 //                      without doing the encoding itself (Bevy's
@@ -46,10 +48,16 @@ struct Params {
     origin_x: u32,
     origin_y: u32,
     near: f32,
-    _pad0: u32,
+    // FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE: measurement switches
+    // (TraceSettings::fog_early_stop, ::renormalize), both off by default.
+    flags: u32,
     // CELLS_LATTICE: 1 / edge lengths of the box; CELLS_HASHED: 1 / grid
     // step in x, the f32 horizon (HASHED_HORIZON_F32) in y.
     cell_scale: vec4<f32>,
+    instance_count: u32,
+    _pad1: u32,
+    _pad2: u32,
+    _pad3: u32,
 }
 
 struct Face {
@@ -82,6 +90,31 @@ struct Tube {
     color: vec4<f32>,
 }
 
+// A mesh instance (gpu.rs GpuInstance): offsets into mesh_data.
+struct Instance {
+    // World chart to the mesh's own coordinates.
+    to_local: mat4x4<f32>,
+    // Bounding ball.
+    center: vec4<f32>,
+    color: vec3<f32>,
+    k: f32,
+    nodes: u32,
+    vertices: u32,
+    triangles: u32,
+    id: u32,
+    // Texels' offset, and size (width 0: no texture).
+    texture: u32,
+    tex_width: u32,
+    tex_height: u32,
+    node_count: u32,
+    // 1: the home copy of a mesh attached to the camera, not drawn before
+    // the first transport.
+    attached: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}
+
 struct Light {
     position: vec4<f32>,
     color: vec3<f32>,
@@ -104,9 +137,16 @@ struct Pixel {
 @group(0) @binding(4) var<storage, read> lights: array<Light>;
 // CELLS_FINITE: table[k * face_count + f] = index of element k * T_f.
 @group(0) @binding(5) var<storage, read> cell_table: array<u32>;
-@group(0) @binding(6) var<storage, read_write> pixels: array<Pixel>;
+#ifdef MESHES
+@group(0) @binding(6) var<storage, read> instances: array<Instance>;
+@group(0) @binding(7) var<storage, read> mesh_data: array<vec4<u32>>;
+#endif
+// The compute entries' output.
+@group(0) @binding(8) var<storage, read_write> pixels: array<Pixel>;
 
 const EDGE_ID: u32 = 255u;
+const FLAG_NO_EARLY_STOP: u32 = 1u;
+const FLAG_NO_RENORMALIZE: u32 = 2u;
 const NO_FACE: u32 = 0xffffffffu;
 const PI: f32 = 3.14159265358979;
 
@@ -181,6 +221,27 @@ fn max_chart_parameter() -> f32 {
 #endif
 }
 
+// How far a point is from being normalised, and a vector from being a
+// unit tangent there (the stability checks).
+fn point_error(p: vec4<f32>) -> f32 {
+#ifdef GEOMETRY_HYPERBOLIC
+    return abs(form(p, p) + 1.0);
+#else ifdef GEOMETRY_SPHERICAL
+    return abs(form(p, p) - 1.0);
+#else
+    return abs(p.w - 1.0);
+#endif
+}
+
+fn tangent_error(p: vec4<f32>, v: vec4<f32>) -> f32 {
+#ifdef GEOMETRY_EUCLIDEAN
+    let along = abs(v.w);
+#else
+    let along = abs(form(p, v));
+#endif
+    return max(along, abs(form(v, v) - 1.0));
+}
+
 fn sphere_area(d: f32) -> f32 {
 #ifdef GEOMETRY_HYPERBOLIC
     return 4.0 * PI * sinh(d) * sinh(d);
@@ -229,6 +290,26 @@ fn advance(ray: Ray, t: f32) -> Ray {
     return Ray(p, normalize_tangent(p, ray.dir));
 }
 
+// advance without renormalisation (measuring drift only): the factors
+// that are exact for a normalised ray, not measured from the vectors.
+fn advance_raw(ray: Ray, t: f32) -> Ray {
+    let o = ray.origin;
+    let d = ray.dir;
+#ifdef GEOMETRY_HYPERBOLIC
+    let s = 1.0 / sqrt(1.0 - t * t);
+    return Ray((o + d * t) * s, (o * t + d) * s);
+#else ifdef GEOMETRY_SPHERICAL
+    let s = 1.0 / sqrt(1.0 + t * t);
+    return Ray((o + d * t) * s, (d - o * t) * s);
+#else
+    return Ray(o + d * t, d);
+#endif
+}
+
+fn renormalize() -> bool {
+    return (params.flags & FLAG_NO_RENORMALIZE) == 0u;
+}
+
 fn transport(face: u32, ray: Ray) -> Ray {
 #ifdef TRANSLATIONS_ONLY
     // A translation moves the point and leaves directions alone.
@@ -237,6 +318,11 @@ fn transport(face: u32, ray: Ray) -> Ray {
     let o = normalize_point(faces[face].pairing * ray.origin);
     return Ray(o, normalize_tangent(o, faces[face].pairing * ray.dir));
 #endif
+}
+
+// transport without renormalisation (measuring drift only).
+fn transport_raw(face: u32, ray: Ray) -> Ray {
+    return Ray(faces[face].pairing * ray.origin, faces[face].pairing * ray.dir);
 }
 
 // Smallest t >= t_min where a t^2 + 2 b t + c goes from positive to
@@ -264,7 +350,8 @@ fn entering_root(a: f32, b: f32, c: f32, t_min: f32) -> f32 {
     return best;
 }
 
-#ifdef BALLS
+#ifdef BALL_HITS
+// Balls, and the bounding balls of mesh instances.
 fn hit_ball(ray: Ray, c: vec4<f32>, k: f32, t_min: f32) -> f32 {
     let o = ray.origin;
     let d = ray.dir;
@@ -399,22 +486,267 @@ fn cell_color(id: vec2<u32>) -> vec3<f32> {
 }
 #endif
 
+// ---- meshes (src/mesh/bvh.rs, src/trace/mesh_hit.rs) ----
+#ifdef MESHES
+
+// mesh_data holds, per mesh: BVH nodes (two words each: min.xyz and
+// first, max.xyz and count; an inner node's left child is the next node,
+// `first` its right child), vertices (two words: position.xyz and u,
+// normal.xyz and v), triangles (one word: three vertex indices) and
+// texels (four RGBA8 per word). Floats are stored as their bits.
+fn data_vec3(i: u32) -> vec3<f32> {
+    return bitcast<vec3<f32>>(mesh_data[i].xyz);
+}
+
+// 1 / c, with |c| kept above 1e-20 so the slab test meets no infinity.
+fn safe_inverse(c: vec3<f32>) -> vec3<f32> {
+    let small = abs(c) < vec3<f32>(1.0e-20);
+    return 1.0 / select(c, select(vec3<f32>(1.0e-20), vec3<f32>(-1.0e-20), c < vec3<f32>(0.0)), small);
+}
+
+// Entering s of o + s d into the box within [0, s_max]; -1 for a miss.
+fn hit_box(o: vec3<f32>, inv_d: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>, s_max: f32) -> f32 {
+    let t0 = (lo - o) * inv_d;
+    let t1 = (hi - o) * inv_d;
+    let near = min(t0, t1);
+    let far = max(t0, t1);
+    let enter = max(max(near.x, near.y), max(near.z, 0.0));
+    let leave = min(min(far.x, far.y), min(far.z, s_max));
+    return select(-1.0, enter, enter <= leave);
+}
+
+// Moller-Trumbore, either side: (s, u, v), s = -1 for a miss.
+fn hit_triangle(o: vec3<f32>, d: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> vec3<f32> {
+    let miss = vec3<f32>(-1.0, 0.0, 0.0);
+    let e1 = b - a;
+    let e2 = c - a;
+    let p = cross(d, e2);
+    let det = dot(e1, p);
+    if det == 0.0 {
+        return miss;
+    }
+    let inv = 1.0 / det;
+    let q = o - a;
+    let u = dot(q, p) * inv;
+    if u < 0.0 || u > 1.0 {
+        return miss;
+    }
+    let r = cross(q, e1);
+    let v = dot(d, r) * inv;
+    if v < 0.0 || u + v > 1.0 {
+        return miss;
+    }
+    let s = dot(e2, r) * inv;
+    return select(miss, vec3<f32>(s, u, v), s >= 0.0);
+}
+
+struct MeshHit {
+    s: f32,
+    triangle: u32,
+    u: f32,
+    v: f32,
+}
+
+const BVH_STACK: u32 = 40u; // bvh.rs MAX_DEPTH
+
+fn triangle_corner(inst: Instance, tri: vec4<u32>, k: u32) -> vec3<f32> {
+    return data_vec3(inst.vertices + 2u * tri[k]);
+}
+
+// The nearest hit through the hierarchy, nearer child first.
+fn hit_mesh(inst: Instance, o: vec3<f32>, d: vec3<f32>, s_max: f32) -> MeshHit {
+    let inv_d = safe_inverse(d);
+    var best = MeshHit(-1.0, 0u, 0.0, 0.0);
+    var limit = s_max;
+    var stack: array<u32, 40>;
+    var top = 1u;
+    stack[0] = 0u;
+    // Every node is visited at most once: a hard bound on the loop.
+    for (var guard = 0u; guard < inst.node_count && top > 0u; guard++) {
+        top -= 1u;
+        let index = stack[top];
+        let w0 = mesh_data[inst.nodes + 2u * index];
+        let w1 = mesh_data[inst.nodes + 2u * index + 1u];
+        if hit_box(o, inv_d, bitcast<vec3<f32>>(w0.xyz), bitcast<vec3<f32>>(w1.xyz), limit) < 0.0 {
+            continue;
+        }
+        if w1.w > 0u {
+            for (var t = w0.w; t < w0.w + w1.w; t++) {
+                let tri = mesh_data[inst.triangles + t];
+                let h = hit_triangle(o, d, triangle_corner(inst, tri, 0u), triangle_corner(inst, tri, 1u), triangle_corner(inst, tri, 2u));
+                if h.x >= 0.0 && h.x <= limit {
+                    limit = h.x;
+                    best = MeshHit(h.x, t, h.y, h.z);
+                }
+            }
+            continue;
+        }
+        let l = index + 1u;
+        let r = w0.w;
+        let lw0 = mesh_data[inst.nodes + 2u * l];
+        let lw1 = mesh_data[inst.nodes + 2u * l + 1u];
+        let rw0 = mesh_data[inst.nodes + 2u * r];
+        let rw1 = mesh_data[inst.nodes + 2u * r + 1u];
+        let nl = hit_box(o, inv_d, bitcast<vec3<f32>>(lw0.xyz), bitcast<vec3<f32>>(lw1.xyz), limit);
+        let nr = hit_box(o, inv_d, bitcast<vec3<f32>>(rw0.xyz), bitcast<vec3<f32>>(rw1.xyz), limit);
+        if nl >= 0.0 && nr >= 0.0 {
+            let first = select(r, l, nl <= nr);
+            let second = select(l, r, nl <= nr);
+            if top < BVH_STACK {
+                stack[top] = second;
+                top += 1u;
+            }
+            if top < BVH_STACK {
+                stack[top] = first;
+                top += 1u;
+            }
+        } else if nl >= 0.0 {
+            if top < BVH_STACK {
+                stack[top] = l;
+                top += 1u;
+            }
+        } else if nr >= 0.0 {
+            if top < BVH_STACK {
+                stack[top] = r;
+                top += 1u;
+            }
+        }
+    }
+    return best;
+}
+
+// From where the segment [0, t_end] is inside the ball (c, k): 0 when it
+// starts inside, the entering root otherwise; -1 for a miss.
+fn meets_ball(ray: Ray, c: vec4<f32>, k: f32, t_end: f32) -> f32 {
+    let o = ray.origin;
+#ifdef GEOMETRY_HYPERBOLIC
+    let inside = -form(o, c) <= k;
+#else ifdef GEOMETRY_SPHERICAL
+    let inside = form(o, c) >= k;
+#else
+    let q = o - c;
+    let inside = form(q, q) <= k;
+#endif
+    if inside {
+        return 0.0;
+    }
+    let t = hit_ball(ray, c, k, 0.0);
+    return select(-1.0, t, t >= 0.0 && t <= t_end);
+}
+
+struct InstanceHit {
+    t: f32,
+    hit: MeshHit,
+}
+
+// The nearest triangle of an instance within [0, t_end]: re-based at the
+// bounding ball, carried into the mesh's chart and made affine
+// (mesh_hit.rs explains the change of parameter).
+fn hit_instance(ray: Ray, inst: Instance, t_end: f32) -> InstanceHit {
+    var out = InstanceHit(-1.0, MeshHit(-1.0, 0u, 0.0, 0.0));
+    let t0 = meets_ball(ray, inst.center, inst.k, t_end);
+    if t0 < 0.0 {
+        return out;
+    }
+    let o = inst.to_local * (ray.origin + ray.dir * t0);
+    let d = inst.to_local * ray.dir;
+    if !(o.w > 0.0) {
+        return out;
+    }
+    let origin = o.xyz / o.w;
+    let dir = d.xyz - d.w * origin;
+    let left = t_end - t0;
+    let denom = o.w + left * d.w;
+    let s_max = select(3.0e38, left / denom, denom > 0.0);
+    let h = hit_mesh(inst, origin, dir, s_max);
+    if h.s < 0.0 {
+        return out;
+    }
+    out.t = t0 + h.s * o.w / (1.0 - h.s * d.w);
+    out.hit = h;
+    return out;
+}
+
+fn vertex_weights(h: MeshHit) -> vec3<f32> {
+    return vec3<f32>(1.0 - h.u - h.v, h.u, h.v);
+}
+
+// The interpolated normal's plane carried to the world, its normal at x
+// by the form, turned to face `towards`.
+fn mesh_normal(inst: Instance, h: MeshHit, x: vec4<f32>, towards: vec4<f32>) -> vec4<f32> {
+    let tri = mesh_data[inst.triangles + h.triangle];
+    let w = vertex_weights(h);
+    var p = vec3<f32>(0.0);
+    var n = vec3<f32>(0.0);
+    for (var k = 0u; k < 3u; k++) {
+        p += w[k] * data_vec3(inst.vertices + 2u * tri[k]);
+        n += w[k] * data_vec3(inst.vertices + 2u * tri[k] + 1u);
+    }
+    let plane = transpose(inst.to_local) * vec4<f32>(n, -dot(n, p));
+#ifdef GEOMETRY_HYPERBOLIC
+    let pole = vec4<f32>(plane.xyz, -plane.w);
+#else ifdef GEOMETRY_SPHERICAL
+    let pole = plane;
+#else
+    let pole = vec4<f32>(plane.xyz, 0.0);
+#endif
+    let normal = normalize_tangent(x, pole);
+    return select(normal, -normal, form(normal, towards) < 0.0);
+}
+
+fn srgb_to_linear(c: f32) -> f32 {
+    return select(pow((c + 0.055) / 1.055, 2.4), c / 12.92, c <= 0.04045);
+}
+
+fn texel_index(x: f32, n: u32) -> u32 {
+    let f = x - floor(x);
+    return min(u32(f * f32(n)), n - 1u);
+}
+
+// Base colour times the texture (nearest texel, repeating).
+fn mesh_albedo(inst: Instance, h: MeshHit) -> vec3<f32> {
+    if inst.tex_width == 0u {
+        return inst.color;
+    }
+    let tri = mesh_data[inst.triangles + h.triangle];
+    let w = vertex_weights(h);
+    var uv = vec2<f32>(0.0);
+    for (var k = 0u; k < 3u; k++) {
+        let a = mesh_data[inst.vertices + 2u * tri[k]];
+        let b = mesh_data[inst.vertices + 2u * tri[k] + 1u];
+        uv += w[k] * vec2<f32>(bitcast<f32>(a.w), bitcast<f32>(b.w));
+    }
+    let i = texel_index(uv.x, inst.tex_width);
+    let j = texel_index(uv.y, inst.tex_height);
+    let k = j * inst.tex_width + i;
+    let c = mesh_data[inst.texture + k / 4u][k % 4u];
+    let rgb = vec3<f32>(f32(c & 0xffu), f32((c >> 8u) & 0xffu), f32((c >> 16u) & 0xffu)) / 255.0;
+    return inst.color * vec3<f32>(srgb_to_linear(rgb.x), srgb_to_linear(rgb.y), srgb_to_linear(rgb.z));
+}
+#endif
+
 // ---- Algorithm 1 (src/trace/render.rs) ----
 
 struct Hit {
     t: f32,
-    // 0 none, 1 ball, 2 tube
+    // 0 none, 1 ball, 2 tube, 3 mesh instance
     kind: u32,
     index: u32,
+    // A mesh hit: triangle and barycentrics.
+    triangle: u32,
+    u: f32,
+    v: f32,
 }
 
-fn nearest_object(ray: Ray, t_end: f32) -> Hit {
-    var best = Hit(-1.0, 0u, 0u);
+// The nearest object on the ray within [0, t_end], at `level` transports
+// (a mesh attached to the camera is skipped at 0).
+fn nearest_object(ray: Ray, t_end: f32, level: u32) -> Hit {
+    var best = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
 #ifdef BALLS
     for (var i = 0u; i < params.ball_count; i++) {
         let t = hit_ball(ray, balls[i].center, balls[i].k, 0.0);
         if t >= 0.0 && t <= t_end && (best.kind == 0u || t < best.t) {
-            best = Hit(t, 1u, i);
+            best = Hit(t, 1u, i, 0u, 0.0, 0.0);
         }
     }
 #endif
@@ -422,7 +754,19 @@ fn nearest_object(ray: Ray, t_end: f32) -> Hit {
     for (var i = 0u; i < params.tube_count; i++) {
         let t = hit_tube(ray, tubes[i], params.tube_k, 0.0);
         if t >= 0.0 && t <= t_end && (best.kind == 0u || t < best.t) {
-            best = Hit(t, 2u, i);
+            best = Hit(t, 2u, i, 0u, 0.0, 0.0);
+        }
+    }
+#endif
+#ifdef MESHES
+    for (var i = 0u; i < params.instance_count; i++) {
+        if instances[i].attached != 0u && level == 0u {
+            continue;
+        }
+        let limit = select(t_end, best.t, best.kind != 0u);
+        let h = hit_instance(ray, instances[i], limit);
+        if h.t >= 0.0 && h.t <= limit {
+            best = Hit(h.t, 3u, i, h.hit.triangle, h.hit.u, h.hit.v);
         }
     }
 #endif
@@ -431,6 +775,7 @@ fn nearest_object(ray: Ray, t_end: f32) -> Hit {
 
 fn shade(ray: Ray, hit: Hit, dist: f32, cell: vec2<u32>) -> vec3<f32> {
     let x = normalize_point(ray.origin + ray.dir * hit.t);
+    let view = -normalize_tangent(x, ray.dir);
     var normal = vec4<f32>(0.0);
     var albedo = vec3<f32>(1.0);
 #ifdef BALLS
@@ -446,12 +791,19 @@ fn shade(ray: Ray, hit: Hit, dist: f32, cell: vec2<u32>) -> vec3<f32> {
         albedo = seg.color.xyz;
     }
 #endif
+#ifdef MESHES
+    if hit.kind == 3u {
+        let inst = instances[hit.index];
+        let h = MeshHit(0.0, hit.triangle, hit.u, hit.v);
+        normal = mesh_normal(inst, h, x, view);
+        albedo = mesh_albedo(inst, h);
+    }
+#endif
 #ifdef CELL_COLORS
     albedo *= cell_color(cell);
 #endif
     var rgb = albedo * 0.08;
 #ifdef LIGHTS
-    let view = -normalize_tangent(x, ray.dir);
     for (var i = 0u; i < params.light_count; i++) {
         let l = lights[i];
         let d = distance(x, l.position);
@@ -511,7 +863,8 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
     let max_passes = params.max_level + u32(min(params.max_distance, 1.0e4)) + 2u;
     for (var step = 0u; step < max_passes; step++) {
 #ifdef FOG
-        if params.fog_density * travelled > 5.5412712 { // ln 255
+        let early_stop = (params.flags & FLAG_NO_EARLY_STOP) == 0u;
+        if early_stop && params.fog_density * travelled > 5.5412712 { // ln 255
             break;
         }
 #endif
@@ -520,7 +873,7 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
             exit.face = NO_FACE;
         }
         let t_end = select(exit.t, t_cap, exit.face == NO_FACE);
-        let hit = nearest_object(ray, t_end);
+        let hit = nearest_object(ray, t_end, levels);
         if hit.kind != 0u {
             let dist = travelled + chart_to_distance(hit.t);
             let cid = cell_id(cell, index);
@@ -530,9 +883,19 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
                 object = balls[hit.index].id;
             }
 #endif
+#ifdef MESHES
+            if hit.kind == 3u {
+                object = instances[hit.index].id;
+            }
+#endif
             return Pixel(vec4<f32>(shade(ray, hit, dist, cid), dist), object, levels, cid.x, cid.y);
         }
-        let end = advance(ray, t_end);
+        var end: Ray;
+        if renormalize() {
+            end = advance(ray, t_end);
+        } else {
+            end = advance_raw(ray, t_end);
+        }
         travelled += chart_to_distance(t_end);
         if travelled > params.max_distance {
             break;
@@ -546,7 +909,11 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
         if levels >= params.max_level {
             break;
         }
-        ray = transport(exit.face, end);
+        if renormalize() {
+            ray = transport(exit.face, end);
+        } else {
+            ray = transport_raw(exit.face, end);
+        }
         entered = faces[exit.face].partner;
         cell = cell * faces[exit.face].crossing;
 #ifdef CELLS_FINITE
@@ -564,6 +931,70 @@ fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     pixels[id.y * params.width + id.x] = trace_pixel(id.x, id.y);
+}
+
+// The drift probe (`bench stability`, tests/stability.rs), twin of
+// trace::ray_drift: the camera ray of the pixel walked as trace_pixel walks
+// it, objects ignored, through max_level transports. Writes the worst point
+// and tangent errors over every segment end to color.xy, how far outside
+// the domain any end was to color.z, the distance to color.w and the
+// transports made to levels.
+fn ray_errors(ray: Ray) -> vec3<f32> {
+    let c = ray.origin / ray.origin.w;
+    var outside = -3.0e38;
+    for (var i = 0u; i < params.face_count; i++) {
+        outside = max(outside, dot(faces[i].plane, c));
+    }
+    return vec3<f32>(point_error(ray.origin), tangent_error(ray.origin, ray.dir), outside);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn drift(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= params.width || id.y >= params.height {
+        return;
+    }
+    var ray = camera_ray(id.x, id.y);
+    var entered = NO_FACE;
+    var levels = 0u;
+    var travelled = 0.0;
+    var worst = ray_errors(ray);
+    let t_cap = max_chart_parameter();
+    let max_passes = params.max_level + u32(min(params.max_distance, 1.0e4)) + 2u;
+    for (var step = 0u; step < max_passes; step++) {
+        var exit = exit_face(ray, entered);
+        if exit.face != NO_FACE && exit.t >= t_cap {
+            exit.face = NO_FACE;
+        }
+        let t_end = select(exit.t, t_cap, exit.face == NO_FACE);
+        var end: Ray;
+        if renormalize() {
+            end = advance(ray, t_end);
+        } else {
+            end = advance_raw(ray, t_end);
+        }
+        travelled += chart_to_distance(t_end);
+        worst = max(worst, ray_errors(end));
+        if travelled > params.max_distance {
+            break;
+        }
+        if exit.face == NO_FACE {
+            ray = end;
+            entered = NO_FACE;
+            continue;
+        }
+        if levels >= params.max_level {
+            break;
+        }
+        if renormalize() {
+            ray = transport(exit.face, end);
+        } else {
+            ray = transport_raw(exit.face, end);
+        }
+        entered = faces[exit.face].partner;
+        levels++;
+        worst = max(worst, ray_errors(ray));
+    }
+    pixels[id.y * params.width + id.x] = Pixel(vec4<f32>(worst, travelled), 0u, levels, 0u, 0u);
 }
 
 #ifdef ENCODE_SRGB

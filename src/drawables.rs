@@ -95,10 +95,23 @@ impl Default for DomainEdges {
     }
 }
 
+/// On a [`ManifoldSpace`] root: the space's traced meshes and the entity
+/// each belongs to, as [`gather_scenes`] reads them. Kept by the mesh
+/// gathering (feature `render`, see `crate::traced_meshes`), replaced only
+/// when a mesh, material or placement changed; or inserted by hand.
+#[derive(Component, Clone, Debug, Default, PartialEq)]
+pub struct ManifoldMeshes {
+    /// The entity of each mesh.
+    pub entities: Vec<Entity>,
+    /// The meshes, in the tracer's terms.
+    pub meshes: Vec<crate::trace::SceneMesh>,
+}
+
 /// What the tracer draws in one space, kept on the space's root entity by
 /// [`gather_scenes`]: the scene (without a camera) for the CPU reference,
 /// and the same packed for the GPU. Ball `i` of the scene has object id
-/// `i + 1` in the id buffer and belongs to `entities()[i]`.
+/// `i + 1` in the id buffer and belongs to `entities()[i]`; the meshes
+/// follow the balls, in ids and in `entities()`.
 #[derive(Component, Clone, Debug)]
 pub struct ManifoldScene {
     scene: Arc<Scene>,
@@ -115,7 +128,8 @@ impl ManifoldScene {
         &self.scene
     }
 
-    /// The entity each ball belongs to, in object-id order (id 1 first).
+    /// The entity each ball and mesh belongs to, in object-id order (id 1
+    /// first).
     #[must_use]
     pub fn entities(&self) -> &[Entity] {
         &self.entities
@@ -163,8 +177,17 @@ type ChangedDrawable = (
     )>,
 );
 
-/// Filter: a space root whose space or edges changed.
-type ChangedRoot = Or<(Changed<ManifoldSpace>, Changed<DomainEdges>)>;
+/// A space root and what the tracer draws there.
+type RootData<'a> = (
+    Entity,
+    &'a ManifoldSpace,
+    Option<&'a DomainEdges>,
+    Option<&'a ManifoldScene>,
+    Option<&'a ManifoldMeshes>,
+);
+
+/// Filter: a space root whose space, edges or meshes changed.
+type ChangedRoot = Or<(Changed<ManifoldSpace>, Changed<DomainEdges>, Changed<ManifoldMeshes>)>;
 
 /// Collects the drawables of every space into its [`ManifoldScene`], when
 /// anything they are made of changed (a drawable added, removed, moved,
@@ -173,7 +196,7 @@ type ChangedRoot = Or<(Changed<ManifoldSpace>, Changed<DomainEdges>)>;
 #[allow(clippy::too_many_arguments)]
 pub fn gather_scenes(
     mut commands: Commands,
-    roots: Query<(Entity, &ManifoldSpace, Option<&DomainEdges>, Option<&ManifoldScene>)>,
+    roots: Query<RootData>,
     root_filter: Query<(), With<ManifoldSpace>>,
     changed_roots: Query<(), ChangedRoot>,
     changed: Query<(), ChangedDrawable>,
@@ -185,12 +208,12 @@ pub fn gather_scenes(
     mut removed_edges: RemovedComponents<DomainEdges>,
 ) {
     let removed = removed_balls.read().count() + removed_lights.read().count() + removed_edges.read().count() > 0;
-    let any_missing = roots.iter().any(|(_, _, _, s)| s.is_none());
+    let any_missing = roots.iter().any(|(_, _, _, s, _)| s.is_none());
     let dirty = removed || any_missing || !changed.is_empty() || !changed_roots.is_empty();
     if !dirty {
         return;
     }
-    for (root, ms, edges, old) in &roots {
+    for (root, ms, edges, old, meshes) in &roots {
         let space = ms.space();
         let mine = |e: Entity| root_of(e, &parents, &root_filter) == Some(root);
         let ball_list: Vec<(Entity, Ball)> = balls
@@ -216,8 +239,22 @@ pub fn gather_scenes(
                 color: rgb(l.color),
             })
             .collect();
-        let (entities, balls): (Vec<Entity>, Vec<Ball>) = ball_list.into_iter().unzip();
+        let (mut entities, balls): (Vec<Entity>, Vec<Ball>) = ball_list.into_iter().unzip();
         let mut scene = Scene::empty();
+        if let Some(m) = meshes {
+            // Object ids are bytes: 254 objects at most.
+            let room = 254usize.saturating_sub(balls.len()).min(m.meshes.len());
+            if room < m.meshes.len() {
+                warn!(
+                    "bevy_manifold: {} balls and {} meshes in space {}: only 254 objects are drawn",
+                    balls.len(),
+                    m.meshes.len(),
+                    ms.space().name()
+                );
+            }
+            scene.meshes = m.meshes[..room].to_vec();
+            entities.extend(&m.entities[..room]);
+        }
         scene.balls = balls;
         scene.lights = light_list;
         scene.edge_radius = edges.map(|e| e.radius);
@@ -272,6 +309,14 @@ impl Plugin for DrawablesPlugin {
             .register_type::<ManifoldLight>()
             .register_type::<DomainEdges>()
             .add_systems(self.schedule, gather_scenes.after(ManifoldSystems::Sync));
+    }
+
+    fn finish(&self, app: &mut App) {
+        // Bevy meshes are traced where the app has them.
+        #[cfg(feature = "render")]
+        crate::traced_meshes::build(app, self.schedule);
+        #[cfg(not(feature = "render"))]
+        let _ = app;
     }
 }
 

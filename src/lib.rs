@@ -40,9 +40,12 @@
 //! - [`space`]: fundamental polyhedra with face pairings, validation, the
 //!   catalog of the paper's five spaces, space files.
 //! - [`cell`]: path-independent ids for the copies of the domain.
+//! - [`mesh`]: triangle meshes, their BVH, and glTF loading.
 //! - [`trace`]: the CPU reference ray tracer (Algorithm 1), in f64 and in an
 //!   f32 mode that mirrors the GPU arithmetic; geodesic flow; ray casts.
 //! - [`motion`]: moving placements through the faces (the math of wrapping).
+//! - [`stress`]: the degenerate rays and far-travel paths the numerical
+//!   stability checks use.
 //! - [`placement`]: the ECS layer: components, wrapping systems, ray casts.
 //! - [`camera_controller`]: an optional fly camera.
 //!
@@ -62,12 +65,16 @@ pub mod camera_controller;
 pub mod cell;
 pub mod drawables;
 pub mod geometry;
+pub mod mesh;
 pub mod motion;
 pub mod placement;
 mod plugin;
 pub mod render;
 pub mod space;
+pub mod stress;
 pub mod trace;
+#[cfg(feature = "render")]
+pub mod traced_meshes;
 
 pub use plugin::ManifoldPlugin;
 
@@ -76,7 +83,9 @@ pub mod prelude {
     pub use crate::ManifoldPlugin;
     pub use crate::camera_controller::{FlyCamera, FlyCameraPlugin};
     pub use crate::cell::CellId;
-    pub use crate::drawables::{DomainEdges, DrawablesPlugin, ManifoldLight, ManifoldScene, TracedBall};
+    pub use crate::drawables::{
+        DomainEdges, DrawablesPlugin, ManifoldLight, ManifoldMeshes, ManifoldScene, TracedBall,
+    };
     pub use crate::geometry::{Geometry, Real, isometry, plane};
     pub use crate::placement::{
         DomainCell, FaceCrossed, GeodesicVelocity, ManifoldCollider, ManifoldRayCast, ManifoldSpace, ManifoldSystems,
@@ -85,5 +94,7 @@ pub mod prelude {
     #[cfg(feature = "render")]
     pub use crate::render::pass::{CellShading, ManifoldCamera, ManifoldFog};
     pub use crate::space::{Face, FaceKind, Space, SpaceDesc, SpaceError, catalog};
-    pub use crate::trace::{Ball, Fog, Light, Scene, TraceImage, TraceSettings, render};
+    pub use crate::trace::{Ball, Fog, Light, Scene, SceneMesh, TraceImage, TraceSettings, render};
+    #[cfg(feature = "render")]
+    pub use crate::traced_meshes::Rasterized;
 }

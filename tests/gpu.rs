@@ -5,48 +5,9 @@
 //! a missing adapter is a failure.
 
 use bevy_manifold::prelude::*;
-use bevy_manifold::render::GpuTracer;
-use bevy_manifold::trace::TraceImage;
 
-fn tracer() -> Option<GpuTracer> {
-    match GpuTracer::new() {
-        Ok(t) => {
-            eprintln!("GPU adapter: {}", t.adapter_name());
-            Some(t)
-        }
-        Err(e) if std::env::var_os("CI").is_none() => {
-            eprintln!("SKIPPED: no GPU to test on: {e}");
-            None
-        }
-        Err(e) => panic!("CI must have a GPU adapter (lavapipe): {e}"),
-    }
-}
-
-/// Fractions of pixels with the same object and cell id, and with every
-/// colour channel within 2/255, of `a` against the reference `b`. A cell id
-/// either side flags FAR (a hyperbolic copy beyond the horizon of its
-/// precision, where ids are best effort) is not compared; the object is.
-fn agreement(a: &TraceImage, b: &TraceImage) -> (f64, f64) {
-    let n = a.pixels.len() as f64;
-    let ids = a
-        .pixels
-        .iter()
-        .zip(&b.pixels)
-        .filter(|(p, q)| p.object == q.object && (p.cell == q.cell || q.cell.is_far() || p.cell.is_far()))
-        .count();
-    let colors = a
-        .pixels
-        .iter()
-        .zip(&b.pixels)
-        .filter(|(p, q)| {
-            p.color
-                .iter()
-                .zip(&q.color)
-                .all(|(x, y)| (x.clamp(0.0, 1.0) - y.clamp(0.0, 1.0)).abs() <= 2.0 / 255.0)
-        })
-        .count();
-    (ids as f64 / n, colors as f64 / n)
-}
+mod common;
+use common::{agreement, tracer};
 
 #[test]
 fn gpu_and_cpu_agree_in_every_space() {
@@ -114,5 +75,112 @@ fn gpu_and_cpu_agree_in_every_space() {
                 col64 * 100.0
             );
         }
+    }
+}
+
+/// The pixel column that sees horizontal angle `deg` (left negative), in a
+/// square image of side `n` with vertical field of view `fov` degrees.
+fn column(deg: f64, n: u32, fov: f64) -> u32 {
+    let x = deg.to_radians().tan() / (fov / 2.0).to_radians().tan();
+    ((x + 1.0) / 2.0 * f64::from(n)).floor() as u32
+}
+
+#[test]
+fn a_ball_straddling_a_torus_face_is_seen_whole_from_either_side() {
+    use glam::{DMat4, DVec3, DVec4};
+    let Some(mut gpu) = tracer() else { return };
+    let space = catalog::torus(1.0);
+    let n = 128;
+    let fov = 100.0;
+    // The ball straddles the face x = 1/2; its ghost sits at x = -0.55.
+    let ball = Ball {
+        center: DVec4::new(0.45, 0.0, 0.0, 1.0),
+        radius: 0.1,
+        color: [1.0; 3],
+    };
+    // Each camera looks along -z from 0.4 in front of the face, 0.05 from
+    // it. Probes: horizontal angle, and the levels a ray needs to reach the
+    // ball there (0: this side of the face, 1: through the face).
+    let views = [
+        // +x side: the ball is straight ahead; right of about 8 degrees
+        // its surface lies beyond x = 1/2, drawn from its ghost.
+        (0.45, [(-10.0, 0), (10.0, 1)]),
+        // -x side: the ghost at -0.55 is ahead and left; its sliver
+        // x > -1/2 is seen directly, the rest through the face x = -1/2.
+        (-0.45, [(-3.0, 0), (-15.0, 1)]),
+    ];
+    for (x, probes) in views {
+        let scene = Scene {
+            camera: bevy_manifold::trace::Camera {
+                isometry: DMat4::from_translation(DVec3::new(x, 0.0, 0.4)),
+                fov_y_degrees: fov,
+            },
+            balls: vec![ball.clone()],
+            lights: vec![],
+            meshes: Vec::new(),
+            skipped: Vec::new(),
+            edge_radius: None,
+            fog: None,
+        };
+        let settings = TraceSettings {
+            width: n,
+            height: n,
+            ..TraceSettings::default()
+        };
+        let g = gpu.render(&space, &scene, &settings).expect("trace");
+        let c = render::<f64>(&space, &scene, &settings);
+        for (deg, levels) in probes {
+            let (i, j) = (column(deg, n, fov), n / 2);
+            let (p, q) = (g.at(i, j), c.at(i, j));
+            assert_eq!(
+                (p.object, p.levels),
+                (1, levels),
+                "camera x {x}: at {deg} degrees the GPU sees {p:?}"
+            );
+            assert_eq!((q.object, q.levels), (1, levels), "camera x {x}: CPU at {deg} degrees");
+        }
+        // Beyond the disc's edge (14.5 degrees about 0, or 14 about -14)
+        // the ray passes this ball and its ghost (it may hit a far copy).
+        let outside = if x > 0.0 { 25.0 } else { -35.0 };
+        let p = g.at(column(outside, n, fov), n / 2);
+        assert!(
+            p.object == 0 || p.distance > 1.0,
+            "camera x {x}: at {outside} degrees {p:?}"
+        );
+    }
+}
+
+fn srgb8(c: f32) -> u8 {
+    let c = c.clamp(0.0, 1.0);
+    let s = if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    (s * 255.0).round() as u8
+}
+
+#[test]
+fn the_fragment_entry_draws_what_the_compute_entry_computes() {
+    let Some(mut gpu) = tracer() else { return };
+    for name in ["torus", "seifert-weber", "poincare"] {
+        let space = catalog::by_name(name).expect("catalog");
+        let scene = Scene::default_for(&space);
+        let settings = TraceSettings {
+            width: 96,
+            height: 64,
+            ..TraceSettings::default()
+        };
+        let compute = gpu.render(&space, &scene, &settings).expect("compute");
+        let fragment = gpu.render_fragment(&space, &scene, &settings).expect("fragment");
+        assert_eq!(fragment.len(), 96 * 64 * 4);
+        let close = fragment
+            .chunks_exact(4)
+            .zip(&compute.pixels)
+            .filter(|(f, p)| (0..3).all(|c| f[c].abs_diff(srgb8(p.color[c])) <= 1) && f[3] == 255)
+            .count();
+        let share = close as f64 / compute.pixels.len() as f64;
+        eprintln!("{name}: fragment vs compute within 1/255: {:.3}%", share * 100.0);
+        assert!(share >= 0.995, "{name}: {:.3}%", share * 100.0);
     }
 }

@@ -9,21 +9,12 @@
 #![cfg(feature = "app")]
 
 use bevy::camera::{RenderTarget, Viewport};
-use bevy::log::LogPlugin;
 use bevy::prelude::*;
 use bevy::render::RenderApp;
-use bevy::render::pipelined_rendering::PipelinedRenderingPlugin;
-use bevy::render::render_resource::{PipelineCache, TextureFormat};
-use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
-use bevy::window::ExitCondition;
-use bevy::winit::WinitPlugin;
-use bevy_manifold::drawables::spawn_scene;
 use bevy_manifold::prelude::*;
 use bevy_manifold::render::GpuTracer;
-use bevy_manifold::render::pass::prepare::ManifoldViewBinding;
-use bevy_manifold::render::pass::{ManifoldBufferCache, ManifoldUploads};
+use bevy_manifold::render::pass::{ManifoldBufferCache, ManifoldUploads, offscreen};
 use bevy_manifold::space::Space;
-use std::sync::{Arc, Mutex};
 
 const W: u32 = 160;
 const H: u32 = 120;
@@ -42,70 +33,20 @@ fn gpu_available() -> bool {
     }
 }
 
-/// A Bevy app with the renderer and no window, updated by hand; the render
-/// world runs on this thread so the test can look into it.
 fn headless_app(with_manifold: bool) -> App {
-    let mut app = App::new();
-    app.add_plugins(
-        DefaultPlugins
-            .build()
-            .disable::<WinitPlugin>()
-            .disable::<PipelinedRenderingPlugin>()
-            .disable::<LogPlugin>()
-            .set(WindowPlugin {
-                primary_window: None,
-                exit_condition: ExitCondition::DontExit,
-                ..default()
-            }),
-    );
-    if with_manifold {
-        app.add_plugins(ManifoldPlugin::default());
-    }
-    app.finish();
-    app.cleanup();
-    app
+    offscreen::app(with_manifold)
 }
 
 fn target(app: &mut App, w: u32, h: u32) -> Handle<Image> {
-    let image = Image::new_target_texture(w, h, TextureFormat::Rgba8UnormSrgb, None);
-    app.world_mut().resource_mut::<Assets<Image>>().add(image)
+    offscreen::target(app, w, h)
 }
 
-/// Updates until every manifold view's pipeline has compiled.
 fn wait_for_pipelines(app: &mut App) {
-    for _ in 0..3000 {
-        app.update();
-        let world = app.sub_app_mut(RenderApp).world_mut();
-        let ids: Vec<_> = world
-            .query::<&ManifoldViewBinding>()
-            .iter(world)
-            .map(|b| b.pipeline)
-            .collect();
-        let cache = world.resource::<PipelineCache>();
-        if !ids.is_empty() && ids.iter().all(|id| cache.get_render_pipeline(*id).is_some()) {
-            return;
-        }
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
-    panic!("the tracer pipeline did not compile");
+    offscreen::wait_for_pipelines(app).expect("pipelines");
 }
 
-/// The next frame's image in `target`, as sRGB bytes.
 fn capture(app: &mut App, target: &Handle<Image>) -> Vec<u8> {
-    let slot: Arc<Mutex<Option<Image>>> = Arc::default();
-    let out = slot.clone();
-    app.world_mut()
-        .spawn(Screenshot::image(target.clone()))
-        .observe(move |shot: On<ScreenshotCaptured>| {
-            *out.lock().unwrap() = Some(shot.image.clone());
-        });
-    for _ in 0..200 {
-        app.update();
-        if let Some(image) = slot.lock().unwrap().take() {
-            return image.data.expect("screenshot data");
-        }
-    }
-    panic!("no screenshot arrived");
+    offscreen::capture(app, target).expect("capture")
 }
 
 fn uploads(app: &App) -> ManifoldUploads {
@@ -133,38 +74,27 @@ fn agreement(bytes: &[u8], reference: &TraceImage, tol: u8) -> f64 {
     close as f64 / reference.pixels.len() as f64
 }
 
-/// A space's root with the default scene of that space and a manifold
-/// camera rendering into `image`; returns the root and the camera.
+/// A space's root with the default scene of that space (with fog when
+/// asked) and a manifold camera rendering into `image`; returns the root
+/// and the camera.
 fn spawn_view(app: &mut App, space: &Space, image: &Handle<Image>, fog: bool, cells: bool) -> (Entity, Entity) {
-    let scene = Scene::default_for(space);
-    let world = app.world_mut();
-    let root = world.spawn(ManifoldSpace::new(space.clone())).id();
-    let mut commands = world.commands();
-    spawn_scene(&mut commands, root, space, &scene);
-    let camera = commands
-        .spawn((
-            ChildOf(root),
-            ManifoldCamera {
-                max_level: 8,
-                cell_shading: if cells { CellShading::ByCell } else { CellShading::Off },
-                ..default()
-            },
-            Placement::from_isometry(scene.camera.isometry),
-            RenderTarget::Image(image.clone().into()),
-            Projection::Perspective(PerspectiveProjection {
-                fov: (scene.camera.fov_y_degrees as f32).to_radians(),
-                ..default()
-            }),
-        ))
-        .id();
+    let mut scene = Scene::default_for(space);
     if fog {
-        commands.entity(camera).insert(ManifoldFog {
-            density: 0.4 / space.inradius(),
-            color: Color::linear_rgb(0.7, 0.75, 0.8),
-        });
+        scene.fog = Some(fog_of(space));
     }
-    world.flush();
-    (root, camera)
+    let camera = ManifoldCamera {
+        max_level: 8,
+        cell_shading: if cells { CellShading::ByCell } else { CellShading::Off },
+        ..default()
+    };
+    offscreen::spawn_view(app, space, &scene, image, camera)
+}
+
+fn fog_of(space: &Space) -> Fog {
+    Fog {
+        density: 0.4 / space.inradius(),
+        color: [0.7, 0.75, 0.8],
+    }
 }
 
 /// The scene the app gathered for `root`, with the camera and fog the test
@@ -178,10 +108,7 @@ fn gathered_scene(app: &App, space: &Space, root: Entity, fog: bool) -> Scene {
         .clone();
     scene.camera = Scene::default_for(space).camera;
     if fog {
-        scene.fog = Some(Fog {
-            density: 0.4 / space.inradius(),
-            color: [0.7, 0.75, 0.8],
-        });
+        scene.fog = Some(fog_of(space));
     }
     scene
 }
@@ -324,7 +251,14 @@ fn a_viewport_shows_the_same_trace_as_a_whole_target() {
             same += usize::from(pa == pb);
         }
     }
-    assert_eq!(same, 64 * 48, "the inset viewport differs from the whole-target trace");
+    let lit = |img: &[u8]| img.chunks_exact(4).filter(|p| p[0] > 8 || p[1] > 8 || p[2] > 8).count();
+    assert_eq!(
+        same,
+        64 * 48,
+        "the inset viewport differs from the whole-target trace (lit pixels: whole {}, inset target {})",
+        lit(&a),
+        lit(&b)
+    );
 }
 
 /// A plain Bevy scene: a lit cube seen by an ordinary `Camera3d`.
@@ -361,12 +295,8 @@ fn cameras_without_the_marker_render_exactly_as_before() {
                 // A manifold camera in the same app, drawing elsewhere.
                 let other = target(&mut app, 32, 32);
                 spawn_view(&mut app, &catalog::poincare(), &other, true, true);
-                wait_for_pipelines(&mut app);
-            } else {
-                for _ in 0..20 {
-                    app.update();
-                }
             }
+            wait_for_pipelines(&mut app);
             capture(&mut app, &image)
         })
         .collect();
@@ -376,4 +306,114 @@ fn cameras_without_the_marker_render_exactly_as_before() {
         shots[0] == shots[1],
         "the plain camera's image changed when the plugin was added"
     );
+}
+
+#[test]
+fn gltf_meshes_in_a_manifold_are_traced_and_not_rasterised() {
+    use bevy::camera::visibility::RenderLayers;
+    use bevy_manifold::traced_meshes::MeshBvhCache;
+    use glam::DVec3;
+    if !gpu_available() {
+        return;
+    }
+    let mut app = headless_app(true);
+    let image = target(&mut app, W, H);
+    let space = catalog::poincare();
+    let r = space.inradius();
+    let (root, _) = spawn_view(&mut app, &space, &image, false, false);
+    let assets = app.world().resource::<AssetServer>().clone();
+    let mesh: Handle<Mesh> = assets.load("models/suzanne.glb#Mesh0/Primitive0");
+    let scale = Transform::from_scale(Vec3::splat((0.1 * r) as f32));
+    // One Suzanne on the placed entity itself; one below a placed parent,
+    // offset and turned by the child's transform, as a glTF scene root
+    // spawns its meshes.
+    let suzanne = app
+        .world_mut()
+        .spawn((
+            ChildOf(root),
+            Mesh3d(mesh.clone()),
+            Placement::at(&space, DVec3::new(-0.3, 0.12, 0.15) * r),
+            scale,
+        ))
+        .id();
+    let parent = app
+        .world_mut()
+        .spawn((
+            ChildOf(root),
+            Placement::at(&space, DVec3::new(0.3, -0.12, 0.15) * r),
+            scale,
+            Visibility::default(),
+        ))
+        .id();
+    app.world_mut().spawn((
+        ChildOf(parent),
+        Mesh3d(mesh.clone()),
+        Transform::from_xyz(0.2, 0.1, 0.0).with_rotation(Quat::from_rotation_y(0.6)),
+    ));
+    // A file that is not there: reported by Bevy's asset server, and the
+    // rest of the scene still renders.
+    app.world_mut().spawn((
+        ChildOf(root),
+        Mesh3d(assets.load("models/missing.glb#Mesh0/Primitive0")),
+        Placement::default(),
+    ));
+    let meshes_of = |app: &App| app.world().get::<ManifoldMeshes>(root).map_or(0, |m| m.meshes.len());
+    for _ in 0..2000 {
+        app.update();
+        if meshes_of(&app) == 2 {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    assert_eq!(meshes_of(&app), 2, "both Suzannes are gathered");
+    let m = &app.world().get::<ManifoldMeshes>(root).unwrap().meshes;
+    assert!(
+        m.iter().any(|m| m.local != glam::DMat4::IDENTITY),
+        "the child's transform is kept"
+    );
+    assert_eq!(
+        app.world().resource::<MeshBvhCache>().built(),
+        1,
+        "two instances, one BVH"
+    );
+    wait_for_pipelines(&mut app);
+    let shown = capture(&mut app, &image);
+    let scene = gathered_scene(&app, &space, root, false);
+    assert_eq!((scene.balls.len(), scene.meshes.len()), (1, 2));
+    // The glTF's meshes are off the rasteriser.
+    let world = app.world_mut();
+    let mut layers = world.query_filtered::<&RenderLayers, With<Mesh3d>>();
+    let hidden = layers.iter(world).filter(|l| **l == RenderLayers::none()).count();
+    assert_eq!(
+        hidden, 3,
+        "each traced mesh entity is hidden from Bevy's cameras (the missing one too)"
+    );
+    let settings = TraceSettings {
+        width: W,
+        height: H,
+        max_level: 8,
+        ..TraceSettings::default()
+    };
+    let mut gpu = GpuTracer::new().expect("adapter");
+    let compute = gpu.render(&space, &scene, &settings).expect("headless trace");
+    let cpu = render::<f64>(&space, &scene, &settings);
+    let mesh_pixels = cpu.pixels.iter().filter(|p| p.object == 2 || p.object == 3).count();
+    let (vs_compute, vs_cpu) = (agreement(&shown, &compute, 1), agreement(&shown, &cpu, 2));
+    eprintln!(
+        "two traced Suzannes in poincare: {mesh_pixels} mesh pixels; pass vs compute {:.3}%, vs CPU f64 {:.3}%",
+        vs_compute * 100.0,
+        vs_cpu * 100.0
+    );
+    assert!(mesh_pixels > 200, "Suzanne is in view");
+    assert!(vs_compute >= 0.995 && vs_cpu >= 0.99);
+    // Moving an instance moves its matrix; the BVH stays.
+    let before = scene.meshes[0].data.clone();
+    app.world_mut().get_mut::<Placement>(suzanne).unwrap().isometry =
+        isometry::translation(space.geometry(), DVec3::Y * 0.2 * r);
+    app.update();
+    app.update();
+    let moved = gathered_scene(&app, &space, root, false);
+    assert!(moved.meshes.iter().all(|m| std::sync::Arc::ptr_eq(&m.data, &before)));
+    assert_ne!(moved.meshes, scene.meshes, "the placement changed");
+    assert_eq!(app.world().resource::<MeshBvhCache>().built(), 1);
 }

@@ -24,13 +24,20 @@ fn validate(module: &naga::Module) -> Result<(), String> {
 #[test]
 fn every_specialisation_composes_and_validates() {
     let all = TraceDefs::all();
-    assert_eq!(all.len(), 6 * 32);
+    assert_eq!(all.len(), 6 * 64);
     for defs in &all {
         let module = compose(defs).unwrap_or_else(|e| panic!("{:?}: {e}", defs.names()));
         validate(&module).unwrap_or_else(|e| panic!("{:?}: {e}", defs.names()));
         // The headless compute entry and the render pass's fragment entry.
         assert!(module.entry_points.iter().any(|e| e.name == "trace"));
         assert!(module.entry_points.iter().any(|e| e.name == "fragment"));
+        assert!(module.entry_points.iter().any(|e| e.name == "drift"));
+        // The BVH walk is compiled in only with meshes.
+        let has_bvh = module
+            .functions
+            .iter()
+            .any(|(_, f)| f.name.as_deref() == Some("hit_mesh"));
+        assert_eq!(has_bvh, defs.meshes, "{:?}", defs.names());
     }
 }
 
@@ -87,6 +94,7 @@ fn scenes_compile_only_what_they_use() {
     let names = defs.names();
     for absent in [
         "FOG",
+        "MESHES",
         "GEOMETRY_HYPERBOLIC",
         "GEOMETRY_SPHERICAL",
         "CELL_COLORS",

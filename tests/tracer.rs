@@ -4,6 +4,7 @@
 
 use bevy_manifold::geometry::{Geometry, isometry};
 use bevy_manifold::prelude::*;
+use bevy_manifold::stress::face_middle;
 use bevy_manifold::trace::step::Ray;
 use bevy_manifold::trace::{FaceTables, Prepared, Stop, flow, ghost_centres, trace_ray, write_ids_png};
 use glam::{DMat4, DVec3, DVec4, IVec3};
@@ -48,15 +49,6 @@ fn empty(space: &Space) -> Prepared<f64> {
 
 fn tables(space: &Space) -> FaceTables<f64> {
     FaceTables::new(space)
-}
-
-/// The middle of face `i` (normalised mean of its vertices).
-fn face_middle(s: &Space, i: usize) -> DVec4 {
-    let sum = s.polyhedron().face_vertices[i]
-        .iter()
-        .map(|&v| s.vertices()[v].point)
-        .sum::<DVec4>();
-    s.geometry().normalize_point::<f64>(sum)
 }
 
 #[test]
@@ -238,6 +230,8 @@ fn torus_ball_copies_appear_where_the_lattice_predicts() {
             intensity: 1.0,
             color: [1.0; 3],
         }],
+        meshes: Vec::new(),
+        skipped: Vec::new(),
         edge_radius: None,
         fog: None,
     };
@@ -393,6 +387,8 @@ fn shading_uses_the_geometrys_light_falloff_and_fog() {
                 intensity: 0.3,
                 color: [1.0; 3],
             }],
+            meshes: Vec::new(),
+            skipped: Vec::new(),
             edge_radius: None,
             fog: None,
         };
@@ -468,6 +464,8 @@ fn a_ball_straddling_a_face_is_drawn_through_it() {
             color: [1.0; 3],
         }],
         lights: vec![],
+        meshes: Vec::new(),
+        skipped: Vec::new(),
         edge_radius: None,
         fog: None,
     };
@@ -587,35 +585,13 @@ fn rays_through_vertices_along_edges_and_tangent_to_faces_stay_sane() {
             max_distance: 1e6,
             ..TraceSettings::default()
         };
-        let mut rays = Vec::new();
-        let o = DVec4::W;
-        for v in s.vertices() {
-            rays.push(Ray {
-                origin: o,
-                dir: g.normalize_tangent::<f64>(o, v.point),
-            });
-        }
-        for e in s.edges() {
-            let [a, b] = e.vertices.map(|i| s.vertices()[i].point);
-            let mid = g.normalize_point::<f64>(a + b);
-            rays.push(Ray {
-                origin: o,
-                dir: g.normalize_tangent::<f64>(o, mid),
-            });
-            // Along the edge itself, from one end.
-            rays.push(Ray {
-                origin: a,
-                dir: g.normalize_tangent::<f64>(a, b),
-            });
-        }
         for (i, ring) in s.polyhedron().face_vertices.iter().enumerate() {
-            // From the middle of a face, sliding along it towards a vertex.
-            let mid = face_middle(&s, i);
-            let target = s.vertices()[ring[0]].point;
-            let dir = g.normalize_tangent::<f64>(mid, target);
+            // The sliding rays really are tangent to their face.
+            let dir = g.normalize_tangent::<f64>(face_middle(&s, i), s.vertices()[ring[0]].point);
             assert!(s.faces()[i].plane.dot(dir).abs() < 1e-12, "{name}: tangent to face {i}");
-            rays.push(Ray { origin: mid, dir });
         }
+        let rays = bevy_manifold::stress::degenerate_rays(&s);
+        assert_eq!(rays.len(), s.vertices().len() + 2 * s.edges().len() + s.faces().len());
         for ray in rays {
             let mut steps = 0usize;
             let mut length = 0.0;

@@ -157,6 +157,22 @@ impl Geometry {
         }
     }
 
+    /// The inverse of [`Geometry::exp`]: the unit tangent at the normalised
+    /// point `p` pointing towards the normalised point `q`, and the
+    /// distance from `p` to `q`, so that `exp(p, v, s) = q`. `None` when no
+    /// direction is defined: `q = p`, or `q = -p` in S3 (antipodal points
+    /// are joined by every great circle).
+    #[inline]
+    #[must_use]
+    pub fn log<R: Real>(self, p: R::V4, q: R::V4) -> Option<(R::V4, R)> {
+        let t = self.project_tangent::<R>(p, q);
+        let n = self.form::<R>(t, t).abs().sqrt();
+        // Below the rounding of the projection (about epsilon |q|^2) the
+        // direction is noise: the points are equal or antipodal.
+        let noise = R::of(16.0) * R::EPSILON * R::dot4(q, q);
+        (n > noise && n.is_finite()).then(|| (t * (R::of(1.0) / n), self.distance::<R>(p, q)))
+    }
+
     /// Distance `s` along a ray `o + t d` (normalised `o`, unit tangent `d`)
     /// at chart parameter `t`: `t` itself (E3), `atanh t` (H3), `atan t` (S3).
     /// The parameter is monotone in the distance, so nearest hits can be

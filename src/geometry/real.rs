@@ -85,6 +85,8 @@ pub trait Real:
     fn exp(self) -> Self;
     /// True when neither NaN nor infinite.
     fn is_finite(self) -> bool;
+    /// `m^T v`: how a plane (covector) is carried back by `m`.
+    fn transpose_mul(m: Self::M4, v: Self::V4) -> Self::V4;
 }
 
 macro_rules! impl_real {
@@ -129,6 +131,10 @@ macro_rules! impl_real {
             #[inline]
             fn dot4(a: $v, b: $v) -> Self {
                 a.dot(b)
+            }
+            #[inline]
+            fn transpose_mul(m: $m, v: $v) -> $v {
+                m.transpose() * v
             }
             #[inline]
             fn sqrt(self) -> Self {

@@ -48,11 +48,16 @@ pub struct GpuParams {
     pub origin_y: u32,
     /// The camera's near plane, for reverse-z depth.
     pub near: f32,
-    /// Padding.
-    pub pad: u32,
+    /// [`FLAG_NO_EARLY_STOP`] | [`FLAG_NO_RENORMALIZE`]: measurement
+    /// switches, 0 for normal tracing.
+    pub flags: u32,
     /// Lattice: 1 / box edges; hashed: 1 / grid step in x, the f32 horizon
     /// in y.
     pub cell_scale: [f32; 4],
+    /// Number of mesh instances.
+    pub instance_count: u32,
+    /// Padding to 16 bytes.
+    pub pad: [u32; 3],
 }
 
 /// WGSL `Face`.
@@ -101,6 +106,41 @@ pub struct GpuTube {
     pub e_b: [f32; 4],
     /// Albedo (rgb, 1).
     pub color: [f32; 4],
+}
+
+/// WGSL `Instance`: one placement of a mesh, with offsets into
+/// [`GpuObjects::mesh_data`].
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuInstance {
+    /// From the domain's chart to the mesh's coordinates.
+    pub to_local: [f32; 16],
+    /// Bounding ball centre.
+    pub center: [f32; 4],
+    /// Base colour.
+    pub color: [f32; 3],
+    /// Bounding ball `k`.
+    pub k: f32,
+    /// Offset of the mesh's BVH nodes (two words each).
+    pub nodes: u32,
+    /// Offset of its vertices (two words each).
+    pub vertices: u32,
+    /// Offset of its triangles (one word each).
+    pub triangles: u32,
+    /// Object id.
+    pub id: u32,
+    /// Offset of its texture's texels (four per word).
+    pub texture: u32,
+    /// Texture width, 0 without a texture.
+    pub tex_width: u32,
+    /// Texture height.
+    pub tex_height: u32,
+    /// Number of BVH nodes (bounds the traversal loop).
+    pub node_count: u32,
+    /// 1 for the home copy of a mesh attached to the camera.
+    pub attached: u32,
+    /// Padding to 16 bytes.
+    pub pad: [u32; 3],
 }
 
 /// WGSL `Light`.
@@ -155,8 +195,13 @@ pub struct GpuObjects {
     pub tubes: Vec<GpuTube>,
     /// Lights (likewise).
     pub lights: Vec<GpuLight>,
-    /// How many of each are real: balls, tubes, lights.
-    pub counts: [u32; 3],
+    /// Mesh instances, ghosts included (at least one element).
+    pub instances: Vec<GpuInstance>,
+    /// The meshes' BVH nodes, vertices, triangles and texels, as words of
+    /// four `u32` (floats by their bits; at least one word).
+    pub mesh_data: Vec<[u32; 4]>,
+    /// How many of each are real: balls, tubes, lights, instances.
+    pub counts: [u32; 4],
     /// `k` of the edge tubes.
     pub tube_k: f32,
 }
@@ -182,6 +227,28 @@ pub struct GpuView {
     pub max_level: u32,
     /// Rays stop after this distance.
     pub max_distance: f32,
+    /// [`GpuParams::flags`].
+    pub flags: u32,
+}
+
+/// [`GpuParams::flags`]: fog does not stop rays early
+/// (`TraceSettings::fog_early_stop` off).
+pub const FLAG_NO_EARLY_STOP: u32 = 1;
+/// [`GpuParams::flags`]: no renormalisation (`TraceSettings::renormalize`
+/// off).
+pub const FLAG_NO_RENORMALIZE: u32 = 2;
+
+/// The flags that say how `settings` differs from normal tracing.
+#[must_use]
+pub fn settings_flags(settings: &TraceSettings) -> u32 {
+    let mut flags = 0;
+    if !settings.fog_early_stop {
+        flags |= FLAG_NO_EARLY_STOP;
+    }
+    if !settings.renormalize {
+        flags |= FLAG_NO_RENORMALIZE;
+    }
+    flags
 }
 
 /// Everything one trace uploads.
@@ -252,6 +319,7 @@ impl GpuObjects {
     /// Packs the objects of a prepared scene.
     #[must_use]
     pub fn pack(prep: &Prepared<f32>) -> Self {
+        let (instances, mesh_data) = pack_meshes(prep);
         GpuObjects {
             balls: non_empty(
                 prep.balls
@@ -287,14 +355,82 @@ impl GpuObjects {
                     })
                     .collect(),
             ),
+            instances: non_empty(instances),
+            mesh_data: non_empty(mesh_data),
             counts: [
                 prep.balls.len() as u32,
                 prep.tubes.len() as u32,
                 prep.lights.len() as u32,
+                prep.instances.len() as u32,
             ],
             tube_k: prep.tube_k,
         }
     }
+}
+
+fn bits(v: [f32; 3], w: u32) -> [u32; 4] {
+    [v[0].to_bits(), v[1].to_bits(), v[2].to_bits(), w]
+}
+
+/// Packs the prepared meshes into mesh data words and the instances that
+/// point into it.
+fn pack_meshes(prep: &Prepared<f32>) -> (Vec<GpuInstance>, Vec<[u32; 4]>) {
+    let mut data: Vec<[u32; 4]> = Vec::new();
+    // Per mesh: offsets of nodes, vertices, triangles, and the node count.
+    let mut offsets = Vec::new();
+    for m in &prep.meshes {
+        let nodes = data.len() as u32;
+        for n in &m.nodes {
+            data.push(bits(n.min, n.first));
+            data.push(bits(n.max, n.count));
+        }
+        let vertices = data.len() as u32;
+        let mesh = &m.mesh;
+        for i in 0..mesh.positions.len() {
+            data.push(bits(mesh.positions[i], mesh.uvs[i][0].to_bits()));
+            data.push(bits(mesh.normals[i], mesh.uvs[i][1].to_bits()));
+        }
+        let triangles = data.len() as u32;
+        data.extend(mesh.triangles.iter().map(|t| [t[0], t[1], t[2], 0]));
+        offsets.push([nodes, vertices, triangles, m.nodes.len() as u32]);
+    }
+    let mut texels = Vec::new();
+    for t in &prep.textures {
+        texels.push(data.len() as u32);
+        data.extend(t.texels.chunks(4).map(|c| {
+            let mut w = [0u32; 4];
+            w[..c.len()].copy_from_slice(c);
+            w
+        }));
+    }
+    let instances = prep
+        .instances
+        .iter()
+        .map(|inst| {
+            let [nodes, vertices, triangles, node_count] = offsets[inst.mesh];
+            let (texture, tex_width, tex_height) = inst.texture.map_or((0, 0, 0), |t| {
+                let tex = &prep.textures[t];
+                (texels[t], tex.width, tex.height)
+            });
+            GpuInstance {
+                to_local: m(inst.to_local),
+                center: v(inst.center),
+                color: inst.color,
+                k: inst.k,
+                nodes,
+                vertices,
+                triangles,
+                id: inst.id,
+                texture,
+                tex_width,
+                tex_height,
+                node_count,
+                attached: u32::from(inst.attached),
+                pad: [0; 3],
+            }
+        })
+        .collect();
+    (instances, data)
 }
 
 impl GpuParams {
@@ -324,8 +460,10 @@ impl GpuParams {
             origin_x: view.origin[0],
             origin_y: view.origin[1],
             near: view.near,
-            pad: 0,
+            flags: view.flags,
             cell_scale: packed.cell_scale,
+            instance_count: objects.counts[3],
+            pad: [0; 3],
         }
     }
 }
@@ -346,6 +484,7 @@ impl GpuScene {
             near: 0.1,
             max_level: settings.max_level,
             max_distance: settings.max_distance as f32,
+            flags: settings_flags(settings),
         };
         GpuScene {
             params: GpuParams::new(space, &packed, &objects, &view),

@@ -10,7 +10,10 @@ mod shader_defs;
 #[cfg(feature = "render")]
 pub mod pass;
 
-pub use gpu::{GpuBall, GpuFace, GpuLight, GpuObjects, GpuParams, GpuPixel, GpuScene, GpuSpace, GpuTube, GpuView};
+pub use gpu::{
+    FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE, GpuBall, GpuFace, GpuInstance, GpuLight, GpuObjects, GpuParams, GpuPixel,
+    GpuScene, GpuSpace, GpuTube, GpuView, settings_flags,
+};
 pub use headless::{GpuError, GpuTracer};
 pub use shader_defs::{CellScheme as GpuCellScheme, TraceDefs};
 

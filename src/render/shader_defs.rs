@@ -47,6 +47,8 @@ pub struct TraceDefs {
     pub tubes: bool,
     /// `LIGHTS`.
     pub lights: bool,
+    /// `MESHES`: triangle meshes through their BVH.
+    pub meshes: bool,
 }
 
 impl TraceDefs {
@@ -73,6 +75,7 @@ impl TraceDefs {
             balls: !scene.balls.is_empty() || scene.edge_radius.is_some(),
             tubes: scene.edge_radius.is_some(),
             lights: !scene.lights.is_empty(),
+            meshes: !scene.meshes.is_empty(),
         }
     }
 
@@ -89,6 +92,7 @@ impl TraceDefs {
             balls: true,
             tubes: true,
             lights: true,
+            meshes: true,
         }
     }
 
@@ -106,7 +110,7 @@ impl TraceDefs {
             (Geometry::Spherical, false, CellScheme::Hashed),
         ];
         for (geometry, translations_only, cells) in bases {
-            for bits in 0..32u32 {
+            for bits in 0..64u32 {
                 let on = |k: u32| bits & (1 << k) != 0;
                 out.push(TraceDefs {
                     geometry,
@@ -117,6 +121,7 @@ impl TraceDefs {
                     balls: on(2),
                     tubes: on(3),
                     lights: on(4),
+                    meshes: on(5),
                 });
             }
         }
@@ -143,10 +148,16 @@ impl TraceDefs {
             (self.balls, "BALLS"),
             (self.tubes, "TUBES"),
             (self.lights, "LIGHTS"),
+            (self.meshes, "MESHES"),
         ] {
             if on {
                 n.push(name);
             }
+        }
+        // Derived: the ball test serves balls and meshes' bounding balls
+        // (naga_oil's #ifdef takes one name).
+        if self.balls || self.meshes {
+            n.push("BALL_HITS");
         }
         n
     }

@@ -12,18 +12,27 @@
 //! ```
 
 mod cast;
+mod drift;
 mod flow;
+mod mesh_hit;
 mod output;
 mod prepare;
 mod render;
 mod scene;
+mod scene_mesh;
 pub mod step;
 mod walk;
 
 pub use cast::{CastBall, CastHit, cast_balls};
+pub use drift::{RayDrift, ray_drift};
 pub use flow::{Flowed, flow};
-pub use output::{id_pixel, write_ids_png, write_png};
-pub use prepare::{EDGE_ID, FaceTables, Prepared, PreparedBall, PreparedLight, PreparedTube, ghost_centres};
+pub use mesh_hit::{InstanceHit, hit_instance, meets_ball, mesh_albedo, mesh_normal};
+pub use output::{id_pixel, srgb8, write_ids_png, write_png};
+pub use prepare::{
+    EDGE_ID, FaceTables, Prepared, PreparedBall, PreparedInstance, PreparedLight, PreparedTube, ghost_centres,
+    ghost_elements,
+};
 pub use render::{PathStep, Stop, TraceImage, TracePixel, TraceSettings, camera_ray, render, trace_ray};
 pub use scene::{Ball, Camera, Fog, Light, Scene, SceneError};
+pub use scene_mesh::{SceneMesh, baked, builtin, meshes_of};
 pub use walk::Walker;

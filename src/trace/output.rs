@@ -4,7 +4,9 @@
 use super::render::{TraceImage, TracePixel};
 use std::path::Path;
 
-fn to_srgb8(c: f32) -> u8 {
+/// A linear colour channel as an sRGB-encoded byte (clamped to [0, 1]).
+#[must_use]
+pub fn srgb8(c: f32) -> u8 {
     let c = c.clamp(0.0, 1.0);
     let s = if c <= 0.003_130_8 {
         12.92 * c
@@ -33,7 +35,7 @@ pub fn write_png(img: &TraceImage, path: &Path) -> image::ImageResult<()> {
     let buf: Vec<u8> = img
         .pixels
         .iter()
-        .flat_map(|p| [to_srgb8(p.color[0]), to_srgb8(p.color[1]), to_srgb8(p.color[2]), 255])
+        .flat_map(|p| [srgb8(p.color[0]), srgb8(p.color[1]), srgb8(p.color[2]), 255])
         .collect();
     image::save_buffer(path, &buf, img.width, img.height, image::ExtendedColorType::Rgba8)
 }

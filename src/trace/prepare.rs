@@ -6,9 +6,11 @@ use super::scene::Scene;
 use super::step::{Segment, radius_param};
 use crate::cell::CellId;
 use crate::geometry::{Geometry, Real, isometry};
+use crate::mesh::{MeshData, Texture};
 use crate::space::Space;
 use glam::{DMat4, DVec4};
 use std::collections::HashSet;
+use std::sync::Arc;
 
 /// Object id of the domain's edges (tubes and their vertex joints).
 pub const EDGE_ID: u32 = 255;
@@ -44,6 +46,30 @@ pub struct PreparedLight<R: Real> {
     pub intensity: R,
     /// Colour.
     pub color: [f32; 3],
+}
+
+/// One placement of a mesh (or a ghost of one, carried through a face),
+/// in the tracer's precision.
+#[derive(Clone, Copy, Debug)]
+pub struct PreparedInstance<R: Real> {
+    /// From the domain's chart to the mesh's own coordinates (the inverse
+    /// of the placement, then of the scale).
+    pub to_local: R::M4,
+    /// Centre of the bounding ball (normalised).
+    pub center: R::V4,
+    /// `k` of the bounding ball (as for balls).
+    pub k: R,
+    /// Index into [`Prepared::meshes`].
+    pub mesh: usize,
+    /// Base colour.
+    pub color: [f32; 3],
+    /// Index into [`Prepared::textures`].
+    pub texture: Option<usize>,
+    /// Object id.
+    pub id: u32,
+    /// Not drawn before the first transport: the home copy of a mesh
+    /// attached to the camera.
+    pub attached: bool,
 }
 
 /// The per-face arrays a walk through the manifold reads, in precision `R`.
@@ -90,6 +116,12 @@ pub struct Prepared<R: Real> {
     pub tube_k: R,
     /// Lights.
     pub lights: Vec<PreparedLight<R>>,
+    /// Mesh instances, ghosts included.
+    pub instances: Vec<PreparedInstance<R>>,
+    /// The meshes the instances show, each once.
+    pub meshes: Vec<Arc<MeshData>>,
+    /// The textures the instances use, each once.
+    pub textures: Vec<Arc<Texture>>,
     /// Fog density and colour.
     pub fog: Option<(R, [f32; 3])>,
     /// The camera, wrapped into the domain.
@@ -184,6 +216,7 @@ impl<R: Real> Prepared<R> {
                 color: l.color,
             })
             .collect();
+        let (instances, meshes, textures) = prepare_meshes::<R>(space, scene);
         let (camera, camera_cell) = space.wrap(scene.camera.isometry, 1000);
         Prepared {
             faces: FaceTables::new(space),
@@ -191,6 +224,9 @@ impl<R: Real> Prepared<R> {
             tubes,
             tube_k,
             lights,
+            instances,
+            meshes,
+            textures,
             fog: scene
                 .fog
                 .as_ref()
@@ -203,11 +239,75 @@ impl<R: Real> Prepared<R> {
     }
 }
 
+/// Instances, meshes and textures, as [`Prepared`] holds them.
+type PreparedMeshes<R> = (Vec<PreparedInstance<R>>, Vec<Arc<MeshData>>, Vec<Arc<Texture>>);
+
+/// The scene's mesh instances with their ghosts, and the distinct meshes
+/// and textures they use. Meshes whose bounding ball does not fit the
+/// geometry's chart (reaching infinity in H3) are left out.
+fn prepare_meshes<R: Real>(space: &Space, scene: &Scene) -> PreparedMeshes<R> {
+    let g = space.geometry();
+    let mut instances = Vec::new();
+    let mut meshes: Vec<Arc<MeshData>> = Vec::new();
+    let mut textures: Vec<Arc<Texture>> = Vec::new();
+    for (j, m) in scene.meshes.iter().enumerate() {
+        let Some(radius) = m.bounding_radius(g) else { continue };
+        let mesh = match meshes.iter().position(|x| Arc::ptr_eq(x, &m.data)) {
+            Some(i) => i,
+            None => {
+                meshes.push(m.data.clone());
+                meshes.len() - 1
+            }
+        };
+        let texture = m
+            .material
+            .texture
+            .as_ref()
+            .map(|t| match textures.iter().position(|x| Arc::ptr_eq(x, t)) {
+                Some(i) => i,
+                None => {
+                    textures.push(t.clone());
+                    textures.len() - 1
+                }
+            });
+        let unscale = DMat4::from_diagonal(DVec4::new(1.0 / m.scale, 1.0 / m.scale, 1.0 / m.scale, 1.0));
+        let center = m.center(g);
+        let k = R::of(radius_param(g, radius));
+        for (copy, h) in ghost_elements(space, center, radius).into_iter().enumerate() {
+            let placed = h * m.placement;
+            instances.push(PreparedInstance {
+                to_local: R::m4_of(m.local.inverse() * unscale * isometry::inverse(g, placed)),
+                center: R::v4_of(g.normalize_point::<f64>(h * center)),
+                k,
+                mesh,
+                color: m.material.base_color,
+                texture,
+                id: (scene.balls.len() + 1 + j) as u32,
+                attached: m.attached && copy == 0,
+            });
+        }
+    }
+    (instances, meshes, textures)
+}
+
 /// The centre of a ball and of each copy of it (under words of up to
 /// [`GHOST_WORD_LENGTH`] pairings) that reaches into the domain, so a ball
 /// straddling a face is seen whole from both sides.
 #[must_use]
 pub fn ghost_centres(space: &Space, center: DVec4, radius: f64) -> Vec<DVec4> {
+    let g = space.geometry();
+    ghost_elements(space, center, radius)
+        .into_iter()
+        .map(|h| g.normalize_point::<f64>(h * center))
+        .collect()
+}
+
+/// The group elements (the identity first) whose image of the ball of
+/// `radius` around `center` reaches into the domain: what
+/// [`ghost_centres`] places ghost balls by and what carries a straddling
+/// mesh's ghost instances.
+#[must_use]
+pub fn ghost_elements(space: &Space, center: DVec4, radius: f64) -> Vec<DMat4> {
     let g = space.geometry();
     // A ball that reaches no face has no copy reaching into the domain.
     let straddles = space
@@ -215,11 +315,11 @@ pub fn ghost_centres(space: &Space, center: DVec4, radius: f64) -> Vec<DVec4> {
         .iter()
         .any(|f| crate::geometry::plane::signed_distance(g, f.plane, center) > -radius);
     if !straddles {
-        return vec![center];
+        return vec![DMat4::IDENTITY];
     }
     let mut seen: HashSet<CellId> = HashSet::new();
     seen.insert(CellId(0));
-    let mut out = vec![center];
+    let mut out = vec![DMat4::IDENTITY];
     let mut frontier = vec![DMat4::IDENTITY];
     for _ in 0..GHOST_WORD_LENGTH {
         let mut next = Vec::new();
@@ -235,7 +335,7 @@ pub fn ghost_centres(space: &Space, center: DVec4, radius: f64) -> Vec<DVec4> {
                     .iter()
                     .all(|face| crate::geometry::plane::signed_distance(g, face.plane, c) < radius);
                 if reaches {
-                    out.push(c);
+                    out.push(h);
                 }
                 next.push(h);
             }

@@ -1,11 +1,13 @@
 //! Algorithm 1 per pixel (DESIGN.md §2), in parallel over pixels.
 
+use super::mesh_hit::{hit_instance, mesh_albedo, mesh_normal};
 use super::prepare::{EDGE_ID, Prepared};
 use super::scene::Scene;
-use super::step::{Ray, advance, foot_on_line, hit_ball, hit_tube, normal_from};
+use super::step::{Ray, advance, advance_raw, foot_on_line, hit_ball, hit_tube, normal_from};
 use super::walk::Walker;
 use crate::cell::CellId;
 use crate::geometry::{Geometry, Real};
+use crate::mesh::MeshHit;
 use crate::space::Space;
 use rayon::prelude::*;
 
@@ -24,7 +26,8 @@ pub struct TraceSettings {
     pub cell_colors: bool,
     /// Stop a ray once fog leaves less than 1/255 of its light.
     pub fog_early_stop: bool,
-    /// Renormalise the ray after each transport (off only to measure drift).
+    /// Renormalise the ray after each advance and transport (off only to
+    /// measure drift: see [`super::step::advance_raw`]).
     pub renormalize: bool,
 }
 
@@ -173,12 +176,16 @@ pub fn trace_ray<R: Real>(
             return (finish(background, 0, &walk, travelled), Stop::Fog);
         }
         let (face, t_end) = walk.segment_end(&prep.faces);
-        if let Some((t, hit)) = nearest_object(g, prep, &walk.ray, t_end) {
+        if let Some((t, hit)) = nearest_object(g, prep, &walk.ray, t_end, walk.crossings) {
             let dist = travelled + g.chart_to_distance::<R>(t);
             let color = shade(g, prep, &walk.ray, t, hit, dist, space, walk.cell, settings);
             return (finish(color, hit.id(prep), &walk, dist), Stop::Hit(hit.id(prep)));
         }
-        let end = advance(g, &walk.ray, t_end);
+        let end = if settings.renormalize {
+            advance(g, &walk.ray, t_end)
+        } else {
+            advance_raw(g, &walk.ray, t_end)
+        };
         let length = g.chart_to_distance::<R>(t_end);
         on_step(&PathStep {
             start: walk.ray,
@@ -200,24 +207,27 @@ pub fn trace_ray<R: Real>(
 
 /// Which object a ray hit.
 #[derive(Clone, Copy, Debug)]
-enum Hit {
+enum Hit<R: Real> {
     Ball(usize),
     Tube(usize),
+    Mesh(usize, MeshHit<R>),
 }
 
-impl Hit {
-    fn id<R: Real>(self, prep: &Prepared<R>) -> u32 {
+impl<R: Real> Hit<R> {
+    fn id(self, prep: &Prepared<R>) -> u32 {
         match self {
             Hit::Ball(i) => prep.balls[i].id,
             Hit::Tube(_) => EDGE_ID,
+            Hit::Mesh(i, _) => prep.instances[i].id,
         }
     }
 }
 
-/// The nearest object along the ray with chart parameter in `[0, t_end]`.
-fn nearest_object<R: Real>(g: Geometry, prep: &Prepared<R>, ray: &Ray<R>, t_end: R) -> Option<(R, Hit)> {
+/// The nearest object along the ray with chart parameter in `[0, t_end]`,
+/// at `level` transports (a mesh attached to the camera is skipped at 0).
+fn nearest_object<R: Real>(g: Geometry, prep: &Prepared<R>, ray: &Ray<R>, t_end: R, level: u32) -> Option<(R, Hit<R>)> {
     let zero = R::of(0.0);
-    let mut best: Option<(R, Hit)> = None;
+    let mut best: Option<(R, Hit<R>)> = None;
     for (i, b) in prep.balls.iter().enumerate() {
         if let Some(t) = hit_ball(g, ray, b.center, b.k, zero)
             && t <= t_end
@@ -234,6 +244,17 @@ fn nearest_object<R: Real>(g: Geometry, prep: &Prepared<R>, ray: &Ray<R>, t_end:
             best = Some((t, Hit::Tube(i)));
         }
     }
+    for (i, inst) in prep.instances.iter().enumerate() {
+        if inst.attached && level == 0 {
+            continue;
+        }
+        let limit = best.map_or(t_end, |(bt, _)| bt);
+        if let Some(h) = hit_instance(g, ray, inst, &prep.meshes[inst.mesh], limit)
+            && h.t <= limit
+        {
+            best = Some((h.t, Hit::Mesh(i, h.hit)));
+        }
+    }
     best
 }
 
@@ -245,13 +266,14 @@ fn shade<R: Real>(
     prep: &Prepared<R>,
     ray: &Ray<R>,
     t: R,
-    hit: Hit,
+    hit: Hit<R>,
     dist: R,
     space: &Space,
     cell: R::M4,
     settings: &TraceSettings,
 ) -> [f32; 3] {
     let x = g.normalize_point::<R>(ray.origin + ray.dir * t);
+    let view = -g.normalize_tangent::<R>(x, ray.dir);
     let (normal, albedo) = match hit {
         Hit::Ball(i) => (normal_from::<R>(g, x, prep.balls[i].center), prep.balls[i].color),
         Hit::Tube(i) => {
@@ -261,8 +283,14 @@ fn shade<R: Real>(
                 prep.tubes[i].color,
             )
         }
+        Hit::Mesh(i, h) => {
+            let inst = &prep.instances[i];
+            (
+                mesh_normal(g, inst, &prep.meshes[inst.mesh], &h, x, view),
+                mesh_albedo(prep, inst, &h),
+            )
+        }
     };
-    let view = -g.normalize_tangent::<R>(x, ray.dir);
     let mut albedo = albedo;
     if settings.cell_colors {
         let c = space.cells().id_within(&R::m4_f64(cell), R::CELL_HORIZON).color();

@@ -6,14 +6,19 @@
 //! {"camera": {"isometry": [[..4..],[..4..],[..4..],[..4..]], "fov_y_degrees": 60},
 //!  "balls":  [{"center": [x,y,z,w], "radius": r, "color": [r,g,b]}, ...],
 //!  "lights": [{"position": [x,y,z,w], "intensity": i, "color": [r,g,b]}, ...],
+//!  "meshes": [{"file": "model.glb", "placement": [[..4..] x4], "scale": s,
+//!              "color": [r,g,b], "attached": false}, ...],
 //!  "edges": {"radius": r} | null,
 //!  "fog": {"density": d, "color": [r,g,b]} | null}
 //! ```
+//! Mesh files are found relative to the scene file.
 //! The camera isometry (row-major, acting on column vectors) carries the
 //! origin to the eye and the origin's frame to the camera's; the camera
 //! looks along its local -z with +y up.
 
+use super::scene_mesh::{MeshDesc, SceneMesh, builtin, describe, read_meshes};
 use crate::geometry::{Geometry, isometry};
+use crate::mesh::MeshMaterial;
 use crate::space::Space;
 use crate::space::file::{from_rows, to_rows};
 use glam::{DMat4, DVec3, DVec4};
@@ -77,10 +82,15 @@ pub struct Scene {
     pub balls: Vec<Ball>,
     /// Point lights.
     pub lights: Vec<Light>,
+    /// Triangle meshes; ids follow the balls'.
+    pub meshes: Vec<SceneMesh>,
     /// Radius of the tubes drawn along the domain's edges, if drawn.
     pub edge_radius: Option<f64>,
     /// Fog, if any.
     pub fog: Option<Fog>,
+    /// What a scene file asked for that was left out, and why (a mesh
+    /// file that failed to load); empty for scenes made in code.
+    pub skipped: Vec<String>,
 }
 
 /// A scene file field that is wrong, named by its JSON path.
@@ -159,6 +169,8 @@ struct SceneDesc {
     #[serde(default)]
     lights: Vec<LightDesc>,
     #[serde(default)]
+    meshes: Vec<MeshDesc>,
+    #[serde(default)]
     edges: Option<EdgesDesc>,
     #[serde(default)]
     fog: Option<FogDesc>,
@@ -180,8 +192,10 @@ impl Scene {
             },
             balls: Vec::new(),
             lights: Vec::new(),
+            meshes: Vec::new(),
             edge_radius: None,
             fog: None,
+            skipped: Vec::new(),
         }
     }
 
@@ -214,9 +228,52 @@ impl Scene {
                 intensity: 0.8 * g.sphere_area::<f64>(to_ball),
                 color: [1.0, 1.0, 1.0],
             }],
+            meshes: Vec::new(),
             edge_radius: Some(0.035 * r),
             fog: None,
+            skipped: Vec::new(),
         }
+    }
+
+    /// The paper's scene: the domain's edges as coloured tubes, Suzanne
+    /// attached to the camera (the viewer sees its own images in the other
+    /// copies) and the two hands in front of it, low left and right, lit
+    /// by a light at the eye. What `render` draws when no scene is given.
+    #[must_use]
+    pub fn paper_default(space: &Space) -> Scene {
+        let g = space.geometry();
+        let r = space.inradius();
+        let mut scene = Scene::default_for(space);
+        scene.balls.clear();
+        let camera = scene.camera.isometry;
+        // Suzanne is about 2.65 wide: a head 0.45 inradii across, turned to
+        // face the way the camera looks (she faces +z, the camera -z).
+        let facing = isometry::rotation(DVec3::Y, std::f64::consts::PI);
+        let mut suzanne = SceneMesh::new(
+            builtin::suzanne(),
+            MeshMaterial {
+                base_color: [0.85, 0.62, 0.3],
+                texture: None,
+            },
+            camera * facing,
+            0.17 * r,
+        );
+        suzanne.attached = true;
+        scene.meshes.push(suzanne);
+        for (left, x) in [(true, -1.0), (false, 1.0)] {
+            // The hands are about 0.2 long, fingers along -z.
+            let at = isometry::translation(g, DVec3::new(0.16 * x, -0.12, -0.3) * r);
+            scene.meshes.push(SceneMesh::new(
+                builtin::hand(left),
+                MeshMaterial {
+                    base_color: [0.9, 0.75, 0.65],
+                    texture: None,
+                },
+                camera * at,
+                0.9 * r,
+            ));
+        }
+        scene
     }
 
     /// Reads and validates a scene file for `space`.
@@ -329,12 +386,25 @@ impl Scene {
             }
             None => None,
         };
+        let dir = Path::new(path).parent().unwrap_or(Path::new("."));
+        let (meshes, skipped) = read_meshes(&desc.meshes, dir, g).map_err(|(f, m)| field(f, m))?;
+        if balls.len() + meshes.len() > 254 {
+            return Err(field(
+                "meshes".into(),
+                format!(
+                    "at most 254 balls and mesh parts together (ids 1..254), got {}",
+                    balls.len() + meshes.len()
+                ),
+            ));
+        }
         Ok(Scene {
             camera,
             balls,
             lights,
+            meshes,
             edge_radius,
             fog,
+            skipped,
         })
     }
 
@@ -364,6 +434,7 @@ impl Scene {
                     color: l.color,
                 })
                 .collect(),
+            meshes: describe(&self.meshes),
             edges: self.edge_radius.map(|radius| EdgesDesc { radius }),
             fog: self.fog.as_ref().map(|f| FogDesc {
                 density: f.density,

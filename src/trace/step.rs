@@ -54,6 +54,38 @@ pub fn advance<R: Real>(g: Geometry, ray: &Ray<R>, t: R) -> Ray<R> {
     }
 }
 
+/// [`advance`] without renormalisation: the point and tangent at chart
+/// parameter `t` scaled by the factors that are exact for a normalised ray
+/// (`1/sqrt(1 - t^2)` in H3, `1/sqrt(1 + t^2)` in S3) instead of measured
+/// from the vectors, so rounding error is carried on, never removed. Only
+/// for measuring drift (`TraceSettings::renormalize` off).
+#[inline]
+#[must_use]
+pub fn advance_raw<R: Real>(g: Geometry, ray: &Ray<R>, t: R) -> Ray<R> {
+    let (o, d) = (ray.origin, ray.dir);
+    let one = R::of(1.0);
+    match g {
+        Geometry::Euclidean => Ray {
+            origin: o + d * t,
+            dir: d,
+        },
+        Geometry::Hyperbolic => {
+            let s = one / (one - t * t).sqrt();
+            Ray {
+                origin: (o + d * t) * s,
+                dir: (o * t + d) * s,
+            }
+        }
+        Geometry::Spherical => {
+            let s = one / (one + t * t).sqrt();
+            Ray {
+                origin: (o + d * t) * s,
+                dir: (d - o * t) * s,
+            }
+        }
+    }
+}
+
 /// Carries a ray that reached a face through its pairing `T` and brings it
 /// back onto the model (renormalisation, so error does not accumulate).
 #[inline]
@@ -63,6 +95,17 @@ pub fn transport<R: Real>(g: Geometry, pairing: R::M4, ray: &Ray<R>) -> Ray<R> {
     Ray {
         origin: o,
         dir: g.normalize_tangent::<R>(o, pairing * ray.dir),
+    }
+}
+
+/// [`transport`] without renormalisation: `T o`, `T d` as they come out
+/// of the (rounded) matrix. Only for measuring drift.
+#[inline]
+#[must_use]
+pub fn transport_raw<R: Real>(pairing: R::M4, ray: &Ray<R>) -> Ray<R> {
+    Ray {
+        origin: pairing * ray.origin,
+        dir: pairing * ray.dir,
     }
 }
 

@@ -2,7 +2,7 @@
 //! Algorithm 1 shared by the tracer and by geodesic flow (objects aside).
 
 use super::prepare::FaceTables;
-use super::step::{Ray, exit_face, transport};
+use super::step::{Ray, exit_face, transport, transport_raw};
 use crate::geometry::Real;
 
 /// Where a walking ray is: the start of its current segment, the face it
@@ -58,10 +58,7 @@ impl<R: Real> Walker<R> {
         self.ray = if renormalize {
             transport(tables.geometry, t, &end)
         } else {
-            Ray {
-                origin: t * end.origin,
-                dir: t * end.dir,
-            }
+            transport_raw(t, &end)
         };
         self.entered = tables.partners[face];
         self.cell = self.cell * tables.crossings[face];

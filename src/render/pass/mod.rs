@@ -20,6 +20,8 @@
 pub mod camera;
 pub mod extract;
 pub mod node;
+#[cfg(feature = "app")]
+pub mod offscreen;
 pub mod pipeline;
 pub mod prepare;
 

@@ -48,8 +48,9 @@ impl TracePipelineKey {
 /// The tracer pipeline's layout and shaders (render world).
 #[derive(Resource, Clone)]
 pub struct TracePipeline {
-    /// Group 0: the params uniform, then faces, balls, tubes, lights and
-    /// the cell table (the compute path's `pixels` is not bound here).
+    /// Group 0: the params uniform, then faces, balls, tubes, lights, the
+    /// cell table, mesh instances and mesh data (the compute path's
+    /// `pixels` is not bound here).
     pub layout: BindGroupLayoutDescriptor,
     shader: Handle<Shader>,
     fullscreen: FullscreenShader,
@@ -66,6 +67,8 @@ impl TracePipeline {
                 ShaderStages::FRAGMENT,
                 (
                     uniform_buffer_sized(false, None),
+                    storage(),
+                    storage(),
                     storage(),
                     storage(),
                     storage(),

@@ -1,6 +1,6 @@
 //! Preparation: per manifold view, the pipeline variant it needs and its
 //! GPU buffers. The space's buffers are rebuilt only when the space
-//! changed, the objects' only when an object changed, and the 224-byte
+//! changed, the objects' only when an object changed, and the 240-byte
 //! params uniform only when the camera or the settings changed.
 //! [`ManifoldUploads`] counts what was uploaded, so this is testable.
 
@@ -53,6 +53,8 @@ struct ViewBuffers {
     balls: Buffer,
     tubes: Buffer,
     lights: Buffer,
+    instances: Buffer,
+    mesh_data: Buffer,
     bind_group: Option<BindGroup>,
 }
 
@@ -69,6 +71,13 @@ impl ManifoldBufferCache {
     #[must_use]
     pub fn len(&self) -> usize {
         self.views.len()
+    }
+
+    /// Drops every view's buffers and bind groups, so the next frame
+    /// uploads everything again as if nothing had been uploaded before
+    /// (`bench specialise` measures what change detection saves this way).
+    pub fn invalidate(&mut self) {
+        self.views.clear();
     }
 
     /// True when no view holds buffers.
@@ -100,12 +109,14 @@ fn space_buffers(device: &RenderDevice, s: &GpuSpace, stats: &mut ManifoldUpload
     )
 }
 
-fn object_buffers(device: &RenderDevice, o: &GpuObjects, stats: &mut ManifoldUploads) -> [Buffer; 3] {
+fn object_buffers(device: &RenderDevice, o: &GpuObjects, stats: &mut ManifoldUploads) -> [Buffer; 5] {
     stats.objects += 1;
     [
         storage(device, "manifold_balls", bytemuck::cast_slice(&o.balls), stats),
         storage(device, "manifold_tubes", bytemuck::cast_slice(&o.tubes), stats),
         storage(device, "manifold_lights", bytemuck::cast_slice(&o.lights), stats),
+        storage(device, "manifold_instances", bytemuck::cast_slice(&o.instances), stats),
+        storage(device, "manifold_mesh_data", bytemuck::cast_slice(&o.mesh_data), stats),
     ]
 }
 
@@ -124,6 +135,7 @@ fn gpu_view(view: &ExtractedManifoldView, extracted: &ExtractedView) -> GpuView 
         near: p.w_axis.z,
         max_level: view.max_level,
         max_distance: view.max_distance,
+        flags: 0,
     }
 }
 
@@ -170,7 +182,7 @@ pub fn prepare_manifold_views(
         let params = GpuParams::new(view.space.space(), space, objects, &gpu_view(view, extracted));
         let entry = cache.views.entry(entity).or_insert_with(|| {
             let (faces, cell_table) = space_buffers(&device, space, stats);
-            let [balls, tubes, lights] = object_buffers(&device, objects, stats);
+            let [balls, tubes, lights, instances, mesh_data] = object_buffers(&device, objects, stats);
             stats.params += 1;
             stats.bytes += std::mem::size_of::<GpuParams>() as u64;
             let params_buffer = device.create_buffer_with_data(&BufferInitDescriptor {
@@ -188,6 +200,8 @@ pub fn prepare_manifold_views(
                 balls,
                 tubes,
                 lights,
+                instances,
+                mesh_data,
                 bind_group: None,
             }
         });
@@ -197,7 +211,8 @@ pub fn prepare_manifold_views(
             entry.bind_group = None;
         }
         if !Arc::ptr_eq(&entry.objects, objects) {
-            [entry.balls, entry.tubes, entry.lights] = object_buffers(&device, objects, stats);
+            [entry.balls, entry.tubes, entry.lights, entry.instances, entry.mesh_data] =
+                object_buffers(&device, objects, stats);
             entry.objects = objects.clone();
             entry.bind_group = None;
         }
@@ -218,6 +233,8 @@ pub fn prepare_manifold_views(
                     entry.tubes.as_entire_binding(),
                     entry.lights.as_entire_binding(),
                     entry.cell_table.as_entire_binding(),
+                    entry.instances.as_entire_binding(),
+                    entry.mesh_data.as_entire_binding(),
                 )),
             )
         });

@@ -1,47 +1,15 @@
-//! `bench`: measurements anyone can rerun.
+//! `bench tracer` and `bench gpu`: frame times of the CPU reference and of
+//! the GPU tracer run headless.
 
+use super::{best_ms, fog_for};
 use bevy_manifold::prelude::*;
 use bevy_manifold::render::{GpuTracer, TraceDefs};
-use clap::Subcommand;
 use std::time::Instant;
-
-#[derive(Subcommand)]
-pub enum BenchCommand {
-    /// CPU tracer throughput (rays/s) per space at 4 and 16 levels, f32 and f64.
-    Tracer {
-        /// Image side in pixels (side x side rays per run).
-        #[arg(long, default_value_t = 256)]
-        side: u32,
-        /// Runs per setting; the best is reported.
-        #[arg(long, default_value_t = 3)]
-        runs: u32,
-    },
-    /// GPU tracer frame time per space, levels 1/3/8/16, fog off/on,
-    /// specialised against the generic shader.
-    Gpu {
-        /// Image width.
-        #[arg(long, default_value_t = 640)]
-        width: u32,
-        /// Image height.
-        #[arg(long, default_value_t = 360)]
-        height: u32,
-        /// Runs per setting; the best is reported.
-        #[arg(long, default_value_t = 3)]
-        runs: u32,
-    },
-}
-
-pub fn run(cmd: &BenchCommand) -> Result<(), String> {
-    match *cmd {
-        BenchCommand::Tracer { side, runs } => tracer(side.max(1), runs.max(1)),
-        BenchCommand::Gpu { width, height, runs } => gpu(width.max(1), height.max(1), runs.max(1)),
-    }
-}
 
 /// GPU frame time (trace and readback) per space, levels and fog, and the
 /// same with the generic shader (every def on) to show what specialising
 /// saves.
-fn gpu(width: u32, height: u32, runs: u32) -> Result<(), String> {
+pub fn gpu(width: u32, height: u32, runs: u32) -> Result<(), String> {
     let mut tracer = GpuTracer::new().map_err(|e| e.to_string())?;
     println!(
         "GPU tracer, default scene, {width}x{height}, trace + readback, best of {runs}, on {}",
@@ -56,10 +24,7 @@ fn gpu(width: u32, height: u32, runs: u32) -> Result<(), String> {
         for fog in [false, true] {
             let mut scene = Scene::default_for(&space);
             if fog {
-                scene.fog = Some(Fog {
-                    density: 0.4 / space.inradius(),
-                    color: [0.7, 0.75, 0.8],
-                });
+                scene.fog = Some(fog_for(&space));
             }
             for levels in [1, 3, 8, 16] {
                 let settings = TraceSettings {
@@ -68,21 +33,12 @@ fn gpu(width: u32, height: u32, runs: u32) -> Result<(), String> {
                     max_level: levels,
                     ..TraceSettings::default()
                 };
-                let mut time = |defs: TraceDefs| -> Result<f64, String> {
-                    // The first run compiles the pipeline; not timed.
-                    tracer
-                        .render_with(&space, &scene, &settings, defs)
-                        .map_err(|e| e.to_string())?;
-                    let mut best = f64::INFINITY;
-                    for _ in 0..runs {
-                        let t = Instant::now();
-                        let img = tracer
+                let mut time = |defs: TraceDefs| {
+                    best_ms(runs, || {
+                        tracer
                             .render_with(&space, &scene, &settings, defs)
-                            .map_err(|e| e.to_string())?;
-                        std::hint::black_box(&img);
-                        best = best.min(t.elapsed().as_secs_f64());
-                    }
-                    Ok(best * 1e3)
+                            .map_err(|e| e.to_string())
+                    })
                 };
                 let special = time(TraceDefs::for_scene(&space, &scene, false))?;
                 let generic = time(TraceDefs::generic(space.geometry()))?;
@@ -97,7 +53,7 @@ fn gpu(width: u32, height: u32, runs: u32) -> Result<(), String> {
     Ok(())
 }
 
-fn tracer(side: u32, runs: u32) -> Result<(), String> {
+pub fn tracer(side: u32, runs: u32) -> Result<(), String> {
     println!(
         "CPU reference tracer, default scene, {side}x{side} rays, best of {runs}, {} threads",
         rayon::current_num_threads()

@@ -1,0 +1,307 @@
+//! Bevy meshes in a manifold (feature `render`): an entity under a
+//! [`ManifoldSpace`] with a [`Placement`] is drawn by the tracer with its
+//! `Mesh3d` and every `Mesh3d` below it that has no placement of its own
+//! (the meshes a glTF `WorldAssetRoot`, Bevy 0.19's scene root, spawns), in its local chart, scaled by
+//! its `Transform`'s scale. Base colour and base-colour texture come from
+//! `StandardMaterial` (feature `app`).
+//!
+//! Traced meshes are taken off Bevy's rasteriser (`RenderLayers::none()`),
+//! unless they carry [`Rasterized`]: then they are ordinary Bevy meshes (a
+//! map, an overlay) and the tracer leaves them alone. A BVH is built once
+//! per mesh asset and rebuilt only when the asset changes; moving an
+//! instance only changes its matrix. A mesh that cannot be traced (not
+//! triangles, NaN positions) is reported once and left out; the rest of
+//! the scene still renders.
+//!
+//! ```no_run
+//! use bevy::prelude::*;
+//! use bevy::world_serialization::WorldAssetRoot;
+//! use bevy_manifold::prelude::*;
+//!
+//! fn setup(mut commands: Commands, assets: Res<AssetServer>) {
+//!     let space = catalog::poincare();
+//!     let root = commands.spawn(ManifoldSpace::new(space.clone())).id();
+//!     commands.spawn((ChildOf(root), ManifoldCamera::default(), Placement::at(&space, glam::DVec3::Z * 0.2)));
+//!     // Suzanne, traced in every copy of the domain.
+//!     commands.spawn((
+//!         ChildOf(root),
+//!         WorldAssetRoot(assets.load("models/suzanne.glb#Scene0")),
+//!         Placement::default(),
+//!         Transform::from_scale(Vec3::splat(0.05)),
+//!     ));
+//! }
+//! ```
+
+use crate::drawables::ManifoldMeshes;
+use crate::mesh::{MeshData, MeshMaterial, Texture, TriMesh};
+use crate::placement::{ManifoldSpace, Placement};
+use crate::trace::SceneMesh;
+use bevy::asset::AssetEvent;
+use bevy::camera::visibility::RenderLayers;
+use bevy::mesh::{Indices, Mesh, Mesh3d, PrimitiveTopology, VertexAttributeValues};
+use bevy::platform::collections::{HashMap, HashSet};
+use bevy::prelude::*;
+use std::sync::Arc;
+
+/// Marks a `Mesh3d` under a manifold root as an ordinary Bevy mesh: drawn
+/// by the rasteriser as usual, not by the tracer.
+#[derive(Component, Clone, Copy, Debug, Default, Reflect)]
+#[reflect(Component, Debug, Default)]
+pub struct Rasterized;
+
+/// BVHs and textures by asset, rebuilt when the asset changes; and the
+/// assets already reported as untraceable.
+#[derive(Resource, Default)]
+pub struct MeshBvhCache {
+    meshes: HashMap<AssetId<Mesh>, Option<Arc<MeshData>>>,
+    textures: HashMap<AssetId<Image>, Option<Arc<Texture>>>,
+    /// Mesh asset events seen since the last gathering.
+    dirty: bool,
+}
+
+impl MeshBvhCache {
+    /// How many mesh assets have a BVH.
+    #[must_use]
+    pub fn built(&self) -> usize {
+        self.meshes.values().filter(|m| m.is_some()).count()
+    }
+}
+
+/// A Bevy mesh as a [`TriMesh`]: triangle lists only.
+///
+/// # Errors
+/// What keeps it from being traced, in words.
+pub fn tri_mesh(mesh: &Mesh) -> Result<TriMesh, String> {
+    if mesh.primitive_topology() != PrimitiveTopology::TriangleList {
+        return Err(format!("{:?} meshes are not traced", mesh.primitive_topology()));
+    }
+    let positions = match mesh.attribute(Mesh::ATTRIBUTE_POSITION) {
+        Some(VertexAttributeValues::Float32x3(p)) => p.clone(),
+        Some(_) => return Err("positions are not Float32x3".into()),
+        None => return Err("no positions (or the mesh data is not kept in the main world)".into()),
+    };
+    let normals = match mesh.attribute(Mesh::ATTRIBUTE_NORMAL) {
+        Some(VertexAttributeValues::Float32x3(n)) => Some(n.clone()),
+        _ => None,
+    };
+    let uvs = match mesh.attribute(Mesh::ATTRIBUTE_UV_0) {
+        Some(VertexAttributeValues::Float32x2(t)) => Some(t.clone()),
+        _ => None,
+    };
+    let indices: Vec<u32> = match mesh.indices() {
+        Some(Indices::U16(i)) => i.iter().map(|&x| u32::from(x)).collect(),
+        Some(Indices::U32(i)) => i.clone(),
+        None => (0..positions.len() as u32).collect(),
+    };
+    let triangles = indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    TriMesh::new(positions, normals, uvs, triangles).map_err(|e| e.to_string())
+}
+
+/// An RGBA8 Bevy image as a [`Texture`].
+///
+/// # Errors
+/// Another texel format, or no data in the main world.
+pub fn texture(image: &Image) -> Result<Texture, String> {
+    use bevy::render::render_resource::TextureFormat;
+    let format = image.texture_descriptor.format;
+    if !matches!(format, TextureFormat::Rgba8UnormSrgb | TextureFormat::Rgba8Unorm) {
+        return Err(format!("{format:?} textures are not traced (RGBA8 only)"));
+    }
+    let data = image.data.as_ref().ok_or("no texel data in the main world")?;
+    let (width, height) = (image.width(), image.height());
+    let texels: Vec<u32> = data
+        .chunks_exact(4)
+        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    if texels.len() < (width * height) as usize {
+        return Err("fewer texels than the size says".into());
+    }
+    Ok(Texture { width, height, texels })
+}
+
+fn note_mesh_events(mut events: MessageReader<AssetEvent<Mesh>>, mut cache: ResMut<MeshBvhCache>) {
+    for e in events.read() {
+        match e {
+            AssetEvent::Modified { id } | AssetEvent::Removed { id } | AssetEvent::Unused { id } => {
+                cache.meshes.remove(id);
+                cache.dirty = true;
+            }
+            AssetEvent::Added { .. } | AssetEvent::LoadedWithDependencies { .. } => cache.dirty = true,
+        }
+    }
+}
+
+/// The material of a traced mesh entity.
+#[cfg(feature = "app")]
+type MaterialOf<'a> = Option<&'a MeshMaterial3d<StandardMaterial>>;
+#[cfg(not(feature = "app"))]
+type MaterialOf<'a> = Option<&'a ()>;
+
+/// Everything a traced mesh entity brings.
+type MeshEntity<'a> = (
+    Entity,
+    &'a Mesh3d,
+    MaterialOf<'a>,
+    Option<&'a InheritedVisibility>,
+    Option<&'a RenderLayers>,
+);
+
+/// Builds every space's [`ManifoldMeshes`] when a mesh, material, placement
+/// or transform below a placed entity changed, or a mesh asset did; hides
+/// traced meshes from the rasteriser.
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+pub fn gather_meshes(
+    mut commands: Commands,
+    mut cache: ResMut<MeshBvhCache>,
+    mesh_assets: Res<Assets<Mesh>>,
+    images: Option<Res<Assets<Image>>>,
+    #[cfg(feature = "app")] materials: Option<Res<Assets<StandardMaterial>>>,
+    roots: Query<(Entity, &ManifoldSpace, Option<&ManifoldMeshes>)>,
+    placed: Query<(Entity, &Placement, &Transform)>,
+    meshes: Query<MeshEntity, Without<Rasterized>>,
+    children: Query<&Children>,
+    transforms: Query<&Transform>,
+    has_placement: Query<(), With<Placement>>,
+    parents: Query<&ChildOf>,
+    root_filter: Query<(), With<ManifoldSpace>>,
+    changed: Query<
+        (),
+        (
+            Or<(
+                Changed<Mesh3d>,
+                Changed<Transform>,
+                Changed<Placement>,
+                Changed<ChildOf>,
+            )>,
+            Without<Rasterized>,
+        ),
+    >,
+    mut removed: RemovedComponents<Mesh3d>,
+    mut warned: Local<HashSet<AssetId<Mesh>>>,
+) {
+    let dirty = std::mem::take(&mut cache.dirty) || removed.read().count() > 0 || !changed.is_empty();
+    #[cfg(feature = "app")]
+    let materials_changed = materials.as_ref().is_some_and(|m| m.is_changed());
+    #[cfg(not(feature = "app"))]
+    let materials_changed = false;
+    if !dirty && !materials_changed {
+        return;
+    }
+    let mut per_root: HashMap<Entity, ManifoldMeshes> = HashMap::new();
+    for (entity, placement, transform) in &placed {
+        let Some(root) = parents.iter_ancestors(entity).find(|a| root_filter.contains(*a)) else {
+            continue;
+        };
+        let scale = f64::from(transform.scale.abs().max_element());
+        // The entity's own mesh, and those below it with no placement of
+        // their own, positioned by their transforms relative to it.
+        let mut stack = vec![(entity, Mat4::IDENTITY)];
+        while let Some((e, local)) = stack.pop() {
+            if let Ok((_, mesh3d, material, visible, layers)) = meshes.get(e) {
+                if layers != Some(&RenderLayers::none()) {
+                    commands.entity(e).insert(RenderLayers::none());
+                }
+                if visible.is_none_or(|v| v.get()) {
+                    let id = mesh3d.0.id();
+                    let data = cache
+                        .meshes
+                        .entry(id)
+                        .or_insert_with(|| {
+                            let mesh = mesh_assets.get(id)?;
+                            match tri_mesh(mesh) {
+                                Ok(m) => Some(MeshData::shared(m)),
+                                Err(err) => {
+                                    if warned.insert(id) {
+                                        warn!("bevy_manifold: mesh {id} of entity {e} is not traced: {err}");
+                                    }
+                                    None
+                                }
+                            }
+                        })
+                        .clone();
+                    if let Some(data) = data {
+                        #[cfg(feature = "app")]
+                        let surface = surface(material, materials.as_deref(), images.as_deref(), &mut cache.textures);
+                        #[cfg(not(feature = "app"))]
+                        let surface = {
+                            let _ = (material, &images);
+                            MeshMaterial::default()
+                        };
+                        let mut m = SceneMesh::new(data, surface, placement.isometry, scale);
+                        m.local = local.as_dmat4();
+                        let list = per_root.entry(root).or_default();
+                        list.entities.push(e);
+                        list.meshes.push(m);
+                    }
+                }
+            }
+            if let Ok(kids) = children.get(e) {
+                for &k in kids {
+                    if !has_placement.contains(k)
+                        && let Ok(t) = transforms.get(k)
+                    {
+                        stack.push((k, local * t.to_matrix()));
+                    }
+                }
+            }
+        }
+    }
+    for (root, _, old) in &roots {
+        let new = per_root.remove(&root).unwrap_or_default();
+        if old != Some(&new) {
+            commands.entity(root).insert(new);
+        }
+    }
+}
+
+/// Base colour and texture of a `StandardMaterial`.
+#[cfg(feature = "app")]
+fn surface(
+    material: Option<&MeshMaterial3d<StandardMaterial>>,
+    materials: Option<&Assets<StandardMaterial>>,
+    images: Option<&Assets<Image>>,
+    textures: &mut HashMap<AssetId<Image>, Option<Arc<Texture>>>,
+) -> MeshMaterial {
+    let Some(m) = material.and_then(|m| materials?.get(&m.0)) else {
+        return MeshMaterial::default();
+    };
+    let LinearRgba { red, green, blue, .. } = m.base_color.to_linear();
+    let texture = m.base_color_texture.as_ref().and_then(|h| {
+        textures
+            .entry(h.id())
+            .or_insert_with(|| {
+                let image = images?.get(h)?;
+                match texture(image) {
+                    Ok(t) => Some(Arc::new(t)),
+                    Err(e) => {
+                        warn!(
+                            "bevy_manifold: texture {} is not traced: {e}; the base colour alone is used",
+                            h.id()
+                        );
+                        None
+                    }
+                }
+            })
+            .clone()
+    });
+    MeshMaterial {
+        base_color: [red, green, blue],
+        texture,
+    }
+}
+
+/// Registers the mesh gathering (part of [`crate::drawables::DrawablesPlugin`],
+/// from its `finish`): only in apps that have Bevy's meshes.
+pub(crate) fn build(app: &mut App, schedule: bevy::ecs::schedule::InternedScheduleLabel) {
+    app.register_type::<Rasterized>();
+    if !app.world().contains_resource::<Assets<Mesh>>() {
+        return;
+    }
+    app.init_resource::<MeshBvhCache>().add_systems(
+        schedule,
+        (note_mesh_events, gather_meshes)
+            .chain()
+            .after(crate::placement::ManifoldSystems::Sync)
+            .before(crate::drawables::gather_scenes),
+    );
+}

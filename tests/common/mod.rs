@@ -1,0 +1,48 @@
+//! Helpers shared by the GPU test files.
+
+#![allow(dead_code, reason = "each test file uses its own part")]
+
+use bevy_manifold::render::GpuTracer;
+use bevy_manifold::trace::TraceImage;
+
+/// The GPU tracer, or `None` (with a line saying why) when there is no
+/// adapter outside CI; under CI (`CI` set) a missing adapter is a failure.
+pub fn tracer() -> Option<GpuTracer> {
+    match GpuTracer::new() {
+        Ok(t) => {
+            eprintln!("GPU adapter: {}", t.adapter_name());
+            Some(t)
+        }
+        Err(e) if std::env::var_os("CI").is_none() => {
+            eprintln!("SKIPPED: no GPU to test on: {e}");
+            None
+        }
+        Err(e) => panic!("CI must have a GPU adapter (lavapipe): {e}"),
+    }
+}
+
+/// Fractions of pixels with the same object and cell id, and with every
+/// colour channel within 2/255, of `a` against the reference `b`. A cell id
+/// either side flags FAR (a hyperbolic copy beyond the horizon of its
+/// precision, where ids are best effort) is not compared; the object is.
+pub fn agreement(a: &TraceImage, b: &TraceImage) -> (f64, f64) {
+    let n = a.pixels.len() as f64;
+    let ids = a
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .filter(|(p, q)| p.object == q.object && (p.cell == q.cell || q.cell.is_far() || p.cell.is_far()))
+        .count();
+    let colors = a
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .filter(|(p, q)| {
+            p.color
+                .iter()
+                .zip(&q.color)
+                .all(|(x, y)| (x.clamp(0.0, 1.0) - y.clamp(0.0, 1.0)).abs() <= 2.0 / 255.0)
+        })
+        .count();
+    (ids as f64 / n, colors as f64 / n)
+}
