@@ -2,6 +2,7 @@
 
 mod accuracy;
 mod frames;
+mod meshes;
 mod pass;
 mod plot;
 mod specialise;
@@ -51,6 +52,19 @@ pub enum BenchCommand {
     /// The long stability soak: drift curves over up to 10^4 transports,
     /// far travel through 10^8 faces, degenerate rays; CSV and PNG.
     Stability(stability::StabilityArgs),
+    /// Frame time against triangle count (Suzanne subdivided to 35k and
+    /// 394k triangles) at 3 and 8 levels, and BVH build times.
+    Meshes {
+        /// Image width.
+        #[arg(long, default_value_t = 640)]
+        width: u32,
+        /// Image height.
+        #[arg(long, default_value_t = 360)]
+        height: u32,
+        /// Runs per setting; the best is reported.
+        #[arg(long, default_value_t = 2)]
+        runs: u32,
+    },
     /// What skipping saves: specialised against generic pipelines with and
     /// without fog and per-cell shading, and uploads with and without
     /// change detection in the render pass.
@@ -65,6 +79,7 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
         BenchCommand::Accuracy(ref args) => accuracy::run(args),
         BenchCommand::Stability(ref args) => stability::run(args),
         BenchCommand::Specialise(ref args) => specialise::run(args),
+        BenchCommand::Meshes { width, height, runs } => meshes::run(width.max(1), height.max(1), runs.max(1)),
     }
 }
 

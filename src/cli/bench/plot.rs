@@ -114,7 +114,13 @@ fn draw_into(
             .x_desc(panel.x.as_str())
             .y_desc(panel.y.as_str())
             .label_style(("sans-serif", 11))
-            .x_label_formatter(&|v| format!("{v:.3}"))
+            .x_label_formatter(&|v| {
+                if *v >= 10.0 {
+                    format!("{v:.0}")
+                } else {
+                    format!("{v:.2}")
+                }
+            })
             .y_label_formatter(&|v| format!("{v:.0e}"))
             .draw()?;
         for s in &panel.series {
@@ -143,6 +149,7 @@ fn draw_into(
         }
         chart
             .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
             .background_style(WHITE.mix(0.8))
             .border_style(BLACK)
             .label_font(("sans-serif", 11))

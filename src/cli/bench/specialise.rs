@@ -1,7 +1,7 @@
 //! `bench specialise`: what skipping saves. Frame time with the pipeline
 //! specialised to the scene against the generic pipeline (every def on),
-//! per space, with and without fog and per-cell shading (meshes come with
-//! their issue); then, in the render pass, the cost of uploads with change
+//! per space, with and without fog, per-cell shading and meshes; then, in
+//! the render pass, the cost of uploads with change
 //! detection (a still scene uploads nothing) against re-uploading every
 //! buffer every frame.
 
@@ -23,7 +23,7 @@ pub struct SpecialiseArgs {
     #[arg(long, default_value_t = 8)]
     levels: u32,
     /// Timed runs per setting; the best counts.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = 2)]
     runs: u32,
 }
 
@@ -38,8 +38,8 @@ pub fn run(args: &SpecialiseArgs) -> Result<(), String> {
         gpu.adapter_name()
     );
     println!(
-        "{:<22} {:>5} {:>6} {:>14} {:>11} {:>7}  defs",
-        "space", "fog", "cells", "specialised ms", "generic ms", "ratio"
+        "{:<22} {:>5} {:>6} {:>7} {:>14} {:>11} {:>7}  defs",
+        "space", "fog", "cells", "meshes", "specialised ms", "generic ms", "ratio"
     );
     let settings = |cells| TraceSettings {
         width: args.width.max(1),
@@ -51,9 +51,19 @@ pub fn run(args: &SpecialiseArgs) -> Result<(), String> {
     let mut ratios = Vec::new();
     for name in catalog::NAMES {
         let space = catalog::by_name(name).ok_or("catalog")?;
-        for (fog, cells) in [(false, false), (true, false), (false, true), (true, true)] {
+        for (fog, cells, meshes) in [
+            (false, false, false),
+            (true, false, false),
+            (false, true, false),
+            (false, false, true),
+            (true, true, true),
+        ] {
             let mut scene = Scene::default_for(&space);
             scene.fog = fog.then(|| fog_for(&space));
+            if meshes {
+                // The paper's Suzanne and hands beside the ball.
+                scene.meshes = Scene::paper_default(&space).meshes;
+            }
             let settings = settings(cells);
             let defs = TraceDefs::for_scene(&space, &scene, cells);
             let mut time = |defs: TraceDefs| {
@@ -67,9 +77,10 @@ pub fn run(args: &SpecialiseArgs) -> Result<(), String> {
             ratios.push(generic / special);
             let yes = |b: bool| if b { "on" } else { "off" };
             println!(
-                "{name:<22} {:>5} {:>6} {special:>14.1} {generic:>11.1} {:>7.2}  {}",
+                "{name:<22} {:>5} {:>6} {:>7} {special:>14.1} {generic:>11.1} {:>7.2}  {}",
                 yes(fog),
                 yes(cells),
+                yes(meshes),
                 generic / special,
                 defs.names().join(" ")
             );
