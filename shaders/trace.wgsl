@@ -325,6 +325,22 @@ fn transport_raw(face: u32, ray: Ray) -> Ray {
     return Ray(faces[face].pairing * ray.origin, faces[face].pairing * ray.dir);
 }
 
+// advance, or advance_raw when FLAG_NO_RENORMALIZE is set.
+fn advance_or_raw(ray: Ray, t: f32) -> Ray {
+    if renormalize() {
+        return advance(ray, t);
+    }
+    return advance_raw(ray, t);
+}
+
+// transport, or transport_raw when FLAG_NO_RENORMALIZE is set.
+fn transport_or_raw(face: u32, ray: Ray) -> Ray {
+    if renormalize() {
+        return transport(face, ray);
+    }
+    return transport_raw(face, ray);
+}
+
 // Smallest t >= t_min where a t^2 + 2 b t + c goes from positive to
 // non-positive; -1 when none.
 fn entering_root(a: f32, b: f32, c: f32, t_min: f32) -> f32 {
@@ -890,12 +906,7 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
 #endif
             return Pixel(vec4<f32>(shade(ray, hit, dist, cid), dist), object, levels, cid.x, cid.y);
         }
-        var end: Ray;
-        if renormalize() {
-            end = advance(ray, t_end);
-        } else {
-            end = advance_raw(ray, t_end);
-        }
+        let end = advance_or_raw(ray, t_end);
         travelled += chart_to_distance(t_end);
         if travelled > params.max_distance {
             break;
@@ -909,11 +920,7 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
         if levels >= params.max_level {
             break;
         }
-        if renormalize() {
-            ray = transport(exit.face, end);
-        } else {
-            ray = transport_raw(exit.face, end);
-        }
+        ray = transport_or_raw(exit.face, end);
         entered = faces[exit.face].partner;
         cell = cell * faces[exit.face].crossing;
 #ifdef CELLS_FINITE
@@ -966,12 +973,7 @@ fn drift(@builtin(global_invocation_id) id: vec3<u32>) {
             exit.face = NO_FACE;
         }
         let t_end = select(exit.t, t_cap, exit.face == NO_FACE);
-        var end: Ray;
-        if renormalize() {
-            end = advance(ray, t_end);
-        } else {
-            end = advance_raw(ray, t_end);
-        }
+        let end = advance_or_raw(ray, t_end);
         travelled += chart_to_distance(t_end);
         worst = max(worst, ray_errors(end));
         if travelled > params.max_distance {
@@ -985,11 +987,7 @@ fn drift(@builtin(global_invocation_id) id: vec3<u32>) {
         if levels >= params.max_level {
             break;
         }
-        if renormalize() {
-            ray = transport(exit.face, end);
-        } else {
-            ray = transport_raw(exit.face, end);
-        }
+        ray = transport_or_raw(exit.face, end);
         entered = faces[exit.face].partner;
         levels++;
         worst = max(worst, ray_errors(ray));

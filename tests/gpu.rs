@@ -5,6 +5,7 @@
 //! a missing adapter is a failure.
 
 use bevy_manifold::prelude::*;
+use bevy_manifold::trace::srgb8;
 
 mod common;
 use common::{agreement, tracer};
@@ -148,16 +149,6 @@ fn a_ball_straddling_a_torus_face_is_seen_whole_from_either_side() {
             "camera x {x}: at {outside} degrees {p:?}"
         );
     }
-}
-
-fn srgb8(c: f32) -> u8 {
-    let c = c.clamp(0.0, 1.0);
-    let s = if c <= 0.003_130_8 {
-        12.92 * c
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    };
-    (s * 255.0).round() as u8
 }
 
 #[test]

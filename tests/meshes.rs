@@ -10,23 +10,9 @@ use bevy_manifold::mesh::gltf::{GltfError, load};
 use bevy_manifold::mesh::{MeshData, MeshMaterial, TriMesh};
 use bevy_manifold::prelude::*;
 use bevy_manifold::trace::{SceneMesh, builtin};
-use common::{agreement, tracer};
+use common::{Rng, agreement, tracer};
 use glam::{DMat4, DVec3};
 use std::path::Path;
-
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn in_box(&mut self, h: f64) -> [f64; 3] {
-        [0; 3].map(|_| (self.next() * 2.0 - 1.0) * h)
-    }
-}
 
 fn models() -> &'static Path {
     Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/models"))

@@ -11,25 +11,8 @@ use glam::{DMat4, DVec3, DVec4, IVec3};
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn unit(&mut self) -> DVec3 {
-        loop {
-            let v = DVec3::new(self.next(), self.next(), self.next()) * 2.0 - 1.0;
-            let l = v.length();
-            if l > 0.05 && l <= 1.0 {
-                return v / l;
-            }
-        }
-    }
-}
+mod common;
+use common::Rng;
 
 /// A random ray starting strictly inside the domain.
 fn random_ray(space: &Space, rng: &mut Rng) -> Ray<f64> {

@@ -3,7 +3,7 @@
 use super::mesh_hit::{hit_instance, mesh_albedo, mesh_normal};
 use super::prepare::{EDGE_ID, Prepared};
 use super::scene::Scene;
-use super::step::{Ray, advance, advance_raw, foot_on_line, hit_ball, hit_tube, normal_from};
+use super::step::{Ray, advance_or_raw, foot_on_line, hit_ball, hit_tube, normal_from};
 use super::walk::Walker;
 use crate::cell::CellId;
 use crate::geometry::{Geometry, Real};
@@ -181,11 +181,7 @@ pub fn trace_ray<R: Real>(
             let color = shade(g, prep, &walk.ray, t, hit, dist, space, walk.cell, settings);
             return (finish(color, hit.id(prep), &walk, dist), Stop::Hit(hit.id(prep)));
         }
-        let end = if settings.renormalize {
-            advance(g, &walk.ray, t_end)
-        } else {
-            advance_raw(g, &walk.ray, t_end)
-        };
+        let end = advance_or_raw(g, &walk.ray, t_end, settings.renormalize);
         let length = g.chart_to_distance::<R>(t_end);
         on_step(&PathStep {
             start: walk.ray,

@@ -86,6 +86,17 @@ pub fn advance_raw<R: Real>(g: Geometry, ray: &Ray<R>, t: R) -> Ray<R> {
     }
 }
 
+/// [`advance`], or [`advance_raw`] when `renormalize` is off.
+#[inline]
+#[must_use]
+pub fn advance_or_raw<R: Real>(g: Geometry, ray: &Ray<R>, t: R, renormalize: bool) -> Ray<R> {
+    if renormalize {
+        advance(g, ray, t)
+    } else {
+        advance_raw(g, ray, t)
+    }
+}
+
 /// Carries a ray that reached a face through its pairing `T` and brings it
 /// back onto the model (renormalisation, so error does not accumulate).
 #[inline]
@@ -106,6 +117,17 @@ pub fn transport_raw<R: Real>(pairing: R::M4, ray: &Ray<R>) -> Ray<R> {
     Ray {
         origin: pairing * ray.origin,
         dir: pairing * ray.dir,
+    }
+}
+
+/// [`transport`], or [`transport_raw`] when `renormalize` is off.
+#[inline]
+#[must_use]
+pub fn transport_or_raw<R: Real>(g: Geometry, pairing: R::M4, ray: &Ray<R>, renormalize: bool) -> Ray<R> {
+    if renormalize {
+        transport(g, pairing, ray)
+    } else {
+        transport_raw(pairing, ray)
     }
 }
 

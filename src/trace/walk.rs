@@ -2,7 +2,7 @@
 //! Algorithm 1 shared by the tracer and by geodesic flow (objects aside).
 
 use super::prepare::FaceTables;
-use super::step::{Ray, exit_face, transport, transport_raw};
+use super::step::{Ray, exit_face, transport_or_raw};
 use crate::geometry::Real;
 
 /// Where a walking ray is: the start of its current segment, the face it
@@ -55,11 +55,7 @@ impl<R: Real> Walker<R> {
             return;
         };
         let t = tables.pairings[face];
-        self.ray = if renormalize {
-            transport(tables.geometry, t, &end)
-        } else {
-            transport_raw(t, &end)
-        };
+        self.ray = transport_or_raw(tables.geometry, t, &end, renormalize);
         self.entered = tables.partners[face];
         self.cell = self.cell * tables.crossings[face];
         self.crossings += 1;

@@ -46,3 +46,33 @@ pub fn agreement(a: &TraceImage, b: &TraceImage) -> (f64, f64) {
         .count();
     (ids as f64 / n, colors as f64 / n)
 }
+
+/// A small deterministic random source (an LCG) for test inputs.
+pub struct Rng(pub u64);
+
+impl Rng {
+    /// Uniform in [0, 1).
+    pub fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// A random unit vector.
+    pub fn unit(&mut self) -> glam::DVec3 {
+        loop {
+            let v = glam::DVec3::new(self.next(), self.next(), self.next()) * 2.0 - 1.0;
+            let l = v.length();
+            if l > 0.05 && l <= 1.0 {
+                return v / l;
+            }
+        }
+    }
+
+    /// A point of the cube `[-h, h]^3`.
+    pub fn in_box(&mut self, h: f64) -> [f64; 3] {
+        [0; 3].map(|_| (self.next() * 2.0 - 1.0) * h)
+    }
+}
