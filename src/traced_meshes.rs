@@ -1,7 +1,7 @@
 //! Bevy meshes in a manifold (feature `render`): an entity under a
 //! [`ManifoldSpace`] with a [`Placement`] is drawn by the tracer with its
 //! `Mesh3d` and every `Mesh3d` below it that has no placement of its own
-//! (the meshes a glTF `WorldAssetRoot`, Bevy 0.19's scene root, spawns), in its local chart, scaled by
+//! (as a glTF scene spawns them), in its local chart, scaled by
 //! its `Transform`'s scale. Base colour and base-colour texture come from
 //! `StandardMaterial` (feature `app`).
 //!
@@ -13,9 +13,14 @@
 //! triangles, NaN positions) is reported once and left out; the rest of
 //! the scene still renders.
 //!
+//! A glTF *scene* (`WorldAssetRoot`) is spawned by Bevy through reflection
+//! and needs Bevy's `reflect_auto_register` feature, which this crate's
+//! trimmed `app` feature leaves off: with it off, Bevy's spawner panics on
+//! the scene's unregistered components. Load the meshes by label (below),
+//! or enable that feature in your app.
+//!
 //! ```no_run
 //! use bevy::prelude::*;
-//! use bevy::world_serialization::WorldAssetRoot;
 //! use bevy_manifold::prelude::*;
 //!
 //! fn setup(mut commands: Commands, assets: Res<AssetServer>) {
@@ -25,7 +30,7 @@
 //!     // Suzanne, traced in every copy of the domain.
 //!     commands.spawn((
 //!         ChildOf(root),
-//!         WorldAssetRoot(assets.load("models/suzanne.glb#Scene0")),
+//!         Mesh3d(assets.load("models/suzanne.glb#Mesh0/Primitive0")),
 //!         Placement::default(),
 //!         Transform::from_scale(Vec3::splat(0.05)),
 //!     ));

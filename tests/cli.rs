@@ -135,9 +135,15 @@ fn render_writes_the_image_and_the_id_buffer() {
     assert_eq!(img.dimensions(), (48, 32));
     let idimg = image::open(&ids).expect("id PNG").to_rgba8();
     assert_eq!(idimg.dimensions(), (48, 32));
-    // The default scene puts the ball (id 1) in the middle of the view,
-    // seen without crossing a face, in the origin cell.
-    assert_eq!(idimg.get_pixel(24, 16).0, [1, 0, 0, 255]);
+    // The default scene is the paper's: Suzanne (id 1) attached to the
+    // camera, seen only in other copies (levels > 0), the hands (2, 3) in
+    // front of it in its own copy, and the edges (255).
+    assert!(idimg.pixels().any(|p| p.0[0] == 1 && p.0[1] > 0), "Suzanne's images");
+    assert!(!idimg.pixels().any(|p| p.0[0] == 1 && p.0[1] == 0), "not her own copy");
+    assert!(
+        idimg.pixels().any(|p| (p.0[0] == 2 || p.0[0] == 3) && p.0[1] == 0),
+        "the hands"
+    );
     // Some pixels see edges (255) and other copies (levels > 0), none more than 3.
     assert!(idimg.pixels().any(|p| p.0[0] == 255));
     assert!(idimg.pixels().any(|p| p.0[1] > 0));

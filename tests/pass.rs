@@ -15,6 +15,7 @@ use bevy_manifold::prelude::*;
 use bevy_manifold::render::GpuTracer;
 use bevy_manifold::render::pass::{ManifoldBufferCache, ManifoldUploads, offscreen};
 use bevy_manifold::space::Space;
+use bevy_manifold::trace::srgb8;
 
 const W: u32 = 160;
 const H: u32 = 120;
@@ -53,23 +54,13 @@ fn uploads(app: &App) -> ManifoldUploads {
     *app.sub_app(RenderApp).world().resource::<ManifoldUploads>()
 }
 
-fn to_srgb8(c: f32) -> u8 {
-    let c = c.clamp(0.0, 1.0);
-    let s = if c <= 0.003_130_8 {
-        12.92 * c
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    };
-    (s * 255.0).round() as u8
-}
-
 /// The fraction of pixels whose three channels are within `tol` of the
 /// reference image's (linear colours, sRGB-encoded as the target does).
 fn agreement(bytes: &[u8], reference: &TraceImage, tol: u8) -> f64 {
     let close = bytes
         .chunks_exact(4)
         .zip(&reference.pixels)
-        .filter(|(px, q)| (0..3).all(|c| px[c].abs_diff(to_srgb8(q.color[c])) <= tol))
+        .filter(|(px, q)| (0..3).all(|c| px[c].abs_diff(srgb8(q.color[c])) <= tol))
         .count();
     close as f64 / reference.pixels.len() as f64
 }
@@ -397,7 +388,7 @@ fn gltf_meshes_in_a_manifold_are_traced_and_not_rasterised() {
     let mut gpu = GpuTracer::new().expect("adapter");
     let compute = gpu.render(&space, &scene, &settings).expect("headless trace");
     let cpu = render::<f64>(&space, &scene, &settings);
-    let mesh_pixels = cpu.pixels.iter().filter(|p| p.object == 2 || p.object == 3).count();
+    let mesh_pixels = cpu.pixels.iter().filter(|p| (2..=3).contains(&p.object)).count();
     let (vs_compute, vs_cpu) = (agreement(&shown, &compute, 1), agreement(&shown, &cpu, 2));
     eprintln!(
         "two traced Suzannes in poincare: {mesh_pixels} mesh pixels; pass vs compute {:.3}%, vs CPU f64 {:.3}%",

@@ -147,8 +147,11 @@ fn render_command(args: &RenderArgs) -> Result<(), String> {
     }
     let mut scene = match &args.scene {
         Some(p) => Scene::load(p, &space).map_err(|e| e.to_string())?,
-        None => Scene::default_for(&space),
+        None => Scene::paper_default(&space),
     };
+    for why in &scene.skipped {
+        eprintln!("warning: {why}");
+    }
     if let Some(density) = args.fog {
         if !(density >= 0.0 && density.is_finite()) {
             return Err(format!("--fog must be a density >= 0, got {density}"));
