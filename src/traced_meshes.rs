@@ -139,8 +139,10 @@ fn note_mesh_events(mut events: MessageReader<AssetEvent<Mesh>>, mut cache: ResM
 /// The material of a traced mesh entity.
 #[cfg(feature = "app")]
 type MaterialOf<'a> = Option<&'a MeshMaterial3d<StandardMaterial>>;
+/// Without `app` there is no `StandardMaterial`: a placeholder the query
+/// can hold (`()` is no component), never read.
 #[cfg(not(feature = "app"))]
-type MaterialOf<'a> = Option<&'a ()>;
+type MaterialOf<'a> = Option<&'a Mesh3d>;
 
 /// Everything a traced mesh entity brings.
 type MeshEntity<'a> = (
