@@ -55,9 +55,11 @@ struct Params {
     // step in x, the f32 horizon (HASHED_HORIZON_F32) in y.
     cell_scale: vec4<f32>,
     instance_count: u32,
-    _pad1: u32,
-    _pad2: u32,
-    _pad3: u32,
+    // CELL_COLORS: the tint (CellTint::words): mode 0 by cell, 1 highlight
+    // the cell (cell_a, cell_b), 2 on/off pattern with threshold cell_a.
+    cell_mode: u32,
+    cell_a: u32,
+    cell_b: u32,
 }
 
 struct Face {
@@ -493,11 +495,24 @@ fn cell_id(cell: mat4x4<f32>, index: u32) -> vec2<u32> {
 }
 
 #ifdef CELL_COLORS
+// CellId::hash
+fn cell_hash(id: vec2<u32>) -> u32 {
+    return hash32(id.x ^ hash32(id.y));
+}
+
+// CellTint::tint
 fn cell_color(id: vec2<u32>) -> vec3<f32> {
-    if id.x == 0u && id.y == 0u {
+    let origin = id.x == 0u && id.y == 0u;
+    if params.cell_mode == 1u {
+        return select(vec3<f32>(1.0), vec3<f32>(1.0, 0.55, 0.15), id.x == params.cell_a && id.y == params.cell_b);
+    }
+    if params.cell_mode == 2u {
+        return vec3<f32>(select(0.12, 1.0, origin || (cell_hash(id) >> 8u) < params.cell_a));
+    }
+    if origin {
         return vec3<f32>(1.0);
     }
-    let h = hash32(id.x ^ hash32(id.y));
+    let h = cell_hash(id);
     return 0.25 + 0.75 * vec3<f32>(f32(h & 0xffu), f32((h >> 8u) & 0xffu), f32((h >> 16u) & 0xffu)) / 255.0;
 }
 #endif

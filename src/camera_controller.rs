@@ -8,7 +8,7 @@
 //! | A / D | left / right |
 //! | Space / Left Shift | up / down |
 //! | Q / E | roll |
-//! | arrows, mouse | yaw and pitch |
+//! | arrows, mouse | yaw and pitch (the mouse only while [`FlyCamera::mouse_button`] is held, when set) |
 
 use crate::placement::{GeodesicVelocity, ManifoldSystems};
 use bevy::input::mouse::AccumulatedMouseMotion;
@@ -43,6 +43,9 @@ pub struct FlyCamera {
     pub turn_rate: f64,
     /// Radians per pixel of mouse motion.
     pub mouse_sensitivity: f64,
+    /// The mouse turns the camera only while this button is held (`None`:
+    /// always, for apps that grab the cursor).
+    pub mouse_button: Option<MouseButton>,
 }
 
 impl Default for FlyCamera {
@@ -51,6 +54,7 @@ impl Default for FlyCamera {
             speed: 0.5,
             turn_rate: 1.2,
             mouse_sensitivity: 0.003,
+            mouse_button: None,
         }
     }
 }
@@ -60,6 +64,7 @@ pub fn fly_camera_input(
     time: Res<Time>,
     keys: Option<Res<ButtonInput<KeyCode>>>,
     mouse: Option<Res<AccumulatedMouseMotion>>,
+    buttons: Option<Res<ButtonInput<MouseButton>>>,
     mut cameras: Query<(&FlyCamera, &mut GeodesicVelocity)>,
 ) {
     let held = |k: KeyCode| keys.as_ref().is_some_and(|keys| keys.pressed(k));
@@ -79,7 +84,10 @@ pub fn fly_camera_input(
             axis(KeyCode::ArrowLeft, KeyCode::ArrowRight),
             axis(KeyCode::KeyQ, KeyCode::KeyE),
         ) * fly.turn_rate;
-        if dt > 0.0 {
+        let looking = fly
+            .mouse_button
+            .is_none_or(|b| buttons.as_ref().is_some_and(|buttons| buttons.pressed(b)));
+        if dt > 0.0 && looking {
             angular.x -= f64::from(mouse_delta.y) * fly.mouse_sensitivity / dt;
             angular.y -= f64::from(mouse_delta.x) * fly.mouse_sensitivity / dt;
         }

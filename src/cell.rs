@@ -97,10 +97,99 @@ impl CellId {
         if self.0 == 0 {
             return [1.0, 1.0, 1.0];
         }
-        // 32-bit arithmetic only, so the GPU shades cells the same way.
-        let h = hash32((self.0 as u32) ^ hash32((self.0 >> 32) as u32));
+        let h = self.hash();
         let c = |s: u32| 0.25 + 0.75 * ((h >> s) & 0xff) as f32 / 255.0;
         [c(0), c(8), c(16)]
+    }
+
+    /// 32 bits hashed from the id, in 32-bit arithmetic only so the GPU
+    /// (`cell_hash` in `shaders/trace.wgsl`) gets the same bits.
+    #[must_use]
+    pub fn hash(self) -> u32 {
+        hash32((self.0 as u32) ^ hash32((self.0 >> 32) as u32))
+    }
+}
+
+/// How per-cell shading tells the copies of the domain apart: the tint an
+/// object's albedo is multiplied by in the copy it is seen in. The copy
+/// with id 0 (the camera's, when the camera is in the origin copy) is never
+/// darkened.
+///
+/// ```
+/// use bevy_manifold::cell::{CellId, CellTint};
+/// let here = CellId(0);
+/// let there = CellId::from_lattice(glam::IVec3::new(1, 0, 0));
+/// assert_eq!(CellTint::ByCell.tint(here), [1.0; 3]);
+/// assert_eq!(CellTint::Highlight(there).tint(here), [1.0; 3]);
+/// assert_eq!(CellTint::Highlight(there).tint(there), CellTint::HIGHLIGHT);
+/// // Half the copies on, half dimmed; which ones depends on the id only.
+/// let on = CellTint::Pattern { on_fraction: 0.5 }.tint(there);
+/// assert!(on == [1.0; 3] || on == [CellTint::OFF; 3]);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum CellTint {
+    /// A colour hashed from each copy's id ([`CellId::color`]).
+    #[default]
+    ByCell,
+    /// One copy tinted [`CellTint::HIGHLIGHT`], the others untouched.
+    Highlight(CellId),
+    /// The paper's on/off rule by cell (§7.2): a copy is on with
+    /// probability `on_fraction` (decided by its id's hash, so the same
+    /// copies are on from every path and every frame), off copies are
+    /// dimmed to [`CellTint::OFF`].
+    Pattern {
+        /// Fraction of the copies that are on, in `[0, 1]`.
+        on_fraction: f32,
+    },
+}
+
+impl CellTint {
+    /// The highlighted copy's tint (orange).
+    pub const HIGHLIGHT: [f32; 3] = [1.0, 0.55, 0.15];
+    /// The albedo factor of an off copy in [`CellTint::Pattern`].
+    pub const OFF: f32 = 0.12;
+
+    /// The tint of copy `id`.
+    #[must_use]
+    pub fn tint(self, id: CellId) -> [f32; 3] {
+        match self {
+            CellTint::ByCell => id.color(),
+            CellTint::Highlight(target) => {
+                if id == target {
+                    Self::HIGHLIGHT
+                } else {
+                    [1.0; 3]
+                }
+            }
+            CellTint::Pattern { .. } => {
+                let [_, threshold, _] = self.words();
+                if id.0 == 0 || (id.hash() >> 8) < threshold {
+                    [1.0; 3]
+                } else {
+                    [Self::OFF; 3]
+                }
+            }
+        }
+    }
+
+    /// The three words the shader reads (`Params.cell_mode`, `cell_a`,
+    /// `cell_b`): the mode (0 by cell, 1 highlight, 2 pattern) and its
+    /// argument (the highlighted id's low and high words, or the pattern's
+    /// 24-bit threshold).
+    #[must_use]
+    pub fn words(self) -> [u32; 3] {
+        match self {
+            CellTint::ByCell => [0, 0, 0],
+            CellTint::Highlight(id) => [1, id.0 as u32, (id.0 >> 32) as u32],
+            CellTint::Pattern { on_fraction } => {
+                let f = if on_fraction.is_nan() {
+                    0.0
+                } else {
+                    on_fraction.clamp(0.0, 1.0)
+                };
+                [2, (f64::from(f) * f64::from(1u32 << 24)).round() as u32, 0]
+            }
+        }
     }
 }
 

@@ -7,7 +7,7 @@
 //!
 //! The crate is layered like avian: a math core free of the ECS and the
 //! renderer, shared by tests, the CLI, the CPU reference tracer, the Bevy
-//! plugin and (in a later version) its WGSL pass.
+//! plugin and its WGSL pass.
 //!
 //! ## In a Bevy app
 //!
@@ -48,6 +48,10 @@
 //!   stability checks use.
 //! - [`placement`]: the ECS layer: components, wrapping systems, ray casts.
 //! - [`camera_controller`]: an optional fly camera.
+//! - `explorer` (feature `app`): what `cargo run --release` opens; its
+//!   plugins, settings and headless fallback.
+//! - `paper_scene`, `showcase` (feature `app`): the paper's scene as
+//!   entities, and what the examples (one per paper figure) share.
 //!
 //! ```
 //! use bevy_manifold::prelude::*;
@@ -64,12 +68,18 @@
 pub mod camera_controller;
 pub mod cell;
 pub mod drawables;
+#[cfg(feature = "app")]
+pub mod explorer;
 pub mod geometry;
 pub mod mesh;
 pub mod motion;
+#[cfg(feature = "app")]
+pub mod paper_scene;
 pub mod placement;
 mod plugin;
 pub mod render;
+#[cfg(feature = "app")]
+pub mod showcase;
 pub mod space;
 pub mod stress;
 pub mod trace;
@@ -96,5 +106,5 @@ pub mod prelude {
     pub use crate::space::{Face, FaceKind, Space, SpaceDesc, SpaceError, catalog};
     pub use crate::trace::{Ball, Fog, Light, Scene, SceneMesh, TraceImage, TraceSettings, render};
     #[cfg(feature = "render")]
-    pub use crate::traced_meshes::Rasterized;
+    pub use crate::traced_meshes::{CameraBody, Rasterized};
 }

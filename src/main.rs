@@ -1,7 +1,6 @@
-//! The `bevy_manifold` command line: inspect, export and render spaces.
-//!
-//! Running with no arguments is reserved for the interactive explorer; for
-//! now it prints usage.
+//! The `bevy_manifold` command line: with no arguments the explorer (a
+//! window into the manifold, or without a display `explorer.png`); with a
+//! command, inspect, export, render and benchmark spaces.
 
 mod cli;
 

@@ -13,11 +13,13 @@
 //! triangles, NaN positions) is reported once and left out; the rest of
 //! the scene still renders.
 //!
-//! A glTF *scene* (`WorldAssetRoot`) is spawned by Bevy through reflection
-//! and needs Bevy's `reflect_auto_register` feature, which this crate's
-//! trimmed `app` feature leaves off: with it off, Bevy's spawner panics on
-//! the scene's unregistered components. Load the meshes by label (below),
-//! or enable that feature in your app.
+//! A whole glTF scene works as a Bevy user expects: put
+//! `WorldAssetRoot(assets.load("models/suzanne.glb#Scene0"))` on a placed
+//! entity and every mesh the scene spawns below it is traced. (Bevy spawns
+//! scenes through reflection; the `app` feature turns on Bevy's
+//! `reflect_auto_register` so every component a scene holds is known. A
+//! game on the `render` feature alone needs that Bevy feature for scenes.)
+//! A single mesh can be loaded by label, as below.
 //!
 //! ```no_run
 //! use bevy::prelude::*;
@@ -53,6 +55,47 @@ use std::sync::Arc;
 #[derive(Component, Clone, Copy, Debug, Default, Reflect)]
 #[reflect(Component, Debug, Default)]
 pub struct Rasterized;
+
+/// Marks a traced mesh (or a placed entity, for every mesh below it) as
+/// the viewer's own body, as the paper attaches Suzanne to the camera: its
+/// home copy is not drawn (the camera sits inside it), every other copy is,
+/// so the viewer sees its own images around the space. Put the mesh under
+/// the [`crate::render::pass::ManifoldCamera`]'s entity, without a
+/// placement of its own, and it moves with the camera.
+///
+/// ```no_run
+/// use bevy::prelude::*;
+/// use bevy_manifold::prelude::*;
+///
+/// fn setup(mut commands: Commands, assets: Res<AssetServer>) {
+///     let space = catalog::torus(1.0);
+///     let root = commands.spawn(ManifoldSpace::new(space)).id();
+///     let eye = commands.spawn((ChildOf(root), ManifoldCamera::default())).id();
+///     commands.spawn((
+///         ChildOf(eye),
+///         CameraBody,
+///         Mesh3d(assets.load("models/suzanne.glb#Mesh0/Primitive0")),
+///         Transform::from_scale(Vec3::splat(0.1)).with_rotation(Quat::from_rotation_y(std::f32::consts::PI)),
+///     ));
+/// }
+/// ```
+#[derive(Component, Clone, Copy, Debug, Default, Reflect)]
+#[reflect(Component, Debug, Default)]
+pub struct CameraBody;
+
+/// A [`TriMesh`] as a Bevy triangle-list mesh (positions, normals, UVs,
+/// `u32` indices), kept in the main world so the tracer can read it back:
+/// how the crate's built-in models ([`crate::trace::scene_mesh::builtin`])
+/// become `Mesh3d` assets without an asset folder.
+#[must_use]
+pub fn bevy_mesh(mesh: &TriMesh) -> Mesh {
+    use bevy::asset::RenderAssetUsages;
+    Mesh::new(PrimitiveTopology::TriangleList, RenderAssetUsages::default())
+        .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, mesh.positions.clone())
+        .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, mesh.normals.clone())
+        .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, mesh.uvs.clone())
+        .with_inserted_indices(Indices::U32(mesh.triangles.iter().flatten().copied().collect()))
+}
 
 /// BVHs and textures by asset, rebuilt when the asset changes; and the
 /// assets already reported as untraceable.
@@ -168,7 +211,8 @@ pub fn gather_meshes(
     meshes: Query<MeshEntity, Without<Rasterized>>,
     children: Query<&Children>,
     transforms: Query<&Transform>,
-    has_placement: Query<(), With<Placement>>,
+    // Whether an entity is placed itself, and whether it is a camera body.
+    flags: Query<(Has<Placement>, Has<CameraBody>)>,
     parents: Query<&ChildOf>,
     root_filter: Query<(), With<ManifoldSpace>>,
     changed: Query<
@@ -177,6 +221,7 @@ pub fn gather_meshes(
             Or<(
                 Changed<Mesh3d>,
                 Changed<Transform>,
+                Changed<CameraBody>,
                 Changed<Placement>,
                 Changed<ChildOf>,
             )>,
@@ -202,8 +247,9 @@ pub fn gather_meshes(
         let scale = f64::from(transform.scale.abs().max_element());
         // The entity's own mesh, and those below it with no placement of
         // their own, positioned by their transforms relative to it.
-        let mut stack = vec![(entity, Mat4::IDENTITY)];
-        while let Some((e, local)) = stack.pop() {
+        let mut stack = vec![(entity, Mat4::IDENTITY, false)];
+        while let Some((e, local, body)) = stack.pop() {
+            let body = body || flags.get(e).is_ok_and(|(_, b)| b);
             if let Ok((_, mesh3d, material, visible, layers)) = meshes.get(e) {
                 if layers != Some(&RenderLayers::none()) {
                     commands.entity(e).insert(RenderLayers::none());
@@ -236,6 +282,7 @@ pub fn gather_meshes(
                         };
                         let mut m = SceneMesh::new(data, surface, placement.isometry, scale);
                         m.local = local.as_dmat4();
+                        m.attached = body;
                         let list = per_root.entry(root).or_default();
                         list.entities.push(e);
                         list.meshes.push(m);
@@ -244,10 +291,10 @@ pub fn gather_meshes(
             }
             if let Ok(kids) = children.get(e) {
                 for &k in kids {
-                    if !has_placement.contains(k)
+                    if !flags.get(k).is_ok_and(|(placed, _)| placed)
                         && let Ok(t) = transforms.get(k)
                     {
-                        stack.push((k, local * t.to_matrix()));
+                        stack.push((k, local * t.to_matrix(), body));
                     }
                 }
             }
@@ -300,7 +347,7 @@ fn surface(
 /// Registers the mesh gathering (part of [`crate::drawables::DrawablesPlugin`],
 /// from its `finish`): only in apps that have Bevy's meshes.
 pub(crate) fn build(app: &mut App, schedule: bevy::ecs::schedule::InternedScheduleLabel) {
-    app.register_type::<Rasterized>();
+    app.register_type::<Rasterized>().register_type::<CameraBody>();
     if !app.world().contains_resource::<Assets<Mesh>>() {
         return;
     }

@@ -24,9 +24,11 @@ fn tmp(name: &str) -> PathBuf {
     dir.join(name)
 }
 
+// No arguments opens the explorer (tests/explorer.rs runs its headless
+// fallback).
 #[test]
-fn no_arguments_prints_usage() {
-    let o = run(&[]);
+fn help_prints_usage() {
+    let o = run(&["--help"]);
     assert!(o.status.success());
     let out = stdout(&o);
     assert!(

@@ -408,3 +408,213 @@ fn gltf_meshes_in_a_manifold_are_traced_and_not_rasterised() {
     assert_ne!(moved.meshes, scene.meshes, "the placement changed");
     assert_eq!(app.world().resource::<MeshBvhCache>().built(), 1);
 }
+
+#[test]
+fn gltf_scene_roots_in_a_manifold_are_traced() {
+    use bevy::camera::visibility::RenderLayers;
+    use glam::DVec3;
+    if !gpu_available() {
+        return;
+    }
+    let mut app = headless_app(true);
+    let image = target(&mut app, W, H);
+    let space = catalog::torus(1.0);
+    let (root, _) = spawn_view(&mut app, &space, &image, false, false);
+    let assets = app.world().resource::<AssetServer>().clone();
+    // Whole glTF scenes, as a Bevy user spawns them: Suzanne's and the left
+    // hand's (a skinned mesh under its joints), each under a placed entity
+    // that scales it; and a scene file that is not there.
+    let scene_of = |path: &str| WorldAssetRoot(assets.load(GltfAssetLabel::Scene(0).from_asset(path.to_string())));
+    app.world_mut().spawn((
+        ChildOf(root),
+        scene_of("models/suzanne.glb"),
+        Placement::at(&space, DVec3::new(-0.12, 0.0, -0.1)),
+        Transform::from_scale(Vec3::splat(0.06)),
+    ));
+    app.world_mut().spawn((
+        ChildOf(root),
+        scene_of("models/left.glb"),
+        Placement::at(&space, DVec3::new(0.15, -0.05, 0.1)),
+        Transform::from_scale(Vec3::splat(0.8)),
+    ));
+    app.world_mut()
+        .spawn((ChildOf(root), scene_of("models/missing.glb"), Placement::default()));
+    let meshes_of = |app: &App| app.world().get::<ManifoldMeshes>(root).map_or(0, |m| m.meshes.len());
+    for _ in 0..3000 {
+        app.update();
+        if meshes_of(&app) == 2 {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    assert_eq!(
+        meshes_of(&app),
+        2,
+        "each scene's mesh is gathered (the missing file adds none)"
+    );
+    let world = app.world_mut();
+    let mut layers = world.query_filtered::<Option<&RenderLayers>, With<Mesh3d>>();
+    let all: Vec<_> = layers.iter(world).collect();
+    assert_eq!(all.len(), 2);
+    assert!(
+        all.iter().all(|l| *l == Some(&RenderLayers::none())),
+        "the scenes' meshes are off the rasteriser"
+    );
+    wait_for_pipelines(&mut app);
+    let shown = capture(&mut app, &image);
+    let scene = gathered_scene(&app, &space, root, false);
+    let settings = TraceSettings {
+        width: W,
+        height: H,
+        max_level: 8,
+        ..TraceSettings::default()
+    };
+    let compute = GpuTracer::new()
+        .expect("adapter")
+        .render(&space, &scene, &settings)
+        .expect("headless trace");
+    let cpu = render::<f64>(&space, &scene, &settings);
+    let mesh_pixels = cpu.pixels.iter().filter(|p| (2..=3).contains(&p.object)).count();
+    let (vs_compute, vs_cpu) = (agreement(&shown, &compute, 1), agreement(&shown, &cpu, 2));
+    eprintln!(
+        "glTF scenes in the torus: {mesh_pixels} mesh pixels; pass vs compute {:.3}%, vs CPU f64 {:.3}%",
+        vs_compute * 100.0,
+        vs_cpu * 100.0
+    );
+    assert!(mesh_pixels > 200, "the scenes' meshes are in view");
+    assert!(vs_compute >= 0.995 && vs_cpu >= 0.99);
+}
+
+#[test]
+fn the_papers_scene_as_entities_matches_the_tracers() {
+    use bevy_manifold::paper_scene::{paper_camera, spawn_paper_scene};
+    use bevy_manifold::trace::PaperOptions;
+    if !gpu_available() {
+        return;
+    }
+    let mut app = headless_app(true);
+    let image = target(&mut app, W, H);
+    let space = catalog::mirrored_cube(1.0);
+    let root = app.world_mut().spawn(ManifoldSpace::new(space.clone())).id();
+    let (placement, projection) = paper_camera(&space);
+    let camera = app
+        .world_mut()
+        .spawn((
+            ChildOf(root),
+            ManifoldCamera::default(),
+            placement,
+            projection,
+            RenderTarget::Image(image.clone().into()),
+        ))
+        .id();
+    let mut commands = app.world_mut().commands();
+    let spawned = spawn_paper_scene(&mut commands, root, camera, &space, PaperOptions::default());
+    app.world_mut().flush();
+    let meshes_of = |app: &App| app.world().get::<ManifoldMeshes>(root).map_or(0, |m| m.meshes.len());
+    for _ in 0..200 {
+        app.update();
+        if meshes_of(&app) == 3 {
+            break;
+        }
+    }
+    assert_eq!(meshes_of(&app), 3, "Suzanne and the two hands");
+    let gathered = &app.world().get::<ManifoldMeshes>(root).unwrap();
+    let body = gathered
+        .entities
+        .iter()
+        .position(|e| Some(*e) == spawned.suzanne)
+        .expect("Suzanne is gathered");
+    assert!(gathered.meshes[body].attached, "Suzanne is the camera's body");
+    assert_eq!(
+        gathered.meshes.iter().filter(|m| m.attached).count(),
+        1,
+        "the hands are drawn in the home copy too"
+    );
+    wait_for_pipelines(&mut app);
+    let shown = capture(&mut app, &image);
+    // Against the tracer's own version of the paper's scene: the same
+    // layout, the hands placed through the camera's chart instead of by an
+    // isometry (exact in the flat cube).
+    let reference = Scene::paper_default(&space);
+    let settings = TraceSettings {
+        width: W,
+        height: H,
+        max_level: 8,
+        ..TraceSettings::default()
+    };
+    let cpu = render::<f64>(&space, &reference, &settings);
+    let mesh_pixels = cpu.pixels.iter().filter(|p| p.object >= 1 && p.object < 100).count();
+    let close = agreement(&shown, &cpu, 2);
+    eprintln!(
+        "paper's scene as entities in the mirrored cube: {mesh_pixels} mesh pixels, {:.3}% within 2/255 of Scene::paper_default on the CPU",
+        close * 100.0
+    );
+    assert!(mesh_pixels > 500, "the hands and Suzanne's images are in view");
+    assert!(close >= 0.99);
+}
+
+#[test]
+fn cell_tints_agree_between_the_pass_and_the_cpu() {
+    use bevy_manifold::cell::CellTint;
+    if !gpu_available() {
+        return;
+    }
+    let space = catalog::torus(1.0);
+    let lattice = |x, y, z| CellId::from_lattice(glam::IVec3::new(x, y, z));
+    for (shading, tint) in [
+        (
+            CellShading::Highlight {
+                cell: lattice(0, 0, -1).0,
+            },
+            CellTint::Highlight(lattice(0, 0, -1)),
+        ),
+        (
+            CellShading::Pattern { on_fraction: 0.4 },
+            CellTint::Pattern { on_fraction: 0.4 },
+        ),
+    ] {
+        let mut app = headless_app(true);
+        let image = target(&mut app, W, H);
+        let camera = ManifoldCamera {
+            max_level: 6,
+            cell_shading: shading,
+            ..default()
+        };
+        let (root, _) = offscreen::spawn_view(&mut app, &space, &Scene::default_for(&space), &image, camera);
+        wait_for_pipelines(&mut app);
+        let shown = capture(&mut app, &image);
+        let scene = gathered_scene(&app, &space, root, false);
+        let settings = TraceSettings {
+            width: W,
+            height: H,
+            max_level: 6,
+            cell_colors: true,
+            cell_tint: tint,
+            ..TraceSettings::default()
+        };
+        let cpu = render::<f64>(&space, &scene, &settings);
+        let plain = render::<f64>(
+            &space,
+            &scene,
+            &TraceSettings {
+                cell_colors: false,
+                ..settings.clone()
+            },
+        );
+        let tinted = cpu
+            .pixels
+            .iter()
+            .zip(&plain.pixels)
+            .filter(|(a, b)| a.color != b.color)
+            .count();
+        let close = agreement(&shown, &cpu, 2);
+        eprintln!(
+            "{tint:?}: {tinted} of {} pixels tinted on the CPU; the pass within 2/255 of it: {:.3}%",
+            cpu.pixels.len(),
+            close * 100.0
+        );
+        assert!(tinted > 100, "{tint:?} changes some copies");
+        assert!(tinted < cpu.pixels.len(), "{tint:?} leaves some pixels alone");
+        assert!(close >= 0.995, "{tint:?}");
+    }
+}

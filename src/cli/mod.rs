@@ -5,10 +5,11 @@ mod bench;
 mod show;
 
 use bevy_manifold::prelude::*;
-use bevy_manifold::render::GpuTracer;
-use bevy_manifold::space::SpaceFileError;
+use bevy_manifold::render::{UsedTracer, render_any};
 use bevy_manifold::trace::{write_ids_png, write_png};
-use clap::{Args, CommandFactory, Parser, Subcommand};
+#[cfg(not(feature = "app"))]
+use clap::CommandFactory;
+use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -25,6 +26,13 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// The explorer (what running with no command opens).
+    #[cfg(feature = "app")]
+    Explore {
+        /// Quit after this many frames (for smoke tests).
+        #[arg(long)]
+        frames: Option<u32>,
+    },
     /// Inspect and export spaces.
     #[command(subcommand)]
     Space(SpaceCommand),
@@ -92,10 +100,16 @@ struct RenderArgs {
 pub fn run() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        // The explorer: a window, or its headless fallback.
+        #[cfg(feature = "app")]
+        None => return explore(None),
+        #[cfg(feature = "app")]
+        Some(Command::Explore { frames }) => return explore(frames),
+        #[cfg(not(feature = "app"))]
         None => {
-            // Reserved for the interactive explorer.
+            // Built without the windowed app: the explorer is not here.
             let _ = Cli::command().print_help();
-            println!();
+            println!("\n(built without the `app` feature: no explorer window)");
             Ok(())
         }
         Some(Command::Space(SpaceCommand::List)) => {
@@ -122,19 +136,17 @@ pub fn run() -> ExitCode {
     }
 }
 
+#[cfg(feature = "app")]
+fn explore(frames: Option<u32>) -> ExitCode {
+    match bevy_manifold::explorer::run_for(frames) {
+        bevy::app::AppExit::Success => ExitCode::SUCCESS,
+        bevy::app::AppExit::Error(_) => ExitCode::FAILURE,
+    }
+}
+
 /// A catalog space by name, or a space file by path.
 pub(crate) fn resolve_space(name: &str) -> Result<Space, String> {
-    if let Some(s) = catalog::by_name(name) {
-        return Ok(s);
-    }
-    let path = std::path::Path::new(name);
-    if path.exists() {
-        return Space::load(path).map_err(|e: SpaceFileError| e.to_string());
-    }
-    Err(format!(
-        "'{name}' is neither a catalog space ({}) nor a space file",
-        catalog::NAMES.join(", ")
-    ))
+    catalog::resolve(name)
 }
 
 fn render_command(args: &RenderArgs) -> Result<(), String> {
@@ -167,29 +179,13 @@ fn render_command(args: &RenderArgs) -> Result<(), String> {
         ..TraceSettings::default()
     };
     let start = std::time::Instant::now();
-    let mut tracer = "CPU f64".to_string();
-    let gpu_image = if args.cpu {
-        None
-    } else {
-        match GpuTracer::new() {
-            Ok(mut gpu) => {
-                tracer = format!("GPU: {}", gpu.adapter_name());
-                Some(gpu.render(&space, &scene, &settings).map_err(|e| e.to_string())?)
-            }
-            Err(e) => {
-                eprintln!("warning: {e}; rendering with the CPU reference tracer instead");
-                None
-            }
-        }
-    };
-    let img = match gpu_image {
-        Some(img) => img,
-        None if args.f32 => {
-            tracer = "CPU f32".into();
-            render::<f32>(&space, &scene, &settings)
-        }
-        None => render::<f64>(&space, &scene, &settings),
-    };
+    let (img, tracer) = render_any(&space, &scene, &settings, args.cpu, args.f32).map_err(|e| e.to_string())?;
+    if let UsedTracer::Cpu {
+        fallback: Some(why), ..
+    } = &tracer
+    {
+        eprintln!("warning: {why}; rendered with the CPU reference tracer instead");
+    }
     let secs = start.elapsed().as_secs_f64();
     write_png(&img, &args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
     if let Some(ids) = &args.ids {

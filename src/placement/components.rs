@@ -22,7 +22,11 @@ use std::sync::Arc;
 /// assert_eq!(world.get::<ManifoldSpace>(root).unwrap().space().group_order(), Some(120));
 /// # let _ = ship;
 /// ```
+// A root has a transform (and, with a renderer, a visibility) like any
+// Bevy parent, so what is below it propagates as Bevy expects.
 #[derive(Component, Clone)]
+#[cfg_attr(feature = "render", require(Transform, bevy::camera::visibility::Visibility))]
+#[cfg_attr(not(feature = "render"), require(Transform))]
 pub struct ManifoldSpace {
     space: Arc<Space>,
     tables: Arc<FaceTables<f64>>,

@@ -56,8 +56,8 @@ pub struct GpuParams {
     pub cell_scale: [f32; 4],
     /// Number of mesh instances.
     pub instance_count: u32,
-    /// Padding to 16 bytes.
-    pub pad: [u32; 3],
+    /// Per-cell shading: [`crate::cell::CellTint::words`].
+    pub cell_tint: [u32; 3],
 }
 
 /// WGSL `Face`.
@@ -229,6 +229,8 @@ pub struct GpuView {
     pub max_distance: f32,
     /// [`GpuParams::flags`].
     pub flags: u32,
+    /// [`GpuParams::cell_tint`].
+    pub cell_tint: [u32; 3],
 }
 
 /// [`GpuParams::flags`]: fog does not stop rays early
@@ -463,7 +465,7 @@ impl GpuParams {
             flags: view.flags,
             cell_scale: packed.cell_scale,
             instance_count: objects.counts[3],
-            pad: [0; 3],
+            cell_tint: view.cell_tint,
         }
     }
 }
@@ -485,6 +487,7 @@ impl GpuScene {
             max_level: settings.max_level,
             max_distance: settings.max_distance as f32,
             flags: settings_flags(settings),
+            cell_tint: settings.cell_tint.words(),
         };
         GpuScene {
             params: GpuParams::new(space, &packed, &objects, &view),

@@ -42,6 +42,78 @@ pub enum GpuError {
     Readback(String),
 }
 
+/// The default GPU adapter's name, backend and driver, without opening a
+/// device: whether the GPU tracer and Bevy's renderer can run here.
+///
+/// # Errors
+/// [`GpuError::NoAdapter`] when there is none.
+pub fn probe_adapter() -> Result<String, GpuError> {
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+        power_preference: wgpu::PowerPreference::HighPerformance,
+        force_fallback_adapter: false,
+        compatible_surface: None,
+    }))
+    .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+    let info = adapter.get_info();
+    Ok(format!("{} ({:?}, {})", info.name, info.backend, info.driver_info))
+}
+
+/// Which tracer [`render_any`] used.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum UsedTracer {
+    /// The GPU, with this adapter.
+    Gpu(String),
+    /// The CPU reference, in f64 or f32, and why the GPU was not used
+    /// (`None` when the CPU was asked for).
+    Cpu {
+        /// f32 arithmetic (the GPU's) instead of f64.
+        f32: bool,
+        /// The GPU error that made it fall back.
+        fallback: Option<String>,
+    },
+}
+
+impl std::fmt::Display for UsedTracer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            UsedTracer::Gpu(a) => write!(f, "GPU: {a}"),
+            UsedTracer::Cpu { f32, .. } => write!(f, "CPU {}", if *f32 { "f32" } else { "f64" }),
+        }
+    }
+}
+
+/// Renders on the GPU unless `cpu` (falling back to the CPU reference when
+/// no adapter or device opens), or on the CPU reference (f32 arithmetic
+/// when `cpu_f32`): what `render` and the explorer's fallback share.
+///
+/// # Errors
+/// A GPU failure after the device opened (shader, validation, readback).
+pub fn render_any(
+    space: &Space,
+    scene: &Scene,
+    settings: &TraceSettings,
+    cpu: bool,
+    cpu_f32: bool,
+) -> Result<(TraceImage, UsedTracer), GpuError> {
+    let mut fallback = None;
+    if !cpu {
+        match GpuTracer::new() {
+            Ok(mut gpu) => {
+                let image = gpu.render(space, scene, settings)?;
+                return Ok((image, UsedTracer::Gpu(gpu.adapter_name())));
+            }
+            Err(e) => fallback = Some(e.to_string()),
+        }
+    }
+    let image = if cpu_f32 {
+        crate::trace::render::<f32>(space, scene, settings)
+    } else {
+        crate::trace::render::<f64>(space, scene, settings)
+    };
+    Ok((image, UsedTracer::Cpu { f32: cpu_f32, fallback }))
+}
+
 /// A wgpu device with the tracer's pipelines, one per specialisation used.
 pub struct GpuTracer {
     device: wgpu::Device,

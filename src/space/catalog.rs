@@ -29,6 +29,31 @@ pub fn by_name(name: &str) -> Option<Space> {
     })
 }
 
+/// A catalog space by name, or else the space file at that path: what the
+/// command line and the explorer accept wherever a space is asked for.
+///
+/// # Errors
+/// An unknown name that is no file either, or the file's error.
+///
+/// ```
+/// use bevy_manifold::space::catalog;
+/// assert_eq!(catalog::resolve("poincare").unwrap().name(), catalog::poincare().name());
+/// assert!(catalog::resolve("no-such-space").unwrap_err().contains("neither a catalog space"));
+/// ```
+pub fn resolve(name: &str) -> Result<Space, String> {
+    if let Some(s) = by_name(name) {
+        return Ok(s);
+    }
+    let path = std::path::Path::new(name);
+    if path.exists() {
+        return Space::load(path).map_err(|e| e.to_string());
+    }
+    Err(format!(
+        "'{name}' is neither a catalog space ({}) nor a space file",
+        NAMES.join(", ")
+    ))
+}
+
 /// The flat 3-torus: the cube of edge `edge` centred at the origin,
 /// opposite faces glued by translations (the paper's Example 1, edge 1).
 ///

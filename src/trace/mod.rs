@@ -16,6 +16,7 @@ mod drift;
 mod flow;
 mod mesh_hit;
 mod output;
+mod paper;
 mod prepare;
 mod render;
 mod scene;
@@ -28,6 +29,7 @@ pub use drift::{RayDrift, ray_drift};
 pub use flow::{Flowed, flow};
 pub use mesh_hit::{InstanceHit, hit_instance, meets_ball, mesh_albedo, mesh_normal};
 pub use output::{id_pixel, srgb8, write_ids_png, write_png};
+pub use paper::{HAND_COLOR, PaperOptions, SUZANNE_COLOR, SuzanneMode, hand_offset, suzanne_offset};
 pub use prepare::{
     EDGE_ID, FaceTables, Prepared, PreparedBall, PreparedInstance, PreparedLight, PreparedTube, ghost_centres,
     ghost_elements,

@@ -5,7 +5,7 @@ use super::prepare::{EDGE_ID, Prepared};
 use super::scene::Scene;
 use super::step::{Ray, advance_or_raw, foot_on_line, hit_ball, hit_tube, normal_from};
 use super::walk::Walker;
-use crate::cell::CellId;
+use crate::cell::{CellId, CellTint};
 use crate::geometry::{Geometry, Real};
 use crate::mesh::MeshHit;
 use crate::space::Space;
@@ -24,6 +24,8 @@ pub struct TraceSettings {
     pub max_distance: f64,
     /// Colour objects by the cell they are seen in.
     pub cell_colors: bool,
+    /// How, when `cell_colors` is on.
+    pub cell_tint: CellTint,
     /// Stop a ray once fog leaves less than 1/255 of its light.
     pub fog_early_stop: bool,
     /// Renormalise the ray after each advance and transport (off only to
@@ -39,6 +41,7 @@ impl Default for TraceSettings {
             max_level: 8,
             max_distance: 100.0,
             cell_colors: false,
+            cell_tint: CellTint::ByCell,
             fog_early_stop: true,
             renormalize: true,
         }
@@ -289,7 +292,8 @@ fn shade<R: Real>(
     };
     let mut albedo = albedo;
     if settings.cell_colors {
-        let c = space.cells().id_within(&R::m4_f64(cell), R::CELL_HORIZON).color();
+        let c = space.cells().id_within(&R::m4_f64(cell), R::CELL_HORIZON);
+        let c = settings.cell_tint.tint(c);
         albedo = [albedo[0] * c[0], albedo[1] * c[1], albedo[2] * c[2]];
     }
     let ambient = 0.08f32;

@@ -16,9 +16,8 @@
 //! origin to the eye and the origin's frame to the camera's; the camera
 //! looks along its local -z with +y up.
 
-use super::scene_mesh::{MeshDesc, SceneMesh, builtin, describe, read_meshes};
+use super::scene_mesh::{MeshDesc, SceneMesh, describe, read_meshes};
 use crate::geometry::{Geometry, isometry};
-use crate::mesh::MeshMaterial;
 use crate::space::Space;
 use crate::space::file::{from_rows, to_rows};
 use glam::{DMat4, DVec3, DVec4};
@@ -238,42 +237,11 @@ impl Scene {
     /// The paper's scene: the domain's edges as coloured tubes, Suzanne
     /// attached to the camera (the viewer sees its own images in the other
     /// copies) and the two hands in front of it, low left and right, lit
-    /// by a light at the eye. What `render` draws when no scene is given.
+    /// by a light at the eye. What `render` draws when no scene is given;
+    /// [`Scene::paper`] with [`super::PaperOptions::default`].
     #[must_use]
     pub fn paper_default(space: &Space) -> Scene {
-        let g = space.geometry();
-        let r = space.inradius();
-        let mut scene = Scene::default_for(space);
-        scene.balls.clear();
-        let camera = scene.camera.isometry;
-        // Suzanne is about 2.65 wide: a head 0.45 inradii across, turned to
-        // face the way the camera looks (she faces +z, the camera -z).
-        let facing = isometry::rotation(DVec3::Y, std::f64::consts::PI);
-        let mut suzanne = SceneMesh::new(
-            builtin::suzanne(),
-            MeshMaterial {
-                base_color: [0.85, 0.62, 0.3],
-                texture: None,
-            },
-            camera * facing,
-            0.17 * r,
-        );
-        suzanne.attached = true;
-        scene.meshes.push(suzanne);
-        for (left, x) in [(true, -1.0), (false, 1.0)] {
-            // The hands are about 0.2 long, fingers along -z.
-            let at = isometry::translation(g, DVec3::new(0.16 * x, -0.12, -0.3) * r);
-            scene.meshes.push(SceneMesh::new(
-                builtin::hand(left),
-                MeshMaterial {
-                    base_color: [0.9, 0.75, 0.65],
-                    texture: None,
-                },
-                camera * at,
-                0.9 * r,
-            ));
-        }
-        scene
+        Scene::paper(space, &super::PaperOptions::default())
     }
 
     /// Reads and validates a scene file for `space`.

@@ -1,6 +1,7 @@
 //! The main-world side of the pass: the components that make a Bevy camera
 //! look into a manifold.
 
+use crate::cell::{CellId, CellTint};
 use crate::placement::Placement;
 use bevy::color::{Color, LinearRgba};
 use bevy::core_pipeline::tonemapping::Tonemapping;
@@ -56,15 +57,52 @@ impl Default for ManifoldCamera {
     }
 }
 
-/// How the copies of the domain are told apart.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Reflect)]
+/// How the copies of the domain are told apart (per-cell shading, the
+/// paper's §7.2). The tint itself is [`crate::cell::CellTint`], shared with
+/// the CPU reference.
+///
+/// ```
+/// use bevy_manifold::prelude::*;
+/// use bevy_manifold::cell::CellTint;
+/// assert_eq!(CellShading::Off.tint(), None);
+/// assert_eq!(CellShading::ByCell.tint(), Some(CellTint::ByCell));
+/// let camera = ManifoldCamera { cell_shading: CellShading::Pattern { on_fraction: 0.3 }, ..Default::default() };
+/// assert!(camera.cell_shading.tint().is_some());
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Reflect)]
 pub enum CellShading {
     /// Every copy looks the same.
     #[default]
     Off,
     /// Each copy's albedo is tinted by a colour hashed from its
-    /// path-independent cell id (the copy the camera is in stays white).
+    /// path-independent cell id (the origin copy stays white).
     ByCell,
+    /// One copy, by its [`crate::cell::CellId`] (the `u64` inside), is
+    /// tinted orange (typically the copy the camera is in:
+    /// [`crate::placement::DomainCell::id`]).
+    Highlight {
+        /// The copy's id.
+        cell: u64,
+    },
+    /// On/off by cell: a copy is lit with probability `on_fraction` (the
+    /// same copies from every path), the others are dimmed.
+    Pattern {
+        /// Fraction of copies on, in `[0, 1]`.
+        on_fraction: f32,
+    },
+}
+
+impl CellShading {
+    /// The tint, or `None` when off.
+    #[must_use]
+    pub fn tint(self) -> Option<CellTint> {
+        match self {
+            CellShading::Off => None,
+            CellShading::ByCell => Some(CellTint::ByCell),
+            CellShading::Highlight { cell } => Some(CellTint::Highlight(CellId(cell))),
+            CellShading::Pattern { on_fraction } => Some(CellTint::Pattern { on_fraction }),
+        }
+    }
 }
 
 /// Exponential fog on a [`ManifoldCamera`]: light that travelled `d` keeps

@@ -3,7 +3,7 @@
 //! are shared `Arc`s (the packing happened once, in
 //! [`crate::drawables::gather_scenes`]); only the camera is new data.
 
-use super::camera::{CellShading, ManifoldCamera, ManifoldFog};
+use super::camera::{ManifoldCamera, ManifoldFog};
 use super::prepare::ManifoldViewBinding;
 use crate::drawables::ManifoldScene;
 use crate::placement::{DomainCell, ManifoldSpace, Placement};
@@ -32,6 +32,8 @@ pub struct ExtractedManifoldView {
     pub max_distance: f32,
     /// The shader defs this view needs.
     pub defs: TraceDefs,
+    /// Per-cell shading words ([`crate::cell::CellTint::words`]).
+    pub cell_tint: [u32; 3],
 }
 
 /// Main-world data of one manifold camera.
@@ -73,7 +75,8 @@ pub fn extract_manifold_views(
         // has none yet.
         let Some(scene) = scene else { continue };
         let fog = fog.and_then(ManifoldFog::linear);
-        let mut defs = TraceDefs::for_scene(space.space(), scene.scene(), mc.cell_shading == CellShading::ByCell);
+        let tint = mc.cell_shading.tint();
+        let mut defs = TraceDefs::for_scene(space.space(), scene.scene(), tint.is_some());
         defs.fog = fog.is_some();
         commands.entity(render_entity.id()).insert(ExtractedManifoldView {
             space: space.clone(),
@@ -84,6 +87,7 @@ pub fn extract_manifold_views(
             max_level: mc.max_level,
             max_distance: mc.max_distance,
             defs,
+            cell_tint: tint.unwrap_or_default().words(),
         });
         now.insert(render_entity.id());
     }

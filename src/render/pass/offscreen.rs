@@ -41,24 +41,28 @@ use std::time::{Duration, Instant};
 /// one process.
 pub fn app(with_manifold: bool) -> App {
     let mut app = App::new();
-    app.add_plugins(
-        DefaultPlugins
-            .build()
-            .disable::<WinitPlugin>()
-            .disable::<PipelinedRenderingPlugin>()
-            .disable::<LogPlugin>()
-            .set(WindowPlugin {
-                primary_window: None,
-                exit_condition: ExitCondition::DontExit,
-                ..default()
-            }),
-    );
+    app.add_plugins(plugins().disable::<LogPlugin>());
     if with_manifold {
         app.add_plugins(crate::ManifoldPlugin::default());
     }
     app.finish();
     app.cleanup();
     app
+}
+
+/// Bevy's default plugins without a window or winit, with the render world
+/// on the calling thread: what [`app`] adds (it also leaves the logger
+/// out), for apps that want their own logger or plugins.
+pub fn plugins() -> bevy::app::PluginGroupBuilder {
+    DefaultPlugins
+        .build()
+        .disable::<WinitPlugin>()
+        .disable::<PipelinedRenderingPlugin>()
+        .set(WindowPlugin {
+            primary_window: None,
+            exit_condition: ExitCondition::DontExit,
+            ..default()
+        })
 }
 
 /// A `w` x `h` sRGB image a camera can render into and [`capture`] can
@@ -81,6 +85,7 @@ pub fn wait_for_pipelines(app: &mut App) -> Result<(), String> {
     let mut quiet = 0;
     while start.elapsed() < Duration::from_secs(120) {
         app.update();
+        stopped(app)?;
         let world = app.sub_app_mut(RenderApp).world_mut();
         let ids: Vec<_> = world
             .query::<&ManifoldViewBinding>()
@@ -97,6 +102,17 @@ pub fn wait_for_pipelines(app: &mut App) -> Result<(), String> {
         std::thread::sleep(Duration::from_millis(5));
     }
     Err("the app's pipelines did not all compile within two minutes".into())
+}
+
+/// An error when the app asked to exit with an error (Bevy's renderer does
+/// so on a wgpu validation or device error, after logging it).
+fn stopped(app: &App) -> Result<(), String> {
+    match app.should_exit() {
+        Some(AppExit::Error(code)) => Err(format!(
+            "the app exited with error {code} (a render error is logged above when a logger is on)"
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// Renders a frame and reads the image in `target` back (a [`target`]
@@ -123,6 +139,7 @@ pub fn capture(app: &mut App, target: &Handle<Image>) -> Result<Vec<u8>, String>
         .id();
     for _ in 0..200 {
         app.update();
+        stopped(app)?;
         let taken = slot.lock().map_err(|e| e.to_string())?.take();
         if let Some(data) = taken {
             app.world_mut().despawn(reader);

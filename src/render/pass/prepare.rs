@@ -136,6 +136,7 @@ fn gpu_view(view: &ExtractedManifoldView, extracted: &ExtractedView) -> GpuView 
         max_level: view.max_level,
         max_distance: view.max_distance,
         flags: 0,
+        cell_tint: view.cell_tint,
     }
 }
 

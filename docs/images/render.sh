@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Renders the README's pictures: each example's paper figure at 640x360,
+# headlessly (any Vulkan/Metal/DX12 adapter; lavapipe will do).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+cargo build --release --examples
+bin="${CARGO_TARGET_DIR:-target}/release/examples"
+out=docs/images
+"$bin/torus" --screenshot "$out/torus.png"
+"$bin/torus" --fog --screenshot "$out/torus_fog.png"
+"$bin/seifert_weber" --screenshot "$out/seifert_weber.png"
+"$bin/poincare" --screenshot "$out/poincare.png"
+"$bin/mirrored_cube" --screenshot "$out/mirrored_cube.png"
+"$bin/mirrored_dodecahedron" --screenshot "$out/mirrored_dodecahedron.png"
+"$bin/mirrored_dodecahedron" --no-edges --screenshot "$out/mirrored_dodecahedron_no_edges.png"

@@ -1,0 +1,41 @@
+//! The mirrored right-angled dodecahedron, as in the paper's Fig. 7: every
+//! face of a hyperbolic dodecahedron with 90° dihedral angles is a mirror,
+//! and the reflections tile hyperbolic space by dodecahedra. Suzanne is
+//! attached to the camera. `--no-edges` hides the domain's edges, as in
+//! Fig. 10, so the structure is left for the eye to find.
+//!
+//! `cargo run --release --example mirrored_dodecahedron [-- --no-edges] [-- --screenshot FILE.png [--size WxH]]`
+
+use bevy::prelude::*;
+use bevy_manifold::paper_scene::{paper_camera, spawn_paper_scene};
+use bevy_manifold::prelude::*;
+use bevy_manifold::showcase;
+use bevy_manifold::trace::PaperOptions;
+
+fn main() -> AppExit {
+    let mut app = showcase::app(
+        "The mirrored dodecahedron (paper Fig. 7, Fig. 10 with --no-edges)",
+        "every face of a right-angled hyperbolic dodecahedron a mirror",
+    );
+    app.add_systems(Startup, setup);
+    showcase::run(app)
+}
+
+fn setup(mut commands: Commands) {
+    let space = catalog::mirrored_dodecahedron();
+    let root = commands.spawn(ManifoldSpace::new(space.clone())).id();
+    // Four levels: beyond them the copies shrink below a pixel and alias
+    // into noise (the paper measured up to three bounces).
+    let camera = ManifoldCamera {
+        max_level: 4,
+        ..default()
+    };
+    let eye = commands
+        .spawn((ChildOf(root), camera, FlyCamera::default(), paper_camera(&space)))
+        .id();
+    let scene = PaperOptions {
+        edges: !showcase::flag("--no-edges"),
+        ..default()
+    };
+    spawn_paper_scene(&mut commands, root, eye, &space, scene);
+}
