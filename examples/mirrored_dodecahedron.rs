@@ -30,8 +30,11 @@ fn setup(mut commands: Commands) {
         max_level: 4,
         ..default()
     };
+    // Turned around, towards the nearer mirrors and their reflections.
+    let (mut placement, projection) = paper_camera(&space);
+    placement.isometry *= isometry::rotation(glam::DVec3::Y, std::f64::consts::PI);
     let eye = commands
-        .spawn((ChildOf(root), camera, FlyCamera::default(), paper_camera(&space)))
+        .spawn((ChildOf(root), camera, FlyCamera::default(), placement, projection))
         .id();
     let scene = PaperOptions {
         edges: !showcase::flag("--no-edges"),

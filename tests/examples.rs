@@ -6,6 +6,10 @@
 
 #![cfg(feature = "app")]
 
+mod common;
+
+use common::gpu_available;
+
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -40,20 +44,6 @@ fn example(name: &str) -> PathBuf {
         assert!(cargo.status().expect("cargo runs").success(), "cargo build --examples");
     }
     path
-}
-
-fn gpu_available() -> bool {
-    match bevy_manifold::render::probe_adapter() {
-        Ok(a) => {
-            eprintln!("GPU adapter: {a}");
-            true
-        }
-        Err(e) if std::env::var_os("CI").is_none() => {
-            eprintln!("SKIPPED: no GPU to test on: {e}");
-            false
-        }
-        Err(e) => panic!("CI must have a GPU adapter (lavapipe): {e}"),
-    }
 }
 
 #[test]

@@ -5,12 +5,15 @@
 
 #![cfg(feature = "app")]
 
+mod common;
+
+use common::gpu_available;
+
 use bevy::prelude::*;
 use bevy::render::renderer::RenderDevice;
 use bevy_manifold::explorer::settings::{self, ExplorerSettings};
 use bevy_manifold::explorer::{CellMode, ExplorerPlugin, ExplorerStatus, ExplorerView, ExplorerWorld};
 use bevy_manifold::prelude::*;
-use bevy_manifold::render::GpuTracer;
 use bevy_manifold::render::pass::offscreen;
 use bevy_manifold::trace::SuzanneMode;
 use std::path::PathBuf;
@@ -21,17 +24,6 @@ fn tmp_dir(name: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("temp dir");
     dir
-}
-
-fn gpu_available() -> bool {
-    match GpuTracer::new() {
-        Ok(_) => true,
-        Err(e) if std::env::var_os("CI").is_none() => {
-            eprintln!("SKIPPED: no GPU to test on: {e}");
-            false
-        }
-        Err(e) => panic!("CI must have a GPU adapter (lavapipe): {e}"),
-    }
 }
 
 #[test]

@@ -8,6 +8,10 @@
 
 #![cfg(feature = "app")]
 
+mod common;
+
+use common::gpu_available;
+
 use bevy::camera::{RenderTarget, Viewport};
 use bevy::prelude::*;
 use bevy::render::RenderApp;
@@ -19,20 +23,6 @@ use bevy_manifold::trace::srgb8;
 
 const W: u32 = 160;
 const H: u32 = 120;
-
-fn gpu_available() -> bool {
-    match GpuTracer::new() {
-        Ok(t) => {
-            eprintln!("GPU adapter: {}", t.adapter_name());
-            true
-        }
-        Err(e) if std::env::var_os("CI").is_none() => {
-            eprintln!("SKIPPED: no GPU to test on: {e}");
-            false
-        }
-        Err(e) => panic!("CI must have a GPU adapter (lavapipe): {e}"),
-    }
-}
 
 fn headless_app(with_manifold: bool) -> App {
     offscreen::app(with_manifold)
@@ -102,6 +92,24 @@ fn gathered_scene(app: &App, space: &Space, root: Entity, fog: bool) -> Scene {
         scene.fog = Some(fog_of(space));
     }
     scene
+}
+
+/// What the pass showed (`shown`) of a scene with a ball and two meshes
+/// (object ids 2 and 3) against the headless compute trace (within 1/255)
+/// and the CPU f64 reference (within 2/255), at 8 levels: the meshes'
+/// pixel count on the CPU and the two agreements.
+fn mesh_agreement(space: &Space, scene: &Scene, shown: &[u8]) -> (usize, f64, f64) {
+    let settings = TraceSettings {
+        width: W,
+        height: H,
+        max_level: 8,
+        ..TraceSettings::default()
+    };
+    let mut gpu = GpuTracer::new().expect("adapter");
+    let compute = gpu.render(space, scene, &settings).expect("headless trace");
+    let cpu = render::<f64>(space, scene, &settings);
+    let mesh_pixels = cpu.pixels.iter().filter(|p| (2..=3).contains(&p.object)).count();
+    (mesh_pixels, agreement(shown, &compute, 1), agreement(shown, &cpu, 2))
 }
 
 #[test]
@@ -379,17 +387,7 @@ fn gltf_meshes_in_a_manifold_are_traced_and_not_rasterised() {
         hidden, 3,
         "each traced mesh entity is hidden from Bevy's cameras (the missing one too)"
     );
-    let settings = TraceSettings {
-        width: W,
-        height: H,
-        max_level: 8,
-        ..TraceSettings::default()
-    };
-    let mut gpu = GpuTracer::new().expect("adapter");
-    let compute = gpu.render(&space, &scene, &settings).expect("headless trace");
-    let cpu = render::<f64>(&space, &scene, &settings);
-    let mesh_pixels = cpu.pixels.iter().filter(|p| (2..=3).contains(&p.object)).count();
-    let (vs_compute, vs_cpu) = (agreement(&shown, &compute, 1), agreement(&shown, &cpu, 2));
+    let (mesh_pixels, vs_compute, vs_cpu) = mesh_agreement(&space, &scene, &shown);
     eprintln!(
         "two traced Suzannes in poincare: {mesh_pixels} mesh pixels; pass vs compute {:.3}%, vs CPU f64 {:.3}%",
         vs_compute * 100.0,
@@ -463,19 +461,7 @@ fn gltf_scene_roots_in_a_manifold_are_traced() {
     wait_for_pipelines(&mut app);
     let shown = capture(&mut app, &image);
     let scene = gathered_scene(&app, &space, root, false);
-    let settings = TraceSettings {
-        width: W,
-        height: H,
-        max_level: 8,
-        ..TraceSettings::default()
-    };
-    let compute = GpuTracer::new()
-        .expect("adapter")
-        .render(&space, &scene, &settings)
-        .expect("headless trace");
-    let cpu = render::<f64>(&space, &scene, &settings);
-    let mesh_pixels = cpu.pixels.iter().filter(|p| (2..=3).contains(&p.object)).count();
-    let (vs_compute, vs_cpu) = (agreement(&shown, &compute, 1), agreement(&shown, &cpu, 2));
+    let (mesh_pixels, vs_compute, vs_cpu) = mesh_agreement(&space, &scene, &shown);
     eprintln!(
         "glTF scenes in the torus: {mesh_pixels} mesh pixels; pass vs compute {:.3}%, vs CPU f64 {:.3}%",
         vs_compute * 100.0,
@@ -551,6 +537,32 @@ fn the_papers_scene_as_entities_matches_the_tracers() {
     );
     assert!(mesh_pixels > 500, "the hands and Suzanne's images are in view");
     assert!(close >= 0.99);
+    // The camera moves, and the body and hands with it: their instances
+    // are uploaded again, their BVHs are not.
+    let mesh_bytes = (app
+        .world()
+        .get::<ManifoldScene>(root)
+        .unwrap()
+        .gpu_objects()
+        .mesh_data
+        .len()
+        * 16) as u64;
+    let before = uploads(&app);
+    app.world_mut().get_mut::<Placement>(camera).unwrap().isometry *=
+        isometry::translation(space.geometry(), glam::DVec3::X * 0.05);
+    app.update();
+    app.update();
+    let after = uploads(&app);
+    eprintln!(
+        "moving the camera: {} object uploads, {} bytes (the meshes' data is {mesh_bytes} bytes)",
+        after.objects - before.objects,
+        after.bytes - before.bytes
+    );
+    assert!(after.objects > before.objects, "the attached meshes moved");
+    assert!(
+        after.bytes - before.bytes < mesh_bytes / 4,
+        "the BVHs were not uploaded again"
+    );
 }
 
 #[test]

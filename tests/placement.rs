@@ -22,6 +22,12 @@ fn app(step: Duration) -> App {
         .insert_resource(TimeUpdateStrategy::ManualDuration(step))
         .init_resource::<Crossings>()
         .add_systems(Last, collect);
+    // These apps run a handful of tiny systems millions of times (the
+    // wander test): every schedule on one thread, without the multi-threaded
+    // executor's hand-offs, is several times faster.
+    for (_, schedule) in app.world_mut().resource_mut::<Schedules>().iter_mut() {
+        schedule.set_executor(bevy::ecs::schedule::SingleThreadedExecutor::new());
+    }
     app
 }
 

@@ -32,6 +32,10 @@ enum Command {
         /// Quit after this many frames (for smoke tests).
         #[arg(long)]
         frames: Option<u32>,
+        /// With --frames: save the window (panel included) to this PNG at
+        /// that frame, then quit.
+        #[arg(long, requires = "frames")]
+        screenshot: Option<PathBuf>,
     },
     /// Inspect and export spaces.
     #[command(subcommand)]
@@ -102,9 +106,9 @@ pub fn run() -> ExitCode {
     let result = match cli.command {
         // The explorer: a window, or its headless fallback.
         #[cfg(feature = "app")]
-        None => return explore(None),
+        None => return explore(None, None),
         #[cfg(feature = "app")]
-        Some(Command::Explore { frames }) => return explore(frames),
+        Some(Command::Explore { frames, screenshot }) => return explore(frames, screenshot),
         #[cfg(not(feature = "app"))]
         None => {
             // Built without the windowed app: the explorer is not here.
@@ -137,8 +141,8 @@ pub fn run() -> ExitCode {
 }
 
 #[cfg(feature = "app")]
-fn explore(frames: Option<u32>) -> ExitCode {
-    match bevy_manifold::explorer::run_for(frames) {
+fn explore(frames: Option<u32>, screenshot: Option<PathBuf>) -> ExitCode {
+    match bevy_manifold::explorer::run_for(frames, screenshot) {
         bevy::app::AppExit::Success => ExitCode::SUCCESS,
         bevy::app::AppExit::Error(_) => ExitCode::FAILURE,
     }

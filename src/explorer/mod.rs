@@ -34,7 +34,7 @@ use crate::placement::DomainCell;
 use crate::space::catalog;
 use crate::trace::SuzanneMode;
 use bevy::prelude::*;
-use bevy::render::view::screenshot::{Screenshot, save_to_disk};
+use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured, save_to_disk};
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
@@ -228,13 +228,15 @@ fn save_on_exit(
 /// wrong with them), then opens the explorer window; or, without a display
 /// or a GPU adapter, says so and renders `explorer.png` instead.
 pub fn run() -> AppExit {
-    run_for(None)
+    run_for(None, None)
 }
 
-/// [`run`], quitting after `frames` frames when given (smoke tests).
-pub fn run_for(frames: Option<u32>) -> AppExit {
+/// [`run`], quitting after `frames` frames when given (smoke tests), and
+/// then saving the whole window, panel included, to `screenshot`.
+pub fn run_for(frames: Option<u32>, screenshot: Option<PathBuf>) -> AppExit {
     let path = settings::settings_path();
-    let (settings, warnings) = match &path {
+    let first_run = path.as_ref().is_some_and(|p| !p.exists());
+    let (mut settings, mut warnings) = match &path {
         Some(p) => settings::load(p),
         None => (
             ExplorerSettings::default(),
@@ -247,6 +249,15 @@ pub fn run_for(frames: Option<u32>) -> AppExit {
     if let Some(why) = fallback::no_window_reason() {
         return fallback::render_instead(&why, &settings, std::path::Path::new("explorer.png"));
     }
+    // A first run on a software rasteriser (lavapipe, WARP, SwiftShader)
+    // starts at half resolution and four levels, or a frame takes seconds.
+    if first_run && crate::render::probe_adapter_info().is_ok_and(|a| a.device_type == wgpu::DeviceType::Cpu) {
+        settings.render_scale = 0.5;
+        settings.max_level = 4;
+        let note = "a software GPU adapter: starting at render scale 0.5 and 4 levels (the panel sets both)";
+        eprintln!("note: {note}");
+        warnings.push(note.into());
+    }
     let mut app = App::new();
     app.add_plugins(DefaultPlugins.set(WindowPlugin {
         primary_window: Some(Window {
@@ -258,16 +269,44 @@ pub fn run_for(frames: Option<u32>) -> AppExit {
     }))
     .insert_resource(settings)
     .add_plugins((ExplorerPlugin { settings_path: path }, panel::ExplorerPanelPlugin));
-    if let Some(first) = warnings.first() {
-        app.world_mut().resource_mut::<ExplorerStatus>().message = Some((first.clone(), true));
+    if !warnings.is_empty() {
+        app.world_mut().resource_mut::<ExplorerStatus>().message = Some((warnings.join("\n"), true));
     }
     if let Some(n) = frames {
-        app.add_systems(Last, move |mut count: Local<u32>, mut exit: MessageWriter<AppExit>| {
-            *count += 1;
-            if *count >= n {
-                exit.write(AppExit::Success);
-            }
-        });
+        app.add_systems(
+            Last,
+            move |mut commands: Commands,
+                  mut count: Local<u32>,
+                  mut exit: MessageWriter<AppExit>,
+                  status: Res<ExplorerStatus>,
+                  view: Res<ExplorerView>| {
+                *count += 1;
+                if *count == n {
+                    // What a smoke run measured, for its log.
+                    println!(
+                        "explorer: {n} frames, mean frame time over the last {:.0} s {:.1} ms, view {}x{} traced",
+                        ExplorerStatus::HISTORY_SECS,
+                        status.mean_frame_ms().unwrap_or(f32::NAN),
+                        view.size.x,
+                        view.size.y
+                    );
+                }
+                match &screenshot {
+                    Some(path) if *count == n => {
+                        commands
+                            .spawn(Screenshot::primary_window())
+                            .observe(save_to_disk(path.clone()))
+                            .observe(|_: On<ScreenshotCaptured>, mut exit: MessageWriter<AppExit>| {
+                                exit.write(AppExit::Success);
+                            });
+                    }
+                    None if *count >= n => {
+                        exit.write(AppExit::Success);
+                    }
+                    _ => {}
+                }
+            },
+        );
     }
     app.run()
 }

@@ -204,7 +204,7 @@ fn contents(
     ui.add(egui::Slider::new(&mut s.render_scale, MIN_SCALE..=1.0).text("render scale"));
     ui.label(format!("{} x {} px traced", view.size.x, view.size.y));
     if let Some(ms) = status.mean_frame_ms() {
-        ui.label(format!("frame {ms:.1} ms ({:.0} fps)", 1000.0 / ms.max(0.001)));
+        ui.label(format!("frame {ms:.1} ms ({:.1} fps)", 1000.0 / ms.max(0.001)));
     }
     frame_plot(ui, status);
     if let Some(a) = adapter {

@@ -14,7 +14,7 @@ pub use gpu::{
     FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE, GpuBall, GpuFace, GpuInstance, GpuLight, GpuObjects, GpuParams, GpuPixel,
     GpuScene, GpuSpace, GpuTube, GpuView, settings_flags,
 };
-pub use headless::{GpuError, GpuTracer, UsedTracer, probe_adapter, render_any};
+pub use headless::{GpuError, GpuTracer, UsedTracer, probe_adapter, probe_adapter_info, render_any};
 pub use shader_defs::{CellScheme as GpuCellScheme, TraceDefs};
 
 /// The tracer's WGSL source, carried inside the crate so an app that

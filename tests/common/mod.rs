@@ -21,6 +21,22 @@ pub fn tracer() -> Option<GpuTracer> {
     }
 }
 
+/// Whether there is a GPU adapter to test on: false (with a line saying
+/// so) outside CI; under CI (`CI` set) a missing adapter is a failure.
+pub fn gpu_available() -> bool {
+    match bevy_manifold::render::probe_adapter() {
+        Ok(a) => {
+            eprintln!("GPU adapter: {a}");
+            true
+        }
+        Err(e) if std::env::var_os("CI").is_none() => {
+            eprintln!("SKIPPED: no GPU to test on: {e}");
+            false
+        }
+        Err(e) => panic!("CI must have a GPU adapter (lavapipe): {e}"),
+    }
+}
+
 /// Fractions of pixels with the same object and cell id, and with every
 /// colour channel within 2/255, of `a` against the reference `b`. A cell id
 /// either side flags FAR (a hyperbolic copy beyond the horizon of its

@@ -34,7 +34,8 @@ pub struct ManifoldViewBinding {
 pub struct ManifoldUploads {
     /// Times a space's faces and cell table were uploaded.
     pub space: u64,
-    /// Times a scene's balls, tubes and lights were uploaded.
+    /// Times a scene's balls, tubes, lights and instances were uploaded
+    /// (the meshes' data only when it changed).
     pub objects: u64,
     /// Times a view's params uniform was written.
     pub params: u64,
@@ -109,14 +110,22 @@ fn space_buffers(device: &RenderDevice, s: &GpuSpace, stats: &mut ManifoldUpload
     )
 }
 
-fn object_buffers(device: &RenderDevice, o: &GpuObjects, stats: &mut ManifoldUploads) -> [Buffer; 5] {
+/// The objects' buffers: balls, tubes, lights, instances, and the meshes'
+/// data, unless `reuse` holds a buffer of the same mesh data (a moved
+/// instance changes its matrix, not its mesh: the BVHs stay uploaded).
+fn object_buffers(
+    device: &RenderDevice,
+    o: &GpuObjects,
+    reuse: Option<Buffer>,
+    stats: &mut ManifoldUploads,
+) -> [Buffer; 5] {
     stats.objects += 1;
     [
         storage(device, "manifold_balls", bytemuck::cast_slice(&o.balls), stats),
         storage(device, "manifold_tubes", bytemuck::cast_slice(&o.tubes), stats),
         storage(device, "manifold_lights", bytemuck::cast_slice(&o.lights), stats),
         storage(device, "manifold_instances", bytemuck::cast_slice(&o.instances), stats),
-        storage(device, "manifold_mesh_data", bytemuck::cast_slice(&o.mesh_data), stats),
+        reuse.unwrap_or_else(|| storage(device, "manifold_mesh_data", bytemuck::cast_slice(&o.mesh_data), stats)),
     ]
 }
 
@@ -183,7 +192,7 @@ pub fn prepare_manifold_views(
         let params = GpuParams::new(view.space.space(), space, objects, &gpu_view(view, extracted));
         let entry = cache.views.entry(entity).or_insert_with(|| {
             let (faces, cell_table) = space_buffers(&device, space, stats);
-            let [balls, tubes, lights, instances, mesh_data] = object_buffers(&device, objects, stats);
+            let [balls, tubes, lights, instances, mesh_data] = object_buffers(&device, objects, None, stats);
             stats.params += 1;
             stats.bytes += std::mem::size_of::<GpuParams>() as u64;
             let params_buffer = device.create_buffer_with_data(&BufferInitDescriptor {
@@ -212,8 +221,10 @@ pub fn prepare_manifold_views(
             entry.bind_group = None;
         }
         if !Arc::ptr_eq(&entry.objects, objects) {
+            let same_meshes = entry.objects.mesh_data == objects.mesh_data;
+            let reuse = same_meshes.then(|| entry.mesh_data.clone());
             [entry.balls, entry.tubes, entry.lights, entry.instances, entry.mesh_data] =
-                object_buffers(&device, objects, stats);
+                object_buffers(&device, objects, reuse, stats);
             entry.objects = objects.clone();
             entry.bind_group = None;
         }
