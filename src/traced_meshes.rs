@@ -102,6 +102,9 @@ pub fn bevy_mesh(mesh: &TriMesh) -> Mesh {
 #[derive(Resource, Default)]
 pub struct MeshBvhCache {
     meshes: HashMap<AssetId<Mesh>, Option<Arc<MeshData>>>,
+    // Base-colour textures come from StandardMaterial, which only the
+    // `app` feature has.
+    #[cfg_attr(not(feature = "app"), allow(dead_code))]
     textures: HashMap<AssetId<Image>, Option<Arc<Texture>>>,
     /// Mesh asset events seen since the last gathering.
     dirty: bool,
