@@ -184,7 +184,7 @@ fn switching_spaces_100_times_leaks_no_buffers_or_pipelines() {
     };
     // Every space once, so each specialisation is compiled and cached
     // (Bevy keeps compiled pipelines for the app's lifetime, as it should).
-    for i in 0..=names.len() {
+    for i in 0..=2 * names.len() {
         switch(&mut app, i);
         offscreen::wait_for_pipelines(&mut app).expect("pipelines");
     }
@@ -199,14 +199,26 @@ fn switching_spaces_100_times_leaks_no_buffers_or_pipelines() {
         "after {} switches: live [buffers, textures, bind groups, render pipelines, compute pipelines, shader modules] {before:?} before, {after:?} after",
         status.switches
     );
-    assert_eq!(status.switches, names.len() as u64 + 100);
+    assert_eq!(status.switches, 2 * names.len() as u64 + 100);
     assert_eq!(
         world.space.name(),
         catalog::torus(1.0).name(),
         "100 switches over 5 spaces end where they began"
     );
     assert!(before[0] > 0 && before[3] > 0, "the counters count ({before:?})");
-    assert_eq!(after, before);
+    // Pipelines and shader modules: exactly where they were (each
+    // specialisation compiled once). Buffers, textures and bind groups:
+    // no more than before; Bevy may have freed some of its own since (a
+    // leak of one per switch would add a hundred).
+    assert_eq!(after[3..], before[3..], "pipelines and shader modules");
+    for (k, what) in ["buffers", "textures", "bind groups"].iter().enumerate() {
+        assert!(
+            after[k] <= before[k],
+            "{what}: {} before, {} after",
+            before[k],
+            after[k]
+        );
+    }
     // One space root is left, with its camera.
     let w = app.world_mut();
     assert_eq!(w.query::<&ManifoldSpace>().iter(w).count(), 1);
