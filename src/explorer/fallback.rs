@@ -5,22 +5,24 @@
 //! reference when there is no adapter, and exits 0.
 
 use super::settings::ExplorerSettings;
-use crate::render::{UsedTracer, probe_adapter, render_any};
+use crate::render::{UsedTracer, probe_adapter_info, render_any};
 use crate::space::catalog;
 use crate::trace::{Fog, Scene, TraceSettings, write_png};
 use bevy::app::AppExit;
 use std::path::Path;
 
-/// Why no window can be opened here, if so: no display server (Linux and
-/// the BSDs: neither `DISPLAY` nor `WAYLAND_DISPLAY` is set), or no GPU
-/// adapter.
-#[must_use]
-pub fn no_window_reason() -> Option<String> {
+/// The GPU adapter a window would render with, or why no window can be
+/// opened here: no display server (Linux and the BSDs: neither `DISPLAY`
+/// nor `WAYLAND_DISPLAY` is set), or no GPU adapter.
+///
+/// # Errors
+/// The reason, in one line.
+pub fn window_adapter() -> Result<wgpu::AdapterInfo, String> {
     let set = |k: &str| std::env::var_os(k).is_some_and(|v| !v.is_empty());
     if cfg!(all(unix, not(target_os = "macos"))) && !set("DISPLAY") && !set("WAYLAND_DISPLAY") {
-        return Some("no display (neither DISPLAY nor WAYLAND_DISPLAY is set)".into());
+        return Err("no display (neither DISPLAY nor WAYLAND_DISPLAY is set)".into());
     }
-    probe_adapter().err().map(|e| format!("no window: {e}"))
+    probe_adapter_info().map_err(|e| format!("no window: {e}"))
 }
 
 /// The explorer's first view as a CPU/GPU tracer scene: the settings'
@@ -33,11 +35,13 @@ pub fn view_scene(settings: &ExplorerSettings, width: u32, height: u32) -> (crat
         catalog::torus(1.0)
     });
     let mut scene = Scene::paper(&space, &settings.paper());
-    if let Some(fog) = settings.fog() {
-        let c = fog.color.to_linear();
+    // As the pass reads the camera's fog (no fog at density 0).
+    if let Some(fog) = settings.fog()
+        && let Some((_, color)) = fog.linear()
+    {
         scene.fog = Some(Fog {
             density: fog.density,
-            color: [c.red, c.green, c.blue],
+            color,
         });
     }
     let tint = settings.cell_shading().tint();
@@ -57,7 +61,7 @@ pub fn view_scene(settings: &ExplorerSettings, width: u32, height: u32) -> (crat
 /// the GPU, 640x360 on the CPU reference) and returns success; an error
 /// exit only when the image cannot be made or written.
 pub fn render_instead(why: &str, settings: &ExplorerSettings, out: &Path) -> AppExit {
-    let gpu = probe_adapter().is_ok();
+    let gpu = probe_adapter_info().is_ok();
     let (w, h) = if gpu { (1280, 720) } else { (640, 360) };
     let (space, scene, trace) = view_scene(settings, w, h);
     let result = render_any(&space, &scene, &trace, !gpu, false)

@@ -246,12 +246,13 @@ pub fn run_for(frames: Option<u32>, screenshot: Option<PathBuf>) -> AppExit {
     for w in &warnings {
         eprintln!("warning: {w}");
     }
-    if let Some(why) = fallback::no_window_reason() {
-        return fallback::render_instead(&why, &settings, std::path::Path::new("explorer.png"));
-    }
+    let adapter = match fallback::window_adapter() {
+        Ok(a) => a,
+        Err(why) => return fallback::render_instead(&why, &settings, std::path::Path::new("explorer.png")),
+    };
     // A first run on a software rasteriser (lavapipe, WARP, SwiftShader)
     // starts at half resolution and four levels, or a frame takes seconds.
-    if first_run && crate::render::probe_adapter_info().is_ok_and(|a| a.device_type == wgpu::DeviceType::Cpu) {
+    if first_run && adapter.device_type == wgpu::DeviceType::Cpu {
         settings.render_scale = 0.5;
         settings.max_level = 4;
         let note = "a software GPU adapter: starting at render scale 0.5 and 4 levels (the panel sets both)";

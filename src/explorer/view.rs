@@ -12,7 +12,6 @@ use crate::render::pass::ManifoldFog;
 use crate::space::{Space, catalog};
 use bevy::camera::RenderTarget;
 use bevy::prelude::*;
-use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use std::collections::VecDeque;
 
 /// Marks the explorer's camera.
@@ -80,11 +79,9 @@ impl ExplorerStatus {
     }
 }
 
-/// A render target image of `size`.
-pub fn view_image(images: &mut Assets<Image>, size: UVec2) -> Handle<Image> {
-    let mut image = Image::new_target_texture(size.x.max(1), size.y.max(1), TextureFormat::Rgba8UnormSrgb, None);
-    image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
-    images.add(image)
+/// A render target image of `size` (at least 1x1).
+fn view_image(images: &mut Assets<Image>, size: UVec2) -> Handle<Image> {
+    crate::render::pass::offscreen::target_image(images, size.x.max(1), size.y.max(1))
 }
 
 /// Spawns `space` with the paper's scene and the explorer's camera as the

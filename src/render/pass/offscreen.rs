@@ -68,9 +68,14 @@ pub fn plugins() -> bevy::app::PluginGroupBuilder {
 /// A `w` x `h` sRGB image a camera can render into and [`capture`] can
 /// read back.
 pub fn target(app: &mut App, w: u32, h: u32) -> Handle<Image> {
+    target_image(&mut app.world_mut().resource_mut::<Assets<Image>>(), w, h)
+}
+
+/// [`target`] added to `images` directly (from a system).
+pub fn target_image(images: &mut Assets<Image>, w: u32, h: u32) -> Handle<Image> {
     let mut image = Image::new_target_texture(w, h, TextureFormat::Rgba8UnormSrgb, None);
     image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
-    app.world_mut().resource_mut::<Assets<Image>>().add(image)
+    images.add(image)
 }
 
 /// Updates the app until every pipeline it queued has compiled (Bevy's
