@@ -9,7 +9,9 @@
 use bevy::prelude::*;
 use bevy_manifold::paper_scene::{paper_camera, spawn_paper_scene};
 use bevy_manifold::prelude::*;
-use bevy_manifold::showcase;
+#[path = "support/showcase.rs"]
+#[allow(dead_code, reason = "each example uses its own part of it")]
+mod showcase;
 use bevy_manifold::trace::PaperOptions;
 
 fn main() -> AppExit {
@@ -26,10 +28,7 @@ fn setup(mut commands: Commands) {
     let root = commands.spawn(ManifoldSpace::new(space.clone())).id();
     // Four levels: beyond them the copies shrink below a pixel and alias
     // into noise (the paper measured up to three bounces).
-    let camera = ManifoldCamera {
-        max_level: 4,
-        ..default()
-    };
+    let camera = ManifoldCamera { levels: 4, ..default() };
     // Turned around, towards the nearer mirrors and their reflections.
     let (mut placement, projection) = paper_camera(&space);
     placement.isometry *= isometry::rotation(glam::DVec3::Y, std::f64::consts::PI);

@@ -10,7 +10,9 @@
 use bevy::prelude::*;
 use bevy_manifold::paper_scene::{paper_camera, spawn_paper_scene};
 use bevy_manifold::prelude::*;
-use bevy_manifold::showcase;
+#[path = "support/showcase.rs"]
+#[allow(dead_code, reason = "each example uses its own part of it")]
+mod showcase;
 use bevy_manifold::trace::{PaperOptions, SuzanneMode};
 
 fn main() -> AppExit {

@@ -1,7 +1,9 @@
 //! What the tracer draws, as components: balls and lights placed in a
 //! manifold, and the domain's edges. [`gather_scenes`] collects them per
 //! space into a [`ManifoldScene`] on the space's root entity, rebuilt only
-//! when one of them (or the space) changed; the render pass uploads from it.
+//! when one of them (or the space) changed. The scene is render-agnostic
+//! (the CPU reference can trace it as it is); the render world's prepare
+//! stage packs it for the GPU when its generation changes.
 //!
 //! ```
 //! use bevy::prelude::*;
@@ -21,9 +23,8 @@
 //! assert!(scene.scene().edge_radius.is_some());
 //! ```
 
-use crate::placement::{ManifoldSpace, ManifoldSystems, Placement};
-use crate::render::{GpuObjects, GpuSpace};
-use crate::trace::{Ball, Light, Prepared, Scene};
+use crate::placement::{InSpace, ManifoldSpace, ManifoldSystems, Placement, SpaceMembers};
+use crate::trace::{Ball, Light, Scene};
 use bevy::color::{Color, LinearRgba};
 use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
 use bevy::prelude::*;
@@ -108,16 +109,15 @@ pub struct ManifoldMeshes {
 }
 
 /// What the tracer draws in one space, kept on the space's root entity by
-/// [`gather_scenes`]: the scene (without a camera) for the CPU reference,
-/// and the same packed for the GPU. Ball `i` of the scene has object id
-/// `i + 1` in the id buffer and belongs to `entities()[i]`; the meshes
-/// follow the balls, in ids and in `entities()`.
+/// [`gather_scenes`]: the scene (without a camera), shared. Ball `i` of the
+/// scene has object id `i + 1` in the id buffer and belongs to
+/// `entities()[i]`; the meshes follow the balls, in ids and in
+/// `entities()`. The render world packs it for the GPU when
+/// [`ManifoldScene::generation`] changes.
 #[derive(Component, Clone, Debug)]
 pub struct ManifoldScene {
     scene: Arc<Scene>,
     entities: Arc<Vec<Entity>>,
-    space: Arc<GpuSpace>,
-    objects: Arc<GpuObjects>,
     generation: u64,
 }
 
@@ -128,25 +128,17 @@ impl ManifoldScene {
         &self.scene
     }
 
+    /// The scene, shared (the render world keeps it without copying).
+    #[must_use]
+    pub fn shared_scene(&self) -> &Arc<Scene> {
+        &self.scene
+    }
+
     /// The entity each ball and mesh belongs to, in object-id order (id 1
     /// first).
     #[must_use]
     pub fn entities(&self) -> &[Entity] {
         &self.entities
-    }
-
-    /// The space's faces and cell table, packed for the GPU (shared: a new
-    /// `Arc` means the space changed).
-    #[must_use]
-    pub fn gpu_space(&self) -> &Arc<GpuSpace> {
-        &self.space
-    }
-
-    /// The objects packed for the GPU, ghosts included (shared: a new `Arc`
-    /// means an object changed).
-    #[must_use]
-    pub fn gpu_objects(&self) -> &Arc<GpuObjects> {
-        &self.objects
     }
 
     /// Bumped each time the objects are rebuilt.
@@ -161,11 +153,6 @@ fn rgb(c: Color) -> [f32; 3] {
     [red, green, blue]
 }
 
-/// The root entity whose [`ManifoldSpace`] an entity lives in.
-fn root_of(entity: Entity, parents: &Query<&ChildOf>, roots: &Query<(), With<ManifoldSpace>>) -> Option<Entity> {
-    parents.iter_ancestors(entity).find(|a| roots.contains(*a))
-}
-
 /// Filter: a drawable whose placement, shape, light or parent changed.
 type ChangedDrawable = (
     Or<(With<TracedBall>, With<ManifoldLight>)>,
@@ -173,7 +160,7 @@ type ChangedDrawable = (
         Changed<Placement>,
         Changed<TracedBall>,
         Changed<ManifoldLight>,
-        Changed<ChildOf>,
+        Changed<InSpace>,
     )>,
 );
 
@@ -184,42 +171,47 @@ type RootData<'a> = (
     Option<&'a DomainEdges>,
     Option<&'a ManifoldScene>,
     Option<&'a ManifoldMeshes>,
+    Option<&'a SpaceMembers>,
 );
 
 /// Filter: a space root whose space, edges or meshes changed.
-type ChangedRoot = Or<(Changed<ManifoldSpace>, Changed<DomainEdges>, Changed<ManifoldMeshes>)>;
+type ChangedRoot = Or<(
+    Changed<ManifoldSpace>,
+    Changed<DomainEdges>,
+    Changed<ManifoldMeshes>,
+    Changed<SpaceMembers>,
+)>;
 
 /// Collects the drawables of every space into its [`ManifoldScene`], when
 /// anything they are made of changed (a drawable added, removed, moved,
 /// restyled or re-parented; the space or its edges changed). A frame where
-/// nothing changed costs a few change-detection checks.
-#[allow(clippy::too_many_arguments)]
+/// nothing changed costs a few change-detection checks; a frame where
+/// something changed reads each space's members ([`SpaceMembers`]), not
+/// every drawable in the world.
+#[expect(clippy::too_many_arguments, reason = "a system's parameters")]
 pub fn gather_scenes(
     mut commands: Commands,
     roots: Query<RootData>,
-    root_filter: Query<(), With<ManifoldSpace>>,
     changed_roots: Query<(), ChangedRoot>,
     changed: Query<(), ChangedDrawable>,
-    balls: Query<(Entity, &Placement, &TracedBall)>,
-    lights: Query<(Entity, &Placement, &ManifoldLight)>,
-    parents: Query<&ChildOf>,
+    balls: Query<(&Placement, &TracedBall)>,
+    lights: Query<(&Placement, &ManifoldLight)>,
     mut removed_balls: RemovedComponents<TracedBall>,
     mut removed_lights: RemovedComponents<ManifoldLight>,
     mut removed_edges: RemovedComponents<DomainEdges>,
 ) {
     let removed = removed_balls.read().count() + removed_lights.read().count() + removed_edges.read().count() > 0;
-    let any_missing = roots.iter().any(|(_, _, _, s, _)| s.is_none());
+    let any_missing = roots.iter().any(|(_, _, _, s, ..)| s.is_none());
     let dirty = removed || any_missing || !changed.is_empty() || !changed_roots.is_empty();
     if !dirty {
         return;
     }
-    for (root, ms, edges, old, meshes) in &roots {
-        let space = ms.space();
-        let mine = |e: Entity| root_of(e, &parents, &root_filter) == Some(root);
-        let ball_list: Vec<(Entity, Ball)> = balls
+    for (root, ms, edges, old, meshes, members) in &roots {
+        let members: Vec<Entity> = members.map(|m| m.iter().collect()).unwrap_or_default();
+        let ball_list: Vec<(Entity, Ball)> = members
             .iter()
-            .filter(|(e, ..)| mine(*e))
-            .map(|(e, p, b)| {
+            .filter_map(|&e| balls.get(e).ok().map(|found| (e, found)))
+            .map(|(e, (p, b))| {
                 (
                     e,
                     Ball {
@@ -230,10 +222,10 @@ pub fn gather_scenes(
                 )
             })
             .collect();
-        let light_list = lights
+        let light_list = members
             .iter()
-            .filter(|(e, ..)| mine(*e))
-            .map(|(_, p, l)| Light {
+            .filter_map(|&e| lights.get(e).ok())
+            .map(|(p, l)| Light {
                 position: p.position(),
                 intensity: l.intensity,
                 color: rgb(l.color),
@@ -258,22 +250,17 @@ pub fn gather_scenes(
         scene.balls = balls;
         scene.lights = light_list;
         scene.edge_radius = edges.map(|e| e.radius);
-        let prep = Prepared::<f32>::new(space, &scene);
-        let objects = GpuObjects::pack(&prep);
-        // The space's packing is kept while the space is the same one.
-        let gpu_space = match old {
-            Some(o) if !changed_roots.contains(root) => o.space.clone(),
-            _ => Arc::new(GpuSpace::pack(space)),
-        };
-        let objects = match old {
-            Some(o) if *o.objects == objects => o.objects.clone(),
-            _ => Arc::new(objects),
-        };
+        // An unchanged scene keeps its generation, so nothing downstream
+        // repacks or uploads it.
+        if let Some(o) = old
+            && *o.scene == scene
+            && *o.entities == entities
+        {
+            continue;
+        }
         commands.entity(root).insert(ManifoldScene {
             scene: Arc::new(scene),
             entities: Arc::new(entities),
-            space: gpu_space,
-            objects,
             generation: old.map_or(0, |o| o.generation + 1),
         });
     }
@@ -308,6 +295,8 @@ impl Plugin for DrawablesPlugin {
         app.register_type::<TracedBall>()
             .register_type::<ManifoldLight>()
             .register_type::<DomainEdges>()
+            .register_type::<crate::view::ManifoldFog>()
+            .register_type::<crate::view::CellShading>()
             .add_systems(self.schedule, gather_scenes.after(ManifoldSystems::Sync));
     }
 

@@ -36,22 +36,22 @@
 //!
 //! ## The math alone
 //!
-//! - [`geometry`]: E3, H3 and S3 in one projective chart; isometries; planes.
-//! - [`space`]: fundamental polyhedra with face pairings, validation, the
-//!   catalog of the paper's five spaces, space files.
-//! - [`cell`]: path-independent ids for the copies of the domain.
-//! - [`mesh`]: triangle meshes, their BVH, and glTF loading.
-//! - [`trace`]: the CPU reference ray tracer (Algorithm 1), in f64 and in an
-//!   f32 mode that mirrors the GPU arithmetic; geodesic flow; ray casts.
-//! - [`motion`]: moving placements through the faces (the math of wrapping).
-//! - [`stress`]: the degenerate rays and far-travel paths the numerical
-//!   stability checks use.
+//! The math is [`bevy_manifold_core`] (re-exported here as [`geometry`],
+//! [`space`], [`mesh`], [`trace`], [`motion`]); the WGSL tracer and its
+//! data layout are [`bevy_manifold_gpu`]. This crate is the Bevy layer:
+//!
 //! - [`placement`]: the ECS layer: components, wrapping systems, ray casts.
-//! - [`camera_controller`]: an optional fly camera.
-//! - `explorer` (feature `app`): what `cargo run --release` opens; its
-//!   plugins, settings and headless fallback.
-//! - `paper_scene`, `showcase` (feature `app`): the paper's scene as
-//!   entities, and what the examples (one per paper figure) share.
+//! - [`drawables`]: what a space's entities look like to the tracer.
+//! - [`render`] (feature `render`, default): the ray-traced pass in Bevy's
+//!   renderer; `render::offscreen` (feature `offscreen`) for windowless
+//!   apps that read their images back.
+//! - [`view`]: fog and per-cell shading, the view's settings.
+//! - `camera_controller` (feature `fly_camera`): an optional fly camera.
+//! - `paper_scene` (feature `paper_scene`): the paper's scene as entities.
+//!
+//! Features: `render` (default) is the pass only: never a window, never
+//! egui. `standard_material` reads traced meshes' `StandardMaterial`s.
+//! The explorer and the command line are the `bevy_manifold_app` crate.
 //!
 //! ```
 //! use bevy_manifold::prelude::*;
@@ -65,46 +65,40 @@
 //! assert!(image.pixels.iter().any(|p| p.object == 1));
 //! ```
 
+#[cfg(feature = "fly_camera")]
 pub mod camera_controller;
-pub mod cell;
 pub mod drawables;
-#[cfg(feature = "app")]
-pub mod explorer;
-pub mod geometry;
-pub mod mesh;
-pub mod motion;
-#[cfg(feature = "app")]
+#[cfg(feature = "paper_scene")]
 pub mod paper_scene;
 pub mod placement;
 mod plugin;
+#[cfg(feature = "render")]
 pub mod render;
-#[cfg(feature = "app")]
-pub mod showcase;
-pub mod space;
-pub mod stress;
-pub mod trace;
 #[cfg(feature = "render")]
 pub mod traced_meshes;
+pub mod view;
 
+pub use bevy_manifold_core;
+pub use bevy_manifold_core::{geometry, mesh, motion, space, trace};
+pub use bevy_manifold_gpu;
 pub use plugin::ManifoldPlugin;
 
 /// The types most users need.
 pub mod prelude {
     pub use crate::ManifoldPlugin;
+    #[cfg(feature = "fly_camera")]
     pub use crate::camera_controller::{FlyCamera, FlyCameraPlugin};
-    pub use crate::cell::CellId;
     pub use crate::drawables::{
         DomainEdges, DrawablesPlugin, ManifoldLight, ManifoldMeshes, ManifoldScene, TracedBall,
     };
-    pub use crate::geometry::{Geometry, Real, isometry, plane};
     pub use crate::placement::{
-        DomainCell, FaceCrossed, GeodesicVelocity, ManifoldCollider, ManifoldRayCast, ManifoldSpace, ManifoldSystems,
-        Placement, PlacementPlugin, RayCastSettings, RayHit,
+        DomainCell, FaceCrossed, GeodesicVelocity, InSpace, ManifoldCollider, ManifoldRayCast, ManifoldSpace,
+        ManifoldSystems, Placement, PlacementPlugin, RayCastSettings, RayHit, SpaceMembers,
     };
     #[cfg(feature = "render")]
-    pub use crate::render::pass::{CellShading, ManifoldCamera, ManifoldFog};
-    pub use crate::space::{Face, FaceKind, Space, SpaceDesc, SpaceError, catalog};
-    pub use crate::trace::{Ball, Fog, Light, Scene, SceneMesh, TraceImage, TraceSettings, render};
+    pub use crate::render::ManifoldCamera;
     #[cfg(feature = "render")]
     pub use crate::traced_meshes::{CameraBody, Rasterized};
+    pub use crate::view::{CellShading, ManifoldFog};
+    pub use bevy_manifold_core::prelude::*;
 }

@@ -117,7 +117,7 @@ pub fn chart_transform(space: &Space, offset: DMat4, scale: f64) -> Transform {
 
 /// Spawns the paper's scene (see [`crate::trace::PaperOptions`]) in the
 /// space under `root`, around `camera` (a placed entity under `root`,
-/// usually the [`crate::render::pass::ManifoldCamera`]), which starts at
+/// usually the [`crate::render::ManifoldCamera`]), which starts at
 /// `camera_at` (for the free Suzanne and the light): edges on the root,
 /// Suzanne (attached: a [`CameraBody`] child of the camera), the hands as
 /// children of the camera (they move with it), a light at the eye.

@@ -2,6 +2,7 @@
 
 use crate::drawables::DrawablesPlugin;
 use crate::placement::PlacementPlugin;
+use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
 use bevy::prelude::*;
 
 /// Everything bevy_manifold adds to an app:
@@ -10,30 +11,52 @@ use bevy::prelude::*;
 /// - [`DrawablesPlugin`]: the balls, lights and edges the tracer draws,
 ///   gathered per space when they change;
 /// - with the `render` feature and a renderer in the app,
-///   [`crate::render::pass::ManifoldRenderPlugin`]: every
-///   [`crate::render::pass::ManifoldCamera`] is ray-traced. Other cameras
+///   [`crate::render::ManifoldRenderPlugin`]: every
+///   [`crate::render::ManifoldCamera`] is ray-traced. Other cameras
 ///   render exactly as before.
 ///
 /// The camera controller is separate and optional:
 /// [`crate::camera_controller::FlyCameraPlugin`].
 ///
+/// One setting: the schedule the placement systems and the scene
+/// gathering run in (`PostUpdate` by default; a game that moves entities
+/// in fixed steps takes `FixedPostUpdate`).
+///
 /// ```
 /// use bevy::prelude::*;
 /// use bevy_manifold::prelude::*;
 /// App::new().add_plugins((MinimalPlugins, ManifoldPlugin::default()));
+/// App::new().add_plugins((MinimalPlugins, ManifoldPlugin::in_schedule(FixedPostUpdate)));
 /// ```
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub struct ManifoldPlugin {
-    /// Settings of the placement systems.
-    pub placement: PlacementPlugin,
-    /// Settings of the scene gathering (same schedule as the placement).
-    pub drawables: DrawablesPlugin,
+    schedule: InternedScheduleLabel,
+}
+
+impl Default for ManifoldPlugin {
+    fn default() -> Self {
+        Self::in_schedule(PostUpdate)
+    }
+}
+
+impl ManifoldPlugin {
+    /// The plugin with the placement systems and the scene gathering in
+    /// `schedule`.
+    #[must_use]
+    pub fn in_schedule(schedule: impl ScheduleLabel) -> Self {
+        ManifoldPlugin {
+            schedule: schedule.intern(),
+        }
+    }
 }
 
 impl Plugin for ManifoldPlugin {
     fn build(&self, app: &mut App) {
-        app.add_plugins((self.placement.clone(), self.drawables.clone()));
+        app.add_plugins((
+            PlacementPlugin::in_schedule(self.schedule),
+            DrawablesPlugin::in_schedule(self.schedule),
+        ));
         #[cfg(feature = "render")]
-        app.add_plugins(crate::render::pass::ManifoldRenderPlugin);
+        app.add_plugins(crate::render::ManifoldRenderPlugin);
     }
 }

@@ -41,7 +41,7 @@
 
 use crate::drawables::ManifoldMeshes;
 use crate::mesh::{MeshData, MeshMaterial, Texture, TriMesh};
-use crate::placement::{ManifoldSpace, Placement};
+use crate::placement::{InSpace, ManifoldSpace, Placement};
 use crate::trace::SceneMesh;
 use bevy::asset::AssetEvent;
 use bevy::camera::visibility::RenderLayers;
@@ -60,7 +60,7 @@ pub struct Rasterized;
 /// the viewer's own body, as the paper attaches Suzanne to the camera: its
 /// home copy is not drawn (the camera sits inside it), every other copy is,
 /// so the viewer sees its own images around the space. Put the mesh under
-/// the [`crate::render::pass::ManifoldCamera`]'s entity, without a
+/// the [`crate::render::ManifoldCamera`]'s entity, without a
 /// placement of its own, and it moves with the camera.
 ///
 /// ```no_run
@@ -102,9 +102,12 @@ pub fn bevy_mesh(mesh: &TriMesh) -> Mesh {
 #[derive(Resource, Default)]
 pub struct MeshBvhCache {
     meshes: HashMap<AssetId<Mesh>, Option<Arc<MeshData>>>,
-    // Base-colour textures come from StandardMaterial, which only the
-    // `app` feature has.
-    #[cfg_attr(not(feature = "app"), allow(dead_code))]
+    // Base-colour textures come from StandardMaterial (feature
+    // `standard_material`).
+    #[cfg_attr(
+        not(feature = "standard_material"),
+        expect(dead_code, reason = "read only with StandardMaterial")
+    )]
     textures: HashMap<AssetId<Image>, Option<Arc<Texture>>>,
     /// Mesh asset events seen since the last gathering.
     dirty: bool,
@@ -183,11 +186,11 @@ fn note_mesh_events(mut events: MessageReader<AssetEvent<Mesh>>, mut cache: ResM
 }
 
 /// The material of a traced mesh entity.
-#[cfg(feature = "app")]
+#[cfg(feature = "standard_material")]
 type MaterialOf<'a> = Option<&'a MeshMaterial3d<StandardMaterial>>;
 /// Without `app` there is no `StandardMaterial`: a placeholder the query
 /// can hold (`()` is no component), never read.
-#[cfg(not(feature = "app"))]
+#[cfg(not(feature = "standard_material"))]
 type MaterialOf<'a> = Option<&'a Mesh3d>;
 
 /// Everything a traced mesh entity brings.
@@ -202,22 +205,24 @@ type MeshEntity<'a> = (
 /// Builds every space's [`ManifoldMeshes`] when a mesh, material, placement
 /// or transform below a placed entity changed, or a mesh asset did; hides
 /// traced meshes from the rasteriser.
-#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+#[expect(
+    clippy::too_many_arguments,
+    clippy::type_complexity,
+    reason = "a system's parameters"
+)]
 pub fn gather_meshes(
     mut commands: Commands,
     mut cache: ResMut<MeshBvhCache>,
     mesh_assets: Res<Assets<Mesh>>,
     images: Option<Res<Assets<Image>>>,
-    #[cfg(feature = "app")] materials: Option<Res<Assets<StandardMaterial>>>,
+    #[cfg(feature = "standard_material")] materials: Option<Res<Assets<StandardMaterial>>>,
     roots: Query<(Entity, &ManifoldSpace, Option<&ManifoldMeshes>)>,
-    placed: Query<(Entity, &Placement, &Transform)>,
+    placed: Query<(Entity, &Placement, &Transform, &InSpace)>,
     meshes: Query<MeshEntity, Without<Rasterized>>,
     children: Query<&Children>,
     transforms: Query<&Transform>,
     // Whether an entity is placed itself, and whether it is a camera body.
     flags: Query<(Has<Placement>, Has<CameraBody>)>,
-    parents: Query<&ChildOf>,
-    root_filter: Query<(), With<ManifoldSpace>>,
     changed: Query<
         (),
         (
@@ -227,6 +232,7 @@ pub fn gather_meshes(
                 Changed<CameraBody>,
                 Changed<Placement>,
                 Changed<ChildOf>,
+                Changed<InSpace>,
             )>,
             Without<Rasterized>,
         ),
@@ -235,18 +241,16 @@ pub fn gather_meshes(
     mut warned: Local<HashSet<AssetId<Mesh>>>,
 ) {
     let dirty = std::mem::take(&mut cache.dirty) || removed.read().count() > 0 || !changed.is_empty();
-    #[cfg(feature = "app")]
+    #[cfg(feature = "standard_material")]
     let materials_changed = materials.as_ref().is_some_and(|m| m.is_changed());
-    #[cfg(not(feature = "app"))]
+    #[cfg(not(feature = "standard_material"))]
     let materials_changed = false;
     if !dirty && !materials_changed {
         return;
     }
     let mut per_root: HashMap<Entity, ManifoldMeshes> = HashMap::new();
-    for (entity, placement, transform) in &placed {
-        let Some(root) = parents.iter_ancestors(entity).find(|a| root_filter.contains(*a)) else {
-            continue;
-        };
+    for (entity, placement, transform, in_space) in &placed {
+        let root = in_space.space();
         let scale = f64::from(transform.scale.abs().max_element());
         // The entity's own mesh, and those below it with no placement of
         // their own, positioned by their transforms relative to it.
@@ -276,9 +280,9 @@ pub fn gather_meshes(
                         })
                         .clone();
                     if let Some(data) = data {
-                        #[cfg(feature = "app")]
+                        #[cfg(feature = "standard_material")]
                         let surface = surface(material, materials.as_deref(), images.as_deref(), &mut cache.textures);
-                        #[cfg(not(feature = "app"))]
+                        #[cfg(not(feature = "standard_material"))]
                         let surface = {
                             let _ = (material, &images);
                             MeshMaterial::default()
@@ -312,7 +316,7 @@ pub fn gather_meshes(
 }
 
 /// Base colour and texture of a `StandardMaterial`.
-#[cfg(feature = "app")]
+#[cfg(feature = "standard_material")]
 fn surface(
     material: Option<&MeshMaterial3d<StandardMaterial>>,
     materials: Option<&Assets<StandardMaterial>>,

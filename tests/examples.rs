@@ -4,12 +4,6 @@
 //! as one another. The README's pictures in `docs/images/` are these at
 //! 640x360 (`docs/images/render.sh`); this regenerates them small.
 
-#![cfg(feature = "app")]
-
-mod common;
-
-use common::gpu_available;
-
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -37,7 +31,7 @@ fn example(name: &str) -> PathBuf {
     if !path.exists() {
         let release = profile_dir.ends_with("release");
         let mut cargo = Command::new(env!("CARGO"));
-        cargo.args(["build", "--examples"]);
+        cargo.args(["build", "-p", "bevy_manifold", "--examples"]);
         if release {
             cargo.arg("--release");
         }
@@ -46,11 +40,7 @@ fn example(name: &str) -> PathBuf {
     path
 }
 
-#[test]
 fn every_example_renders_its_figure_headlessly() {
-    if !gpu_available() {
-        return;
-    }
     let dir = std::env::temp_dir().join(format!("bevy_manifold_examples_{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
     let (w, h) = (160u32, 90u32);
@@ -98,4 +88,11 @@ fn every_example_renders_its_figure_headlessly() {
         }
     }
     std::fs::remove_dir_all(&dir).ok();
+}
+
+bevy_manifold_test_support::test_main! {
+    cpu: [],
+    gpu: [
+        every_example_renders_its_figure_headlessly,
+    ],
 }

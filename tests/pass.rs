@@ -3,23 +3,18 @@
 //! headless tracer and the CPU reference, cameras without the marker
 //! untouched, uploads only on change, no buffers left behind.
 //!
-//! Without any GPU adapter these tests say so and pass; under CI (`CI` set)
-//! a missing adapter is a failure.
-
-#![cfg(feature = "app")]
-
-mod common;
-
-use common::gpu_available;
+//! Without a GPU adapter these tests are listed as ignored; under CI
+//! (`CI` set) a missing adapter is a failure.
 
 use bevy::camera::{RenderTarget, Viewport};
 use bevy::prelude::*;
 use bevy::render::RenderApp;
 use bevy_manifold::prelude::*;
-use bevy_manifold::render::GpuTracer;
-use bevy_manifold::render::pass::{ManifoldBufferCache, ManifoldUploads, offscreen};
+use bevy_manifold::render::{ManifoldBufferCache, ManifoldUploads, offscreen};
 use bevy_manifold::space::Space;
+use bevy_manifold::trace::FlatScene;
 use bevy_manifold::trace::srgb8;
+use bevy_manifold_gpu::{GpuObjects, GpuTracer};
 
 const W: u32 = 160;
 const H: u32 = 120;
@@ -63,11 +58,10 @@ fn spawn_view(app: &mut App, space: &Space, image: &Handle<Image>, fog: bool, ce
     if fog {
         scene.fog = Some(fog_of(space));
     }
-    let camera = ManifoldCamera {
-        max_level: 8,
-        cell_shading: if cells { CellShading::ByCell } else { CellShading::Off },
-        ..default()
-    };
+    let camera = (
+        ManifoldCamera { levels: 8, ..default() },
+        if cells { CellShading::ByCell } else { CellShading::Off },
+    );
     offscreen::spawn_view(app, space, &scene, image, camera)
 }
 
@@ -102,7 +96,7 @@ fn mesh_agreement(space: &Space, scene: &Scene, shown: &[u8]) -> (usize, f64, f6
     let settings = TraceSettings {
         width: W,
         height: H,
-        max_level: 8,
+        levels: 8,
         ..TraceSettings::default()
     };
     let mut gpu = GpuTracer::new().expect("adapter");
@@ -112,11 +106,7 @@ fn mesh_agreement(space: &Space, scene: &Scene, shown: &[u8]) -> (usize, f64, f6
     (mesh_pixels, agreement(shown, &compute, 1), agreement(shown, &cpu, 2))
 }
 
-#[test]
 fn the_pass_draws_what_the_tracer_computes_in_every_space() {
-    if !gpu_available() {
-        return;
-    }
     let mut app = headless_app(true);
     let image = target(&mut app, W, H);
     let mut gpu = GpuTracer::new().expect("adapter");
@@ -138,7 +128,7 @@ fn the_pass_draws_what_the_tracer_computes_in_every_space() {
         let settings = TraceSettings {
             width: W,
             height: H,
-            max_level: 8,
+            levels: 8,
             cell_colors: cells,
             ..TraceSettings::default()
         };
@@ -169,11 +159,7 @@ fn the_pass_draws_what_the_tracer_computes_in_every_space() {
     }
 }
 
-#[test]
 fn uploads_happen_only_when_something_changed() {
-    if !gpu_available() {
-        return;
-    }
     let mut app = headless_app(true);
     let image = target(&mut app, 64, 48);
     let space = catalog::seifert_weber();
@@ -223,11 +209,7 @@ fn uploads_happen_only_when_something_changed() {
     );
 }
 
-#[test]
 fn a_viewport_shows_the_same_trace_as_a_whole_target() {
-    if !gpu_available() {
-        return;
-    }
     let mut app = headless_app(true);
     let space = catalog::torus(1.0);
     let whole = target(&mut app, 64, 48);
@@ -279,11 +261,7 @@ fn plain_scene(app: &mut App, image: &Handle<Image>) {
     ));
 }
 
-#[test]
 fn cameras_without_the_marker_render_exactly_as_before() {
-    if !gpu_available() {
-        return;
-    }
     let shots: Vec<Vec<u8>> = [false, true]
         .into_iter()
         .map(|with_manifold| {
@@ -307,14 +285,10 @@ fn cameras_without_the_marker_render_exactly_as_before() {
     );
 }
 
-#[test]
 fn gltf_meshes_in_a_manifold_are_traced_and_not_rasterised() {
     use bevy::camera::visibility::RenderLayers;
     use bevy_manifold::traced_meshes::MeshBvhCache;
     use glam::DVec3;
-    if !gpu_available() {
-        return;
-    }
     let mut app = headless_app(true);
     let image = target(&mut app, W, H);
     let space = catalog::poincare();
@@ -407,13 +381,9 @@ fn gltf_meshes_in_a_manifold_are_traced_and_not_rasterised() {
     assert_eq!(app.world().resource::<MeshBvhCache>().built(), 1);
 }
 
-#[test]
 fn gltf_scene_roots_in_a_manifold_are_traced() {
     use bevy::camera::visibility::RenderLayers;
     use glam::DVec3;
-    if !gpu_available() {
-        return;
-    }
     let mut app = headless_app(true);
     let image = target(&mut app, W, H);
     let space = catalog::torus(1.0);
@@ -471,13 +441,9 @@ fn gltf_scene_roots_in_a_manifold_are_traced() {
     assert!(vs_compute >= 0.995 && vs_cpu >= 0.99);
 }
 
-#[test]
 fn the_papers_scene_as_entities_matches_the_tracers() {
     use bevy_manifold::paper_scene::{paper_camera, spawn_paper_scene};
     use bevy_manifold::trace::PaperOptions;
-    if !gpu_available() {
-        return;
-    }
     let mut app = headless_app(true);
     let image = target(&mut app, W, H);
     let space = catalog::mirrored_cube(1.0);
@@ -525,7 +491,7 @@ fn the_papers_scene_as_entities_matches_the_tracers() {
     let settings = TraceSettings {
         width: W,
         height: H,
-        max_level: 8,
+        levels: 8,
         ..TraceSettings::default()
     };
     let cpu = render::<f64>(&space, &reference, &settings);
@@ -539,14 +505,9 @@ fn the_papers_scene_as_entities_matches_the_tracers() {
     assert!(close >= 0.99);
     // The camera moves, and the body and hands with it: their instances
     // are uploaded again, their BVHs are not.
-    let mesh_bytes = (app
-        .world()
-        .get::<ManifoldScene>(root)
-        .unwrap()
-        .gpu_objects()
-        .mesh_data
-        .len()
-        * 16) as u64;
+    let scene = app.world().get::<ManifoldScene>(root).unwrap().scene();
+    let packed = GpuObjects::pack(&FlatScene::<f32>::new(&space, scene));
+    let mesh_bytes = (packed.mesh_data.len() * 16) as u64;
     let before = uploads(&app);
     app.world_mut().get_mut::<Placement>(camera).unwrap().isometry *=
         isometry::translation(space.geometry(), glam::DVec3::X * 0.05);
@@ -565,12 +526,8 @@ fn the_papers_scene_as_entities_matches_the_tracers() {
     );
 }
 
-#[test]
 fn cell_tints_agree_between_the_pass_and_the_cpu() {
-    use bevy_manifold::cell::CellTint;
-    if !gpu_available() {
-        return;
-    }
+    use bevy_manifold::space::cells::CellTint;
     let space = catalog::torus(1.0);
     let lattice = |x, y, z| CellId::from_lattice(glam::IVec3::new(x, y, z));
     for (shading, tint) in [
@@ -587,11 +544,7 @@ fn cell_tints_agree_between_the_pass_and_the_cpu() {
     ] {
         let mut app = headless_app(true);
         let image = target(&mut app, W, H);
-        let camera = ManifoldCamera {
-            max_level: 6,
-            cell_shading: shading,
-            ..default()
-        };
+        let camera = (ManifoldCamera { levels: 6, ..default() }, shading);
         let (root, _) = offscreen::spawn_view(&mut app, &space, &Scene::default_for(&space), &image, camera);
         wait_for_pipelines(&mut app);
         let shown = capture(&mut app, &image);
@@ -599,7 +552,7 @@ fn cell_tints_agree_between_the_pass_and_the_cpu() {
         let settings = TraceSettings {
             width: W,
             height: H,
-            max_level: 6,
+            levels: 6,
             cell_colors: true,
             cell_tint: tint,
             ..TraceSettings::default()
@@ -629,4 +582,18 @@ fn cell_tints_agree_between_the_pass_and_the_cpu() {
         assert!(tinted < cpu.pixels.len(), "{tint:?} leaves some pixels alone");
         assert!(close >= 0.995, "{tint:?}");
     }
+}
+
+bevy_manifold_test_support::test_main! {
+    cpu: [],
+    gpu: [
+        the_pass_draws_what_the_tracer_computes_in_every_space,
+        uploads_happen_only_when_something_changed,
+        a_viewport_shows_the_same_trace_as_a_whole_target,
+        cameras_without_the_marker_render_exactly_as_before,
+        gltf_meshes_in_a_manifold_are_traced_and_not_rasterised,
+        gltf_scene_roots_in_a_manifold_are_traced,
+        the_papers_scene_as_entities_matches_the_tracers,
+        cell_tints_agree_between_the_pass_and_the_cpu,
+    ],
 }

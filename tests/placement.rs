@@ -215,7 +215,7 @@ fn random_wanderers_stay_in_the_group_inside_and_in_the_right_cell() {
             for c in &crossed {
                 reference *= space.crossing(c.face);
             }
-            if reference.w_axis.w.abs() < bevy_manifold::cell::HASHED_HORIZON {
+            if reference.w_axis.w.abs() < bevy_manifold::space::cells::HASHED_HORIZON {
                 reference = isometry::orthonormalize(g, reference);
             }
             // The product of the crossings names the same cell. In H3 the
@@ -225,7 +225,7 @@ fn random_wanderers_stay_in_the_group_inside_and_in_the_right_cell() {
             // The product of the crossings names the same cell. In H3 ids
             // are exact only within the f64 horizon (distance ~12 from the
             // origin copy); beyond it they must say so rather than guess.
-            let far = reference.is_finite() && reference.w_axis.w.abs() >= bevy_manifold::cell::HASHED_HORIZON;
+            let far = reference.is_finite() && reference.w_axis.w.abs() >= bevy_manifold::space::cells::HASHED_HORIZON;
             if !far && reference.is_finite() {
                 assert_eq!(cell.id, space.cell_id(&reference), "{name}: after {total} crossings");
                 assert!(!cell.id.is_far());

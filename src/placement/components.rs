@@ -1,9 +1,9 @@
 //! The components game code touches: the space at the root of a hierarchy,
 //! and for each entity in it a placement, a cell, a velocity, a collider.
 
-use crate::cell::CellId;
 use crate::geometry::isometry;
 use crate::space::Space;
+use crate::space::cells::CellId;
 use crate::trace::FaceTables;
 use bevy::prelude::*;
 use glam::{DMat4, DVec3, DVec4};
@@ -46,6 +46,13 @@ impl ManifoldSpace {
     /// The space.
     #[must_use]
     pub fn space(&self) -> &Space {
+        &self.space
+    }
+
+    /// The space, shared: the same `Arc` while the space is the same one
+    /// (the render world repacks the space's buffers when it is not).
+    #[must_use]
+    pub fn shared(&self) -> &Arc<Space> {
         &self.space
     }
 
@@ -137,7 +144,7 @@ impl Placement {
 
 /// Which copy of the fundamental domain an entity is in: the group element
 /// `element` that carries the domain onto that copy, and its
-/// path-independent id (see [`crate::cell`]). The entity's point in the
+/// path-independent id (see [`crate::space::cells`]). The entity's point in the
 /// cover is `element * placement`.
 #[derive(Component, Clone, Copy, Debug, PartialEq, Reflect)]
 #[reflect(Component, Debug, Default)]

@@ -29,12 +29,14 @@
 //! ```
 
 mod components;
+mod membership;
 mod raycast;
 mod systems;
 
 pub use components::{
     DomainCell, FaceCrossed, GeodesicVelocity, ManifoldCollider, ManifoldSpace, Placement, WrapOrigin,
 };
+pub use membership::{InSpace, SpaceMembers};
 pub use raycast::{ManifoldRayCast, RayCastSettings, RayHit};
 pub use systems::{MAX_CROSSINGS_PER_STEP, integrate_velocities, sync_transforms, wrap_placements};
 
@@ -84,6 +86,7 @@ impl PlacementPlugin {
 
 impl Plugin for PlacementPlugin {
     fn build(&self, app: &mut App) {
+        membership::observe(app);
         app.add_message::<FaceCrossed>()
             .register_type::<Placement>()
             .register_type::<DomainCell>()

@@ -2,8 +2,9 @@
 //! sight), through the face pairings like light.
 
 use super::components::{DomainCell, ManifoldCollider, ManifoldSpace, Placement};
+use super::membership::InSpace;
 use super::systems::space_of;
-use crate::cell::CellId;
+use crate::space::cells::CellId;
 use crate::trace::step::Ray;
 use crate::trace::{CastBall, cast_balls};
 use bevy::ecs::system::SystemParam;
@@ -16,7 +17,7 @@ pub struct RayCastSettings {
     /// Stop after this distance.
     pub max_distance: f64,
     /// Stop after crossing this many faces.
-    pub max_faces: u32,
+    pub levels: u32,
     /// An entity not to hit (usually the caster).
     pub exclude: Option<Entity>,
 }
@@ -25,7 +26,7 @@ impl Default for RayCastSettings {
     fn default() -> Self {
         RayCastSettings {
             max_distance: 100.0,
-            max_faces: 32,
+            levels: 32,
             exclude: None,
         }
     }
@@ -68,7 +69,7 @@ pub struct RayHit {
 #[derive(SystemParam)]
 pub struct ManifoldRayCast<'w, 's> {
     spaces: Query<'w, 's, &'static ManifoldSpace>,
-    parents: Query<'w, 's, &'static ChildOf>,
+    members: Query<'w, 's, &'static InSpace>,
     placed: Query<'w, 's, (&'static Placement, Option<&'static DomainCell>)>,
     colliders: Query<'w, 's, (Entity, &'static Placement, &'static ManifoldCollider)>,
 }
@@ -83,7 +84,7 @@ impl ManifoldRayCast<'_, '_> {
         let Ok((placement, cell)) = self.placed.get(from) else {
             return Vec::new();
         };
-        let Some(ms) = space_of(from, &self.parents, &self.spaces) else {
+        let Some(ms) = space_of(from, &self.members, &self.spaces) else {
             return Vec::new();
         };
         let cell = cell.copied().unwrap_or_default();
@@ -110,7 +111,7 @@ impl ManifoldRayCast<'_, '_> {
             .iter()
             .filter(|(e, ..)| Some(*e) != settings.exclude)
             .filter(|(e, ..)| {
-                space_of(*e, &self.parents, &self.spaces).is_some_and(|s| core::ptr::eq(s.space(), space))
+                space_of(*e, &self.members, &self.spaces).is_some_and(|s| core::ptr::eq(s.space(), space))
             })
             .map(|(e, p, c)| match *c {
                 ManifoldCollider::Ball { radius } => CastBall {
@@ -126,7 +127,7 @@ impl ManifoldRayCast<'_, '_> {
             Ray { origin: o, dir: d },
             &balls,
             settings.max_distance,
-            settings.max_faces,
+            settings.levels,
         )
         .into_iter()
         .map(|h| {

@@ -1,6 +1,7 @@
 //! The systems of [`super::PlacementPlugin`], in the order they run.
 
 use super::components::{DomainCell, FaceCrossed, GeodesicVelocity, ManifoldSpace, Placement, WrapOrigin};
+use super::membership::InSpace;
 use crate::geometry::isometry;
 use crate::motion::{Moved, advance_placement, chart_position, move_placement};
 use crate::space::FaceKind;
@@ -10,14 +11,13 @@ use bevy::prelude::*;
 /// finishes the wrap (a bound, so no motion can stall a frame).
 pub const MAX_CROSSINGS_PER_STEP: usize = 4096;
 
-/// The space an entity lives in: the nearest ancestor with a
-/// [`ManifoldSpace`].
+/// The space an entity lives in (its [`InSpace`] root's).
 pub(crate) fn space_of<'a>(
     entity: Entity,
-    parents: &Query<&ChildOf>,
+    members: &Query<&InSpace>,
     spaces: &'a Query<&ManifoldSpace>,
 ) -> Option<&'a ManifoldSpace> {
-    parents.iter_ancestors(entity).find_map(|a| spaces.get(a).ok())
+    spaces.get(members.get(entity).ok()?.space()).ok()
 }
 
 /// Moves entities along geodesics, `M <- M exp(v dt, w dt)`, in
@@ -26,7 +26,7 @@ pub(crate) fn space_of<'a>(
 pub fn integrate_velocities(
     time: Res<Time>,
     spaces: Query<&ManifoldSpace>,
-    parents: Query<&ChildOf>,
+    members: Query<&InSpace>,
     mut movers: Query<(
         Entity,
         &mut Placement,
@@ -48,7 +48,7 @@ pub fn integrate_velocities(
             warn!("entity {entity}: velocity has NaN or infinite entries; not moved");
             continue;
         }
-        let Some(ms) = space_of(entity, &parents, &spaces) else {
+        let Some(ms) = space_of(entity, &members, &spaces) else {
             continue;
         };
         let (moved, complete) = advance_placement(
@@ -76,7 +76,7 @@ pub fn integrate_velocities(
 /// sending [`FaceCrossed`] for each face. Movers were wrapped already.
 pub fn wrap_placements(
     spaces: Query<&ManifoldSpace>,
-    parents: Query<&ChildOf>,
+    members: Query<&InSpace>,
     mut entities: Query<(Entity, &mut Placement, &mut DomainCell, &mut WrapOrigin)>,
     mut crossed: MessageWriter<FaceCrossed>,
 ) {
@@ -84,7 +84,7 @@ pub fn wrap_placements(
         if origin.0 == Some(placement.isometry) {
             continue;
         }
-        let Some(ms) = space_of(entity, &parents, &spaces) else {
+        let Some(ms) = space_of(entity, &members, &spaces) else {
             continue;
         };
         if !placement.isometry.is_finite() {
@@ -130,7 +130,7 @@ fn apply_crossings(
         // scheme gives it a FAR id.
         let finite = product.is_finite();
         if finite {
-            cell.element = if product.w_axis.w.abs() < crate::cell::HASHED_HORIZON {
+            cell.element = if product.w_axis.w.abs() < crate::space::cells::HASHED_HORIZON {
                 isometry::orthonormalize(g, product)
             } else {
                 product
@@ -155,11 +155,11 @@ fn apply_crossings(
 /// A mirrored entity gets a negative x scale (its size is kept).
 pub fn sync_transforms(
     spaces: Query<&ManifoldSpace>,
-    parents: Query<&ChildOf>,
+    members: Query<&InSpace>,
     mut entities: Query<(Entity, &Placement, &mut Transform), Changed<Placement>>,
 ) {
     for (entity, placement, mut transform) in &mut entities {
-        let Some(ms) = space_of(entity, &parents, &spaces) else {
+        let Some(ms) = space_of(entity, &members, &spaces) else {
             continue;
         };
         let g = ms.space().geometry();

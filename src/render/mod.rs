@@ -1,22 +1,97 @@
-//! The GPU side of the tracer: the WGSL tracer (`shaders/trace.wgsl`, the
-//! twin of [`crate::trace`]), the shader defs that specialise it to a
-//! scene, its data packed for the GPU, a headless wgpu runner, and (feature
-//! `render`) the Bevy render pass that runs it for manifold cameras.
+//! The ray-traced render pass in Bevy's renderer (feature `render`):
+//! a [`ManifoldCamera`] looks into the manifold it lives in.
+//!
+//! Following Bevy's own passes, in order:
+//! - main world: [`crate::drawables::gather_scenes`] gathers each space's
+//!   scene when it changes (no GPU data);
+//! - extract ([`extract`]): each manifold camera's view, sharing the
+//!   space and the scene;
+//! - prepare ([`prepare`]): each scene packed for the GPU when its
+//!   generation changed, the pipeline specialised to the view
+//!   ([`pipeline`]), buffers uploaded on change, the bind group;
+//! - the pass ([`node`]): a `Core3d` system in the main-pass set, before
+//!   Bevy's opaque pass, that draws `shaders/trace.wgsl`'s fragment entry
+//!   over the viewport.
+//!
+//! The fragment path was chosen over compute by measurement on lavapipe
+//! (see BENCHMARKS.md): it writes the view target and its depth directly,
+//! where compute needs a storage texture and a copy (and Bevy's sRGB view
+//! targets are not storage formats).
 
-mod gpu;
-mod headless;
-mod shader_defs;
+pub mod camera;
+pub mod extract;
+pub mod node;
+#[cfg(feature = "offscreen")]
+pub mod offscreen;
+pub mod pipeline;
+pub mod prepare;
 
-#[cfg(feature = "render")]
-pub mod pass;
+pub use camera::ManifoldCamera;
+pub use prepare::{ManifoldBufferCache, ManifoldUploads};
 
-pub use gpu::{
-    FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE, GpuBall, GpuFace, GpuInstance, GpuLight, GpuObjects, GpuParams, GpuPixel,
-    GpuScene, GpuSpace, GpuTube, GpuView, settings_flags,
-};
-pub use headless::{GpuError, GpuTracer, UsedTracer, probe_adapter, probe_adapter_info, render_any};
-pub use shader_defs::{CellScheme as GpuCellScheme, TraceDefs};
+use bevy::core_pipeline::core_3d::main_opaque_pass_3d;
+use bevy::core_pipeline::{Core3d, Core3dSystems, FullscreenShader};
+use bevy::prelude::*;
+use bevy::render::render_resource::SpecializedRenderPipelines;
+use bevy::render::{ExtractSchedule, Render, RenderApp, RenderStartup, RenderSystems};
+use bevy::shader::Shader;
+use bevy_manifold_gpu::TRACE_WGSL;
 
-/// The tracer's WGSL source, carried inside the crate so an app that
-/// depends on it from crates.io finds it.
-pub const TRACE_WGSL: &str = include_str!("../../shaders/trace.wgsl");
+/// The render pass. Added by [`crate::ManifoldPlugin`] when the app has a
+/// renderer; on its own it does nothing without the ECS layer.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ManifoldRenderPlugin;
+
+impl Plugin for ManifoldRenderPlugin {
+    fn build(&self, app: &mut App) {
+        app.register_type::<ManifoldCamera>();
+        let Some(render_app) = app.get_sub_app_mut(RenderApp) else {
+            return;
+        };
+        render_app
+            .init_resource::<SpecializedRenderPipelines<pipeline::TracePipeline>>()
+            .init_resource::<ManifoldBufferCache>()
+            .init_resource::<ManifoldUploads>()
+            .init_resource::<prepare::ManifoldPackedScenes>()
+            .add_systems(RenderStartup, init_trace_pipeline)
+            .add_systems(ExtractSchedule, extract::extract_manifold_views)
+            .add_systems(
+                Render,
+                (prepare::prepare_manifold_scenes, prepare::prepare_manifold_views)
+                    .chain()
+                    .in_set(RenderSystems::PrepareResources),
+            )
+            .add_systems(
+                Core3d,
+                node::trace_pass
+                    .in_set(Core3dSystems::MainPass)
+                    .before(main_opaque_pass_3d),
+            );
+    }
+
+    fn finish(&self, app: &mut App) {
+        // The shader is embedded in the crate, so an app using it from
+        // crates.io finds it wherever it runs from.
+        let Some(mut shaders) = app.world_mut().get_resource_mut::<Assets<Shader>>() else {
+            return;
+        };
+        let handle = shaders.add(Shader::from_wgsl(TRACE_WGSL, "bevy_manifold/shaders/trace.wgsl"));
+        if let Some(render_app) = app.get_sub_app_mut(RenderApp) {
+            render_app.insert_resource(pipeline::TraceShader(handle));
+        }
+    }
+}
+
+fn init_trace_pipeline(
+    mut commands: Commands,
+    shader: Option<Res<pipeline::TraceShader>>,
+    fullscreen: Res<FullscreenShader>,
+) {
+    let Some(shader) = shader else {
+        error!(
+            "bevy_manifold: the tracer shader was not registered (no Assets<Shader>); manifold cameras will not render"
+        );
+        return;
+    };
+    commands.insert_resource(pipeline::TracePipeline::new(shader.0.clone(), fullscreen.clone()));
+}

@@ -1,0 +1,196 @@
+//! The `bevy_manifold` command line: parsing and dispatch. The command names and flags are a
+//! contract other tools rely on; change them only by adding.
+
+use bevy_manifold_bench as bench;
+mod show;
+
+use crate::policy::{UsedTracer, render_any};
+use bevy_manifold::prelude::*;
+use bevy_manifold::trace::{write_ids_png, write_png};
+use clap::{Args, Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "bevy_manifold",
+    version,
+    about = "Look inside non-Euclidean 3-manifolds and orbifolds by ray tracing"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// The explorer (what running with no command opens).
+    Explore {
+        /// Quit after this many frames (for smoke tests).
+        #[arg(long)]
+        frames: Option<u32>,
+        /// With --frames: save the window (panel included) to this PNG at
+        /// that frame, then quit.
+        #[arg(long, requires = "frames")]
+        screenshot: Option<PathBuf>,
+    },
+    /// Inspect and export spaces.
+    #[command(subcommand)]
+    Space(SpaceCommand),
+    /// Render a view of a space to PNG.
+    Render(RenderArgs),
+    /// Benchmarks.
+    #[command(subcommand)]
+    Bench(bench::BenchCommand),
+}
+
+#[derive(Subcommand)]
+enum SpaceCommand {
+    /// Print the catalog's space names, one per line.
+    List,
+    /// Describe a space: faces, vertices, edge cycles, radii, volume, group.
+    Show {
+        /// A catalog name or the path of a space file.
+        name: String,
+    },
+    /// Print a space as JSON (the space-file format).
+    Export {
+        /// A catalog name or the path of a space file.
+        name: String,
+    },
+}
+
+#[derive(Args)]
+struct RenderArgs {
+    /// A catalog name or the path of a space file.
+    #[arg(long)]
+    space: String,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 640)]
+    width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 360)]
+    height: u32,
+    /// Output PNG.
+    #[arg(long)]
+    out: PathBuf,
+    /// Scene file (JSON); without it, the space's default scene.
+    #[arg(long)]
+    scene: Option<PathBuf>,
+    /// Also write the id buffer (R object, G levels, B cell id low byte).
+    #[arg(long)]
+    ids: Option<PathBuf>,
+    /// Most face transports per ray: the paper's levels (`--bounces` is
+    /// the same flag under its earlier name).
+    #[arg(long, visible_alias = "bounces", default_value_t = 8)]
+    levels: u32,
+    /// Fog density (adds fog, or overrides the scene's).
+    #[arg(long)]
+    fog: Option<f64>,
+    /// Colour objects by the copy of the domain they are seen in.
+    #[arg(long)]
+    cells: bool,
+    /// Use the CPU reference tracer instead of the GPU (f64 unless --f32).
+    #[arg(long)]
+    cpu: bool,
+    /// With --cpu: trace in f32, the GPU's precision, instead of f64.
+    #[arg(long)]
+    f32: bool,
+}
+
+/// Parses the arguments and runs the command.
+pub fn run() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        // The explorer: a window, or its headless fallback.
+        None => return explore(None, None),
+        Some(Command::Explore { frames, screenshot }) => return explore(frames, screenshot),
+        Some(Command::Space(SpaceCommand::List)) => {
+            for name in catalog::NAMES {
+                println!("{name}");
+            }
+            Ok(())
+        }
+        Some(Command::Space(SpaceCommand::Show { name })) => {
+            resolve_space(&name).map(|s| print!("{}", show::describe(&s)))
+        }
+        Some(Command::Space(SpaceCommand::Export { name })) => {
+            resolve_space(&name).map(|s| println!("{}", s.to_json()))
+        }
+        Some(Command::Render(args)) => render_command(&args),
+        Some(Command::Bench(b)) => bench::run(&b),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn explore(frames: Option<u32>, screenshot: Option<PathBuf>) -> ExitCode {
+    match crate::explorer::run_for(frames, screenshot) {
+        bevy::app::AppExit::Success => ExitCode::SUCCESS,
+        bevy::app::AppExit::Error(_) => ExitCode::FAILURE,
+    }
+}
+
+/// A catalog space by name, or a space file by path.
+pub fn resolve_space(name: &str) -> Result<Space, String> {
+    catalog::resolve(name)
+}
+
+fn render_command(args: &RenderArgs) -> Result<(), String> {
+    let space = resolve_space(&args.space)?;
+    if args.width == 0 || args.height == 0 {
+        return Err(format!(
+            "the image must be at least 1x1, got {}x{}",
+            args.width, args.height
+        ));
+    }
+    let mut scene = match &args.scene {
+        Some(p) => Scene::load(p, &space).map_err(|e| e.to_string())?,
+        None => Scene::paper_default(&space),
+    };
+    for why in &scene.skipped {
+        eprintln!("warning: {why}");
+    }
+    if let Some(density) = args.fog {
+        if !(density >= 0.0 && density.is_finite()) {
+            return Err(format!("--fog must be a density >= 0, got {density}"));
+        }
+        let color = scene.fog.as_ref().map_or([0.75, 0.78, 0.82], |f| f.color);
+        scene.fog = Some(Fog { density, color });
+    }
+    let settings = TraceSettings {
+        width: args.width,
+        height: args.height,
+        levels: args.levels,
+        cell_colors: args.cells,
+        ..TraceSettings::default()
+    };
+    let start = std::time::Instant::now();
+    let (img, tracer) = render_any(&space, &scene, &settings, args.cpu, args.f32).map_err(|e| e.to_string())?;
+    if let UsedTracer::Cpu {
+        fallback: Some(why), ..
+    } = &tracer
+    {
+        eprintln!("warning: {why}; rendered with the CPU reference tracer instead");
+    }
+    let secs = start.elapsed().as_secs_f64();
+    write_png(&img, &args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    if let Some(ids) = &args.ids {
+        write_ids_png(&img, ids).map_err(|e| format!("{}: {e}", ids.display()))?;
+    }
+    eprintln!(
+        "rendered {} ({}x{}, {} levels, {tracer}) in {:.2} s -> {}",
+        space.name(),
+        args.width,
+        args.height,
+        args.levels,
+        secs,
+        args.out.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,86 @@
+//! The explorer without a window: when there is no display to open one on,
+//! or no GPU adapter for Bevy's renderer, it says so in one line, renders
+//! the view it would have opened (the settings' space and scene, from the
+//! paper's camera) to a PNG with the headless GPU tracer, or the CPU
+//! reference when there is no adapter, and exits 0.
+
+use super::settings::ExplorerSettings;
+use crate::policy::{UsedTracer, render_any};
+use bevy::app::AppExit;
+use bevy_manifold::space::catalog;
+use bevy_manifold::trace::{Scene, TraceSettings, write_png};
+use bevy_manifold_gpu::probe_adapter_info;
+use std::path::Path;
+
+/// The GPU adapter a window would render with, or why no window can be
+/// opened here: no display server (Linux and the BSDs: neither `DISPLAY`
+/// nor `WAYLAND_DISPLAY` is set), or no GPU adapter.
+///
+/// # Errors
+/// The reason, in one line.
+pub fn window_adapter() -> Result<wgpu::AdapterInfo, String> {
+    let set = |k: &str| std::env::var_os(k).is_some_and(|v| !v.is_empty());
+    if cfg!(all(unix, not(target_os = "macos"))) && !set("DISPLAY") && !set("WAYLAND_DISPLAY") {
+        return Err("no display (neither DISPLAY nor WAYLAND_DISPLAY is set)".into());
+    }
+    probe_adapter_info().map_err(|e| format!("no window: {e}"))
+}
+
+/// The explorer's first view as a CPU/GPU tracer scene: the settings'
+/// space (the 3-torus, with a warning, when it cannot be loaded), the
+/// paper's scene with the settings' options, fog and cell shading.
+#[must_use]
+pub fn view_scene(
+    settings: &ExplorerSettings,
+    width: u32,
+    height: u32,
+) -> (bevy_manifold::space::Space, Scene, TraceSettings) {
+    let space = catalog::resolve(&settings.space).unwrap_or_else(|e| {
+        eprintln!("warning: {e}; showing the 3-torus");
+        catalog::torus(1.0)
+    });
+    let mut scene = Scene::paper(&space, &settings.paper());
+    // As the pass reads the camera's fog (no fog at density 0).
+    scene.fog = settings.fog().and_then(|fog| fog.to_fog());
+    let tint = settings.cell_shading().tint();
+    let trace = TraceSettings {
+        width,
+        height,
+        levels: settings.levels,
+        max_distance: f64::from(settings.max_distance),
+        cell_colors: tint.is_some(),
+        cell_tint: tint.unwrap_or_default(),
+        ..TraceSettings::default()
+    };
+    (space, scene, trace)
+}
+
+/// Prints why there is no window, renders the view to `out` (1280x720 on
+/// the GPU, 640x360 on the CPU reference) and returns success; an error
+/// exit only when the image cannot be made or written.
+pub fn render_instead(why: &str, settings: &ExplorerSettings, out: &Path) -> AppExit {
+    let gpu = probe_adapter_info().is_ok();
+    let (w, h) = if gpu { (1280, 720) } else { (640, 360) };
+    let (space, scene, trace) = view_scene(settings, w, h);
+    let result = render_any(&space, &scene, &trace, !gpu, false)
+        .map_err(|e| e.to_string())
+        .and_then(|(img, used)| write_png(&img, out).map(|()| used).map_err(|e| e.to_string()));
+    match result {
+        Ok(used) => {
+            let on = match used {
+                UsedTracer::Gpu(a) => format!("on the GPU ({a})"),
+                UsedTracer::Cpu { .. } => "with the CPU reference tracer".into(),
+            };
+            println!(
+                "{why}: rendered the explorer's view of {} to {} ({w}x{h}, {on}) instead of opening a window",
+                space.name(),
+                out.display()
+            );
+            AppExit::Success
+        }
+        Err(e) => {
+            eprintln!("{why}, and rendering {} failed: {e}", out.display());
+            AppExit::error()
+        }
+    }
+}

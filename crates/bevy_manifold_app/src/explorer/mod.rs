@@ -1,0 +1,312 @@
+//! The explorer (feature `app`): what `cargo run --release` opens. A window
+//! into the manifold with the paper's scene, the fly camera and an egui
+//! side panel for the space, the levels, fog, per-cell shading, the scene,
+//! the render scale, frame times, the adapter and the camera's cell.
+//! Settings persist between runs ([`settings`]). Without a display or a GPU
+//! adapter it says so in one line, renders the view to `explorer.png`
+//! instead ([`fallback`]) and exits 0.
+//!
+//! The pieces are plugins, so a test or another app can run the explorer's
+//! world without its window:
+//! - [`ExplorerPlugin`]: the settings, the world they describe (re-spawned
+//!   when the space or the scene changes), the keys, the view image, saving;
+//! - [`panel::ExplorerPanelPlugin`]: the egui panel and the view in the
+//!   window.
+//!
+//! ```no_run
+//! // The explorer as `cargo run --release` starts it:
+//! std::process::exit(match bevy_manifold_app::explorer::run() {
+//!     bevy::app::AppExit::Success => 0,
+//!     _ => 1,
+//! });
+//! ```
+
+pub mod fallback;
+pub mod panel;
+pub mod settings;
+pub mod view;
+
+pub use settings::{CellMode, ExplorerSettings};
+pub use view::{ExplorerCamera, ExplorerStatus, ExplorerView, ExplorerWorld};
+
+use bevy::prelude::*;
+use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured, save_to_disk};
+use bevy_manifold::camera_controller::FlyCameraPlugin;
+use bevy_manifold::placement::DomainCell;
+use bevy_manifold::space::catalog;
+use bevy_manifold::trace::SuzanneMode;
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+/// The explorer's world, keys and settings (no window needed). Adds
+/// [`bevy_manifold::ManifoldPlugin`] and [`FlyCameraPlugin`] when the app has not.
+#[derive(Clone, Debug, Default)]
+pub struct ExplorerPlugin {
+    /// Where the settings are saved when they change and on exit (`None`:
+    /// not saved).
+    pub settings_path: Option<PathBuf>,
+}
+
+/// Where settings are saved, and when they last were.
+#[derive(Resource, Debug)]
+struct SettingsFile {
+    path: Option<PathBuf>,
+    saved: ExplorerSettings,
+    due: Option<Instant>,
+}
+
+impl Plugin for ExplorerPlugin {
+    fn build(&self, app: &mut App) {
+        if !app.is_plugin_added::<bevy_manifold::ManifoldPlugin>() {
+            app.add_plugins(bevy_manifold::ManifoldPlugin::default());
+        }
+        if !app.is_plugin_added::<FlyCameraPlugin>() {
+            app.add_plugins(FlyCameraPlugin);
+        }
+        app.init_resource::<ExplorerSettings>()
+            .init_resource::<ExplorerStatus>()
+            .insert_resource(SettingsFile {
+                path: self.settings_path.clone(),
+                saved: ExplorerSettings::default(),
+                due: None,
+            })
+            .add_systems(PreStartup, note_loaded_settings)
+            .add_systems(Startup, view::setup)
+            .add_systems(
+                Update,
+                (
+                    keys,
+                    view::apply_settings,
+                    view::resize_view,
+                    view::track,
+                    save_settings,
+                )
+                    .chain(),
+            )
+            .add_systems(Last, save_on_exit);
+    }
+}
+
+fn note_loaded_settings(settings: Res<ExplorerSettings>, mut file: ResMut<SettingsFile>) {
+    file.saved = settings.clone();
+}
+
+/// One line per key, as the panel lists them.
+pub const KEYS: &[(&str, &str)] = &[
+    ("W A S D, Space, Shift", "fly"),
+    ("arrows, right mouse drag", "turn"),
+    ("Q / E", "roll"),
+    ("1 - 5", "catalog spaces"),
+    ("[ / ]", "fewer / more levels"),
+    ("F", "fog"),
+    ("C", "per-cell shading"),
+    ("M", "next cell mode"),
+    ("P", "pin the camera's cell (highlight)"),
+    ("G", "domain edges"),
+    ("B", "Suzanne attached / free / hidden"),
+    ("R", "back to the start"),
+    ("Tab", "panel"),
+    ("F12", "screenshot (PNG)"),
+];
+
+/// The keys for the common toggles (listed in [`KEYS`]).
+fn keys(
+    mut commands: Commands,
+    keys: Option<Res<ButtonInput<KeyCode>>>,
+    mut settings: ResMut<ExplorerSettings>,
+    world: Option<Res<ExplorerWorld>>,
+    view: Option<Res<ExplorerView>>,
+    cells: Query<&DomainCell, With<ExplorerCamera>>,
+    mut status: ResMut<ExplorerStatus>,
+) {
+    let (Some(keys), Some(world)) = (keys, world) else {
+        return;
+    };
+    let hit = |k: KeyCode| keys.just_pressed(k);
+    let digits = [
+        KeyCode::Digit1,
+        KeyCode::Digit2,
+        KeyCode::Digit3,
+        KeyCode::Digit4,
+        KeyCode::Digit5,
+    ];
+    for (k, name) in digits.iter().zip(catalog::NAMES) {
+        if hit(*k) && settings.space != *name {
+            settings.space = (*name).to_string();
+        }
+    }
+    if hit(KeyCode::BracketLeft) && settings.levels > 1 {
+        settings.levels -= 1;
+    }
+    if hit(KeyCode::BracketRight) && settings.levels < settings::MAX_LEVEL {
+        settings.levels += 1;
+    }
+    if hit(KeyCode::KeyF) {
+        settings.fog = !settings.fog;
+    }
+    if hit(KeyCode::KeyC) {
+        settings.cells = !settings.cells;
+    }
+    if hit(KeyCode::KeyM) {
+        let i = CellMode::ALL.iter().position(|m| *m == settings.cell_mode).unwrap_or(0);
+        settings.cell_mode = CellMode::ALL[(i + 1) % CellMode::ALL.len()];
+        settings.cells = true;
+    }
+    if hit(KeyCode::KeyP)
+        && let Ok(cell) = cells.get(world.camera)
+    {
+        settings.highlight = cell.id.0;
+        settings.cell_mode = CellMode::Highlight;
+        settings.cells = true;
+    }
+    if hit(KeyCode::KeyG) {
+        settings.edges = !settings.edges;
+    }
+    if hit(KeyCode::KeyB) {
+        settings.suzanne = match settings.suzanne {
+            SuzanneMode::Attached => SuzanneMode::Free,
+            SuzanneMode::Free => SuzanneMode::Hidden,
+            SuzanneMode::Hidden => SuzanneMode::Attached,
+        };
+    }
+    if hit(KeyCode::KeyR) {
+        let (placement, _) = bevy_manifold::paper_scene::paper_camera(&world.space);
+        commands.entity(world.camera).insert((placement, DomainCell::default()));
+    }
+    if hit(KeyCode::Tab) {
+        settings.panel = !settings.panel;
+    }
+    if hit(KeyCode::F12)
+        && let Some(view) = view
+    {
+        let secs = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_secs());
+        let path = format!("bevy_manifold-{}-{secs}.png", world.space.name());
+        status.say(format!("screenshot: {path} ({}x{})", view.size.x, view.size.y), false);
+        commands
+            .spawn(Screenshot::image(view.image.clone()))
+            .observe(save_to_disk(path));
+    }
+}
+
+/// Saves the settings a second after they last changed.
+fn save_settings(settings: Res<ExplorerSettings>, mut file: ResMut<SettingsFile>, mut status: ResMut<ExplorerStatus>) {
+    if file.path.is_none() {
+        return;
+    }
+    if settings.is_changed() && *settings != file.saved {
+        file.due = Some(Instant::now() + Duration::from_secs(1));
+    }
+    if file.due.is_some_and(|d| Instant::now() >= d) {
+        write_settings(&settings, &mut file, &mut status);
+    }
+}
+
+fn write_settings(settings: &ExplorerSettings, file: &mut SettingsFile, status: &mut ExplorerStatus) {
+    file.due = None;
+    let Some(path) = &file.path else { return };
+    match settings.save(path) {
+        Ok(()) => file.saved = settings.clone(),
+        Err(e) => status.say(format!("settings not saved to {}: {e}", path.display()), true),
+    }
+}
+
+fn save_on_exit(
+    exits: MessageReader<AppExit>,
+    settings: Res<ExplorerSettings>,
+    mut file: ResMut<SettingsFile>,
+    mut status: ResMut<ExplorerStatus>,
+) {
+    if !exits.is_empty() && *settings != file.saved {
+        write_settings(&settings, &mut file, &mut status);
+    }
+}
+
+/// Loads the settings from [`settings::settings_path`] (printing what was
+/// wrong with them), then opens the explorer window; or, without a display
+/// or a GPU adapter, says so and renders `explorer.png` instead.
+pub fn run() -> AppExit {
+    run_for(None, None)
+}
+
+/// [`run`], quitting after `frames` frames when given (smoke tests), and
+/// then saving the whole window, panel included, to `screenshot`.
+pub fn run_for(frames: Option<u32>, screenshot: Option<PathBuf>) -> AppExit {
+    let path = settings::settings_path();
+    let first_run = path.as_ref().is_some_and(|p| !p.exists());
+    let (mut settings, mut warnings) = match &path {
+        Some(p) => settings::load(p),
+        None => (
+            ExplorerSettings::default(),
+            vec!["no config directory is known: settings are not saved".into()],
+        ),
+    };
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
+    let adapter = match fallback::window_adapter() {
+        Ok(a) => a,
+        Err(why) => return fallback::render_instead(&why, &settings, std::path::Path::new("explorer.png")),
+    };
+    // A first run on a software rasteriser (lavapipe, WARP, SwiftShader)
+    // starts at half resolution and four levels, or a frame takes seconds.
+    if first_run && adapter.device_type == wgpu::DeviceType::Cpu {
+        settings.render_scale = 0.5;
+        settings.levels = 4;
+        let note = "a software GPU adapter: starting at render scale 0.5 and 4 levels (the panel sets both)";
+        eprintln!("note: {note}");
+        warnings.push(note.into());
+    }
+    let mut app = App::new();
+    app.add_plugins(DefaultPlugins.set(WindowPlugin {
+        primary_window: Some(Window {
+            title: "bevy_manifold explorer".into(),
+            resolution: (1280, 720).into(),
+            ..default()
+        }),
+        ..default()
+    }))
+    .insert_resource(settings)
+    .add_plugins((ExplorerPlugin { settings_path: path }, panel::ExplorerPanelPlugin));
+    if !warnings.is_empty() {
+        app.world_mut().resource_mut::<ExplorerStatus>().message = Some((warnings.join("\n"), true));
+    }
+    if let Some(n) = frames {
+        app.add_systems(
+            Last,
+            move |mut commands: Commands,
+                  mut count: Local<u32>,
+                  mut exit: MessageWriter<AppExit>,
+                  status: Res<ExplorerStatus>,
+                  view: Res<ExplorerView>| {
+                *count += 1;
+                if *count == n {
+                    // What a smoke run measured, for its log.
+                    println!(
+                        "explorer: {n} frames, mean frame time over the last {:.0} s {:.1} ms, view {}x{} traced",
+                        ExplorerStatus::HISTORY_SECS,
+                        status.mean_frame_ms().unwrap_or(f32::NAN),
+                        view.size.x,
+                        view.size.y
+                    );
+                }
+                match &screenshot {
+                    Some(path) if *count == n => {
+                        commands
+                            .spawn(Screenshot::primary_window())
+                            .observe(save_to_disk(path.clone()))
+                            .observe(|_: On<ScreenshotCaptured>, mut exit: MessageWriter<AppExit>| {
+                                exit.write(AppExit::Success);
+                            });
+                    }
+                    None if *count >= n => {
+                        exit.write(AppExit::Success);
+                    }
+                    _ => {}
+                }
+            },
+        );
+    }
+    app.run()
+}

@@ -1,0 +1,270 @@
+//! The explorer's window (feature `app`): an egui side panel with every
+//! setting, the frame times, the adapter and the camera's cell, and the
+//! traced view filling the rest of the window at the render scale.
+
+use super::settings::{CellMode, ExplorerSettings, MAX_LEVEL, MIN_SCALE};
+use super::view::{ExplorerCamera, ExplorerStatus, ExplorerView, ExplorerWorld, describe_cell};
+use super::{ExplorerPlugin, KEYS};
+use bevy::prelude::*;
+use bevy::render::renderer::RenderAdapterInfo;
+use bevy_egui::egui::{self, Color32, LayerId, Ui, UiBuilder};
+use bevy_egui::{
+    EguiContexts, EguiGlobalSettings, EguiPlugin, EguiPrimaryContextPass, EguiTextureHandle, PrimaryEguiContext,
+};
+use bevy_manifold::placement::DomainCell;
+use bevy_manifold::space::catalog;
+use bevy_manifold::trace::SuzanneMode;
+
+/// The panel and the view in the primary window. Needs
+/// [`ExplorerPlugin`] (added when missing) and a window.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ExplorerPanelPlugin;
+
+impl Plugin for ExplorerPanelPlugin {
+    fn build(&self, app: &mut App) {
+        if !app.is_plugin_added::<ExplorerPlugin>() {
+            app.add_plugins(ExplorerPlugin::default());
+        }
+        // The window's own camera carries egui, not the first camera
+        // spawned (the manifold camera, which renders offscreen); keys
+        // typed into the panel (a file path) do not fly the camera.
+        app.insert_resource(EguiGlobalSettings {
+            auto_create_primary_context: false,
+            enable_absorb_bevy_input_system: true,
+            ..default()
+        })
+        .add_plugins(EguiPlugin::default())
+        .init_resource::<PanelState>()
+        .add_systems(Startup, setup_window_camera)
+        .add_systems(EguiPrimaryContextPass, panel);
+    }
+}
+
+/// The panel's own state: the space-file path being typed and the view's
+/// texture in egui.
+#[derive(Resource, Default)]
+struct PanelState {
+    path: String,
+    texture: Option<(AssetId<Image>, egui::TextureId)>,
+}
+
+/// The window's own camera: it draws egui (and clears); the manifold
+/// camera renders offscreen into the view image the panel shows.
+fn setup_window_camera(mut commands: Commands) {
+    commands.spawn((Camera2d, PrimaryEguiContext));
+}
+
+#[expect(clippy::too_many_arguments, reason = "a system's parameters")]
+fn panel(
+    mut contexts: EguiContexts,
+    mut settings: ResMut<ExplorerSettings>,
+    mut view: ResMut<ExplorerView>,
+    mut state: ResMut<PanelState>,
+    mut status: ResMut<ExplorerStatus>,
+    world: Res<ExplorerWorld>,
+    cells: Query<&DomainCell, With<ExplorerCamera>>,
+    adapter: Option<Res<RenderAdapterInfo>>,
+) -> Result {
+    // The view's texture in egui follows the image (replaced on resize).
+    let texture = match state.texture {
+        Some((id, tex)) if id == view.image.id() => tex,
+        old => {
+            if let Some((id, _)) = old {
+                contexts.remove_image(id);
+            }
+            let tex = contexts.add_image(EguiTextureHandle::Strong(view.image.clone()));
+            state.texture = Some((view.image.id(), tex));
+            tex
+        }
+    };
+    let ctx = contexts.ctx_mut()?;
+    let mut root = Ui::new(
+        ctx.clone(),
+        "explorer".into(),
+        UiBuilder::new()
+            .layer_id(LayerId::background())
+            .max_rect(ctx.viewport_rect()),
+    );
+    // Edit a copy, so the settings change (and are saved, and applied)
+    // only when a widget changed something.
+    let mut s = settings.clone();
+    if s.panel {
+        egui::Panel::left("settings")
+            .resizable(true)
+            .default_size(300.0)
+            .show(&mut root, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    let cell = cells.get(world.camera).ok();
+                    contents(
+                        ui,
+                        &mut s,
+                        &mut state.path,
+                        &mut status,
+                        &world,
+                        cell,
+                        adapter.as_deref(),
+                        &view,
+                    );
+                });
+            });
+    }
+    // The rest of the window is the view.
+    let rect = root.available_rect_before_wrap();
+    // egui's points are logical pixels: times pixels-per-point they are
+    // the window's physical pixels.
+    let px = rect.size() * ctx.pixels_per_point() * s.render_scale;
+    view.wanted = UVec2::new(px.x.round().max(1.0) as u32, px.y.round().max(1.0) as u32);
+    root.put(
+        rect,
+        egui::Image::new(egui::load::SizedTexture::new(texture, rect.size())).sense(egui::Sense::hover()),
+    );
+    if s != *settings {
+        *settings = s;
+    }
+    Ok(())
+}
+
+#[expect(clippy::too_many_arguments, reason = "a system's parameters")]
+fn contents(
+    ui: &mut Ui,
+    s: &mut ExplorerSettings,
+    path: &mut String,
+    status: &mut ExplorerStatus,
+    world: &ExplorerWorld,
+    cell: Option<&DomainCell>,
+    adapter: Option<&RenderAdapterInfo>,
+    view: &ExplorerView,
+) {
+    ui.heading("bevy_manifold");
+    ui.label("Space");
+    egui::ComboBox::from_id_salt("space")
+        .selected_text(world.space.name())
+        .show_ui(ui, |ui| {
+            for name in catalog::NAMES {
+                ui.selectable_value(&mut s.space, (*name).to_string(), name.to_string());
+            }
+        });
+    ui.collapsing("Open a space file…", |ui| {
+        ui.horizontal(|ui| {
+            ui.text_edit_singleline(path);
+            if ui.button("Open").clicked() {
+                match catalog::resolve(path.trim()) {
+                    Ok(_) => s.space = path.trim().to_string(),
+                    Err(e) => status.say(e, true),
+                }
+            }
+        });
+    });
+    ui.separator();
+    ui.add(egui::Slider::new(&mut s.levels, 1..=MAX_LEVEL).text("max level"));
+    ui.add(
+        egui::Slider::new(&mut s.max_distance, 0.5..=200.0)
+            .logarithmic(true)
+            .text("max distance"),
+    );
+    ui.horizontal(|ui| {
+        ui.checkbox(&mut s.fog, "fog");
+        ui.add_enabled(s.fog, egui::Slider::new(&mut s.fog_density, 0.0..=3.0).text("density"));
+        let mut c = s.fog_color.map(|v| (v * 255.0).round() as u8);
+        ui.add_enabled_ui(s.fog, |ui| {
+            if ui.color_edit_button_srgb(&mut c).changed() {
+                s.fog_color = c.map(|v| f32::from(v) / 255.0);
+            }
+        });
+    });
+    ui.checkbox(&mut s.cells, "per-cell shading");
+    ui.add_enabled_ui(s.cells, |ui| {
+        for m in CellMode::ALL {
+            ui.radio_value(&mut s.cell_mode, m, m.label());
+        }
+        if s.cell_mode == CellMode::Pattern {
+            ui.add(egui::Slider::new(&mut s.pattern_on, 0.0..=1.0).text("cells on"));
+        }
+        if s.cell_mode == CellMode::Highlight {
+            ui.horizontal(|ui| {
+                if ui.button("Pin the camera's cell").clicked()
+                    && let Some(c) = cell
+                {
+                    s.highlight = c.id.0;
+                }
+                ui.label(format!("{:x}", s.highlight));
+            });
+        }
+    });
+    ui.separator();
+    ui.checkbox(&mut s.edges, "domain edges");
+    ui.horizontal(|ui| {
+        ui.label("Suzanne");
+        ui.radio_value(&mut s.suzanne, SuzanneMode::Attached, "attached");
+        ui.radio_value(&mut s.suzanne, SuzanneMode::Free, "free");
+        ui.radio_value(&mut s.suzanne, SuzanneMode::Hidden, "hidden");
+    });
+    ui.checkbox(&mut s.hands, "hands");
+    ui.separator();
+    ui.add(egui::Slider::new(&mut s.render_scale, MIN_SCALE..=1.0).text("render scale"));
+    ui.label(format!("{} x {} px traced", view.size.x, view.size.y));
+    if let Some(ms) = status.mean_frame_ms() {
+        ui.label(format!("frame {ms:.1} ms ({:.1} fps)", 1000.0 / ms.max(0.001)));
+    }
+    frame_plot(ui, status);
+    if let Some(a) = adapter {
+        ui.label(format!("adapter: {} ({:?})", a.name, a.backend));
+    }
+    ui.separator();
+    if let Some(c) = cell {
+        ui.label(format!("cell: {}", describe_cell(&world.space, c)));
+    }
+    ui.label(format!(
+        "last face crossed: {}",
+        status.last_face.map_or("none".to_string(), |f| f.to_string())
+    ));
+    if let Some((m, error)) = &status.message {
+        let color = if *error {
+            Color32::from_rgb(255, 120, 100)
+        } else {
+            ui.visuals().text_color()
+        };
+        ui.colored_label(color, m);
+    }
+    ui.collapsing("Keys", |ui| {
+        egui::Grid::new("keys").striped(true).show(ui, |ui| {
+            for (k, what) in KEYS {
+                ui.label(*k);
+                ui.label(*what);
+                ui.end_row();
+            }
+        });
+    });
+}
+
+/// The last seconds of frame times, as a line (0 at the bottom, the
+/// slowest frame at the top).
+fn frame_plot(ui: &mut Ui, status: &ExplorerStatus) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(ui.available_width(), 48.0), egui::Sense::hover());
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(rect, 2.0, Color32::from_gray(24));
+    let Some(&(last, _)) = status.frame_times.back() else {
+        return;
+    };
+    let top = status.frame_times.iter().map(|f| f.1).fold(1.0f32, f32::max);
+    let span = ExplorerStatus::HISTORY_SECS as f32;
+    let points: Vec<egui::Pos2> = status
+        .frame_times
+        .iter()
+        .map(|&(t, ms)| {
+            let x = rect.right() - (last - t) as f32 / span * rect.width();
+            egui::pos2(x, rect.bottom() - ms / top * rect.height())
+        })
+        .collect();
+    painter.add(egui::Shape::line(
+        points,
+        egui::Stroke::new(1.0, Color32::from_rgb(120, 200, 255)),
+    ));
+    painter.text(
+        rect.left_top() + egui::vec2(4.0, 2.0),
+        egui::Align2::LEFT_TOP,
+        format!("{top:.0} ms"),
+        egui::FontId::monospace(10.0),
+        Color32::GRAY,
+    );
+}

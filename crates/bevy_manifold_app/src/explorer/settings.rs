@@ -1,0 +1,309 @@
+//! The explorer's settings, kept between runs as a small JSON file in the
+//! platform's config directory. A missing file gives the defaults; a
+//! broken one is reported, kept aside as `explorer.json.broken` (nothing
+//! the user wrote is lost) and replaced by the defaults; values out of
+//! range are clamped, with a warning each. Nothing here panics.
+//!
+//! ```
+//! use bevy_manifold_app::explorer::settings::{ExplorerSettings, load};
+//! let dir = std::env::temp_dir().join(format!("bm-settings-doc-{}", std::process::id()));
+//! let path = dir.join("explorer.json");
+//! let mut s = ExplorerSettings::default();
+//! s.levels = 5;
+//! s.save(&path).unwrap();
+//! let (back, warnings) = load(&path);
+//! assert_eq!(back, s);
+//! assert!(warnings.is_empty());
+//! std::fs::write(&path, "{ not json").unwrap();
+//! let (back, warnings) = load(&path);
+//! assert_eq!(back, ExplorerSettings::default());
+//! assert!(warnings[0].contains("broken"));
+//! assert!(dir.join("explorer.json.broken").exists());
+//! # std::fs::remove_dir_all(&dir).ok();
+//! ```
+
+use bevy::prelude::*;
+use bevy_manifold::render::ManifoldCamera;
+use bevy_manifold::space::catalog;
+use bevy_manifold::trace::{PaperOptions, SuzanneMode};
+use bevy_manifold::view::{CellShading, ManifoldFog};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// How per-cell shading is chosen in the panel.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum CellMode {
+    /// A colour per copy.
+    #[default]
+    ByCell,
+    /// One copy (pinned from the panel) highlighted.
+    Highlight,
+    /// The paper's on/off pattern by copy.
+    Pattern,
+}
+
+impl CellMode {
+    /// Every mode, in the panel's order.
+    pub const ALL: [CellMode; 3] = [CellMode::ByCell, CellMode::Highlight, CellMode::Pattern];
+
+    /// The mode's name in the panel.
+    #[must_use]
+    pub fn label(self) -> &'static str {
+        match self {
+            CellMode::ByCell => "colour by cell",
+            CellMode::Highlight => "highlight one cell",
+            CellMode::Pattern => "on/off pattern",
+        }
+    }
+}
+
+/// Everything the explorer's panel sets, and what is saved between runs.
+#[derive(Resource, Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct ExplorerSettings {
+    /// A catalog name or the path of a space file.
+    pub space: String,
+    /// Most face transports per ray.
+    pub levels: u32,
+    /// Rays stop after this distance.
+    pub max_distance: f32,
+    /// Fog on.
+    pub fog: bool,
+    /// Fog extinction per unit distance.
+    pub fog_density: f64,
+    /// Fog colour, sRGB.
+    pub fog_color: [f32; 3],
+    /// Per-cell shading on.
+    pub cells: bool,
+    /// Which per-cell shading.
+    pub cell_mode: CellMode,
+    /// [`CellMode::Pattern`]: fraction of copies on.
+    pub pattern_on: f32,
+    /// [`CellMode::Highlight`]: the pinned copy's id.
+    pub highlight: u64,
+    /// The domain's edges drawn.
+    pub edges: bool,
+    /// Suzanne attached to the camera, free, or hidden.
+    pub suzanne: SuzanneMode,
+    /// The hands shown.
+    pub hands: bool,
+    /// Render resolution as a fraction of the view's pixels.
+    pub render_scale: f32,
+    /// The side panel shown.
+    pub panel: bool,
+}
+
+impl Default for ExplorerSettings {
+    fn default() -> Self {
+        let camera = ManifoldCamera::default();
+        let fog = ManifoldFog::default();
+        ExplorerSettings {
+            space: "torus".into(),
+            levels: camera.levels,
+            max_distance: camera.max_distance,
+            fog: false,
+            fog_density: fog.density,
+            fog_color: fog.color.to_srgba().to_f32_array_no_alpha(),
+            cells: false,
+            cell_mode: CellMode::ByCell,
+            pattern_on: 0.5,
+            highlight: 0,
+            edges: true,
+            suzanne: SuzanneMode::Attached,
+            hands: true,
+            render_scale: 1.0,
+            panel: true,
+        }
+    }
+}
+
+/// The most levels the panel offers.
+pub const MAX_LEVEL: u32 = 32;
+/// The smallest render scale.
+pub const MIN_SCALE: f32 = 0.1;
+
+impl ExplorerSettings {
+    /// The camera these settings ask for, with its cell shading.
+    #[must_use]
+    pub fn camera(&self) -> (ManifoldCamera, CellShading) {
+        (
+            ManifoldCamera {
+                levels: self.levels,
+                max_distance: self.max_distance,
+            },
+            self.cell_shading(),
+        )
+    }
+
+    /// The per-cell shading these settings ask for.
+    #[must_use]
+    pub fn cell_shading(&self) -> CellShading {
+        if !self.cells {
+            return CellShading::Off;
+        }
+        match self.cell_mode {
+            CellMode::ByCell => CellShading::ByCell,
+            CellMode::Highlight => CellShading::Highlight { cell: self.highlight },
+            CellMode::Pattern => CellShading::Pattern {
+                on_fraction: self.pattern_on,
+            },
+        }
+    }
+
+    /// The fog these settings ask for, when on.
+    #[must_use]
+    pub fn fog(&self) -> Option<ManifoldFog> {
+        let [r, g, b] = self.fog_color;
+        self.fog.then(|| ManifoldFog {
+            density: self.fog_density,
+            color: Color::srgb(r, g, b),
+        })
+    }
+
+    /// What of the paper's scene is shown.
+    #[must_use]
+    pub fn paper(&self) -> PaperOptions {
+        PaperOptions {
+            edges: self.edges,
+            suzanne: self.suzanne,
+            hands: self.hands,
+        }
+    }
+
+    /// Brings every value into range (levels 1 to [`MAX_LEVEL`], positive
+    /// finite distances and densities, colours and fractions in `[0, 1]`,
+    /// a render scale in `[MIN_SCALE, 1]`, a known space), returning a
+    /// warning for each value changed.
+    pub fn sanitize(&mut self) -> Vec<String> {
+        let mut warnings = Vec::new();
+        let d = ExplorerSettings::default();
+        let mut fix = |what: &str, bad: String, good: String| {
+            warnings.push(format!("settings: {what} {bad} is out of range; using {good}"));
+        };
+        if !(1..=MAX_LEVEL).contains(&self.levels) {
+            let v = self.levels.clamp(1, MAX_LEVEL);
+            fix("levels", self.levels.to_string(), v.to_string());
+            self.levels = v;
+        }
+        if !(self.max_distance.is_finite() && self.max_distance > 0.0) {
+            fix(
+                "max_distance",
+                self.max_distance.to_string(),
+                d.max_distance.to_string(),
+            );
+            self.max_distance = d.max_distance;
+        }
+        if !(self.fog_density.is_finite() && self.fog_density >= 0.0) {
+            fix("fog_density", self.fog_density.to_string(), d.fog_density.to_string());
+            self.fog_density = d.fog_density;
+        }
+        if !self.fog_color.iter().all(|c| (0.0..=1.0).contains(c)) {
+            fix(
+                "fog_color",
+                format!("{:?}", self.fog_color),
+                format!("{:?}", d.fog_color),
+            );
+            self.fog_color = d.fog_color;
+        }
+        if !(0.0..=1.0).contains(&self.pattern_on) {
+            fix("pattern_on", self.pattern_on.to_string(), d.pattern_on.to_string());
+            self.pattern_on = d.pattern_on;
+        }
+        if !(MIN_SCALE..=1.0).contains(&self.render_scale) {
+            let v = if self.render_scale.is_nan() {
+                1.0
+            } else {
+                self.render_scale.clamp(MIN_SCALE, 1.0)
+            };
+            fix("render_scale", self.render_scale.to_string(), v.to_string());
+            self.render_scale = v;
+        }
+        if catalog::by_name(&self.space).is_none() && !Path::new(&self.space).exists() {
+            warnings.push(format!(
+                "settings: space '{}' is neither a catalog space nor an existing file; using {}",
+                self.space, d.space
+            ));
+            self.space = d.space;
+        }
+        warnings
+    }
+
+    /// Writes the settings as JSON to `path` (through a temporary file, so
+    /// a crash mid-write leaves the old file), creating its directory.
+    ///
+    /// # Errors
+    /// The directory or file cannot be written.
+    pub fn save(&self, path: &Path) -> std::io::Result<()> {
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir)?;
+        }
+        let text = serde_json::to_string_pretty(self).map_err(std::io::Error::other)?;
+        let tmp = path.with_extension("json.tmp");
+        std::fs::write(&tmp, text + "\n")?;
+        std::fs::rename(&tmp, path)
+    }
+}
+
+/// Reads the settings at `path`: the defaults when there is no file, or
+/// when it is broken (then it is renamed to `<path>.broken` and a warning
+/// says so); values out of range are clamped. Returns the settings and the
+/// warnings to show.
+#[must_use]
+pub fn load(path: &Path) -> (ExplorerSettings, Vec<String>) {
+    let text = match std::fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return (ExplorerSettings::default(), Vec::new()),
+        Err(e) => {
+            return (
+                ExplorerSettings::default(),
+                vec![format!(
+                    "settings file {} cannot be read ({e}); using defaults",
+                    path.display()
+                )],
+            );
+        }
+    };
+    match serde_json::from_str::<ExplorerSettings>(&text) {
+        Ok(mut s) => {
+            let warnings = s.sanitize();
+            (s, warnings)
+        }
+        Err(e) => {
+            let mut kept = path.as_os_str().to_owned();
+            kept.push(".broken");
+            let kept = PathBuf::from(kept);
+            let aside = match std::fs::rename(path, &kept) {
+                Ok(()) => format!("kept as {}", kept.display()),
+                Err(re) => format!("could not be kept aside: {re}"),
+            };
+            (
+                ExplorerSettings::default(),
+                vec![format!(
+                    "settings file {} is broken ({e}); using defaults (the file was {aside})",
+                    path.display()
+                )],
+            )
+        }
+    }
+}
+
+/// Where the explorer keeps its settings: `$BEVY_MANIFOLD_CONFIG_DIR` if
+/// set, else the platform's config directory (`$XDG_CONFIG_HOME` or
+/// `~/.config` on Linux and the BSDs, `~/Library/Application Support` on
+/// macOS, `%APPDATA%` on Windows), then `bevy_manifold/explorer.json`.
+/// `None` when none of those is known.
+#[must_use]
+pub fn settings_path() -> Option<PathBuf> {
+    let var = |k: &str| std::env::var_os(k).filter(|v| !v.is_empty()).map(PathBuf::from);
+    if let Some(dir) = var("BEVY_MANIFOLD_CONFIG_DIR") {
+        return Some(dir.join("explorer.json"));
+    }
+    let base = if cfg!(windows) {
+        var("APPDATA")
+    } else if cfg!(target_os = "macos") {
+        var("HOME").map(|h| h.join("Library/Application Support"))
+    } else {
+        var("XDG_CONFIG_HOME").or_else(|| var("HOME").map(|h| h.join(".config")))
+    }?;
+    Some(base.join("bevy_manifold").join("explorer.json"))
+}

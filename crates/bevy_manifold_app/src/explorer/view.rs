@@ -1,0 +1,272 @@
+//! The explorer's world and view: the space root, the camera and the
+//! paper's scene spawned from the [`ExplorerSettings`], re-spawned when the
+//! space or the scene changes (the one code path the panel, the keys and
+//! the tests use), the camera's components kept in step with the settings,
+//! and the offscreen image the camera renders into at the render scale.
+
+use super::settings::ExplorerSettings;
+use bevy::camera::RenderTarget;
+use bevy::prelude::*;
+use bevy_manifold::camera_controller::FlyCamera;
+use bevy_manifold::paper_scene::{paper_camera, spawn_paper_scene};
+use bevy_manifold::placement::{DomainCell, FaceCrossed, ManifoldSpace, Placement};
+use bevy_manifold::space::{Space, catalog};
+use bevy_manifold::view::ManifoldFog;
+use std::collections::VecDeque;
+
+/// Marks the explorer's camera.
+#[derive(Component, Clone, Copy, Debug, Default)]
+pub struct ExplorerCamera;
+
+/// What the explorer spawned, and the settings it was spawned with.
+#[derive(Resource, Clone, Debug)]
+pub struct ExplorerWorld {
+    /// The space root (despawned with everything below it on a switch).
+    pub root: Entity,
+    /// The camera.
+    pub camera: Entity,
+    /// The space shown.
+    pub space: Space,
+    /// The settings the world and camera reflect.
+    pub applied: ExplorerSettings,
+}
+
+/// The image the explorer's camera renders into, and the size asked for
+/// (the view's pixels times the render scale, set by the panel or a test).
+#[derive(Resource, Clone, Debug)]
+pub struct ExplorerView {
+    /// The current target.
+    pub image: Handle<Image>,
+    /// Its size.
+    pub size: UVec2,
+    /// The size wanted; the image is replaced when they differ.
+    pub wanted: UVec2,
+}
+
+/// What the panel shows that is not a setting.
+#[derive(Resource, Debug, Default)]
+pub struct ExplorerStatus {
+    /// The last face the camera crossed.
+    pub last_face: Option<usize>,
+    /// A message for the user and whether it is an error.
+    pub message: Option<(String, bool)>,
+    /// Frame times in milliseconds, oldest first, with the time they ended.
+    pub frame_times: VecDeque<(f64, f32)>,
+    /// Spaces switched to since start.
+    pub switches: u64,
+}
+
+impl ExplorerStatus {
+    /// Seconds of frame times kept.
+    pub const HISTORY_SECS: f64 = 5.0;
+
+    /// Shows `message` (an error when `error`).
+    pub fn say(&mut self, message: impl Into<String>, error: bool) {
+        let m = message.into();
+        if error {
+            warn!("{m}");
+        } else {
+            info!("{m}");
+        }
+        self.message = Some((m, error));
+    }
+
+    /// The mean of the kept frame times, in ms.
+    #[must_use]
+    pub fn mean_frame_ms(&self) -> Option<f32> {
+        (!self.frame_times.is_empty())
+            .then(|| self.frame_times.iter().map(|f| f.1).sum::<f32>() / self.frame_times.len() as f32)
+    }
+}
+
+/// A render target image of `size` (at least 1x1).
+fn view_image(images: &mut Assets<Image>, size: UVec2) -> Handle<Image> {
+    bevy_manifold::render::offscreen::target_image(images, size.x.max(1), size.y.max(1))
+}
+
+/// Spawns `space` with the paper's scene and the explorer's camera as the
+/// settings say, the camera at `keep` when given (a scene change in the
+/// same space keeps the view) or where the paper's camera starts.
+fn spawn_world(
+    commands: &mut Commands,
+    space: &Space,
+    settings: &ExplorerSettings,
+    target: &Handle<Image>,
+    keep: Option<(Placement, DomainCell)>,
+) -> (Entity, Entity) {
+    let root = commands
+        .spawn((
+            Name::new(format!("space {}", space.name())),
+            ManifoldSpace::new(space.clone()),
+        ))
+        .id();
+    let (placement, projection) = paper_camera(space);
+    let mut camera = commands.spawn((
+        Name::new("explorer camera"),
+        ChildOf(root),
+        ExplorerCamera,
+        settings.camera(),
+        FlyCamera {
+            speed: 0.5 * space.inradius().max(0.2),
+            mouse_button: Some(MouseButton::Right),
+            ..default()
+        },
+        projection,
+        RenderTarget::Image(target.clone().into()),
+    ));
+    match keep {
+        Some((p, cell)) => camera.insert((p, cell)),
+        None => camera.insert(placement),
+    };
+    if let Some(fog) = settings.fog() {
+        camera.insert(fog);
+    }
+    let camera = camera.id();
+    spawn_paper_scene(commands, root, camera, space, settings.paper());
+    (root, camera)
+}
+
+/// Spawns the first world (startup).
+pub fn setup(
+    mut commands: Commands,
+    mut settings: ResMut<ExplorerSettings>,
+    mut images: ResMut<Assets<Image>>,
+    mut status: ResMut<ExplorerStatus>,
+) {
+    let size = UVec2::new(640, 360);
+    let image = view_image(&mut images, size);
+    let space = catalog::resolve(&settings.space).unwrap_or_else(|e| {
+        status.say(format!("{e}; showing the 3-torus"), true);
+        settings.space = "torus".into();
+        catalog::torus(1.0)
+    });
+    let (root, camera) = spawn_world(&mut commands, &space, &settings, &image, None);
+    commands.insert_resource(ExplorerWorld {
+        root,
+        camera,
+        space,
+        applied: settings.clone(),
+    });
+    commands.insert_resource(ExplorerView {
+        image,
+        size,
+        wanted: size,
+    });
+}
+
+/// Brings the world in line with the settings when they changed: a new
+/// space (or a new scene) despawns the old root with everything under it
+/// and spawns the new one; camera settings only update its components.
+/// A space that cannot be loaded is reported and the settings go back to
+/// the space shown.
+pub fn apply_settings(
+    mut commands: Commands,
+    mut settings: ResMut<ExplorerSettings>,
+    mut world: ResMut<ExplorerWorld>,
+    view: Res<ExplorerView>,
+    mut status: ResMut<ExplorerStatus>,
+    cameras: Query<(&Placement, &DomainCell), With<ExplorerCamera>>,
+) {
+    if !settings.is_changed() || *settings == world.applied {
+        return;
+    }
+    let space_changed = settings.space != world.applied.space;
+    if space_changed || settings.paper() != world.applied.paper() {
+        let space = if space_changed {
+            match catalog::resolve(&settings.space) {
+                Ok(s) => s,
+                Err(e) => {
+                    status.say(e, true);
+                    settings.space = world.applied.space.clone();
+                    return;
+                }
+            }
+        } else {
+            world.space.clone()
+        };
+        let keep = if space_changed {
+            None
+        } else {
+            cameras.get(world.camera).ok().map(|(p, c)| (*p, *c))
+        };
+        commands.entity(world.root).despawn();
+        let (root, camera) = spawn_world(&mut commands, &space, &settings, &view.image, keep);
+        if space_changed {
+            status.switches += 1;
+            status.last_face = None;
+            status.say(format!("showing {}", space.name()), false);
+        }
+        *world = ExplorerWorld {
+            root,
+            camera,
+            space,
+            applied: settings.clone(),
+        };
+        return;
+    }
+    let mut camera = commands.entity(world.camera);
+    camera.insert(settings.camera());
+    match settings.fog() {
+        Some(fog) => camera.insert(fog),
+        None => camera.remove::<ManifoldFog>(),
+    };
+    world.applied = settings.clone();
+}
+
+/// Replaces the view image when the wanted size changed, and points the
+/// camera at the new one.
+pub fn resize_view(
+    mut commands: Commands,
+    mut view: ResMut<ExplorerView>,
+    mut images: ResMut<Assets<Image>>,
+    world: Res<ExplorerWorld>,
+) {
+    if view.wanted == view.size || view.wanted.min_element() == 0 {
+        return;
+    }
+    let image = view_image(&mut images, view.wanted);
+    commands
+        .entity(world.camera)
+        .insert(RenderTarget::Image(image.clone().into()));
+    view.image = image;
+    view.size = view.wanted;
+}
+
+/// Notes the faces the camera crosses and the frame times.
+pub fn track(
+    mut crossed: MessageReader<FaceCrossed>,
+    world: Res<ExplorerWorld>,
+    time: Res<Time<bevy::time::Real>>,
+    mut status: ResMut<ExplorerStatus>,
+) {
+    if let Some(c) = crossed.read().filter(|c| c.entity == world.camera).last() {
+        status.last_face = Some(c.face);
+    }
+    let now = time.elapsed_secs_f64();
+    let dt = time.delta_secs() * 1000.0;
+    if dt > 0.0 {
+        status.frame_times.push_back((now, dt));
+    }
+    while status
+        .frame_times
+        .front()
+        .is_some_and(|f| f.0 < now - ExplorerStatus::HISTORY_SECS)
+    {
+        status.frame_times.pop_front();
+    }
+}
+
+/// The camera's cell in words: the lattice triple of a box domain, the
+/// element's index in a finite group, or the hashed id (marked "far"
+/// beyond the precision horizon).
+#[must_use]
+pub fn describe_cell(space: &Space, cell: &DomainCell) -> String {
+    if let Some(l) = cell.id.lattice() {
+        return format!("({}, {}, {})", l.x, l.y, l.z);
+    }
+    if let bevy_manifold::space::cells::CellScheme::Finite { elements, .. } = space.cells() {
+        return format!("element {} of {}", cell.id.0, elements.len());
+    }
+    let far = if cell.id.is_far() { " (far: best effort)" } else { "" };
+    format!("{:013x}{far}", cell.id.0 & !bevy_manifold::space::cells::CellId::FAR)
+}

@@ -1,0 +1,233 @@
+//! The command line, run as a user runs it.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_bevy_manifold"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("bevy_manifold_cli_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir.join(name)
+}
+
+// No arguments opens the explorer (tests/explorer.rs runs its headless
+// fallback).
+fn help_prints_usage() {
+    let o = run(&["--help"]);
+    assert!(o.status.success());
+    let out = stdout(&o);
+    assert!(
+        out.contains("Usage") && out.contains("render") && out.contains("space"),
+        "{out}"
+    );
+}
+
+fn space_list_prints_one_name_per_line() {
+    let o = run(&["space", "list"]);
+    assert!(o.status.success());
+    assert_eq!(
+        stdout(&o),
+        "torus\nseifert-weber\npoincare\nmirrored-cube\nmirrored-dodecahedron\n"
+    );
+}
+
+fn space_show_gives_the_invariants() {
+    let out = stdout(&run(&["space", "show", "seifert-weber"]));
+    for needle in [
+        "geometry:      hyperbolic",
+        "faces:         12",
+        "vertices:      20",
+        "dihedral angles (deg): 72.000000",
+        "volume:        11.19906",
+        "first homology: Z/5 + Z/5 + Z/5",
+        "edge cycles:   6",
+        "angle sum 360.000000 deg",
+    ] {
+        assert!(out.contains(needle), "missing '{needle}' in:\n{out}");
+    }
+    let out = stdout(&run(&["space", "show", "poincare"]));
+    assert!(
+        out.contains("group order:   120") && out.contains("inradius:      0.314159265"),
+        "{out}"
+    );
+}
+
+fn export_then_load_the_file_by_path() {
+    let o = run(&["space", "export", "poincare"]);
+    assert!(o.status.success());
+    let json = stdout(&o);
+    let v: serde_json::Value = serde_json::from_str(&json).expect("export is JSON");
+    assert_eq!(v["geometry"], "spherical");
+    assert_eq!(v["faces"].as_array().map(Vec::len), Some(12));
+    assert_eq!(v["faces"][0]["kind"], "glue");
+    assert_eq!(v["vertices"].as_array().map(Vec::len), Some(20));
+    let path = tmp("poincare.json");
+    std::fs::write(&path, &json).expect("write");
+    let p = path.to_str().expect("utf-8 path");
+    let shown = stdout(&run(&["space", "show", p]));
+    assert!(shown.contains("group order:   120"), "{shown}");
+    let again = stdout(&run(&["space", "export", p]));
+    assert!(
+        again == json,
+        "export of the loaded file differs from the file (floats must round-trip exactly)"
+    );
+}
+
+fn a_broken_space_file_is_reported_with_its_name() {
+    let path = tmp("broken.json");
+    std::fs::write(
+        &path,
+        r#"{"name": "x", "geometry": "hyperbolic", "faces": [{"plane": [1, 0, 0, -0.5]}]}"#,
+    )
+    .expect("write");
+    let p = path.to_str().expect("utf-8 path");
+    let o = run(&["space", "show", p]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    assert!(err.contains("broken.json") && err.contains("missing field"), "{err}");
+    assert!(!err.contains("panicked"));
+    let o = run(&["space", "show", "no-such-space"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("neither a catalog space"), "{}", stderr(&o));
+}
+
+fn render_writes_the_image_and_the_id_buffer() {
+    let (out, ids) = (tmp("torus.png"), tmp("torus_ids.png"));
+    let o = run(&[
+        "render",
+        "--space",
+        "torus",
+        "--width",
+        "48",
+        "--height",
+        "32",
+        "--out",
+        out.to_str().expect("utf-8"),
+        "--ids",
+        ids.to_str().expect("utf-8"),
+        "--bounces",
+        "3",
+        "--fog",
+        "0.5",
+        "--cells",
+        "--cpu",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let img = image::open(&out).expect("colour PNG").to_rgba8();
+    assert_eq!(img.dimensions(), (48, 32));
+    let idimg = image::open(&ids).expect("id PNG").to_rgba8();
+    assert_eq!(idimg.dimensions(), (48, 32));
+    // The default scene is the paper's: Suzanne (id 1) attached to the
+    // camera, seen only in other copies (levels > 0), the hands (2, 3) in
+    // front of it in its own copy, and the edges (255).
+    assert!(idimg.pixels().any(|p| p.0[0] == 1 && p.0[1] > 0), "Suzanne's images");
+    assert!(!idimg.pixels().any(|p| p.0[0] == 1 && p.0[1] == 0), "not her own copy");
+    assert!(
+        idimg.pixels().any(|p| (p.0[0] == 2 || p.0[0] == 3) && p.0[1] == 0),
+        "the hands"
+    );
+    // Some pixels see edges (255) and other copies (levels > 0), none more than 3.
+    assert!(idimg.pixels().any(|p| p.0[0] == 255));
+    assert!(idimg.pixels().any(|p| p.0[1] > 0));
+    assert!(idimg.pixels().all(|p| p.0[1] <= 3));
+    // Not a blank image.
+    let first = img.get_pixel(0, 0).0;
+    assert!(img.pixels().any(|p| p.0 != first));
+}
+
+fn render_reports_a_bad_scene_field() {
+    let scene = tmp("bad_scene.json");
+    std::fs::write(
+        &scene,
+        r#"{"camera": {"isometry": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]], "fov_y_degrees": 60},
+            "balls": [{"center": [0,0,0,1], "radius": 0, "color": [1,1,1]}]}"#,
+    )
+    .expect("write");
+    let out = tmp("never.png");
+    let o = run(&[
+        "render",
+        "--space",
+        "torus",
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--out",
+        out.to_str().expect("utf-8"),
+        "--scene",
+        scene.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stderr(&o).contains("balls[0].radius: must be positive"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!out.exists(), "no image is written for a bad scene");
+}
+
+fn render_defaults_to_the_gpu_and_matches_the_cpu_ids() {
+    let (gpu_ids, cpu_ids, out) = (tmp("gpu_ids.png"), tmp("cpu_ids.png"), tmp("gpu.png"));
+    let args = |ids: &PathBuf, extra: &[&str]| {
+        let mut a: Vec<String> = [
+            "render", "--space", "poincare", "--width", "64", "--height", "48", "--out",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        a.push(out.to_str().expect("utf-8").into());
+        a.push("--ids".into());
+        a.push(ids.to_str().expect("utf-8").into());
+        a.extend(extra.iter().map(|s| s.to_string()));
+        a
+    };
+    let g = Command::new(env!("CARGO_BIN_EXE_bevy_manifold"))
+        .args(args(&gpu_ids, &[]))
+        .output()
+        .expect("runs");
+    assert!(g.status.success(), "{}", stderr(&g));
+    let said = stderr(&g);
+    assert!(said.contains("GPU: "), "{said}");
+    let c = Command::new(env!("CARGO_BIN_EXE_bevy_manifold"))
+        .args(args(&cpu_ids, &["--cpu"]))
+        .output()
+        .expect("runs");
+    assert!(c.status.success(), "{}", stderr(&c));
+    let (a, b) = (
+        image::open(&gpu_ids).expect("gpu ids").to_rgba8(),
+        image::open(&cpu_ids).expect("cpu ids").to_rgba8(),
+    );
+    let same = a.pixels().zip(b.pixels()).filter(|(p, q)| p == q).count();
+    assert!(
+        same * 1000 >= 995 * a.pixels().len(),
+        "only {same} of {} id pixels agree",
+        a.pixels().len()
+    );
+}
+
+bevy_manifold_test_support::test_main! {
+    cpu: [
+        help_prints_usage,
+        space_list_prints_one_name_per_line,
+        space_show_gives_the_invariants,
+        export_then_load_the_file_by_path,
+        a_broken_space_file_is_reported_with_its_name,
+        render_writes_the_image_and_the_id_buffer,
+        render_reports_a_bad_scene_field,
+    ],
+    gpu: [render_defaults_to_the_gpu_and_matches_the_cpu_ids],
+}

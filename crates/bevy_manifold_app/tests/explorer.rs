@@ -1,0 +1,248 @@
+//! The explorer: its settings file (kept between runs, a broken one
+//! reported and replaced, never a crash), its headless fallback (no
+//! display: `explorer.png` and exit 0), and switching spaces through the
+//! code path the panel uses without leaking GPU buffers or pipelines.
+
+use bevy::prelude::*;
+use bevy::render::renderer::RenderDevice;
+use bevy_manifold::prelude::*;
+use bevy_manifold::render::offscreen;
+use bevy_manifold::trace::SuzanneMode;
+use bevy_manifold_app::explorer::settings::{self, ExplorerSettings};
+use bevy_manifold_app::explorer::{CellMode, ExplorerPlugin, ExplorerStatus, ExplorerView, ExplorerWorld};
+use std::path::PathBuf;
+use std::process::Command;
+
+fn tmp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("bevy_manifold_explorer_{name}_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+fn settings_round_trip_and_broken_files_are_replaced_not_lost() {
+    let dir = tmp_dir("settings");
+    let path = dir.join("explorer.json");
+    // No file: the defaults, silently.
+    let (s, warnings) = settings::load(&path);
+    assert_eq!(s, ExplorerSettings::default());
+    assert!(warnings.is_empty());
+    // Everything the panel sets comes back.
+    let mine = ExplorerSettings {
+        space: "poincare".into(),
+        levels: 12,
+        max_distance: 30.0,
+        fog: true,
+        fog_density: 0.8,
+        fog_color: [0.2, 0.3, 0.4],
+        cells: true,
+        cell_mode: CellMode::Pattern,
+        pattern_on: 0.25,
+        highlight: 7,
+        edges: false,
+        suzanne: SuzanneMode::Free,
+        hands: false,
+        render_scale: 0.5,
+        panel: false,
+    };
+    mine.save(&path).expect("saved");
+    assert_eq!(settings::load(&path), (mine.clone(), Vec::new()));
+    // A file cut short: reported, defaults used, the file kept aside.
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::write(&path, &text[..text.len() / 2]).unwrap();
+    let (s, warnings) = settings::load(&path);
+    assert_eq!(s, ExplorerSettings::default());
+    assert_eq!(warnings.len(), 1);
+    assert!(
+        warnings[0].contains("is broken") && warnings[0].contains("explorer.json.broken"),
+        "{warnings:?}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.join("explorer.json.broken")).unwrap(),
+        text[..text.len() / 2]
+    );
+    assert!(!path.exists());
+    // Out-of-range values are clamped one by one, the rest kept; missing
+    // fields take their defaults.
+    std::fs::write(
+        &path,
+        r#"{"space": "nowhere", "levels": 1000, "fog_density": -1.0, "render_scale": 0.0, "pattern_on": 2.0, "edges": false}"#,
+    )
+    .unwrap();
+    let (s, warnings) = settings::load(&path);
+    assert_eq!(warnings.len(), 5, "{warnings:?}");
+    assert_eq!(s.space, "torus");
+    assert_eq!(s.levels, settings::MAX_LEVEL);
+    assert_eq!(s.fog_density, ExplorerSettings::default().fog_density);
+    assert_eq!(s.render_scale, settings::MIN_SCALE);
+    assert_eq!(s.pattern_on, 0.5);
+    assert!(!s.edges, "a good value next to bad ones is kept");
+    // The camera follows the settings.
+    let (camera, shading) = mine.camera();
+    assert_eq!((camera.levels, camera.max_distance), (12, 30.0));
+    assert_eq!(shading, CellShading::Pattern { on_fraction: 0.25 });
+    assert_eq!(mine.fog().map(|f| f.density), Some(0.8));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+fn without_a_display_the_explorer_renders_explorer_png_and_exits_0() {
+    let dir = tmp_dir("fallback");
+    let config = dir.join("config");
+    let out = Command::new(env!("CARGO_BIN_EXE_bevy_manifold"))
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env("BEVY_MANIFOLD_CONFIG_DIR", &config)
+        .current_dir(&dir)
+        .output()
+        .expect("the binary runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "exit {:?}\n{stdout}\n{stderr}", out.status);
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(lines.len(), 1, "one clear line: {stdout}");
+    assert!(
+        lines[0].starts_with("no display") && lines[0].contains("explorer.png") && lines[0].contains("torus"),
+        "{stdout}"
+    );
+    let png = image::open(dir.join("explorer.png"))
+        .expect("explorer.png is a PNG")
+        .to_rgb8();
+    let (w, h) = png.dimensions();
+    assert!((w, h) == (1280, 720) || (w, h) == (640, 360), "{w}x{h}");
+    // Not blank: the scene's edges and Suzanne's images give many colours.
+    let mut colours: Vec<[u8; 3]> = png.pixels().map(|p| p.0).collect();
+    colours.sort_unstable();
+    colours.dedup();
+    eprintln!("explorer.png: {w}x{h}, {} distinct colours; {stdout}", colours.len());
+    assert!(colours.len() > 200, "{} colours", colours.len());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Live GPU objects on the app's device.
+fn live(app: &App) -> [isize; 6] {
+    let c = app
+        .world()
+        .resource::<RenderDevice>()
+        .wgpu_device()
+        .get_internal_counters();
+    [
+        c.hal.buffers.read(),
+        c.hal.textures.read(),
+        c.hal.bind_groups.read(),
+        c.hal.render_pipelines.read(),
+        c.hal.compute_pipelines.read(),
+        c.hal.shader_modules.read(),
+    ]
+}
+
+/// Updates until the counts have not changed for 5 frames (freed objects
+/// go once the GPU is done with them).
+fn settle(app: &mut App) -> [isize; 6] {
+    let mut last = live(app);
+    let mut same = 0;
+    for _ in 0..200 {
+        app.update();
+        let now = live(app);
+        same = if now == last { same + 1 } else { 0 };
+        last = now;
+        if same >= 5 {
+            break;
+        }
+    }
+    last
+}
+
+fn switching_spaces_100_times_leaks_no_buffers_or_pipelines() {
+    let mut app = App::new();
+    app.add_plugins(offscreen::plugins().disable::<bevy::log::LogPlugin>())
+        .insert_resource(ExplorerSettings {
+            levels: 2,
+            ..ExplorerSettings::default()
+        })
+        .add_plugins(ExplorerPlugin::default());
+    app.finish();
+    app.cleanup();
+    app.update();
+    app.world_mut().resource_mut::<ExplorerView>().wanted = UVec2::new(48, 27);
+    let names = catalog::NAMES;
+    let switch = |app: &mut App, i: usize| {
+        app.world_mut().resource_mut::<ExplorerSettings>().space = names[i % names.len()].to_string();
+        app.update();
+        app.update();
+    };
+    // Every space once, so each specialisation is compiled and cached
+    // (Bevy keeps compiled pipelines for the app's lifetime, as it should).
+    for i in 0..=2 * names.len() {
+        switch(&mut app, i);
+        offscreen::wait_for_pipelines(&mut app).expect("pipelines");
+    }
+    let before = settle(&mut app);
+    for i in 1..=100 {
+        switch(&mut app, i);
+    }
+    let after = settle(&mut app);
+    let status = app.world().resource::<ExplorerStatus>();
+    let world = app.world().resource::<ExplorerWorld>();
+    eprintln!(
+        "after {} switches: live [buffers, textures, bind groups, render pipelines, compute pipelines, shader modules] {before:?} before, {after:?} after",
+        status.switches
+    );
+    assert_eq!(status.switches, 2 * names.len() as u64 + 100);
+    assert_eq!(
+        world.space.name(),
+        catalog::torus(1.0).name(),
+        "100 switches over 5 spaces end where they began"
+    );
+    assert!(before[0] > 0 && before[3] > 0, "the counters count ({before:?})");
+    // Pipelines and shader modules: exactly where they were (each
+    // specialisation compiled once). Buffers, textures and bind groups:
+    // no more than before; Bevy may have freed some of its own since (a
+    // leak of one per switch would add a hundred).
+    assert_eq!(after[3..], before[3..], "pipelines and shader modules");
+    for (k, what) in ["buffers", "textures", "bind groups"].iter().enumerate() {
+        assert!(
+            after[k] <= before[k],
+            "{what}: {} before, {} after",
+            before[k],
+            after[k]
+        );
+    }
+    // One space root is left, with its camera.
+    let w = app.world_mut();
+    assert_eq!(w.query::<&ManifoldSpace>().iter(w).count(), 1);
+    assert_eq!(w.query::<&ManifoldCamera>().iter(w).count(), 1);
+}
+
+fn a_space_that_cannot_be_loaded_is_reported_and_the_view_stays() {
+    let mut app = App::new();
+    app.add_plugins((MinimalPlugins, AssetPlugin::default(), ImagePlugin::default()))
+        .init_asset::<Mesh>()
+        .init_asset::<StandardMaterial>()
+        .add_plugins(ExplorerPlugin::default());
+    app.update();
+    let dir = tmp_dir("badspace");
+    let bad = dir.join("broken.json");
+    std::fs::write(&bad, "{ \"geometry\": ").unwrap();
+    app.world_mut().resource_mut::<ExplorerSettings>().space = bad.display().to_string();
+    app.update();
+    let status = app.world().resource::<ExplorerStatus>();
+    let (message, error) = status.message.clone().expect("a message");
+    assert!(error && message.contains("broken.json"), "{message}");
+    assert_eq!(app.world().resource::<ExplorerSettings>().space, "torus");
+    assert_eq!(
+        app.world().resource::<ExplorerWorld>().space.name(),
+        catalog::torus(1.0).name()
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+bevy_manifold_test_support::test_main! {
+    cpu: [
+        settings_round_trip_and_broken_files_are_replaced_not_lost,
+        without_a_display_the_explorer_renders_explorer_png_and_exits_0,
+        a_space_that_cannot_be_loaded_is_reported_and_the_view_stays,
+    ],
+    gpu: [
+        switching_spaces_100_times_leaks_no_buffers_or_pipelines,
+    ],
+}

@@ -1,0 +1,155 @@
+//! The benchmarks behind `BENCHMARKS.md`, run as `bevy_manifold bench …`
+//! (`cargo run --release -- bench gpu`): measurements anyone can rerun,
+//! ratios measured side by side in one run. Unpublished.
+
+mod accuracy;
+mod frames;
+mod meshes;
+mod pass;
+mod plot;
+mod specialise;
+mod stability;
+
+use bevy_manifold::prelude::*;
+use clap::Subcommand;
+use std::time::Instant;
+
+/// The `bench` subcommands.
+#[derive(Subcommand)]
+pub enum BenchCommand {
+    /// CPU tracer throughput (rays/s) per space at 4 and 16 levels, f32 and f64.
+    Tracer {
+        /// Image side in pixels (side x side rays per run).
+        #[arg(long, default_value_t = 256)]
+        side: u32,
+        /// Runs per setting; the best is reported.
+        #[arg(long, default_value_t = 3)]
+        runs: u32,
+    },
+    /// GPU tracer frame time per space, levels 1/3/8/16, fog off/on,
+    /// specialised against the generic shader.
+    Gpu {
+        /// Image width.
+        #[arg(long, default_value_t = 640)]
+        width: u32,
+        /// Image height.
+        #[arg(long, default_value_t = 360)]
+        height: u32,
+        /// Runs per setting; the best is reported.
+        #[arg(long, default_value_t = 3)]
+        runs: u32,
+    },
+    /// The render pass's path against the compute path on the same device
+    /// (8 levels, headless), then frame times of the pass in a headless
+    /// Bevy app at 640x360 and 1280x720.
+    Pass {
+        /// Runs per setting; the best is reported.
+        #[arg(long, default_value_t = 3)]
+        runs: u32,
+    },
+    /// Run time against error: GPU frame time and image error against a
+    /// CPU f64 reference for levels 1-32, renormalisation and the fog early
+    /// stop on/off, per space; CSV, table and a PNG plot with the Pareto
+    /// front.
+    Accuracy(accuracy::AccuracyArgs),
+    /// The long stability soak: drift curves over up to 10^4 transports,
+    /// far travel through 10^8 faces, degenerate rays; CSV and PNG.
+    Stability(stability::StabilityArgs),
+    /// Frame time against triangle count (Suzanne subdivided to 35k and
+    /// 394k triangles) at 3 and 8 levels, and BVH build times.
+    Meshes {
+        /// Image width.
+        #[arg(long, default_value_t = 640)]
+        width: u32,
+        /// Image height.
+        #[arg(long, default_value_t = 360)]
+        height: u32,
+        /// Runs per setting; the best is reported.
+        #[arg(long, default_value_t = 2)]
+        runs: u32,
+    },
+    /// What skipping saves: specialised against generic pipelines with and
+    /// without fog and per-cell shading, and uploads with and without
+    /// change detection in the render pass.
+    Specialise(specialise::SpecialiseArgs),
+}
+
+/// Runs one benchmark, printing its table (and writing its files).
+///
+/// # Errors
+/// When the GPU or a file it writes fails, with the reason.
+pub fn run(cmd: &BenchCommand) -> Result<(), String> {
+    match *cmd {
+        BenchCommand::Tracer { side, runs } => frames::tracer(side.max(1), runs.max(1)),
+        BenchCommand::Gpu { width, height, runs } => frames::gpu(width.max(1), height.max(1), runs.max(1)),
+        BenchCommand::Pass { runs } => pass::pass(runs.max(1)),
+        BenchCommand::Accuracy(ref args) => accuracy::run(args),
+        BenchCommand::Stability(ref args) => stability::run(args),
+        BenchCommand::Specialise(ref args) => specialise::run(args),
+        BenchCommand::Meshes { width, height, runs } => meshes::run(width.max(1), height.max(1), runs.max(1)),
+    }
+}
+
+/// Best wall time of `runs` calls of `f`, in ms, after one untimed call
+/// (which compiles pipelines).
+pub fn best_ms<T>(runs: u32, mut f: impl FnMut() -> Result<T, String>) -> Result<f64, String> {
+    std::hint::black_box(f()?);
+    let mut best = f64::INFINITY;
+    for _ in 0..runs {
+        let t = Instant::now();
+        std::hint::black_box(f()?);
+        best = best.min(t.elapsed().as_secs_f64());
+    }
+    Ok(best * 1e3)
+}
+
+/// The benchmarks' fog: density 0.4 per inradius, so about half a domain
+/// away light keeps 80% and fog hides what lies past 14 inradii.
+#[must_use]
+pub fn fog_for(space: &Space) -> Fog {
+    Fog {
+        density: 0.4 / space.inradius(),
+        color: [0.7, 0.75, 0.8],
+    }
+}
+
+/// A progress bar on stderr for the long benchmarks: `[=====>    ] 42/270 what`.
+pub struct Progress {
+    done: usize,
+    total: usize,
+    start: Instant,
+}
+
+impl Progress {
+    /// A bar for `total` steps.
+    #[must_use]
+    pub fn new(total: usize) -> Self {
+        Progress {
+            done: 0,
+            total: total.max(1),
+            start: Instant::now(),
+        }
+    }
+
+    /// One more step done, `what` naming the next.
+    pub fn step(&mut self, what: &str) {
+        use std::io::Write;
+        self.done = (self.done + 1).min(self.total);
+        let width = 30;
+        let filled = self.done * width / self.total;
+        let elapsed = self.start.elapsed().as_secs_f64();
+        let left = elapsed / self.done as f64 * (self.total - self.done) as f64;
+        eprint!(
+            "\r[{}{}] {}/{} {:.0}s left  {what:<40}",
+            "=".repeat(filled),
+            " ".repeat(width - filled),
+            self.done,
+            self.total,
+            left
+        );
+        if self.done == self.total {
+            eprintln!();
+        }
+        let _ = std::io::stderr().flush();
+    }
+}

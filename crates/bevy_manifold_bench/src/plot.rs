@@ -1,0 +1,171 @@
+//! PNG plots for the benchmarks: panels of log-log scatter or line series,
+//! with a Pareto front where one is given. Text needs a font: the one
+//! Bevy's `default_font` feature carries (on with the default `app`
+//! feature); without it the plot is skipped with a note.
+
+use std::path::Path;
+
+/// One set of points in a panel.
+pub struct Series {
+    /// Legend text.
+    pub label: String,
+    /// RGB colour.
+    pub color: (u8, u8, u8),
+    /// (x, y) points; drawn joined in order when `line` is set.
+    pub points: Vec<(f64, f64)>,
+    /// Join the points.
+    pub line: bool,
+}
+
+/// One chart.
+pub struct Panel {
+    /// Caption.
+    pub title: String,
+    /// X axis label.
+    pub x: String,
+    /// Y axis label.
+    pub y: String,
+    /// The data.
+    pub series: Vec<Series>,
+    /// Points of the Pareto front, drawn as a black step line.
+    pub front: Vec<(f64, f64)>,
+}
+
+/// The points of `points` that no other point beats on both coordinates
+/// (lower x and lower y), sorted by x.
+pub fn pareto_front(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let mut sorted: Vec<_> = points
+        .iter()
+        .copied()
+        .filter(|(x, y)| x.is_finite() && y.is_finite())
+        .collect();
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    let mut front: Vec<(f64, f64)> = Vec::new();
+    for p in sorted {
+        if front.last().is_none_or(|last| p.1 < last.1) {
+            front.push(p);
+        }
+    }
+    front
+}
+
+/// Colours for series, in order.
+pub const PALETTE: [(u8, u8, u8); 6] = [
+    (31, 119, 180),
+    (255, 127, 14),
+    (44, 160, 44),
+    (214, 39, 40),
+    (148, 103, 189),
+    (140, 86, 75),
+];
+
+/// Draws `panels` in a grid `cols` wide into a PNG at `path`; values are
+/// clamped below at `floor` so zeros show on the log axes.
+///
+/// # Errors
+/// Drawing or writing failed, or there is no font (built without the
+/// `app` feature): the message says which.
+pub fn draw(path: &Path, panels: &[Panel], cols: usize, floor: f64) -> Result<(), String> {
+    font()?;
+    let cols = cols.max(1);
+    let rows = panels.len().div_ceil(cols).max(1);
+    let (w, h) = (420 * cols as u32, 340 * rows as u32);
+    let mut buf = vec![0u8; (w * h * 3) as usize];
+    draw_into(&mut buf, (w, h), panels, (rows, cols), floor).map_err(|e| format!("plot: {e}"))?;
+    image::save_buffer(path, &buf, w, h, image::ColorType::Rgb8).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+fn draw_into(
+    buf: &mut [u8],
+    size: (u32, u32),
+    panels: &[Panel],
+    grid: (usize, usize),
+    floor: f64,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use plotters::prelude::*;
+    let root = BitMapBackend::with_buffer(buf, size).into_drawing_area();
+    root.fill(&WHITE)?;
+    for (area, panel) in root.split_evenly(grid).iter().zip(panels) {
+        let clamp = |(x, y): (f64, f64)| (x.max(floor), y.max(floor));
+        let all: Vec<(f64, f64)> = panel
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter().copied())
+            .filter(|(x, y)| x.is_finite() && y.is_finite())
+            .map(clamp)
+            .collect();
+        let range = |f: fn(&(f64, f64)) -> f64| {
+            let lo = all.iter().map(f).fold(f64::INFINITY, f64::min);
+            let hi = all.iter().map(f).fold(f64::NEG_INFINITY, f64::max);
+            if lo.is_finite() && hi.is_finite() {
+                (lo / 1.5)..(hi * 1.5).max(lo * 2.0)
+            } else {
+                floor..1.0
+            }
+        };
+        let mut chart = ChartBuilder::on(area)
+            .caption(&panel.title, ("sans-serif", 16))
+            .margin(10)
+            .x_label_area_size(34)
+            .y_label_area_size(58)
+            .build_cartesian_2d(range(|p| p.0).log_scale(), range(|p| p.1).log_scale())?;
+        chart
+            .configure_mesh()
+            .x_desc(panel.x.as_str())
+            .y_desc(panel.y.as_str())
+            .label_style(("sans-serif", 11))
+            .x_label_formatter(&|v| {
+                if *v >= 10.0 {
+                    format!("{v:.0}")
+                } else {
+                    format!("{v:.2}")
+                }
+            })
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .draw()?;
+        for s in &panel.series {
+            let color = RGBColor(s.color.0, s.color.1, s.color.2);
+            let points: Vec<_> = s
+                .points
+                .iter()
+                .copied()
+                .filter(|(x, y)| x.is_finite() && y.is_finite())
+                .map(clamp)
+                .collect();
+            if s.line {
+                chart.draw_series(LineSeries::new(points.clone(), color.stroke_width(2)))?;
+            }
+            chart
+                .draw_series(points.iter().map(|&p| Circle::new(p, 3, color.filled())))?
+                .label(s.label.as_str())
+                .legend(move |(x, y)| Circle::new((x, y), 4, color.filled()));
+        }
+        if !panel.front.is_empty() {
+            let front: Vec<_> = panel.front.iter().copied().map(clamp).collect();
+            chart
+                .draw_series(LineSeries::new(front, BLACK.stroke_width(1)))?
+                .label("Pareto front")
+                .legend(|(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], BLACK));
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 11))
+            .draw()?;
+    }
+    root.present()?;
+    Ok(())
+}
+
+fn font() -> Result<(), String> {
+    use plotters::style::FontStyle;
+    static REGISTERED: std::sync::OnceLock<Result<(), String>> = std::sync::OnceLock::new();
+    REGISTERED
+        .get_or_init(|| {
+            plotters::style::register_font("sans-serif", FontStyle::Normal, bevy::text::DEFAULT_FONT_DATA)
+                .map_err(|_| "plot: Bevy's default font did not load".to_string())
+        })
+        .clone()
+}

@@ -1,0 +1,219 @@
+//! Meshes from glTF files (`.glb`, or `.gltf` with its buffers beside it)
+//! for the CPU reference and the command line: every triangle primitive of
+//! the default scene, with its node's transform and its material's base
+//! colour (and base-colour texture, PNG). A primitive that cannot be traced
+//! (no triangles, NaN positions) is skipped with a warning; a file with
+//! nothing traceable is an error. Bevy apps load glTF through Bevy's own
+//! loader instead (see `crate::meshes`).
+//!
+//! ```
+//! let loaded = bevy_manifold_core::mesh::gltf::load(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/models/suzanne.glb")).unwrap();
+//! assert_eq!(loaded.parts.len(), 1);
+//! assert_eq!(loaded.parts[0].mesh.triangles.len(), 3936);
+//! ```
+
+use super::{MeshError, MeshMaterial, Texture, TriMesh};
+use glam::Mat4;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// Why a glTF file gave nothing to trace.
+#[derive(Debug, thiserror::Error)]
+pub enum GltfError {
+    /// The file could not be read.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// Not glTF, or broken glTF.
+    #[error("{path}: not a readable glTF file: {message}")]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// The parser's message.
+        message: String,
+    },
+    /// Nothing in it can be traced.
+    #[error("{path}: no traceable triangles ({})", .warnings.join("; "))]
+    NothingToTrace {
+        /// The file.
+        path: PathBuf,
+        /// What was wrong with each primitive.
+        warnings: Vec<String>,
+    },
+}
+
+/// One triangle primitive of a glTF scene.
+#[derive(Clone, Debug)]
+pub struct MeshPart {
+    /// `mesh name / primitive index`.
+    pub name: String,
+    /// Its triangles, in the primitive's own coordinates.
+    pub mesh: TriMesh,
+    /// Where its node puts it in the file's scene.
+    pub transform: Mat4,
+    /// Its surface.
+    pub material: MeshMaterial,
+}
+
+/// What a glTF file gave: its traceable parts, and a warning for each
+/// primitive that was skipped.
+#[derive(Clone, Debug)]
+pub struct Loaded {
+    /// The parts.
+    pub parts: Vec<MeshPart>,
+    /// One line per skipped primitive or texture.
+    pub warnings: Vec<String>,
+}
+
+/// Reads a glTF file.
+///
+/// # Errors
+/// [`GltfError`]: unreadable, unparsable, or nothing traceable in it.
+pub fn load(path: impl AsRef<Path>) -> Result<Loaded, GltfError> {
+    let path = path.as_ref();
+    let bytes = std::fs::read(path).map_err(|source| GltfError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    from_slice(&bytes, path)
+}
+
+/// Reads glTF from memory; `path` names it in messages and locates
+/// external buffers and images.
+///
+/// # Errors
+/// As [`load`].
+pub fn from_slice(bytes: &[u8], path: &Path) -> Result<Loaded, GltfError> {
+    let parse = |message: String| GltfError::Parse {
+        path: path.to_path_buf(),
+        message,
+    };
+    let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| parse(e.to_string()))?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let mut buffers = Vec::new();
+    for b in gltf.buffers() {
+        let data = match b.source() {
+            gltf::buffer::Source::Bin => gltf
+                .blob
+                .clone()
+                .ok_or_else(|| parse("the GLB has no binary chunk".into()))?,
+            gltf::buffer::Source::Uri(uri) => {
+                if uri.starts_with("data:") {
+                    return Err(parse(format!(
+                        "buffer {} is a data URI, which is not supported",
+                        b.index()
+                    )));
+                }
+                std::fs::read(dir.join(uri)).map_err(|e| parse(format!("buffer '{uri}': {e}")))?
+            }
+        };
+        buffers.push(data);
+    }
+    let mut loaded = Loaded {
+        parts: Vec::new(),
+        warnings: Vec::new(),
+    };
+    let mut textures: Vec<Option<Option<Arc<Texture>>>> = vec![None; gltf.textures().len()];
+    let Some(scene) = gltf.default_scene().or_else(|| gltf.scenes().next()) else {
+        return Err(parse("no scene".into()));
+    };
+    let mut stack: Vec<(gltf::Node, Mat4)> = scene.nodes().map(|n| (n, Mat4::IDENTITY)).collect();
+    while let Some((node, parent)) = stack.pop() {
+        let transform = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        for child in node.children() {
+            stack.push((child, transform));
+        }
+        let Some(mesh) = node.mesh() else { continue };
+        for prim in mesh.primitives() {
+            let name = format!("{}/{}", mesh.name().unwrap_or("mesh"), prim.index());
+            match part(&prim, &buffers, dir, &mut textures, &mut loaded.warnings) {
+                Ok(mesh) => loaded.parts.push(MeshPart {
+                    name,
+                    mesh: mesh.0,
+                    transform,
+                    material: mesh.1,
+                }),
+                Err(e) => loaded.warnings.push(format!("{}: {name}: {e}", path.display())),
+            }
+        }
+    }
+    if loaded.parts.is_empty() {
+        return Err(GltfError::NothingToTrace {
+            path: path.to_path_buf(),
+            warnings: loaded.warnings,
+        });
+    }
+    Ok(loaded)
+}
+
+fn part(
+    prim: &gltf::Primitive,
+    buffers: &[Vec<u8>],
+    dir: &Path,
+    textures: &mut [Option<Option<Arc<Texture>>>],
+    warnings: &mut Vec<String>,
+) -> Result<(TriMesh, MeshMaterial), String> {
+    if prim.mode() != gltf::mesh::Mode::Triangles {
+        return Err(format!("{:?} primitives are not traced", prim.mode()));
+    }
+    let reader = prim.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+    let positions: Vec<[f32; 3]> = reader.read_positions().ok_or("no POSITION attribute")?.collect();
+    let normals = reader.read_normals().map(Iterator::collect);
+    let uvs = reader.read_tex_coords(0).map(|t| t.into_f32().collect());
+    let indices: Vec<u32> = match reader.read_indices() {
+        Some(i) => i.into_u32().collect(),
+        None => (0..positions.len() as u32).collect(),
+    };
+    let triangles = indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let mesh = TriMesh::new(positions, normals, uvs, triangles).map_err(|e: MeshError| e.to_string())?;
+    let pbr = prim.material().pbr_metallic_roughness();
+    let [r, g, b, _] = pbr.base_color_factor();
+    let texture = pbr.base_color_texture().and_then(|info| {
+        let t = info.texture();
+        textures[t.index()]
+            .get_or_insert_with(|| match texture(&t, buffers, dir) {
+                Ok(t) => Some(Arc::new(t)),
+                Err(e) => {
+                    warnings.push(format!("texture {}: {e}; the base colour alone is used", t.index()));
+                    None
+                }
+            })
+            .clone()
+    });
+    Ok((
+        mesh,
+        MeshMaterial {
+            base_color: [r, g, b],
+            texture,
+        },
+    ))
+}
+
+fn texture(t: &gltf::Texture, buffers: &[Vec<u8>], dir: &Path) -> Result<Texture, String> {
+    let bytes = match t.source().source() {
+        gltf::image::Source::View { view, .. } => {
+            let b = buffers.get(view.buffer().index()).ok_or("missing buffer")?;
+            b.get(view.offset()..view.offset() + view.length())
+                .ok_or("image view out of its buffer")?
+                .to_vec()
+        }
+        gltf::image::Source::Uri { uri, .. } => {
+            if uri.starts_with("data:") {
+                return Err("data-URI images are not supported".into());
+            }
+            std::fs::read(dir.join(uri)).map_err(|e| format!("'{uri}': {e}"))?
+        }
+    };
+    let img = image::load_from_memory(&bytes)
+        .map_err(|e| format!("cannot decode it ({e}); only PNG is built in"))?
+        .to_rgba8();
+    Ok(Texture {
+        width: img.width(),
+        height: img.height(),
+        texels: img.pixels().map(|p| u32::from_le_bytes(p.0)).collect(),
+    })
+}

@@ -1,0 +1,346 @@
+//! Turning a space and a scene into flat arrays in the tracer's precision,
+//! the CPU side of what the GPU pass uploads: face planes, pairings,
+//! balls with their ghost copies, edge tubes, lights.
+
+use super::scene::Scene;
+use super::step::{Segment, radius_param};
+use crate::geometry::{Geometry, Real, isometry};
+use crate::mesh::{MeshData, Texture};
+use crate::space::Space;
+use crate::space::cells::CellId;
+use glam::{DMat4, DVec4};
+use std::collections::HashSet;
+use std::sync::Arc;
+
+/// Object id of the domain's edges (tubes and their vertex joints).
+pub const EDGE_ID: u32 = 255;
+
+/// A ball in the tracer's precision.
+#[derive(Clone, Copy, Debug)]
+pub struct FlatBall<R: Real> {
+    /// Centre (normalised).
+    pub center: R::V4,
+    /// `cosh r`, `cos r` or `r^2`.
+    pub k: R,
+    /// Albedo.
+    pub color: [f32; 3],
+    /// Object id (1-based scene index, or [`EDGE_ID`]).
+    pub id: u32,
+}
+
+/// A tube along one edge of the domain.
+#[derive(Clone, Copy, Debug)]
+pub struct FlatTube<R: Real> {
+    /// The edge's geodesic segment.
+    pub segment: Segment<R>,
+    /// Albedo (one colour per edge cycle).
+    pub color: [f32; 3],
+}
+
+/// A light in the tracer's precision.
+#[derive(Clone, Copy, Debug)]
+pub struct FlatLight<R: Real> {
+    /// Position (normalised).
+    pub position: R::V4,
+    /// Power.
+    pub intensity: R,
+    /// Colour.
+    pub color: [f32; 3],
+}
+
+/// One placement of a mesh (or a ghost of one, carried through a face),
+/// in the tracer's precision.
+#[derive(Clone, Copy, Debug)]
+pub struct FlatInstance<R: Real> {
+    /// From the domain's chart to the mesh's own coordinates (the inverse
+    /// of the placement, then of the scale).
+    pub to_local: R::M4,
+    /// Centre of the bounding ball (normalised).
+    pub center: R::V4,
+    /// `k` of the bounding ball (as for balls).
+    pub k: R,
+    /// Index into [`FlatScene::meshes`].
+    pub mesh: usize,
+    /// Base colour.
+    pub color: [f32; 3],
+    /// Index into [`FlatScene::textures`].
+    pub texture: Option<usize>,
+    /// Object id.
+    pub id: u32,
+    /// Not drawn before the first transport: the home copy of a mesh
+    /// attached to the camera.
+    pub attached: bool,
+}
+
+/// The per-face arrays a walk through the manifold reads, in precision `R`.
+#[derive(Clone, Debug)]
+pub struct FaceTables<R: Real> {
+    /// The geometry.
+    pub geometry: Geometry,
+    /// Face planes.
+    pub planes: Vec<R::V4>,
+    /// `T_i` per face.
+    pub pairings: Vec<R::M4>,
+    /// Partner per face (the face a transported ray enters through).
+    pub partners: Vec<usize>,
+    /// What the ray's group element is right-multiplied by on crossing face
+    /// `i`: `T_i^-1`.
+    pub crossings: Vec<R::M4>,
+}
+
+impl<R: Real> FaceTables<R> {
+    /// The tables of `space`.
+    #[must_use]
+    pub fn new(space: &Space) -> Self {
+        let faces = space.faces();
+        FaceTables {
+            geometry: space.geometry(),
+            planes: faces.iter().map(|f| R::v4_of(f.plane)).collect(),
+            pairings: faces.iter().map(|f| R::m4_of(f.pairing)).collect(),
+            partners: faces.iter().map(|f| f.partner).collect(),
+            crossings: (0..faces.len()).map(|i| R::m4_of(space.crossing(i))).collect(),
+        }
+    }
+}
+
+/// Everything the per-pixel loop reads.
+#[derive(Clone, Debug)]
+pub struct FlatScene<R: Real> {
+    /// The faces' planes and pairings (and the geometry).
+    pub faces: FaceTables<R>,
+    /// Balls, ghosts included, then the vertex joints of the edge tubes.
+    pub balls: Vec<FlatBall<R>>,
+    /// Edge tubes.
+    pub tubes: Vec<FlatTube<R>>,
+    /// `k` of the edge tubes.
+    pub tube_k: R,
+    /// Lights.
+    pub lights: Vec<FlatLight<R>>,
+    /// Mesh instances, ghosts included.
+    pub instances: Vec<FlatInstance<R>>,
+    /// The meshes the instances show, each once.
+    pub meshes: Vec<Arc<MeshData>>,
+    /// The textures the instances use, each once.
+    pub textures: Vec<Arc<Texture>>,
+    /// Fog density and colour.
+    pub fog: Option<(R, [f32; 3])>,
+    /// The camera, wrapped into the domain.
+    pub camera: R::M4,
+    /// The cell the camera is in (group element, f64).
+    pub camera_cell: DMat4,
+    /// `tan(fov_y / 2)`.
+    pub tan_half_fov: R,
+}
+
+/// Edge-cycle colours: edges identified by the pairings share a colour.
+const PALETTE: [[f32; 3]; 10] = [
+    [0.90, 0.20, 0.20],
+    [0.20, 0.75, 0.25],
+    [0.25, 0.40, 0.95],
+    [0.95, 0.85, 0.20],
+    [0.80, 0.30, 0.85],
+    [0.20, 0.85, 0.85],
+    [0.95, 0.55, 0.15],
+    [0.55, 0.95, 0.35],
+    [0.60, 0.45, 0.95],
+    [0.95, 0.45, 0.65],
+];
+
+/// Longest word of pairings tried when looking for ghost copies of a ball.
+pub const GHOST_WORD_LENGTH: usize = 3;
+
+impl<R: Real> FlatScene<R> {
+    /// Prepares `scene` in `space` for tracing in precision `R`.
+    #[must_use]
+    pub fn new(space: &Space, scene: &Scene) -> Self {
+        let g = space.geometry();
+        let mut balls = Vec::new();
+        for (i, b) in scene.balls.iter().enumerate() {
+            let k = R::of(radius_param(g, b.radius));
+            for center in ghost_centres(space, b.center, b.radius) {
+                balls.push(FlatBall {
+                    center: R::v4_of(center),
+                    k,
+                    color: b.color,
+                    id: i as u32 + 1,
+                });
+            }
+        }
+        let mut tubes = Vec::new();
+        let mut tube_k = R::of(0.0);
+        if let Some(r) = scene.edge_radius {
+            tube_k = R::of(radius_param(g, r));
+            let mut cycle_of = vec![0usize; space.edges().len()];
+            for (c, cycle) in space.edge_cycles().iter().enumerate() {
+                for &e in &cycle.edges {
+                    cycle_of[e] = c;
+                }
+            }
+            for (e, edge) in space.edges().iter().enumerate() {
+                let a = space.vertices()[edge.vertices[0]].point;
+                let b = space.vertices()[edge.vertices[1]].point;
+                let ea = g.normalize_tangent::<f64>(a, b);
+                // At b, the tangent pointing away from a (direction of travel).
+                let eb = g.normalize_tangent::<f64>(b, -a);
+                tubes.push(FlatTube {
+                    segment: Segment {
+                        a: R::v4_of(a),
+                        e: R::v4_of(ea),
+                        b: R::v4_of(b),
+                        e_b: R::v4_of(eb),
+                    },
+                    color: PALETTE[cycle_of[e] % PALETTE.len()],
+                });
+            }
+            for (i, v) in space.vertices().iter().enumerate() {
+                // A joint takes the colour of the first edge that ends there.
+                let color = space
+                    .edges()
+                    .iter()
+                    .position(|e| e.vertices.contains(&i))
+                    .map_or([1.0; 3], |e| PALETTE[cycle_of[e] % PALETTE.len()]);
+                balls.push(FlatBall {
+                    center: R::v4_of(v.point),
+                    k: tube_k,
+                    color,
+                    id: EDGE_ID,
+                });
+            }
+        }
+        let lights = scene
+            .lights
+            .iter()
+            .map(|l| FlatLight {
+                position: R::v4_of(l.position),
+                intensity: R::of(l.intensity),
+                color: l.color,
+            })
+            .collect();
+        let (instances, meshes, textures) = flatten_meshes::<R>(space, scene);
+        let (camera, camera_cell) = space.wrap(scene.camera.isometry, 1000);
+        FlatScene {
+            faces: FaceTables::new(space),
+            balls,
+            tubes,
+            tube_k,
+            lights,
+            instances,
+            meshes,
+            textures,
+            fog: scene
+                .fog
+                .as_ref()
+                .filter(|f| f.density > 0.0)
+                .map(|f| (R::of(f.density), f.color)),
+            camera: R::m4_of(camera),
+            camera_cell,
+            tan_half_fov: R::of((scene.camera.fov_y_degrees.to_radians() / 2.0).tan()),
+        }
+    }
+}
+
+/// Instances, meshes and textures, as [`FlatScene`] holds them.
+type FlatMeshes<R> = (Vec<FlatInstance<R>>, Vec<Arc<MeshData>>, Vec<Arc<Texture>>);
+
+/// The scene's mesh instances with their ghosts, and the distinct meshes
+/// and textures they use. Meshes whose bounding ball does not fit the
+/// geometry's chart (reaching infinity in H3) are left out.
+fn flatten_meshes<R: Real>(space: &Space, scene: &Scene) -> FlatMeshes<R> {
+    let g = space.geometry();
+    let mut instances = Vec::new();
+    let mut meshes: Vec<Arc<MeshData>> = Vec::new();
+    let mut textures: Vec<Arc<Texture>> = Vec::new();
+    for (j, m) in scene.meshes.iter().enumerate() {
+        let Some(radius) = m.bounding_radius(g) else { continue };
+        let mesh = match meshes.iter().position(|x| Arc::ptr_eq(x, &m.data)) {
+            Some(i) => i,
+            None => {
+                meshes.push(m.data.clone());
+                meshes.len() - 1
+            }
+        };
+        let texture = m
+            .material
+            .texture
+            .as_ref()
+            .map(|t| match textures.iter().position(|x| Arc::ptr_eq(x, t)) {
+                Some(i) => i,
+                None => {
+                    textures.push(t.clone());
+                    textures.len() - 1
+                }
+            });
+        let unscale = DMat4::from_diagonal(DVec4::new(1.0 / m.scale, 1.0 / m.scale, 1.0 / m.scale, 1.0));
+        let center = m.center(g);
+        let k = R::of(radius_param(g, radius));
+        for (copy, h) in ghost_elements(space, center, radius).into_iter().enumerate() {
+            let placed = h * m.placement;
+            instances.push(FlatInstance {
+                to_local: R::m4_of(m.local.inverse() * unscale * isometry::inverse(g, placed)),
+                center: R::v4_of(g.normalize_point::<f64>(h * center)),
+                k,
+                mesh,
+                color: m.material.base_color,
+                texture,
+                id: (scene.balls.len() + 1 + j) as u32,
+                attached: m.attached && copy == 0,
+            });
+        }
+    }
+    (instances, meshes, textures)
+}
+
+/// The centre of a ball and of each copy of it (under words of up to
+/// [`GHOST_WORD_LENGTH`] pairings) that reaches into the domain, so a ball
+/// straddling a face is seen whole from both sides.
+#[must_use]
+pub fn ghost_centres(space: &Space, center: DVec4, radius: f64) -> Vec<DVec4> {
+    let g = space.geometry();
+    ghost_elements(space, center, radius)
+        .into_iter()
+        .map(|h| g.normalize_point::<f64>(h * center))
+        .collect()
+}
+
+/// The group elements (the identity first) whose image of the ball of
+/// `radius` around `center` reaches into the domain: what
+/// [`ghost_centres`] places ghost balls by and what carries a straddling
+/// mesh's ghost instances.
+#[must_use]
+pub fn ghost_elements(space: &Space, center: DVec4, radius: f64) -> Vec<DMat4> {
+    let g = space.geometry();
+    // A ball that reaches no face has no copy reaching into the domain.
+    let straddles = space
+        .faces()
+        .iter()
+        .any(|f| crate::geometry::plane::signed_distance(g, f.plane, center) > -radius);
+    if !straddles {
+        return vec![DMat4::IDENTITY];
+    }
+    let mut seen: HashSet<CellId> = HashSet::new();
+    seen.insert(CellId(0));
+    let mut out = vec![DMat4::IDENTITY];
+    let mut frontier = vec![DMat4::IDENTITY];
+    for _ in 0..GHOST_WORD_LENGTH {
+        let mut next = Vec::new();
+        for m in &frontier {
+            for f in space.faces() {
+                let h = isometry::orthonormalize(g, f.pairing * *m);
+                if !seen.insert(space.cell_id(&h)) {
+                    continue;
+                }
+                let c = g.normalize_point::<f64>(h * center);
+                let reaches = space
+                    .faces()
+                    .iter()
+                    .all(|face| crate::geometry::plane::signed_distance(g, face.plane, c) < radius);
+                if reaches {
+                    out.push(h);
+                }
+                next.push(h);
+            }
+        }
+        frontier = next;
+    }
+    out
+}

@@ -1,0 +1,58 @@
+//! The CPU reference ray tracer: Algorithm 1 of the paper, in f64 (the
+//! reference) and f32 (the same arithmetic as the GPU), parallel over
+//! pixels. Each pixel's ray, from the camera's cell:
+//!
+//! ```text
+//! for level in 0..levels:
+//!     t_obj  = nearest scene-object hit inside the domain
+//!     t_face = nearest exit face (n . d > 0), skipping the face just entered
+//!     if t_obj < t_face: shade at the hit (lights, fog by distance so far); stop
+//!     transport: (o, d) <- T_face (hit point, d); cell <- cell * g_face
+//!     renormalise (o, d); add the segment length to the travelled distance
+//!     stop early when fog has made the rest invisible (transmittance < 1/255)
+//! no hit: fog / background colour
+//! ```
+//!
+//! Where a ray crosses a face is [`step::exit_face`]; the loop above is
+//! [`Walker`] (`walk.rs`), shared by the render, the drift probe, the
+//! geodesic flow and the ray casts. The WGSL twin of each file is named in
+//! its docs (`bevy_manifold_gpu`'s `shaders/`).
+//!
+//! ```
+//! use bevy_manifold_core::prelude::*;
+//! let space = catalog::torus(1.0);
+//! let scene = Scene::default_for(&space);
+//! let settings = TraceSettings { width: 16, height: 16, ..TraceSettings::default() };
+//! let img = render::<f32>(&space, &scene, &settings);
+//! assert!(img.pixels.iter().all(|p| p.color.iter().all(|c| c.is_finite())));
+//! ```
+
+mod cast;
+mod drift;
+mod flat;
+mod flow;
+mod mesh_hit;
+mod output;
+mod render;
+pub mod scene;
+pub mod step;
+mod walk;
+
+pub use cast::{CastBall, CastHit, cast_balls};
+pub use drift::{RayDrift, ray_drift};
+pub use flat::{
+    EDGE_ID, FaceTables, FlatBall, FlatInstance, FlatLight, FlatScene, FlatTube, ghost_centres, ghost_elements,
+};
+pub use flow::{Flowed, flow};
+pub use mesh_hit::{InstanceHit, hit_instance, meets_ball, mesh_albedo, mesh_normal};
+pub use output::{id_pixel, srgb8};
+#[cfg(feature = "png")]
+pub use output::{write_ids_png, write_png};
+pub use render::{PathStep, Stop, TraceImage, TracePixel, TraceSettings, camera_ray, render, trace_ray};
+pub use scene::{
+    Ball, Camera, Fog, HAND_COLOR, Light, PaperOptions, SUZANNE_COLOR, Scene, SceneError, SceneMesh, SuzanneMode,
+    baked, hand_offset, suzanne_offset,
+};
+#[cfg(feature = "gltf")]
+pub use scene::{MeshPart, builtin, meshes_of};
+pub use walk::Walker;

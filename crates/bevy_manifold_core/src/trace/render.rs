@@ -1,0 +1,335 @@
+//! Algorithm 1 per pixel (see [`crate::trace`]), in parallel over pixels.
+
+use super::flat::{EDGE_ID, FlatScene};
+use super::mesh_hit::{hit_instance, mesh_albedo, mesh_normal};
+use super::scene::Scene;
+use super::step::{Ray, advance_or_raw, foot_on_line, hit_ball, hit_tube, normal_from};
+use super::walk::Walker;
+use crate::geometry::{Geometry, Real};
+use crate::mesh::MeshHit;
+use crate::space::Space;
+use crate::space::cells::{CellId, CellTint};
+#[cfg(feature = "parallel")]
+use rayon::prelude::*;
+
+/// How to trace.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TraceSettings {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Most face crossings (transports) a ray may make: the paper's levels.
+    pub levels: u32,
+    /// Rays stop after this distance.
+    pub max_distance: f64,
+    /// Colour objects by the cell they are seen in.
+    pub cell_colors: bool,
+    /// How, when `cell_colors` is on.
+    pub cell_tint: CellTint,
+    /// Stop a ray once fog leaves less than 1/255 of its light.
+    pub fog_early_stop: bool,
+    /// Renormalise the ray after each advance and transport (off only to
+    /// measure drift: see [`super::step::advance_raw`]).
+    pub renormalize: bool,
+}
+
+impl Default for TraceSettings {
+    fn default() -> Self {
+        TraceSettings {
+            width: 640,
+            height: 360,
+            levels: 8,
+            max_distance: 100.0,
+            cell_colors: false,
+            cell_tint: CellTint::ByCell,
+            fog_early_stop: true,
+            renormalize: true,
+        }
+    }
+}
+
+/// What one pixel saw.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TracePixel {
+    /// Linear RGB.
+    pub color: [f32; 3],
+    /// 0 nothing, `k` the k-th ball of the scene, [`EDGE_ID`] a domain edge.
+    pub object: u32,
+    /// Face crossings before the hit (or before the ray stopped).
+    pub levels: u32,
+    /// The copy of the domain the ray ended in.
+    pub cell: CellId,
+    /// Distance travelled to the hit (or to where the ray stopped).
+    pub distance: f32,
+}
+
+/// A traced image with its id buffer.
+#[derive(Clone, Debug)]
+pub struct TraceImage {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Row-major pixels, top row first.
+    pub pixels: Vec<TracePixel>,
+}
+
+impl TraceImage {
+    /// The pixel at column `i`, row `j`.
+    #[must_use]
+    pub fn at(&self, i: u32, j: u32) -> &TracePixel {
+        &self.pixels[(j * self.width + i) as usize]
+    }
+}
+
+/// One segment of a ray's path inside the domain, for tests and tools.
+#[derive(Clone, Copy, Debug)]
+pub struct PathStep<R: Real> {
+    /// Where the segment starts.
+    pub start: Ray<R>,
+    /// Where it ends (on a face, or where it stopped).
+    pub end: Ray<R>,
+    /// The face it leaves through, if it reached one.
+    pub face: Option<usize>,
+    /// Its length.
+    pub length: R,
+}
+
+/// Why a ray stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stop {
+    /// It hit an object (id as in [`TracePixel::object`]).
+    Hit(u32),
+    /// It used up its levels.
+    MaxLevel,
+    /// It went past the maximum distance.
+    MaxDistance,
+    /// Fog had hidden everything further.
+    Fog,
+}
+
+/// Renders `scene` in `space`: one ray per pixel, in parallel.
+#[must_use]
+pub fn render<R: Real>(space: &Space, scene: &Scene, settings: &TraceSettings) -> TraceImage {
+    let prep = FlatScene::<R>::new(space, scene);
+    let (w, h) = (settings.width, settings.height);
+    #[cfg(feature = "parallel")]
+    let indices = (0..w * h).into_par_iter();
+    #[cfg(not(feature = "parallel"))]
+    let indices = 0..w * h;
+    let pixels = indices
+        .map(|k| {
+            let ray = camera_ray(&prep, k % w, k / w, w, h);
+            trace_ray(space, &prep, ray, settings, &mut |_| {}).0
+        })
+        .collect();
+    TraceImage {
+        width: w,
+        height: h,
+        pixels,
+    }
+}
+
+/// The ray through the centre of pixel `(i, j)` of a `w` x `h` image.
+#[must_use]
+pub fn camera_ray<R: Real>(prep: &FlatScene<R>, i: u32, j: u32, w: u32, h: u32) -> Ray<R> {
+    let one = R::of(1.0);
+    let x = R::of(2.0 * (f64::from(i) + 0.5) / f64::from(w)) - one;
+    let y = one - R::of(2.0 * (f64::from(j) + 0.5) / f64::from(h));
+    let aspect = R::of(f64::from(w) / f64::from(h));
+    let d = R::v4(x * prep.tan_half_fov * aspect, y * prep.tan_half_fov, -one, R::of(0.0));
+    let d = d * (one / R::dot4(d, d).sqrt());
+    let g = prep.faces.geometry;
+    let o = g.normalize_point::<R>(prep.camera * g.origin::<R>());
+    Ray {
+        origin: o,
+        dir: g.normalize_tangent::<R>(o, prep.camera * d),
+    }
+}
+
+/// Traces one ray through the manifold (Algorithm 1): nearest object in the
+/// domain, else the exit face; transport through its pairing; repeat. Calls
+/// `on_step` for every segment. Returns the pixel and why the ray stopped.
+pub fn trace_ray<R: Real>(
+    space: &Space,
+    prep: &FlatScene<R>,
+    ray: Ray<R>,
+    settings: &TraceSettings,
+    on_step: &mut dyn FnMut(&PathStep<R>),
+) -> (TracePixel, Stop) {
+    let g = prep.faces.geometry;
+    let fog_cut = R::of((255.0f64).ln());
+    let max_distance = R::of(settings.max_distance);
+    let mut walk = Walker::new(ray, R::m4_of(prep.camera_cell));
+    let mut travelled = R::of(0.0);
+    let background = prep.fog.map_or([0.0; 3], |(_, c)| c);
+    let finish = |color, object, walk: &Walker<R>, travelled: R| TracePixel {
+        color,
+        object,
+        levels: walk.levels,
+        cell: space.cells().id_within(&R::m4_f64(walk.cell), R::CELL_HORIZON),
+        distance: travelled.f64() as f32,
+    };
+    // A hard bound on the loop: every pass either transports (at most
+    // levels times) or, in S3, advances by a fixed distance of 1 (at most
+    // max_distance times), so no input makes it spin.
+    let max_passes = settings.levels as usize + settings.max_distance.min(1e4) as usize + 2;
+    for _ in 0..max_passes {
+        if let Some((density, _)) = prep.fog
+            && settings.fog_early_stop
+            && density * travelled > fog_cut
+        {
+            return (finish(background, 0, &walk, travelled), Stop::Fog);
+        }
+        let (face, t_end) = walk.segment_end(&prep.faces);
+        if let Some((t, hit)) = nearest_object(g, prep, &walk.ray, t_end, walk.levels) {
+            let dist = travelled + g.chart_to_distance::<R>(t);
+            let color = shade(g, prep, &walk.ray, t, hit, dist, space, walk.cell, settings);
+            return (finish(color, hit.id(prep), &walk, dist), Stop::Hit(hit.id(prep)));
+        }
+        let end = advance_or_raw(g, &walk.ray, t_end, settings.renormalize);
+        let length = g.chart_to_distance::<R>(t_end);
+        on_step(&PathStep {
+            start: walk.ray,
+            end,
+            face,
+            length,
+        });
+        travelled = travelled + length;
+        if travelled > max_distance {
+            return (finish(background, 0, &walk, travelled), Stop::MaxDistance);
+        }
+        if face.is_some() && walk.levels >= settings.levels {
+            return (finish(background, 0, &walk, travelled), Stop::MaxLevel);
+        }
+        walk.step(&prep.faces, face, end, settings.renormalize);
+    }
+    (finish(background, 0, &walk, travelled), Stop::MaxDistance)
+}
+
+/// Which object a ray hit.
+#[derive(Clone, Copy, Debug)]
+enum Hit<R: Real> {
+    Ball(usize),
+    Tube(usize),
+    Mesh(usize, MeshHit<R>),
+}
+
+impl<R: Real> Hit<R> {
+    fn id(self, prep: &FlatScene<R>) -> u32 {
+        match self {
+            Hit::Ball(i) => prep.balls[i].id,
+            Hit::Tube(_) => EDGE_ID,
+            Hit::Mesh(i, _) => prep.instances[i].id,
+        }
+    }
+}
+
+/// The nearest object along the ray with chart parameter in `[0, t_end]`,
+/// at `level` transports (a mesh attached to the camera is skipped at 0).
+fn nearest_object<R: Real>(
+    g: Geometry,
+    prep: &FlatScene<R>,
+    ray: &Ray<R>,
+    t_end: R,
+    level: u32,
+) -> Option<(R, Hit<R>)> {
+    let zero = R::of(0.0);
+    let mut best: Option<(R, Hit<R>)> = None;
+    for (i, b) in prep.balls.iter().enumerate() {
+        if let Some(t) = hit_ball(g, ray, b.center, b.k, zero)
+            && t <= t_end
+            && best.is_none_or(|(bt, _)| t < bt)
+        {
+            best = Some((t, Hit::Ball(i)));
+        }
+    }
+    for (i, tube) in prep.tubes.iter().enumerate() {
+        if let Some(t) = hit_tube(g, ray, &tube.segment, prep.tube_k, zero)
+            && t <= t_end
+            && best.is_none_or(|(bt, _)| t < bt)
+        {
+            best = Some((t, Hit::Tube(i)));
+        }
+    }
+    for (i, inst) in prep.instances.iter().enumerate() {
+        if inst.attached && level == 0 {
+            continue;
+        }
+        let limit = best.map_or(t_end, |(bt, _)| bt);
+        if let Some(h) = hit_instance(g, ray, inst, &prep.meshes[inst.mesh], limit)
+            && h.t <= limit
+        {
+            best = Some((h.t, Hit::Mesh(i, h.hit)));
+        }
+    }
+    best
+}
+
+/// Lambert + Blinn shading at the hit, lights with geometry-correct
+/// fall-off (1 / area of the sphere of radius d), per-cell colour, fog.
+#[expect(clippy::too_many_arguments, reason = "the shading inputs are all distinct")]
+fn shade<R: Real>(
+    g: Geometry,
+    prep: &FlatScene<R>,
+    ray: &Ray<R>,
+    t: R,
+    hit: Hit<R>,
+    dist: R,
+    space: &Space,
+    cell: R::M4,
+    settings: &TraceSettings,
+) -> [f32; 3] {
+    let x = g.normalize_point::<R>(ray.origin + ray.dir * t);
+    let view = -g.normalize_tangent::<R>(x, ray.dir);
+    let (normal, albedo) = match hit {
+        Hit::Ball(i) => (normal_from::<R>(g, x, prep.balls[i].center), prep.balls[i].color),
+        Hit::Tube(i) => {
+            let seg = &prep.tubes[i].segment;
+            (
+                normal_from::<R>(g, x, foot_on_line::<R>(g, x, seg)),
+                prep.tubes[i].color,
+            )
+        }
+        Hit::Mesh(i, h) => {
+            let inst = &prep.instances[i];
+            (
+                mesh_normal(g, inst, &prep.meshes[inst.mesh], &h, x, view),
+                mesh_albedo(prep, inst, &h),
+            )
+        }
+    };
+    let mut albedo = albedo;
+    if settings.cell_colors {
+        let c = space.cells().id_within(&R::m4_f64(cell), R::CELL_HORIZON);
+        let c = settings.cell_tint.tint(c);
+        albedo = [albedo[0] * c[0], albedo[1] * c[1], albedo[2] * c[2]];
+    }
+    let ambient = 0.08f32;
+    let mut rgb = [albedo[0] * ambient, albedo[1] * ambient, albedo[2] * ambient];
+    for l in &prep.lights {
+        let d = g.distance::<R>(x, l.position);
+        let to_light = g.normalize_tangent::<R>(x, l.position);
+        let area = g.sphere_area::<R>(d).max(R::of(1e-4));
+        let irradiance = (l.intensity / area).f64() as f32;
+        let lambert = g.form::<R>(normal, to_light).max(R::of(0.0)).f64() as f32;
+        let half = to_light + view;
+        let hl = g.form::<R>(half, half).sqrt();
+        let spec = if hl.f64() > 1e-12 {
+            (g.form::<R>(normal, half) / hl).max(R::of(0.0)).f64().powi(32) as f32 * 0.35
+        } else {
+            0.0
+        };
+        for c in 0..3 {
+            rgb[c] += (albedo[c] * lambert + spec) * irradiance * l.color[c];
+        }
+    }
+    if let Some((density, fog_color)) = prep.fog {
+        let tr = (-(density * dist)).exp().f64() as f32;
+        for c in 0..3 {
+            rgb[c] = rgb[c] * tr + fog_color[c] * (1.0 - tr);
+        }
+    }
+    rgb
+}

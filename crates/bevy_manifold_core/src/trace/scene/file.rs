@@ -1,0 +1,459 @@
+//! Scene files: JSON, validated field by field, each error named by its
+//! path in the file.
+//!
+//! ```text
+//! {"camera": {"isometry": [[..4..],[..4..],[..4..],[..4..]], "fov_y_degrees": 60},
+//!  "balls":  [{"center": [x,y,z,w], "radius": r, "color": [r,g,b]}, ...],
+//!  "lights": [{"position": [x,y,z,w], "intensity": i, "color": [r,g,b]}, ...],
+//!  "meshes": [{"file": "model.glb", "placement": [[..4..] x4], "scale": s,
+//!              "color": [r,g,b], "attached": false}, ...],
+//!  "edges": {"radius": r} | null,
+//!  "fog": {"density": d, "color": [r,g,b]} | null}
+//! Mesh files are found relative to the scene file.
+//! The camera isometry (row-major, acting on column vectors) carries the
+//! origin to the eye and the origin's frame to the camera's; the camera
+//! looks along its local -z with +y up.
+
+use super::mesh::SceneMesh;
+#[cfg(feature = "gltf")]
+use super::mesh::baked;
+use super::{Ball, Camera, Fog, Light, Scene};
+use crate::geometry::{Geometry, isometry};
+#[cfg(feature = "gltf")]
+use crate::mesh::gltf::GltfError;
+use crate::mesh::{MeshData, MeshMaterial};
+use crate::space::Space;
+use crate::space::file::{from_rows, to_rows};
+use glam::{DMat4, DVec4};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use std::sync::Arc;
+
+/// A scene file field that is wrong, named by its JSON path.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SceneError {
+    /// Malformed JSON or a missing field.
+    #[error("{path}: not a scene file: {message}")]
+    Json {
+        /// The file.
+        path: String,
+        /// serde's message, with line and column.
+        message: String,
+    },
+    /// A field with a bad value.
+    #[error("{path}: {field}: {message}")]
+    Field {
+        /// The file.
+        path: String,
+        /// The field, e.g. `balls[2].radius`.
+        field: String,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// The file could not be read.
+    #[error("{path}: cannot read: {message}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The OS error.
+        message: String,
+    },
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CameraDesc {
+    isometry: [[f64; 4]; 4],
+    fov_y_degrees: f64,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BallDesc {
+    center: [f64; 4],
+    radius: f64,
+    color: [f32; 3],
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LightDesc {
+    position: [f64; 4],
+    intensity: f64,
+    color: [f32; 3],
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EdgesDesc {
+    radius: f64,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FogDesc {
+    density: f64,
+    color: [f32; 3],
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneDesc {
+    camera: CameraDesc,
+    #[serde(default)]
+    balls: Vec<BallDesc>,
+    #[serde(default)]
+    lights: Vec<LightDesc>,
+    #[serde(default)]
+    meshes: Vec<MeshDesc>,
+    #[serde(default)]
+    edges: Option<EdgesDesc>,
+    #[serde(default)]
+    fog: Option<FogDesc>,
+}
+
+/// How far off its model a point in a file may be before it is an error
+/// (it is then normalised exactly).
+const POINT_TOLERANCE: f64 = 1e-6;
+
+impl Scene {
+    /// Reads and validates a scene file for `space`.
+    ///
+    /// # Errors
+    /// Unreadable file, malformed JSON, or a field with a bad value, named
+    /// by its path in the JSON (`balls[1].center`).
+    pub fn load(path: impl AsRef<Path>, space: &Space) -> Result<Scene, SceneError> {
+        let p = path.as_ref().display().to_string();
+        let text = std::fs::read_to_string(path.as_ref()).map_err(|e| SceneError::Io {
+            path: p.clone(),
+            message: e.to_string(),
+        })?;
+        Self::parse(&text, &p, space)
+    }
+
+    /// Parses and validates scene JSON; `path` names it in errors.
+    ///
+    /// # Errors
+    /// As [`Scene::load`].
+    pub fn parse(text: &str, path: &str, space: &Space) -> Result<Scene, SceneError> {
+        let desc: SceneDesc = serde_json::from_str(text).map_err(|e| SceneError::Json {
+            path: path.into(),
+            message: e.to_string(),
+        })?;
+        let field = |field: String, message: String| SceneError::Field {
+            path: path.into(),
+            field,
+            message,
+        };
+        let g = space.geometry();
+
+        let cam = from_rows(desc.camera.isometry);
+        if !cam.is_finite() {
+            return Err(field("camera.isometry".into(), "has a NaN or infinite entry".into()));
+        }
+        let err = isometry::isometry_error(g, cam);
+        if err > 1e-6 {
+            return Err(field(
+                "camera.isometry".into(),
+                format!("is not an isometry of {g} space (form error {err:.2e})"),
+            ));
+        }
+        let fov = desc.camera.fov_y_degrees;
+        if !(fov > 0.0 && fov < 180.0) {
+            return Err(field(
+                "camera.fov_y_degrees".into(),
+                format!("must be in (0, 180), got {fov}"),
+            ));
+        }
+        let camera = Camera {
+            isometry: isometry::orthonormalize(g, cam),
+            fov_y_degrees: fov,
+        };
+
+        let mut balls = Vec::new();
+        for (i, b) in desc.balls.iter().enumerate() {
+            let center = point_field(space, b.center, &format!("balls[{i}].center")).map_err(|(f, m)| field(f, m))?;
+            positive(b.radius, &format!("balls[{i}].radius")).map_err(|(f, m)| field(f, m))?;
+            color(b.color, &format!("balls[{i}].color")).map_err(|(f, m)| field(f, m))?;
+            balls.push(Ball {
+                center,
+                radius: b.radius,
+                color: b.color,
+            });
+        }
+        if balls.len() > 254 {
+            return Err(field(
+                "balls".into(),
+                format!("at most 254 balls (ids 1..254), got {}", balls.len()),
+            ));
+        }
+        let mut lights = Vec::new();
+        for (i, l) in desc.lights.iter().enumerate() {
+            let position =
+                point_field(space, l.position, &format!("lights[{i}].position")).map_err(|(f, m)| field(f, m))?;
+            if !(l.intensity >= 0.0 && l.intensity.is_finite()) {
+                return Err(field(
+                    format!("lights[{i}].intensity"),
+                    format!("must be >= 0 and finite, got {}", l.intensity),
+                ));
+            }
+            color(l.color, &format!("lights[{i}].color")).map_err(|(f, m)| field(f, m))?;
+            lights.push(Light {
+                position,
+                intensity: l.intensity,
+                color: l.color,
+            });
+        }
+        let edge_radius = match desc.edges {
+            Some(e) => {
+                positive(e.radius, "edges.radius").map_err(|(f, m)| field(f, m))?;
+                Some(e.radius)
+            }
+            None => None,
+        };
+        let fog = match desc.fog {
+            Some(f) => {
+                if !(f.density >= 0.0 && f.density.is_finite()) {
+                    return Err(field(
+                        "fog.density".into(),
+                        format!("must be >= 0 and finite, got {}", f.density),
+                    ));
+                }
+                color(f.color, "fog.color").map_err(|(a, m)| field(a, m))?;
+                Some(Fog {
+                    density: f.density,
+                    color: f.color,
+                })
+            }
+            None => None,
+        };
+        let dir = Path::new(path).parent().unwrap_or(Path::new("."));
+        let (meshes, skipped) = read_meshes(&desc.meshes, dir, g).map_err(|(f, m)| field(f, m))?;
+        if balls.len() + meshes.len() > 254 {
+            return Err(field(
+                "meshes".into(),
+                format!(
+                    "at most 254 balls and mesh parts together (ids 1..254), got {}",
+                    balls.len() + meshes.len()
+                ),
+            ));
+        }
+        Ok(Scene {
+            camera,
+            balls,
+            lights,
+            meshes,
+            edge_radius,
+            fog,
+            skipped,
+        })
+    }
+
+    /// The scene as JSON, in the scene-file format.
+    #[must_use]
+    pub fn to_json(&self) -> String {
+        let desc = SceneDesc {
+            camera: CameraDesc {
+                isometry: to_rows(self.camera.isometry),
+                fov_y_degrees: self.camera.fov_y_degrees,
+            },
+            balls: self
+                .balls
+                .iter()
+                .map(|b| BallDesc {
+                    center: b.center.to_array(),
+                    radius: b.radius,
+                    color: b.color,
+                })
+                .collect(),
+            lights: self
+                .lights
+                .iter()
+                .map(|l| LightDesc {
+                    position: l.position.to_array(),
+                    intensity: l.intensity,
+                    color: l.color,
+                })
+                .collect(),
+            meshes: describe(&self.meshes),
+            edges: self.edge_radius.map(|radius| EdgesDesc { radius }),
+            fog: self.fog.as_ref().map(|f| FogDesc {
+                density: f.density,
+                color: f.color,
+            }),
+        };
+        serde_json::to_string_pretty(&desc).unwrap_or_default()
+    }
+}
+
+fn positive(x: f64, name: &str) -> Result<(), (String, String)> {
+    if x > 0.0 && x.is_finite() {
+        Ok(())
+    } else {
+        Err((name.into(), format!("must be positive and finite, got {x}")))
+    }
+}
+
+fn color(c: [f32; 3], name: &str) -> Result<(), (String, String)> {
+    if c.iter().all(|x| x.is_finite() && *x >= 0.0) {
+        Ok(())
+    } else {
+        Err((
+            name.into(),
+            format!("colour components must be finite and >= 0, got {c:?}"),
+        ))
+    }
+}
+
+fn point_field(space: &Space, p: [f64; 4], name: &str) -> Result<DVec4, (String, String)> {
+    let g: Geometry = space.geometry();
+    let v = DVec4::from_array(p);
+    if !g.is_point(v) {
+        return Err((name.into(), format!("{p:?} is not a point of {g} space")));
+    }
+    let err = g.point_error::<f64>(v);
+    if err > POINT_TOLERANCE {
+        return Err((
+            name.into(),
+            format!("{p:?} is not normalised (error {err:.2e}; {})", normal_form(g)),
+        ));
+    }
+    if let Some(f) = space.outside_face(v, 1e-9) {
+        return Err((
+            name.into(),
+            format!("{p:?} lies outside the fundamental domain, beyond face {f}"),
+        ));
+    }
+    Ok(g.normalize_point::<f64>(v))
+}
+
+fn normal_form(g: Geometry) -> &'static str {
+    match g {
+        Geometry::Euclidean => "E3 points have w = 1",
+        Geometry::Hyperbolic => "H3 points have <p,p> = -1",
+        Geometry::Spherical => "S3 points have |p| = 1",
+    }
+}
+
+/// A mesh ready to place, with its surface.
+#[cfg(feature = "gltf")]
+pub type MeshPart = (Arc<MeshData>, MeshMaterial);
+
+/// The meshes of a glTF file, each part baked, BVHs built, and the
+/// loader's warnings.
+///
+/// # Errors
+/// As [`crate::mesh::gltf::load`].
+#[cfg(feature = "gltf")]
+pub fn meshes_of(path: &Path) -> Result<(Vec<MeshPart>, Vec<String>), GltfError> {
+    let loaded = crate::mesh::gltf::load(path)?;
+    Ok(from_loaded(loaded))
+}
+
+#[cfg(feature = "gltf")]
+pub(super) fn from_loaded(loaded: crate::mesh::gltf::Loaded) -> (Vec<MeshPart>, Vec<String>) {
+    let parts = loaded
+        .parts
+        .into_iter()
+        .map(|p| (MeshData::shared(baked(&p.mesh, p.transform)), p.material))
+        .collect();
+    (parts, loaded.warnings)
+}
+
+/// A mesh in a scene file.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct MeshDesc {
+    pub file: String,
+    pub placement: [[f64; 4]; 4],
+    #[serde(default = "one")]
+    pub scale: f64,
+    #[serde(default)]
+    pub color: Option<[f32; 3]>,
+    #[serde(default)]
+    pub attached: bool,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// Reads the meshes of a scene file, resolving files against `dir`: the
+/// meshes, and one line for each that was left out.
+pub(super) fn read_meshes(
+    descs: &[MeshDesc],
+    dir: &Path,
+    g: Geometry,
+) -> Result<(Vec<SceneMesh>, Vec<String>), (String, String)> {
+    let mut meshes = Vec::new();
+    let mut skipped = Vec::new();
+    for (i, d) in descs.iter().enumerate() {
+        let field = |f: &str| format!("meshes[{i}].{f}");
+        let m = crate::space::file::from_rows(d.placement);
+        if !m.is_finite() {
+            return Err((field("placement"), "has a NaN or infinite entry".into()));
+        }
+        let err = isometry::isometry_error(g, m);
+        if err > 1e-6 {
+            return Err((
+                field("placement"),
+                format!("is not an isometry of {g} space (form error {err:.2e})"),
+            ));
+        }
+        if !(d.scale > 0.0 && d.scale.is_finite()) {
+            return Err((field("scale"), format!("must be positive and finite, got {}", d.scale)));
+        }
+        let path = dir.join(&d.file);
+        #[cfg(not(feature = "gltf"))]
+        let _ = path;
+        #[cfg(not(feature = "gltf"))]
+        let loaded: Result<(Vec<(Arc<MeshData>, MeshMaterial)>, Vec<String>), &str> =
+            Err("this build has no glTF support (bevy_manifold_core's `gltf` feature)");
+        #[cfg(feature = "gltf")]
+        let loaded = meshes_of(&path);
+        match loaded {
+            Ok((parts, warnings)) => {
+                skipped.extend(warnings);
+                for (data, mut material) in parts {
+                    if let Some(c) = d.color {
+                        material.base_color = c;
+                    }
+                    meshes.push(SceneMesh {
+                        data,
+                        material,
+                        placement: isometry::orthonormalize(g, m),
+                        scale: d.scale,
+                        local: DMat4::IDENTITY,
+                        attached: d.attached,
+                        file: Some(d.file.clone()),
+                    });
+                }
+            }
+            Err(e) => skipped.push(format!("{}: left out: {e}", field("file"))),
+        }
+    }
+    Ok((meshes, skipped))
+}
+
+/// Scene-file entries for `meshes` (those that came from a file).
+pub(super) fn describe(meshes: &[SceneMesh]) -> Vec<MeshDesc> {
+    let mut out: Vec<MeshDesc> = Vec::new();
+    for m in meshes {
+        let Some(file) = &m.file else { continue };
+        // The parts of one file share one entry.
+        if out
+            .last()
+            .is_some_and(|d| &d.file == file && crate::space::file::from_rows(d.placement) == m.placement)
+        {
+            continue;
+        }
+        out.push(MeshDesc {
+            file: file.clone(),
+            placement: crate::space::file::to_rows(m.placement),
+            scale: m.scale,
+            color: None,
+            attached: m.attached,
+        });
+    }
+    out
+}

@@ -1,0 +1,106 @@
+//! What the tracer draws: a camera, balls, the domain's edges as tubes,
+//! point lights, fog and triangle meshes. The model is here; [`file`]
+//! reads and writes it as JSON (validated field by field), and
+//! [`presets`] makes the scenes the paper and the examples use.
+
+mod file;
+mod mesh;
+mod presets;
+
+pub use file::SceneError;
+#[cfg(feature = "gltf")]
+pub use file::{MeshPart, meshes_of};
+pub use mesh::{SceneMesh, baked};
+#[cfg(feature = "gltf")]
+pub use presets::builtin;
+pub use presets::{HAND_COLOR, PaperOptions, SUZANNE_COLOR, SuzanneMode, hand_offset, suzanne_offset};
+
+use glam::{DMat4, DVec4};
+
+/// The camera: where it is and how wide it sees.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Camera {
+    /// Carries the origin to the eye, the origin's frame to the camera's.
+    pub isometry: DMat4,
+    /// Vertical field of view in degrees.
+    pub fov_y_degrees: f64,
+}
+
+/// A ball (a metric ball of the space, drawn exactly).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Ball {
+    /// Centre: a normalised point inside the fundamental domain.
+    pub center: DVec4,
+    /// Radius, in the space's own distance.
+    pub radius: f64,
+    /// Linear RGB albedo.
+    pub color: [f32; 3],
+}
+
+/// A point light.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Light {
+    /// Position: a normalised point inside the fundamental domain.
+    pub position: DVec4,
+    /// Power: the irradiance at distance `d` is `intensity / area(d)`.
+    pub intensity: f64,
+    /// Linear RGB colour.
+    pub color: [f32; 3],
+}
+
+/// Exponential fog on the distance travelled.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Fog {
+    /// Extinction per unit distance.
+    pub density: f64,
+    /// The colour light fades to.
+    pub color: [f32; 3],
+}
+
+/// Everything the tracer draws.
+///
+/// ```
+/// use bevy_manifold_core::prelude::*;
+/// let space = catalog::torus(1.0);
+/// let scene = Scene::default_for(&space);
+/// assert_eq!(scene.balls.len(), 1);
+/// assert!(scene.edge_radius.is_some());
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// The camera.
+    pub camera: Camera,
+    /// Balls; ids 1, 2, ... in this order.
+    pub balls: Vec<Ball>,
+    /// Point lights.
+    pub lights: Vec<Light>,
+    /// Triangle meshes; ids follow the balls'.
+    pub meshes: Vec<SceneMesh>,
+    /// Radius of the tubes drawn along the domain's edges, if drawn.
+    pub edge_radius: Option<f64>,
+    /// Fog, if any.
+    pub fog: Option<Fog>,
+    /// What a scene file asked for that was left out, and why (a mesh
+    /// file that failed to load); empty for scenes made in code.
+    pub skipped: Vec<String>,
+}
+
+impl Scene {
+    /// A scene with nothing in it, the camera at the origin: rays only
+    /// cross faces (used to follow geodesics and in tests).
+    #[must_use]
+    pub fn empty() -> Scene {
+        Scene {
+            camera: Camera {
+                isometry: DMat4::IDENTITY,
+                fov_y_degrees: 60.0,
+            },
+            balls: Vec::new(),
+            lights: Vec::new(),
+            meshes: Vec::new(),
+            edge_radius: None,
+            fog: None,
+            skipped: Vec::new(),
+        }
+    }
+}

@@ -1,0 +1,286 @@
+//! The steps of Algorithm 1 on one ray, generic over precision so the f64
+//! reference and the f32 mirror of the GPU run the same arithmetic in the
+//! same order. Their WGSL twins have the same names, in the same order
+//! (`bevy_manifold_gpu`'s `shaders/step.wgsl`).
+//!
+//! A ray is a normalised point `o` and a unit tangent `d` there; its points
+//! are `o + t d` in the chart (`t` the chart parameter, monotone in the
+//! distance, see [`Geometry::chart_to_distance`]).
+
+use crate::geometry::{Geometry, Real};
+
+/// A ray: origin point and unit tangent direction, both normalised.
+#[derive(Clone, Copy, Debug)]
+pub struct Ray<R: Real> {
+    /// Normalised origin.
+    pub origin: R::V4,
+    /// Unit tangent at the origin.
+    pub dir: R::V4,
+}
+
+/// Where a ray crosses a face: the nearest face the ray leaves through
+/// (`n . d > 0`), skipping the face it just entered, with the chart
+/// parameter `t = -(n . o) / (n . d)` of the crossing. Crossings behind the
+/// origin (a point already a hair outside after rounding) count as `t = 0`,
+/// so the ray leaves at once instead of slipping out of the domain.
+#[inline]
+#[must_use]
+pub fn exit_face<R: Real>(planes: &[R::V4], ray: &Ray<R>, skip: usize) -> Option<(usize, R)> {
+    let mut best: Option<(usize, R)> = None;
+    for (i, n) in planes.iter().enumerate() {
+        if i == skip {
+            continue;
+        }
+        let nd = R::dot4(*n, ray.dir);
+        if nd > R::of(0.0) {
+            let t = (-R::dot4(*n, ray.origin) / nd).max(R::of(0.0));
+            if best.is_none_or(|(_, b)| t < b) {
+                best = Some((i, t));
+            }
+        }
+    }
+    best
+}
+
+/// The point of the ray at chart parameter `t`, normalised, and the unit
+/// tangent of the geodesic there (the ray's direction carried along).
+#[inline]
+#[must_use]
+pub fn advance<R: Real>(g: Geometry, ray: &Ray<R>, t: R) -> Ray<R> {
+    let p = g.normalize_point::<R>(ray.origin + ray.dir * t);
+    Ray {
+        origin: p,
+        dir: g.normalize_tangent::<R>(p, ray.dir),
+    }
+}
+
+/// [`advance`] without renormalisation: the point and tangent at chart
+/// parameter `t` scaled by the factors that are exact for a normalised ray
+/// (`1/sqrt(1 - t^2)` in H3, `1/sqrt(1 + t^2)` in S3) instead of measured
+/// from the vectors, so rounding error is carried on, never removed. Only
+/// for measuring drift (`TraceSettings::renormalize` off).
+#[inline]
+#[must_use]
+pub fn advance_raw<R: Real>(g: Geometry, ray: &Ray<R>, t: R) -> Ray<R> {
+    let (o, d) = (ray.origin, ray.dir);
+    let one = R::of(1.0);
+    match g {
+        Geometry::Euclidean => Ray {
+            origin: o + d * t,
+            dir: d,
+        },
+        Geometry::Hyperbolic => {
+            let s = one / (one - t * t).sqrt();
+            Ray {
+                origin: (o + d * t) * s,
+                dir: (o * t + d) * s,
+            }
+        }
+        Geometry::Spherical => {
+            let s = one / (one + t * t).sqrt();
+            Ray {
+                origin: (o + d * t) * s,
+                dir: (d - o * t) * s,
+            }
+        }
+    }
+}
+
+/// [`advance`], or [`advance_raw`] when `renormalize` is off.
+#[inline]
+#[must_use]
+pub fn advance_or_raw<R: Real>(g: Geometry, ray: &Ray<R>, t: R, renormalize: bool) -> Ray<R> {
+    if renormalize {
+        advance(g, ray, t)
+    } else {
+        advance_raw(g, ray, t)
+    }
+}
+
+/// Carries a ray that reached a face through its pairing `T` and brings it
+/// back onto the model (renormalisation, so error does not accumulate).
+#[inline]
+#[must_use]
+pub fn transport<R: Real>(g: Geometry, pairing: R::M4, ray: &Ray<R>) -> Ray<R> {
+    let o = g.normalize_point::<R>(pairing * ray.origin);
+    Ray {
+        origin: o,
+        dir: g.normalize_tangent::<R>(o, pairing * ray.dir),
+    }
+}
+
+/// [`transport`] without renormalisation: `T o`, `T d` as they come out
+/// of the (rounded) matrix. Only for measuring drift.
+#[inline]
+#[must_use]
+pub fn transport_raw<R: Real>(pairing: R::M4, ray: &Ray<R>) -> Ray<R> {
+    Ray {
+        origin: pairing * ray.origin,
+        dir: pairing * ray.dir,
+    }
+}
+
+/// [`transport`], or [`transport_raw`] when `renormalize` is off.
+#[inline]
+#[must_use]
+pub fn transport_or_raw<R: Real>(g: Geometry, pairing: R::M4, ray: &Ray<R>, renormalize: bool) -> Ray<R> {
+    if renormalize {
+        transport(g, pairing, ray)
+    } else {
+        transport_raw(pairing, ray)
+    }
+}
+
+/// Smallest root `t >= t_min` of `a t^2 + 2 b t + c = 0` at which the
+/// quadratic goes from positive to non-positive (the ray enters the region
+/// `q <= 0`). Stable for tiny `a`.
+#[inline]
+#[must_use]
+pub fn entering_root<R: Real>(a: R, b: R, c: R, t_min: R) -> Option<R> {
+    let zero = R::of(0.0);
+    let disc = b * b - a * c;
+    if disc < zero {
+        return None;
+    }
+    let s = disc.sqrt();
+    // q = -(b + sign(b) s); roots q/a and c/q.
+    let q = if b < zero { s - b } else { -(b + s) };
+    let mut roots = [None, None];
+    if q != zero {
+        roots[0] = Some(c / q);
+    }
+    if a.abs() > R::EPSILON * (b.abs() + c.abs()) {
+        roots[1] = Some(q / a);
+    }
+    let mut best: Option<R> = None;
+    for t in roots.into_iter().flatten() {
+        // Entering where the derivative 2(a t + b) is negative.
+        if t >= t_min && a * t + b < zero && best.is_none_or(|x| t < x) {
+            best = Some(t);
+        }
+    }
+    best
+}
+
+/// The chart parameter where a ray enters the ball of centre `c` (a
+/// normalised point) and radius given by `k`: `cosh r` (H3), `cos r` (S3),
+/// `r^2` (E3). Exact: the ball is a quadric in the chart.
+#[inline]
+#[must_use]
+pub fn hit_ball<R: Real>(g: Geometry, ray: &Ray<R>, c: R::V4, k: R, t_min: R) -> Option<R> {
+    let (o, d) = (ray.origin, ray.dir);
+    match g {
+        Geometry::Euclidean => {
+            let q = o - c;
+            let b = g.form::<R>(q, d);
+            entering_root(g.form::<R>(d, d), b, g.form::<R>(q, q) - k, t_min)
+        }
+        Geometry::Hyperbolic => {
+            // -<p,c> <= cosh r |p|, |p|^2 = 1 - t^2 for p = o + t d.
+            let (a0, b0) = (g.form::<R>(o, c), g.form::<R>(d, c));
+            let t = entering_root(b0 * b0 + k * k, a0 * b0, a0 * a0 - k * k, t_min)?;
+            (a0 + t * b0 < R::of(0.0)).then_some(t)
+        }
+        Geometry::Spherical => {
+            // <p,c> >= cos r |p|, |p|^2 = 1 + t^2.
+            let (a0, b0) = (g.form::<R>(o, c), g.form::<R>(d, c));
+            let t = entering_root(k * k - b0 * b0, -(a0 * b0), k * k - a0 * a0, t_min)?;
+            (a0 + t * b0 > R::of(0.0)).then_some(t)
+        }
+    }
+}
+
+/// A tube of radius `r` around the geodesic segment from the point `a` with
+/// unit tangent `e` (towards the other end) to the point `b` with unit
+/// tangent `e_b` there (pointing on, away from `a`). `k` is `cosh r`,
+/// `cos r` or `r^2` as for balls. Returns the entering chart parameter
+/// where the hit lies between the segment's end planes.
+#[inline]
+#[must_use]
+pub fn hit_tube<R: Real>(g: Geometry, ray: &Ray<R>, seg: &Segment<R>, k: R, t_min: R) -> Option<R> {
+    let (o, d) = (ray.origin, ray.dir);
+    let t = match g {
+        Geometry::Euclidean => {
+            let q = o - seg.a;
+            let (qe, de) = (g.form::<R>(q, seg.e), g.form::<R>(d, seg.e));
+            entering_root(
+                R::of(1.0) - de * de,
+                g.form::<R>(q, d) - qe * de,
+                g.form::<R>(q, q) - qe * qe - k,
+                t_min,
+            )?
+        }
+        Geometry::Hyperbolic => {
+            // cosh^2(dist) = <p,a>^2 - <p,e>^2 <= cosh^2 r |p|^2.
+            let (a1, b1) = (g.form::<R>(o, seg.a), g.form::<R>(d, seg.a));
+            let (a2, b2) = (g.form::<R>(o, seg.e), g.form::<R>(d, seg.e));
+            entering_root(
+                b1 * b1 - b2 * b2 + k * k,
+                a1 * b1 - a2 * b2,
+                a1 * a1 - a2 * a2 - k * k,
+                t_min,
+            )?
+        }
+        Geometry::Spherical => {
+            // cos^2(dist) = <p,a>^2 + <p,e>^2 >= cos^2 r |p|^2.
+            let (a1, b1) = (g.form::<R>(o, seg.a), g.form::<R>(d, seg.a));
+            let (a2, b2) = (g.form::<R>(o, seg.e), g.form::<R>(d, seg.e));
+            entering_root(
+                k * k - b1 * b1 - b2 * b2,
+                -(a1 * b1 + a2 * b2),
+                k * k - a1 * a1 - a2 * a2,
+                t_min,
+            )?
+        }
+    };
+    let p = o + d * t;
+    let zero = R::of(0.0);
+    let (along_a, along_b) = match g {
+        Geometry::Euclidean => (g.form::<R>(p - seg.a, seg.e), g.form::<R>(p - seg.b, seg.e_b)),
+        _ => (g.form::<R>(p, seg.e), g.form::<R>(p, seg.e_b)),
+    };
+    (along_a >= zero && along_b <= zero).then_some(t)
+}
+
+/// A geodesic segment prepared for [`hit_tube`].
+#[derive(Clone, Copy, Debug)]
+pub struct Segment<R: Real> {
+    /// Start point.
+    pub a: R::V4,
+    /// Unit tangent at `a` towards `b`.
+    pub e: R::V4,
+    /// End point.
+    pub b: R::V4,
+    /// Unit tangent at `b`, pointing away from `a`.
+    pub e_b: R::V4,
+}
+
+/// The foot of the perpendicular from the normalised point `x` to the
+/// segment's geodesic (not normalised): used for the tube's normal.
+#[inline]
+#[must_use]
+pub fn foot_on_line<R: Real>(g: Geometry, x: R::V4, seg: &Segment<R>) -> R::V4 {
+    match g {
+        Geometry::Euclidean => seg.a + seg.e * g.form::<R>(x - seg.a, seg.e),
+        Geometry::Hyperbolic => seg.e * g.form::<R>(x, seg.e) - seg.a * g.form::<R>(x, seg.a),
+        Geometry::Spherical => seg.a * g.form::<R>(x, seg.a) + seg.e * g.form::<R>(x, seg.e),
+    }
+}
+
+/// The outward unit normal at `x` of a round object centred at `c` (a
+/// ball's centre, a tube's foot point): the tangent at `x` pointing away.
+#[inline]
+#[must_use]
+pub fn normal_from<R: Real>(g: Geometry, x: R::V4, c: R::V4) -> R::V4 {
+    g.normalize_tangent::<R>(x, -c)
+}
+
+/// The radius parameter `k` of [`hit_ball`]/[`hit_tube`] for radius `r`.
+#[must_use]
+pub fn radius_param(g: Geometry, r: f64) -> f64 {
+    match g {
+        Geometry::Euclidean => r * r,
+        Geometry::Hyperbolic => r.cosh(),
+        Geometry::Spherical => r.cos(),
+    }
+}

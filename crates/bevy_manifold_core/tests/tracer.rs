@@ -1,0 +1,603 @@
+//! The CPU reference tracer: transport through the pairings, closed
+//! geodesics, invariants over a million random rays, and an image checked
+//! against the cover computed independently.
+
+use bevy_manifold_core::geometry::{Geometry, isometry};
+use bevy_manifold_core::prelude::*;
+use bevy_manifold_core::trace::step::Ray;
+use bevy_manifold_core::trace::{FaceTables, FlatScene, Stop, flow, ghost_centres, trace_ray, write_ids_png};
+use bevy_manifold_test_support::stress::face_middle;
+use glam::{DMat4, DVec3, DVec4, IVec3};
+use rayon::prelude::*;
+use std::f64::consts::{PI, TAU};
+
+use bevy_manifold_test_support::Rng;
+
+/// A random ray starting strictly inside the domain.
+fn random_ray(space: &Space, rng: &mut Rng) -> Ray<f64> {
+    let g = space.geometry();
+    let place = isometry::translation(g, rng.unit() * rng.next_f64() * 0.95 * space.inradius())
+        * isometry::rotation(rng.unit(), rng.next_f64() * TAU);
+    let o = place * DVec4::W;
+    Ray {
+        origin: o,
+        dir: g.normalize_tangent::<f64>(o, place * DVec4::Z),
+    }
+}
+
+fn empty(space: &Space) -> FlatScene<f64> {
+    FlatScene::new(space, &Scene::empty())
+}
+
+fn tables(space: &Space) -> FaceTables<f64> {
+    FaceTables::new(space)
+}
+
+#[test]
+fn a_ray_leaving_through_a_face_reenters_through_its_partner() {
+    for name in catalog::NAMES {
+        let s = catalog::by_name(name).expect("catalog");
+        let g = s.geometry();
+        let prep = empty(&s);
+        let settings = TraceSettings {
+            levels: 1,
+            max_distance: 50.0,
+            ..TraceSettings::default()
+        };
+        for (i, f) in s.faces().iter().enumerate() {
+            // Aim from near the centre at the middle of face i.
+            let mid = face_middle(&s, i);
+            let o = g.normalize_point::<f64>(DVec4::W * 0.9 + mid * 0.1);
+            let ray = Ray {
+                origin: o,
+                dir: g.normalize_tangent::<f64>(o, mid),
+            };
+            let mut steps = Vec::new();
+            let (_, stop) = trace_ray(&s, &prep, ray, &settings, &mut |st| steps.push(*st));
+            assert_eq!(stop, Stop::MaxLevel, "{name}");
+            assert_eq!(steps[0].face, Some(i), "{name}: face {i}");
+            let end = steps[0].end;
+            assert!(
+                f.plane.dot(end.origin).abs() < 1e-12,
+                "{name}: the exit point is on face {i}"
+            );
+            let start = steps[1].start;
+            let expect = g.normalize_point::<f64>(f.pairing * end.origin);
+            assert!(
+                (start.origin - expect).length() < 1e-12,
+                "{name}: T_{i} applied to the exit point"
+            );
+            let partner = &s.faces()[f.partner];
+            assert!(
+                partner.plane.dot(start.origin).abs() < 1e-12,
+                "{name}: re-enters on face {}",
+                f.partner
+            );
+            assert!(
+                partner.plane.dot(start.dir) < 0.0,
+                "{name}: heading inwards from face {}",
+                f.partner
+            );
+        }
+    }
+}
+
+#[test]
+fn torus_ray_along_x_comes_back_after_distance_one() {
+    let s = catalog::torus(1.0);
+    let prep = tables(&s);
+    let o = DVec4::new(0.2, -0.1, 0.3, 1.0);
+    let ray = Ray {
+        origin: o,
+        dir: DVec4::X,
+    };
+    let before = flow(&prep, ray, 0.99, 10);
+    assert_eq!(before.levels, 1);
+    assert!((before.ray.origin - o).length() > 1e-3);
+    let back = flow(&prep, ray, 1.0, 10);
+    assert!(back.complete);
+    assert!((back.ray.origin - o).length() < 1e-15, "{:?}", back.ray.origin);
+    assert_eq!(
+        s.cell_id(&back.cell).lattice(),
+        Some(IVec3::X),
+        "one copy along +x in the cover"
+    );
+}
+
+#[test]
+fn every_geodesic_of_the_poincare_space_closes_after_two_pi() {
+    // The cover is S3, where every geodesic is a great circle of length
+    // 2 pi. The group also contains -I, so after pi a ray is back at its
+    // start in the quotient too, in the antipodal copy.
+    let s = catalog::poincare();
+    let prep = tables(&s);
+    let mut rng = Rng(1);
+    let minus_one = s.cell_id(&(-DMat4::IDENTITY));
+    assert_ne!(minus_one.0, 0);
+    for _ in 0..2000 {
+        let ray = random_ray(&s, &mut rng);
+        let full = flow(&prep, ray, TAU, 100);
+        assert!(full.complete);
+        assert!(
+            (full.ray.origin - ray.origin).length() < 1e-9,
+            "not back at the start after 2 pi"
+        );
+        assert!((full.ray.dir - ray.dir).length() < 1e-9);
+        assert_eq!(s.cell_id(&full.cell).0, 0, "back in the original copy");
+        let half = flow(&prep, ray, PI, 100);
+        assert!(
+            (half.ray.origin - ray.origin).length() < 1e-9,
+            "the quotient closes it after pi"
+        );
+        assert_eq!(s.cell_id(&half.cell), minus_one, "in the antipodal copy");
+        // Just short of pi it is elsewhere.
+        let short = flow(&prep, ray, PI - 0.1, 100);
+        assert!((short.ray.origin - ray.origin).length() > 1e-3);
+    }
+}
+
+#[test]
+fn a_million_random_rays_stay_finite_inside_and_normalised() {
+    const RAYS: usize = 1_000_000;
+    const LEVELS: u32 = 64;
+    for name in catalog::NAMES {
+        let s = catalog::by_name(name).expect("catalog");
+        let g = s.geometry();
+        let prep = empty(&s);
+        let settings = TraceSettings {
+            levels: LEVELS,
+            max_distance: 1e6,
+            ..TraceSettings::default()
+        };
+        let worst = (0..RAYS / 1000)
+            .into_par_iter()
+            .map(|chunk| {
+                let mut rng = Rng(chunk as u64 * 7919 + 17);
+                let mut worst = [0.0f64; 3];
+                for _ in 0..1000 {
+                    let ray = random_ray(&s, &mut rng);
+                    let mut check = |r: &Ray<f64>| {
+                        assert!(r.origin.is_finite() && r.dir.is_finite(), "{name}: NaN");
+                        let outside = s
+                            .faces()
+                            .iter()
+                            .map(|f| f.plane.dot(r.origin / r.origin.w))
+                            .fold(f64::MIN, f64::max);
+                        worst[0] = worst[0].max(outside);
+                        worst[1] = worst[1].max(g.point_error::<f64>(r.origin));
+                        worst[2] = worst[2].max(g.tangent_error::<f64>(r.origin, r.dir));
+                    };
+                    let mut steps = 0;
+                    let (_, stop) = trace_ray(&s, &prep, ray, &settings, &mut |st| {
+                        check(&st.start);
+                        check(&st.end);
+                        steps += 1;
+                    });
+                    assert_eq!(stop, Stop::MaxLevel, "{name}: every ray makes all its transports");
+                    assert!(steps as u32 >= LEVELS, "{name}");
+                }
+                worst
+            })
+            .reduce(|| [0.0; 3], |a, b| [a[0].max(b[0]), a[1].max(b[1]), a[2].max(b[2])]);
+        assert!(
+            worst[0] <= 1e-9,
+            "{name}: a segment end is {:.3e} outside the domain",
+            worst[0]
+        );
+        assert!(worst[1] <= 1e-9, "{name}: point normalisation error {:.3e}", worst[1]);
+        assert!(worst[2] <= 1e-9, "{name}: direction tangency error {:.3e}", worst[2]);
+    }
+}
+
+/// The torus image, computed the other way: unfold the torus into its cover
+/// (E3 with a ball at every integer point) and intersect each pixel's ray
+/// with every copy, plain Euclidean geometry, no faces.
+#[test]
+fn torus_ball_copies_appear_where_the_lattice_predicts() {
+    let s = catalog::torus(1.0);
+    let eye = DVec3::new(0.2, 0.1, 0.3);
+    let radius = 0.1;
+    let scene = Scene {
+        camera: bevy_manifold_core::trace::Camera {
+            isometry: DMat4::from_translation(eye),
+            fov_y_degrees: 90.0,
+        },
+        balls: vec![Ball {
+            center: DVec4::W,
+            radius,
+            color: [1.0, 0.5, 0.2],
+        }],
+        lights: vec![Light {
+            position: eye.extend(1.0),
+            intensity: 1.0,
+            color: [1.0; 3],
+        }],
+        meshes: Vec::new(),
+        skipped: Vec::new(),
+        edge_radius: None,
+        fog: None,
+    };
+    const L: i32 = 12;
+    let settings = TraceSettings {
+        width: 64,
+        height: 64,
+        levels: L as u32,
+        max_distance: 1e3,
+        ..TraceSettings::default()
+    };
+    let img = render::<f64>(&s, &scene, &settings);
+
+    // Predicted pixel of copy (i, j, k): project its centre.
+    let pixel_of = |c: IVec3| {
+        let rel = c.as_dvec3() - eye;
+        let x = rel.x / -rel.z; // tan(45 deg) = 1, square image
+        let y = rel.y / -rel.z;
+        (((x + 1.0) * 32.0) as u32, ((1.0 - y) * 32.0) as u32)
+    };
+    for c in [
+        IVec3::new(0, 0, -1),
+        IVec3::new(1, 0, -1),
+        IVec3::new(-1, 1, -2),
+        IVec3::new(0, -1, -3),
+        IVec3::new(2, 1, -4),
+    ] {
+        let (i, j) = pixel_of(c);
+        let p = img.at(i, j);
+        assert_eq!(p.object, 1, "copy {c} at pixel ({i}, {j})");
+        assert_eq!(p.levels, c.abs().element_sum() as u32, "copy {c}: face crossings");
+        assert_eq!(p.cell.lattice(), Some(c), "copy {c}: cell");
+    }
+
+    // Every pixel against the unfolded cover.
+    let mut mismatches = 0;
+    for j in 0..64u32 {
+        for i in 0..64u32 {
+            let x = 2.0 * (f64::from(i) + 0.5) / 64.0 - 1.0;
+            let y = 1.0 - 2.0 * (f64::from(j) + 0.5) / 64.0;
+            let d = DVec3::new(x, y, -1.0).normalize();
+            let mut best: Option<(f64, IVec3)> = None;
+            for a in -L..=L {
+                for b in -L..=L {
+                    for k in -L..=L {
+                        let c = IVec3::new(a, b, k);
+                        if c.abs().element_sum() > L {
+                            continue;
+                        }
+                        let q = eye - c.as_dvec3();
+                        let (hb, cc) = (q.dot(d), q.length_squared() - radius * radius);
+                        let disc = hb * hb - cc;
+                        if disc >= 0.0 {
+                            let t = -hb - disc.sqrt();
+                            if t > 0.0 && best.is_none_or(|(bt, _)| t < bt) {
+                                best = Some((t, c));
+                            }
+                        }
+                    }
+                }
+            }
+            let p = img.at(i, j);
+            let ok = match best {
+                Some((t, c)) => {
+                    p.object == 1
+                        && p.cell.lattice() == Some(c)
+                        && p.levels == c.abs().element_sum() as u32
+                        && (f64::from(p.distance) - t).abs() < 1e-5
+                }
+                None => p.object == 0,
+            };
+            if !ok {
+                mismatches += 1;
+            }
+        }
+    }
+    assert_eq!(mismatches, 0, "pixels where the tracer and the unfolded cover disagree");
+
+    // The id buffer file carries the same numbers.
+    let path = std::env::temp_dir().join(format!("bevy_manifold_ids_{}.png", std::process::id()));
+    write_ids_png(&img, &path).expect("write ids");
+    let back = image::open(&path).expect("read ids").to_rgba8();
+    let c = IVec3::new(-1, 1, -2);
+    let (i, j) = pixel_of(c);
+    let px = back.get_pixel(i, j).0;
+    assert_eq!(px, [1, 4, (img.at(i, j).cell.0 & 0xff) as u8, 255]);
+    let _ = std::fs::remove_file(path);
+}
+
+#[test]
+fn f32_tracing_agrees_with_f64_on_what_each_pixel_sees() {
+    for name in catalog::NAMES {
+        let s = catalog::by_name(name).expect("catalog");
+        let scene = Scene::default_for(&s);
+        let settings = TraceSettings {
+            width: 96,
+            height: 54,
+            levels: 6,
+            ..TraceSettings::default()
+        };
+        let a = render::<f64>(&s, &scene, &settings);
+        let b = render::<f32>(&s, &scene, &settings);
+        // f32 can name a hyperbolic copy only out to its own horizon; past
+        // it the id is flagged FAR (best effort) and not compared. The
+        // object and the level always are.
+        let same_cell = |p: &CellId, q: &CellId| p == q || p.is_far() || q.is_far();
+        let same = a
+            .pixels
+            .iter()
+            .zip(&b.pixels)
+            .filter(|(p, q)| p.object == q.object && p.levels == q.levels && same_cell(&p.cell, &q.cell))
+            .count();
+        let frac = same as f64 / a.pixels.len() as f64;
+        assert!(frac > 0.99, "{name}: only {:.2}% of pixels agree", frac * 100.0);
+        // FAR appears only in hyperbolic spaces, and only in f32 sooner.
+        let far64 = a.pixels.iter().filter(|p| p.cell.is_far()).count();
+        let far32 = b.pixels.iter().filter(|p| p.cell.is_far()).count();
+        assert!(far32 >= far64, "{name}");
+        if s.geometry() != Geometry::Hyperbolic {
+            assert_eq!(far32, 0, "{name}");
+        }
+    }
+}
+
+#[test]
+fn shading_uses_the_geometrys_light_falloff_and_fog() {
+    // Camera and light at the same point, a ball straight ahead: at the
+    // image centre the normal, the light and the view all line up, so the
+    // colour is albedo * (ambient + I / area(d)) + 0.35 I / area(d), with
+    // area(d) = 4 pi d^2, 4 pi sinh^2 d or 4 pi sin^2 d.
+    for g in [Geometry::Euclidean, Geometry::Hyperbolic, Geometry::Spherical] {
+        let s = match g {
+            Geometry::Euclidean => catalog::torus(2.0),
+            Geometry::Hyperbolic => catalog::seifert_weber(),
+            Geometry::Spherical => catalog::poincare(),
+        };
+        let r = s.inradius();
+        let cam = isometry::translation(g, DVec3::Z * 0.6 * r);
+        let ball = 0.2 * r;
+        let albedo = [0.5f32, 0.25, 1.0];
+        let mut scene = Scene {
+            camera: bevy_manifold_core::trace::Camera {
+                isometry: cam,
+                fov_y_degrees: 40.0,
+            },
+            balls: vec![Ball {
+                center: DVec4::W,
+                radius: ball,
+                color: albedo,
+            }],
+            lights: vec![Light {
+                position: cam * DVec4::W,
+                intensity: 0.3,
+                color: [1.0; 3],
+            }],
+            meshes: Vec::new(),
+            skipped: Vec::new(),
+            edge_radius: None,
+            fog: None,
+        };
+        let settings = TraceSettings {
+            width: 3,
+            height: 3,
+            ..TraceSettings::default()
+        };
+        let d = 0.6 * r - ball;
+        let irr = (0.3 / g.sphere_area::<f64>(d)) as f32;
+        let p = *render::<f64>(&s, &scene, &settings).at(1, 1);
+        assert_eq!(p.object, 1);
+        assert!((f64::from(p.distance) - d).abs() < 1e-6, "{g}: distance {}", p.distance);
+        for (c, (&got, &a)) in p.color.iter().zip(&albedo).enumerate() {
+            let expect = a * (0.08 + irr) + 0.35 * irr;
+            assert!((got - expect).abs() < 1e-4, "{g}: channel {c}: {got} vs {expect}");
+        }
+        // Fog mixes towards its colour by exp(-density * distance).
+        scene.fog = Some(Fog {
+            density: 2.0,
+            color: [0.2, 0.4, 0.6],
+        });
+        let q = *render::<f64>(&s, &scene, &settings).at(1, 1);
+        let tr = (-2.0 * d).exp() as f32;
+        for c in 0..3 {
+            let expect = p.color[c] * tr + [0.2, 0.4, 0.6][c] * (1.0 - tr);
+            assert!((q.color[c] - expect).abs() < 1e-5, "{g}: fog channel {c}");
+        }
+        // Dense fog and nothing to hit: every ray gives up early, seeing
+        // only fog, instead of running through its levels.
+        scene.balls.clear();
+        scene.fog = Some(Fog {
+            density: 500.0,
+            color: [0.2, 0.4, 0.6],
+        });
+        let settings = TraceSettings {
+            width: 3,
+            height: 3,
+            levels: 50,
+            ..TraceSettings::default()
+        };
+        for f in render::<f64>(&s, &scene, &settings).pixels {
+            assert_eq!(f.object, 0);
+            assert_eq!(f.color, [0.2, 0.4, 0.6]);
+            assert!(f.levels <= 2, "{g}: stopped after {} levels", f.levels);
+            // It checks the fog between segments, so it finishes the segment
+            // it is in (shorter than the domain's diameter).
+            let bound = 255f64.ln() / 500.0 + 2.0 * s.circumradius();
+            assert!(f64::from(f.distance) < bound, "{g}: travelled {}", f.distance);
+        }
+    }
+}
+
+#[test]
+fn a_ball_straddling_a_face_is_drawn_through_it() {
+    let s = catalog::torus(1.0);
+    let c = DVec4::new(0.45, 0.0, 0.0, 1.0);
+    let ghosts = ghost_centres(&s, c, 0.1);
+    assert_eq!(ghosts.len(), 2, "{ghosts:?}");
+    assert!((ghosts[1] - DVec4::new(-0.55, 0.0, 0.0, 1.0)).length() < 1e-15);
+    // A ball in a corner reaches into three faces: 8 copies.
+    assert_eq!(ghost_centres(&s, DVec4::new(0.45, 0.45, -0.45, 1.0), 0.1).len(), 8);
+    // Seen from the -x side, the ghost is what the ray hits first.
+    let scene = Scene {
+        camera: bevy_manifold_core::trace::Camera {
+            isometry: DMat4::from_translation(DVec3::new(-0.1, 0.0, 0.0))
+                * DMat4::from_rotation_y(std::f64::consts::FRAC_PI_2),
+            fov_y_degrees: 30.0,
+        },
+        balls: vec![Ball {
+            center: c,
+            radius: 0.1,
+            color: [1.0; 3],
+        }],
+        lights: vec![],
+        meshes: Vec::new(),
+        skipped: Vec::new(),
+        edge_radius: None,
+        fog: None,
+    };
+    // The camera looks along -x; the ghost at -0.55 is 0.45 - 0.1 away,
+    // without crossing a face.
+    let img = render::<f64>(
+        &s,
+        &scene,
+        &TraceSettings {
+            width: 5,
+            height: 5,
+            ..TraceSettings::default()
+        },
+    );
+    let p = img.at(2, 2);
+    assert_eq!((p.object, p.levels), (1, 0));
+    assert!((f64::from(p.distance) - 0.35).abs() < 1e-6);
+}
+
+#[test]
+fn scene_files_report_the_bad_field() {
+    let s = catalog::poincare();
+    let good = Scene::default_for(&s).to_json();
+    let parse = |t: &str| Scene::parse(t, "scene.json", &s);
+    assert!(parse(&good).is_ok());
+    let v: serde_json::Value = serde_json::from_str(&good).expect("json");
+    let with = |path: &[&str], value: serde_json::Value| {
+        let mut v = v.clone();
+        let mut cur = &mut v;
+        for p in path {
+            cur = match p.parse::<usize>() {
+                Ok(i) => &mut cur[i],
+                Err(_) => &mut cur[*p],
+            };
+        }
+        *cur = value;
+        parse(&v.to_string()).unwrap_err().to_string()
+    };
+    let e = with(&["balls", "0", "radius"], serde_json::json!(-1.0));
+    assert_eq!(e, "scene.json: balls[0].radius: must be positive and finite, got -1");
+    let e = with(&["balls", "0", "center"], serde_json::json!([0.0, 0.0, 0.0, 2.0]));
+    assert!(
+        e.starts_with("scene.json: balls[0].center: ") && e.contains("not normalised"),
+        "{e}"
+    );
+    let e = with(&["balls", "0", "center"], serde_json::json!([0.6, 0.0, 0.0, 0.8]));
+    assert!(
+        e.contains("balls[0].center") && e.contains("outside the fundamental domain"),
+        "{e}"
+    );
+    let e = with(&["lights", "0", "intensity"], serde_json::json!(-2.0));
+    assert!(e.contains("lights[0].intensity"), "{e}");
+    let e = with(&["camera", "fov_y_degrees"], serde_json::json!(180.0));
+    assert!(e.contains("camera.fov_y_degrees"), "{e}");
+    let e = with(&["camera", "isometry", "0", "0"], serde_json::json!(3.0));
+    assert!(e.contains("camera.isometry") && e.contains("not an isometry"), "{e}");
+    let e = parse(r#"{"balls": []}"#).unwrap_err().to_string();
+    assert!(e.contains("missing field `camera`"), "{e}");
+    let e = parse(
+        r#"{"camera": {"isometry": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]], "fov_y_degrees": 60}, "bals": []}"#,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("unknown field `bals`"), "{e}");
+}
+
+#[test]
+fn a_camera_placed_in_another_copy_sees_the_same_view() {
+    // The camera isometry may point anywhere in the cover: it is wrapped into
+    // the domain first, and the cells it reports are offset by its own.
+    for (s, shift) in [
+        (catalog::torus(1.0), DMat4::from_translation(DVec3::new(1.0, -2.0, 0.0))),
+        (
+            catalog::seifert_weber(),
+            catalog::seifert_weber().crossing(3) * catalog::seifert_weber().crossing(7),
+        ),
+    ] {
+        let scene = Scene::default_for(&s);
+        let mut moved = scene.clone();
+        moved.camera.isometry = shift * scene.camera.isometry;
+        let settings = TraceSettings {
+            width: 40,
+            height: 24,
+            levels: 4,
+            ..TraceSettings::default()
+        };
+        let (a, b) = (
+            render::<f64>(&s, &scene, &settings),
+            render::<f64>(&s, &moved, &settings),
+        );
+        for (p, q) in a.pixels.iter().zip(&b.pixels) {
+            assert_eq!((p.object, p.levels), (q.object, q.levels), "{}", s.name());
+            assert!((p.distance - q.distance).abs() < 1e-5, "{}", s.name());
+        }
+        let centre = (a.at(20, 12), b.at(20, 12));
+        assert_eq!(centre.0.cell.0, 0);
+        assert_eq!(
+            centre.1.cell,
+            s.cell_id(&shift),
+            "{}: the view starts in the camera's copy",
+            s.name()
+        );
+    }
+}
+
+#[test]
+fn rays_through_vertices_along_edges_and_tangent_to_faces_stay_sane() {
+    // The degenerate cases of the face test: a ray that meets several faces
+    // at once (a vertex, an edge) or slides along one. None may produce NaN,
+    // leave the domain, or burn its levels without moving on.
+    for name in catalog::NAMES {
+        let s = catalog::by_name(name).expect("catalog");
+        let g = s.geometry();
+        let prep = empty(&s);
+        let settings = TraceSettings {
+            levels: 64,
+            max_distance: 1e6,
+            ..TraceSettings::default()
+        };
+        for (i, ring) in s.polyhedron().face_vertices.iter().enumerate() {
+            // The sliding rays really are tangent to their face.
+            let dir = g.normalize_tangent::<f64>(face_middle(&s, i), s.vertices()[ring[0]].point);
+            assert!(s.faces()[i].plane.dot(dir).abs() < 1e-12, "{name}: tangent to face {i}");
+        }
+        let rays = bevy_manifold_test_support::stress::degenerate_rays(&s);
+        assert_eq!(rays.len(), s.vertices().len() + 2 * s.edges().len() + s.faces().len());
+        for ray in rays {
+            let mut steps = 0usize;
+            let mut length = 0.0;
+            let (_, stop) = trace_ray(&s, &prep, ray, &settings, &mut |st| {
+                for r in [st.start, st.end] {
+                    assert!(r.origin.is_finite() && r.dir.is_finite(), "{name}: NaN");
+                    let out = s
+                        .faces()
+                        .iter()
+                        .map(|f| f.plane.dot(r.origin / r.origin.w))
+                        .fold(f64::MIN, f64::max);
+                    assert!(out <= 1e-9, "{name}: {out:e} outside");
+                    assert!(g.tangent_error::<f64>(r.origin, r.dir) < 1e-9, "{name}");
+                }
+                steps += 1;
+                length += st.length;
+            });
+            assert_eq!(stop, Stop::MaxLevel, "{name}");
+            // Zero-length hops at a vertex are allowed, a stall is not: the
+            // 64 crossings must cover real distance.
+            assert!(
+                length > 8.0 * s.inradius(),
+                "{name}: only {length} after {steps} segments"
+            );
+        }
+    }
+}

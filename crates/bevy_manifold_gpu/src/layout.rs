@@ -1,0 +1,503 @@
+//! The tracer's GPU data: `#[repr(C)]` twins of the structs in
+//! `shaders/trace.wgsl`, packed from the same [`FlatScene`] scene the CPU
+//! tracer reads (in f32), so both trace identical inputs.
+
+use bevy_manifold_core::space::Space;
+use bevy_manifold_core::space::cells::CellScheme;
+use bevy_manifold_core::trace::{FlatScene, TraceSettings};
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec4};
+
+/// WGSL `Params`.
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuParams {
+    /// Camera isometry (wrapped into the domain).
+    pub camera: [f32; 16],
+    /// The camera's cell element.
+    pub camera_cell: [f32; 16],
+    /// Fog colour (rgb, 1).
+    pub fog_color: [f32; 4],
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Most transports per ray.
+    pub levels: u32,
+    /// Number of faces.
+    pub face_count: u32,
+    /// Number of balls.
+    pub ball_count: u32,
+    /// Number of tubes.
+    pub tube_count: u32,
+    /// Number of lights.
+    pub light_count: u32,
+    /// The camera's index in the Cayley table (finite groups).
+    pub camera_cell_index: u32,
+    /// `tan(fov_y / 2)`.
+    pub tan_half_fov: f32,
+    /// Rays stop after this distance.
+    pub max_distance: f32,
+    /// Fog density (0 without fog).
+    pub fog_density: f32,
+    /// `k` of the edge tubes.
+    pub tube_k: f32,
+    /// The render pass: the viewport's left pixel column in the target.
+    pub origin_x: u32,
+    /// The render pass: the viewport's top pixel row in the target.
+    pub origin_y: u32,
+    /// The camera's near plane, for reverse-z depth.
+    pub near: f32,
+    /// [`FLAG_NO_EARLY_STOP`] | [`FLAG_NO_RENORMALIZE`]: measurement
+    /// switches, 0 for normal tracing.
+    pub flags: u32,
+    /// Lattice: 1 / box edges; hashed: 1 / grid step in x, the f32 horizon
+    /// in y.
+    pub cell_scale: [f32; 4],
+    /// Number of mesh instances.
+    pub instance_count: u32,
+    /// Per-cell shading: [`bevy_manifold_core::space::cells::CellTint::words`].
+    pub cell_tint: [u32; 3],
+}
+
+/// WGSL `Face`.
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuFace {
+    /// Plane.
+    pub plane: [f32; 4],
+    /// `T_i`.
+    pub pairing: [f32; 16],
+    /// `T_i^-1`.
+    pub crossing: [f32; 16],
+    /// Partner face.
+    pub partner: u32,
+    /// Padding to 16 bytes.
+    pub pad: [u32; 3],
+}
+
+/// WGSL `Ball`.
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuBall {
+    /// Centre.
+    pub center: [f32; 4],
+    /// Albedo.
+    pub color: [f32; 3],
+    /// `cosh r`, `cos r` or `r^2`.
+    pub k: f32,
+    /// Object id.
+    pub id: u32,
+    /// Padding to 16 bytes.
+    pub pad: [u32; 3],
+}
+
+/// WGSL `Tube`.
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuTube {
+    /// Start point.
+    pub a: [f32; 4],
+    /// Unit tangent at `a` towards `b`.
+    pub e: [f32; 4],
+    /// End point.
+    pub b: [f32; 4],
+    /// Unit tangent at `b`, away from `a`.
+    pub e_b: [f32; 4],
+    /// Albedo (rgb, 1).
+    pub color: [f32; 4],
+}
+
+/// WGSL `Instance`: one placement of a mesh, with offsets into
+/// [`GpuObjects::mesh_data`].
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuInstance {
+    /// From the domain's chart to the mesh's coordinates.
+    pub to_local: [f32; 16],
+    /// Bounding ball centre.
+    pub center: [f32; 4],
+    /// Base colour.
+    pub color: [f32; 3],
+    /// Bounding ball `k`.
+    pub k: f32,
+    /// Offset of the mesh's BVH nodes (two words each).
+    pub nodes: u32,
+    /// Offset of its vertices (two words each).
+    pub vertices: u32,
+    /// Offset of its triangles (one word each).
+    pub triangles: u32,
+    /// Object id.
+    pub id: u32,
+    /// Offset of its texture's texels (four per word).
+    pub texture: u32,
+    /// Texture width, 0 without a texture.
+    pub tex_width: u32,
+    /// Texture height.
+    pub tex_height: u32,
+    /// Number of BVH nodes (bounds the traversal loop).
+    pub node_count: u32,
+    /// 1 for the home copy of a mesh attached to the camera.
+    pub attached: u32,
+    /// Padding to 16 bytes.
+    pub pad: [u32; 3],
+}
+
+/// WGSL `Light`.
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuLight {
+    /// Position.
+    pub position: [f32; 4],
+    /// Colour.
+    pub color: [f32; 3],
+    /// Power.
+    pub intensity: f32,
+}
+
+/// WGSL `Pixel`.
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuPixel {
+    /// Colour, and the distance in `w`.
+    pub color: [f32; 4],
+    /// Object id.
+    pub object: u32,
+    /// Levels used.
+    pub levels: u32,
+    /// Cell id, low word.
+    pub cell_lo: u32,
+    /// Cell id, high word.
+    pub cell_hi: u32,
+}
+
+/// The space's part of the GPU data: faces and the cell table. Uploaded
+/// when the space changes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GpuSpace {
+    /// Faces.
+    pub faces: Vec<GpuFace>,
+    /// Cayley table, `[k * faces + f]` (at least one element: empty storage
+    /// buffers are not allowed).
+    pub cell_table: Vec<u32>,
+    /// [`GpuParams::cell_scale`].
+    pub cell_scale: [f32; 4],
+}
+
+/// The scene's objects on the GPU: balls (ghost copies and the edge tubes'
+/// vertex joints included), tubes and lights. Uploaded when an object
+/// changes, not when the camera moves.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GpuObjects {
+    /// Balls (at least one element: empty storage buffers are not allowed).
+    pub balls: Vec<GpuBall>,
+    /// Tubes (likewise).
+    pub tubes: Vec<GpuTube>,
+    /// Lights (likewise).
+    pub lights: Vec<GpuLight>,
+    /// Mesh instances, ghosts included (at least one element).
+    pub instances: Vec<GpuInstance>,
+    /// The meshes' BVH nodes, vertices, triangles and texels, as words of
+    /// four `u32` (floats by their bits; at least one word).
+    pub mesh_data: Vec<[u32; 4]>,
+    /// How many of each are real: balls, tubes, lights, instances.
+    pub counts: [u32; 4],
+    /// `k` of the edge tubes.
+    pub tube_k: f32,
+}
+
+/// The per-frame view: where the camera is and what the frame looks like.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GpuView {
+    /// The camera isometry, inside the domain.
+    pub camera: Mat4,
+    /// The camera's cell element (f64: its id is computed from it).
+    pub camera_cell: glam::DMat4,
+    /// `tan(fov_y / 2)`.
+    pub tan_half_fov: f32,
+    /// Fog density and colour, when on.
+    pub fog: Option<(f32, [f32; 3])>,
+    /// Image (viewport) size in pixels.
+    pub size: [u32; 2],
+    /// The viewport's top-left pixel in its target.
+    pub origin: [u32; 2],
+    /// The near plane, for depth.
+    pub near: f32,
+    /// Most transports per ray.
+    pub levels: u32,
+    /// Rays stop after this distance.
+    pub max_distance: f32,
+    /// [`GpuParams::flags`].
+    pub flags: u32,
+    /// [`GpuParams::cell_tint`].
+    pub cell_tint: [u32; 3],
+}
+
+/// [`GpuParams::flags`]: fog does not stop rays early
+/// (`TraceSettings::fog_early_stop` off).
+pub const FLAG_NO_EARLY_STOP: u32 = 1;
+/// [`GpuParams::flags`]: no renormalisation (`TraceSettings::renormalize`
+/// off).
+pub const FLAG_NO_RENORMALIZE: u32 = 2;
+
+/// The flags that say how `settings` differs from normal tracing.
+#[must_use]
+pub fn settings_flags(settings: &TraceSettings) -> u32 {
+    let mut flags = 0;
+    if !settings.fog_early_stop {
+        flags |= FLAG_NO_EARLY_STOP;
+    }
+    if !settings.renormalize {
+        flags |= FLAG_NO_RENORMALIZE;
+    }
+    flags
+}
+
+/// Everything one trace uploads.
+#[derive(Clone, Debug)]
+pub struct GpuScene {
+    /// The uniform.
+    pub params: GpuParams,
+    /// The space's faces and cell table.
+    pub space: GpuSpace,
+    /// Balls, tubes, lights.
+    pub objects: GpuObjects,
+}
+
+fn m(m: Mat4) -> [f32; 16] {
+    m.to_cols_array()
+}
+
+fn v(v: Vec4) -> [f32; 4] {
+    v.to_array()
+}
+
+fn non_empty<T: Zeroable>(mut x: Vec<T>) -> Vec<T> {
+    if x.is_empty() {
+        x.push(T::zeroed());
+    }
+    x
+}
+
+impl GpuSpace {
+    /// Packs a space's faces (in f32) and its cell scheme.
+    #[must_use]
+    pub fn pack(space: &Space) -> Self {
+        let t = bevy_manifold_core::trace::FaceTables::<f32>::new(space);
+        let faces = (0..t.planes.len())
+            .map(|i| GpuFace {
+                plane: v(t.planes[i]),
+                pairing: m(t.pairings[i]),
+                crossing: m(t.crossings[i]),
+                partner: t.partners[i] as u32,
+                pad: [0; 3],
+            })
+            .collect();
+        let (cell_scale, cell_table) = match space.cells() {
+            CellScheme::Lattice { inverse_basis } => (
+                [
+                    inverse_basis.x_axis.x as f32,
+                    inverse_basis.y_axis.y as f32,
+                    inverse_basis.z_axis.z as f32,
+                    0.0,
+                ],
+                Vec::new(),
+            ),
+            CellScheme::Finite { table, .. } => ([0.0; 4], table.iter().flatten().copied().collect()),
+            CellScheme::Hashed { quantum } => (
+                [
+                    (1.0 / quantum) as f32,
+                    bevy_manifold_core::space::cells::HASHED_HORIZON_F32 as f32,
+                    0.0,
+                    0.0,
+                ],
+                Vec::new(),
+            ),
+        };
+        GpuSpace {
+            faces,
+            cell_table: non_empty(cell_table),
+            cell_scale,
+        }
+    }
+}
+
+impl GpuObjects {
+    /// Packs the objects of a prepared scene.
+    #[must_use]
+    pub fn pack(prep: &FlatScene<f32>) -> Self {
+        let (instances, mesh_data) = pack_meshes(prep);
+        GpuObjects {
+            balls: non_empty(
+                prep.balls
+                    .iter()
+                    .map(|b| GpuBall {
+                        center: v(b.center),
+                        color: b.color,
+                        k: b.k,
+                        id: b.id,
+                        pad: [0; 3],
+                    })
+                    .collect(),
+            ),
+            tubes: non_empty(
+                prep.tubes
+                    .iter()
+                    .map(|tb| GpuTube {
+                        a: v(tb.segment.a),
+                        e: v(tb.segment.e),
+                        b: v(tb.segment.b),
+                        e_b: v(tb.segment.e_b),
+                        color: [tb.color[0], tb.color[1], tb.color[2], 1.0],
+                    })
+                    .collect(),
+            ),
+            lights: non_empty(
+                prep.lights
+                    .iter()
+                    .map(|l| GpuLight {
+                        position: v(l.position),
+                        color: l.color,
+                        intensity: l.intensity,
+                    })
+                    .collect(),
+            ),
+            instances: non_empty(instances),
+            mesh_data: non_empty(mesh_data),
+            counts: [
+                prep.balls.len() as u32,
+                prep.tubes.len() as u32,
+                prep.lights.len() as u32,
+                prep.instances.len() as u32,
+            ],
+            tube_k: prep.tube_k,
+        }
+    }
+}
+
+fn bits(v: [f32; 3], w: u32) -> [u32; 4] {
+    [v[0].to_bits(), v[1].to_bits(), v[2].to_bits(), w]
+}
+
+/// Packs the prepared meshes into mesh data words and the instances that
+/// point into it.
+fn pack_meshes(prep: &FlatScene<f32>) -> (Vec<GpuInstance>, Vec<[u32; 4]>) {
+    let mut data: Vec<[u32; 4]> = Vec::new();
+    // Per mesh: offsets of nodes, vertices, triangles, and the node count.
+    let mut offsets = Vec::new();
+    for m in &prep.meshes {
+        let nodes = data.len() as u32;
+        for n in &m.nodes {
+            data.push(bits(n.min, n.first));
+            data.push(bits(n.max, n.count));
+        }
+        let vertices = data.len() as u32;
+        let mesh = &m.mesh;
+        for i in 0..mesh.positions.len() {
+            data.push(bits(mesh.positions[i], mesh.uvs[i][0].to_bits()));
+            data.push(bits(mesh.normals[i], mesh.uvs[i][1].to_bits()));
+        }
+        let triangles = data.len() as u32;
+        data.extend(mesh.triangles.iter().map(|t| [t[0], t[1], t[2], 0]));
+        offsets.push([nodes, vertices, triangles, m.nodes.len() as u32]);
+    }
+    let mut texels = Vec::new();
+    for t in &prep.textures {
+        texels.push(data.len() as u32);
+        data.extend(t.texels.chunks(4).map(|c| {
+            let mut w = [0u32; 4];
+            w[..c.len()].copy_from_slice(c);
+            w
+        }));
+    }
+    let instances = prep
+        .instances
+        .iter()
+        .map(|inst| {
+            let [nodes, vertices, triangles, node_count] = offsets[inst.mesh];
+            let (texture, tex_width, tex_height) = inst.texture.map_or((0, 0, 0), |t| {
+                let tex = &prep.textures[t];
+                (texels[t], tex.width, tex.height)
+            });
+            GpuInstance {
+                to_local: m(inst.to_local),
+                center: v(inst.center),
+                color: inst.color,
+                k: inst.k,
+                nodes,
+                vertices,
+                triangles,
+                id: inst.id,
+                texture,
+                tex_width,
+                tex_height,
+                node_count,
+                attached: u32::from(inst.attached),
+                pad: [0; 3],
+            }
+        })
+        .collect();
+    (instances, data)
+}
+
+impl GpuParams {
+    /// The uniform for one view of `objects` in `space`.
+    #[must_use]
+    pub fn new(space: &Space, packed: &GpuSpace, objects: &GpuObjects, view: &GpuView) -> Self {
+        let (fog_density, fog_color) = view.fog.unwrap_or((0.0, [0.0; 3]));
+        GpuParams {
+            camera: m(view.camera),
+            camera_cell: m(view.camera_cell.as_mat4()),
+            fog_color: [fog_color[0], fog_color[1], fog_color[2], 1.0],
+            width: view.size[0],
+            height: view.size[1],
+            levels: view.levels,
+            face_count: packed.faces.len() as u32,
+            ball_count: objects.counts[0],
+            tube_count: objects.counts[1],
+            light_count: objects.counts[2],
+            camera_cell_index: match space.cells() {
+                CellScheme::Finite { .. } => space.cell_id(&view.camera_cell).0 as u32,
+                _ => 0,
+            },
+            tan_half_fov: view.tan_half_fov,
+            max_distance: view.max_distance,
+            fog_density,
+            tube_k: objects.tube_k,
+            origin_x: view.origin[0],
+            origin_y: view.origin[1],
+            near: view.near,
+            flags: view.flags,
+            cell_scale: packed.cell_scale,
+            instance_count: objects.counts[3],
+            cell_tint: view.cell_tint,
+        }
+    }
+}
+
+impl GpuScene {
+    /// Packs a prepared scene for the GPU.
+    #[must_use]
+    pub fn pack(space: &Space, prep: &FlatScene<f32>, settings: &TraceSettings) -> Self {
+        let packed = GpuSpace::pack(space);
+        let objects = GpuObjects::pack(prep);
+        let view = GpuView {
+            camera: prep.camera,
+            camera_cell: prep.camera_cell,
+            tan_half_fov: prep.tan_half_fov,
+            fog: prep.fog,
+            size: [settings.width, settings.height],
+            origin: [0, 0],
+            near: 0.1,
+            levels: settings.levels,
+            max_distance: settings.max_distance as f32,
+            flags: settings_flags(settings),
+            cell_tint: settings.cell_tint.words(),
+        };
+        GpuScene {
+            params: GpuParams::new(space, &packed, &objects, &view),
+            space: packed,
+            objects,
+        }
+    }
+}

@@ -1,0 +1,493 @@
+//! The WGSL tracer run directly on a wgpu device, outside Bevy's renderer:
+//! headless renders for the CLI, and the GPU side of the GPU/CPU agreement
+//! tests. The shader and its inputs are exactly what the render pass uses.
+
+use crate::GpuError;
+use crate::TRACE_WGSL;
+use crate::bindings::BINDINGS;
+use crate::layout::{GpuPixel, GpuScene};
+use crate::shader_defs::TraceDefs;
+use bevy_manifold_core::space::Space;
+use bevy_manifold_core::space::cells::CellId;
+use bevy_manifold_core::trace::{FlatScene, RayDrift, Scene, TraceImage, TracePixel, TraceSettings};
+use std::collections::HashMap;
+use wgpu::util::DeviceExt;
+
+/// A wgpu device with the tracer's pipelines, one per specialisation used.
+pub struct GpuTracer {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    adapter: wgpu::AdapterInfo,
+    layout: wgpu::BindGroupLayout,
+    pipelines: HashMap<(TraceDefs, &'static str), wgpu::ComputePipeline>,
+    fragment_pipelines: HashMap<TraceDefs, wgpu::RenderPipeline>,
+}
+
+impl GpuTracer {
+    /// Opens the default GPU adapter (a software one is fine).
+    ///
+    /// # Errors
+    /// [`GpuError::NoAdapter`] or [`GpuError::NoDevice`], in words a user can
+    /// act on.
+    pub fn new() -> Result<Self, GpuError> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        desc.flags |= wgpu::InstanceFlags::VALIDATION;
+        let instance = wgpu::Instance::new(desc);
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: None,
+        }))
+        .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+        let info = adapter.get_info();
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("bevy_manifold tracer"),
+            ..Default::default()
+        }))
+        .map_err(|e| GpuError::NoDevice {
+            adapter: info.name.clone(),
+            message: e.to_string(),
+        })?;
+        // The layout of [`BINDINGS`]: every binding but the compute
+        // output is read by both entries (compute `trace`, and `fragment`
+        // as the render pass runs it).
+        let both = wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT;
+        let entries: Vec<wgpu::BindGroupLayoutEntry> = BINDINGS
+            .iter()
+            .map(|b| wgpu::BindGroupLayoutEntry {
+                binding: b.binding,
+                visibility: if b.compute_only {
+                    wgpu::ShaderStages::COMPUTE
+                } else {
+                    both
+                },
+                ty: wgpu::BindingType::Buffer {
+                    ty: b.kind.buffer_binding_type(),
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            })
+            .collect();
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("trace"),
+            entries: &entries,
+        });
+        Ok(GpuTracer {
+            device,
+            queue,
+            adapter: info,
+            layout,
+            pipelines: HashMap::new(),
+            fragment_pipelines: HashMap::new(),
+        })
+    }
+
+    /// The adapter's name and driver, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
+    #[must_use]
+    pub fn adapter_name(&self) -> String {
+        format!(
+            "{} ({:?}, {})",
+            self.adapter.name, self.adapter.backend, self.adapter.driver_info
+        )
+    }
+
+    /// The composed, validated shader for a specialisation.
+    ///
+    /// # Errors
+    /// [`GpuError::Shader`] when composition fails.
+    pub fn compose(defs: &TraceDefs) -> Result<naga::Module, GpuError> {
+        use naga_oil::compose::{Composer, NagaModuleDescriptor, ShaderDefValue, ShaderType};
+        let mut composer = Composer::default();
+        let shader_defs = defs
+            .names()
+            .into_iter()
+            .map(|n| (n.to_string(), ShaderDefValue::Bool(true)))
+            .collect();
+        composer
+            .make_naga_module(NagaModuleDescriptor {
+                source: TRACE_WGSL,
+                file_path: "shaders/trace.wgsl",
+                shader_type: ShaderType::Wgsl,
+                shader_defs,
+                additional_imports: &[],
+            })
+            .map_err(|e| GpuError::Shader {
+                defs: defs.names(),
+                message: e.emit_to_string(&composer),
+            })
+    }
+
+    fn shader(&self, defs: &TraceDefs) -> Result<wgpu::ShaderModule, GpuError> {
+        let module = Self::compose(defs)?;
+        Ok(self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("trace.wgsl"),
+            source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
+        }))
+    }
+
+    fn layout(&self) -> wgpu::PipelineLayout {
+        self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("trace"),
+            bind_group_layouts: &[Some(&self.layout)],
+            immediate_size: 0,
+        })
+    }
+
+    /// The compute pipeline of `entry` (`trace` or `drift`) for `defs`.
+    fn pipeline(&mut self, defs: TraceDefs, entry: &'static str) -> Result<&wgpu::ComputePipeline, GpuError> {
+        let key = (defs, entry);
+        if !self.pipelines.contains_key(&key) {
+            let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+            let shader = self.shader(&defs)?;
+            let pipeline = self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("trace"),
+                layout: Some(&self.layout()),
+                module: &shader,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            if let Some(e) = pollster::block_on(scope.pop()) {
+                return Err(GpuError::Validation(e.to_string()));
+            }
+            self.pipelines.insert(key, pipeline);
+        }
+        Ok(&self.pipelines[&key])
+    }
+
+    fn fragment_pipeline(&mut self, defs: TraceDefs) -> Result<&wgpu::RenderPipeline, GpuError> {
+        if !self.fragment_pipelines.contains_key(&defs) {
+            let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+            let shader = self.shader(&defs)?;
+            // Parsed by naga here, as the tracer is: wgpu's own WGSL
+            // front end is not built in.
+            let fullscreen = naga::front::wgsl::parse_str(FULLSCREEN_WGSL).map_err(|e| GpuError::Shader {
+                defs: vec![],
+                message: e.to_string(),
+            })?;
+            let vertex = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("fullscreen"),
+                source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(fullscreen)),
+            });
+            let pipeline = self.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("trace"),
+                layout: Some(&self.layout()),
+                vertex: wgpu::VertexState {
+                    module: &vertex,
+                    entry_point: Some("main"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: wgpu::TextureFormat::Depth32Float,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Always),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &shader,
+                    entry_point: Some("fragment"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: FRAGMENT_FORMAT,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            });
+            if let Some(e) = pollster::block_on(scope.pop()) {
+                return Err(GpuError::Validation(e.to_string()));
+            }
+            self.fragment_pipelines.insert(defs, pipeline);
+        }
+        Ok(&self.fragment_pipelines[&defs])
+    }
+
+    /// Uploads a scene and binds it, with a `pixels` buffer of `count`.
+    fn upload(&self, gpu: &GpuScene, count: usize) -> (wgpu::BindGroup, wgpu::Buffer) {
+        let d = &self.device;
+        let buffer = |label, contents: &[u8], usage| {
+            d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
+        };
+        let storage = wgpu::BufferUsages::STORAGE;
+        let params = buffer("params", bytemuck::bytes_of(&gpu.params), wgpu::BufferUsages::UNIFORM);
+        let faces = buffer("faces", bytemuck::cast_slice(&gpu.space.faces), storage);
+        let balls = buffer("balls", bytemuck::cast_slice(&gpu.objects.balls), storage);
+        let tubes = buffer("tubes", bytemuck::cast_slice(&gpu.objects.tubes), storage);
+        let lights = buffer("lights", bytemuck::cast_slice(&gpu.objects.lights), storage);
+        let table = buffer("cell table", bytemuck::cast_slice(&gpu.space.cell_table), storage);
+        let instances = buffer("instances", bytemuck::cast_slice(&gpu.objects.instances), storage);
+        let mesh_data = buffer("mesh data", bytemuck::cast_slice(&gpu.objects.mesh_data), storage);
+        let pixels = d.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("pixels"),
+            size: (count.max(1) * std::mem::size_of::<GpuPixel>()) as u64,
+            usage: storage | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let entries: Vec<wgpu::BindGroupEntry> = [
+            &params, &faces, &balls, &tubes, &lights, &table, &instances, &mesh_data, &pixels,
+        ]
+        .into_iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+        let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("trace"),
+            layout: &self.layout,
+            entries: &entries,
+        });
+        (bind, pixels)
+    }
+
+    /// Submits `encoder`, waits, and maps `readback`'s bytes.
+    fn finish(&self, encoder: wgpu::CommandEncoder, readback: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+        self.queue.submit([encoder.finish()]);
+        let (tx, rx) = std::sync::mpsc::channel();
+        readback.map_async(wgpu::MapMode::Read, .., move |r| {
+            let _ = tx.send(r);
+        });
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        rx.recv()
+            .map_err(|e| GpuError::Readback(e.to_string()))?
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        let data = readback.get_mapped_range(..).to_vec();
+        Ok(data)
+    }
+
+    fn readback_buffer(&self, size: u64) -> wgpu::Buffer {
+        self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        })
+    }
+
+    /// Traces `scene` in `space` on the GPU.
+    ///
+    /// # Errors
+    /// A shader, validation or readback failure, as [`GpuError`].
+    pub fn render(&mut self, space: &Space, scene: &Scene, settings: &TraceSettings) -> Result<TraceImage, GpuError> {
+        let defs = TraceDefs::for_scene(space, scene, settings.cell_colors);
+        self.render_with(space, scene, settings, defs)
+    }
+
+    /// [`GpuTracer::render`] with the shader specialised by `defs` instead
+    /// of by the scene (they must include what the scene uses; used to
+    /// measure what specialisation saves).
+    ///
+    /// # Errors
+    /// As [`GpuTracer::render`].
+    pub fn render_with(
+        &mut self,
+        space: &Space,
+        scene: &Scene,
+        settings: &TraceSettings,
+        defs: TraceDefs,
+    ) -> Result<TraceImage, GpuError> {
+        let raw = self.dispatch(space, scene, settings, defs, "trace")?;
+        let pixels = raw
+            .iter()
+            .map(|p| TracePixel {
+                color: [p.color[0], p.color[1], p.color[2]],
+                object: p.object,
+                levels: p.levels,
+                cell: CellId((u64::from(p.cell_hi) << 32) | u64::from(p.cell_lo)),
+                distance: p.color[3],
+            })
+            .collect();
+        Ok(TraceImage {
+            width: settings.width,
+            height: settings.height,
+            pixels,
+        })
+    }
+
+    /// The drift probe on the GPU (the shader's `drift` entry, twin of
+    /// [`bevy_manifold_core::trace::ray_drift`]): every camera ray of `scene`'s camera at
+    /// `settings`' size walked through `settings.levels` transports,
+    /// objects ignored, renormalising or not as `settings.renormalize` says.
+    /// One [`RayDrift`] per pixel, row-major.
+    ///
+    /// # Errors
+    /// As [`GpuTracer::render`].
+    pub fn drift(&mut self, space: &Space, scene: &Scene, settings: &TraceSettings) -> Result<Vec<RayDrift>, GpuError> {
+        let defs = TraceDefs::for_scene(space, &Scene::empty(), false);
+        let raw = self.dispatch(space, scene, settings, defs, "drift")?;
+        Ok(raw
+            .iter()
+            .map(|p| RayDrift {
+                point_error: f64::from(p.color[0]),
+                tangent_error: f64::from(p.color[1]),
+                outside: f64::from(p.color[2]),
+                levels: p.levels,
+                distance: f64::from(p.color[3]),
+            })
+            .collect())
+    }
+
+    /// Runs the compute `entry` over every pixel and reads the pixels back.
+    fn dispatch(
+        &mut self,
+        space: &Space,
+        scene: &Scene,
+        settings: &TraceSettings,
+        defs: TraceDefs,
+        entry: &'static str,
+    ) -> Result<Vec<GpuPixel>, GpuError> {
+        let prep = FlatScene::<f32>::new(space, scene);
+        let gpu = GpuScene::pack(space, &prep, settings);
+        self.pipeline(defs, entry)?;
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let count = (settings.width * settings.height) as usize;
+        let (bind, pixels) = self.upload(&gpu, count);
+        let size = (count * std::mem::size_of::<GpuPixel>()) as u64;
+        let readback = self.readback_buffer(size);
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("trace") });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("trace"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.pipelines[&(defs, entry)]);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.dispatch_workgroups(settings.width.div_ceil(8), settings.height.div_ceil(8), 1);
+        }
+        encoder.copy_buffer_to_buffer(&pixels, 0, &readback, 0, size);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Validation(e.to_string()));
+        }
+        let data = self.finish(encoder, &readback)?;
+        Ok(bytemuck::pod_collect_to_vec(&data))
+    }
+
+    /// Traces `scene` the way the Bevy render pass does: the `fragment`
+    /// entry over a full-screen triangle into an sRGB colour target and a
+    /// depth target. Returns the target's RGBA bytes (sRGB-encoded, rows
+    /// top to bottom). No ids: those come from [`GpuTracer::render`].
+    ///
+    /// # Errors
+    /// As [`GpuTracer::render`].
+    pub fn render_fragment(
+        &mut self,
+        space: &Space,
+        scene: &Scene,
+        settings: &TraceSettings,
+    ) -> Result<Vec<u8>, GpuError> {
+        let defs = TraceDefs::for_scene(space, scene, settings.cell_colors);
+        let prep = FlatScene::<f32>::new(space, scene);
+        let gpu = GpuScene::pack(space, &prep, settings);
+        self.fragment_pipeline(defs)?;
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let (bind, _) = self.upload(&gpu, 1);
+        let (w, h) = (settings.width, settings.height);
+        let extent = wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        };
+        let texture = |format, usage| {
+            self.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("trace target"),
+                size: extent,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let color = texture(
+            FRAGMENT_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        );
+        let depth = texture(
+            wgpu::TextureFormat::Depth32Float,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        );
+        let color_view = color.create_view(&Default::default());
+        let depth_view = depth.create_view(&Default::default());
+        let row = (w * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+        let readback = self.readback_buffer(u64::from(row * h));
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("trace") });
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("trace"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &color_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations::default(),
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &depth_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(0.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.fragment_pipelines[&defs]);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.draw(0..3, 0..1);
+        }
+        encoder.copy_texture_to_buffer(
+            color.as_image_copy(),
+            wgpu::TexelCopyBufferInfo {
+                buffer: &readback,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(row),
+                    rows_per_image: Some(h),
+                },
+            },
+            extent,
+        );
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Validation(e.to_string()));
+        }
+        let data = self.finish(encoder, &readback)?;
+        Ok(data
+            .chunks_exact(row as usize)
+            .flat_map(|r| &r[..(w * 4) as usize])
+            .copied()
+            .collect())
+    }
+}
+
+/// The colour format of [`GpuTracer::render_fragment`]: Bevy's default
+/// view target format.
+const FRAGMENT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+
+/// A full-screen triangle (what Bevy's `FullscreenShader` draws).
+const FULLSCREEN_WGSL: &str = "
+@vertex
+fn main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
+    return vec4<f32>(uv * 2.0 - 1.0, 0.0, 1.0);
+}
+";

@@ -1,0 +1,165 @@
+//! Which parts of the tracer a scene needs (pay only for what the scene
+//! uses): each optional
+//! part of `shaders/trace.wgsl` sits behind a shader def, and the pipeline
+//! is specialised on the scene's actual content.
+
+use bevy_manifold_core::geometry::Geometry;
+use bevy_manifold_core::space::Space;
+use bevy_manifold_core::space::cells::CellScheme as Cells;
+use bevy_manifold_core::trace::Scene;
+
+/// How the GPU makes cell ids (one of `CELLS_*`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum CellScheme {
+    /// `CELLS_LATTICE`: integer box lattice.
+    Lattice,
+    /// `CELLS_FINITE`: Cayley-table index.
+    Finite,
+    /// `CELLS_HASHED`: hash of the copy's rounded centre.
+    Hashed,
+}
+
+/// The specialisation key of the tracer pipeline.
+///
+/// ```
+/// use bevy_manifold_core::prelude::*;
+/// use bevy_manifold_gpu::TraceDefs;
+/// let torus = catalog::torus(1.0);
+/// let defs = TraceDefs::for_scene(&torus, &Scene::default_for(&torus), false);
+/// let names = defs.names();
+/// assert!(names.contains(&"GEOMETRY_EUCLIDEAN") && names.contains(&"TRANSLATIONS_ONLY"));
+/// assert!(!names.contains(&"FOG") && !names.contains(&"GEOMETRY_HYPERBOLIC"));
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TraceDefs {
+    /// The geometry (`GEOMETRY_*`).
+    pub geometry: Geometry,
+    /// `TRANSLATIONS_ONLY`: every pairing is a Euclidean translation.
+    pub translations_only: bool,
+    /// The cell scheme.
+    pub cells: CellScheme,
+    /// `CELL_COLORS`.
+    pub cell_colors: bool,
+    /// `FOG`.
+    pub fog: bool,
+    /// `BALLS`.
+    pub balls: bool,
+    /// `TUBES`.
+    pub tubes: bool,
+    /// `LIGHTS`.
+    pub lights: bool,
+    /// `MESHES`: triangle meshes through their BVH.
+    pub meshes: bool,
+}
+
+impl TraceDefs {
+    /// The defs a scene in a space needs, and nothing more.
+    #[must_use]
+    pub fn for_scene(space: &Space, scene: &Scene, cell_colors: bool) -> Self {
+        let geometry = space.geometry();
+        let translations_only = geometry == Geometry::Euclidean
+            && space
+                .faces()
+                .iter()
+                .all(|f| glam::DMat3::from_mat4(f.pairing).abs_diff_eq(glam::DMat3::IDENTITY, 1e-12));
+        TraceDefs {
+            geometry,
+            translations_only,
+            cells: match space.cells() {
+                Cells::Lattice { .. } => CellScheme::Lattice,
+                Cells::Finite { .. } => CellScheme::Finite,
+                Cells::Hashed { .. } => CellScheme::Hashed,
+            },
+            cell_colors,
+            fog: scene.fog.as_ref().is_some_and(|f| f.density > 0.0),
+            // Vertex joints of the edge tubes are balls too.
+            balls: !scene.balls.is_empty() || scene.edge_radius.is_some(),
+            tubes: scene.edge_radius.is_some(),
+            lights: !scene.lights.is_empty(),
+            meshes: !scene.meshes.is_empty(),
+        }
+    }
+
+    /// Every def on that can be on with this geometry: the generic pipeline
+    /// that specialisation is measured against.
+    #[must_use]
+    pub fn generic(geometry: Geometry) -> Self {
+        TraceDefs {
+            geometry,
+            translations_only: false,
+            cells: CellScheme::Hashed,
+            cell_colors: true,
+            fog: true,
+            balls: true,
+            tubes: true,
+            lights: true,
+            meshes: true,
+        }
+    }
+
+    /// Every valid combination (each geometry with the cell schemes and
+    /// transport kinds it allows, every optional part on and off).
+    #[must_use]
+    pub fn all() -> Vec<Self> {
+        let mut out = Vec::new();
+        let bases = [
+            (Geometry::Euclidean, false, CellScheme::Lattice),
+            (Geometry::Euclidean, true, CellScheme::Lattice),
+            (Geometry::Euclidean, false, CellScheme::Hashed),
+            (Geometry::Hyperbolic, false, CellScheme::Hashed),
+            (Geometry::Spherical, false, CellScheme::Finite),
+            (Geometry::Spherical, false, CellScheme::Hashed),
+        ];
+        for (geometry, translations_only, cells) in bases {
+            for bits in 0..64u32 {
+                let on = |k: u32| bits & (1 << k) != 0;
+                out.push(TraceDefs {
+                    geometry,
+                    translations_only,
+                    cells,
+                    cell_colors: on(0),
+                    fog: on(1),
+                    balls: on(2),
+                    tubes: on(3),
+                    lights: on(4),
+                    meshes: on(5),
+                });
+            }
+        }
+        out
+    }
+
+    /// The names of the defs that are on.
+    #[must_use]
+    pub fn names(&self) -> Vec<&'static str> {
+        let mut n = vec![match self.geometry {
+            Geometry::Euclidean => "GEOMETRY_EUCLIDEAN",
+            Geometry::Hyperbolic => "GEOMETRY_HYPERBOLIC",
+            Geometry::Spherical => "GEOMETRY_SPHERICAL",
+        }];
+        n.push(match self.cells {
+            CellScheme::Lattice => "CELLS_LATTICE",
+            CellScheme::Finite => "CELLS_FINITE",
+            CellScheme::Hashed => "CELLS_HASHED",
+        });
+        for (on, name) in [
+            (self.translations_only, "TRANSLATIONS_ONLY"),
+            (self.cell_colors, "CELL_COLORS"),
+            (self.fog, "FOG"),
+            (self.balls, "BALLS"),
+            (self.tubes, "TUBES"),
+            (self.lights, "LIGHTS"),
+            (self.meshes, "MESHES"),
+        ] {
+            if on {
+                n.push(name);
+            }
+        }
+        // Derived: the ball test serves balls and meshes' bounding balls
+        // (naga_oil's #ifdef takes one name).
+        if self.balls || self.meshes {
+            n.push("BALL_HITS");
+        }
+        n
+    }
+}

@@ -1,0 +1,71 @@
+//! Triangle meshes in the GPU tracer: against the CPU reference with
+//! Suzanne and the hands in every space, and what the shader compiles for
+//! scenes with and without meshes. (The CPU side: `bevy_manifold_core`'s
+//! `tests/meshes.rs`.)
+
+use bevy_manifold_core::mesh::{MeshData, MeshMaterial, TriMesh};
+use bevy_manifold_core::prelude::*;
+use bevy_manifold_core::trace::SceneMesh;
+use bevy_manifold_test_support::{agreement, tracer};
+use glam::{DMat4, DVec3};
+
+fn gpu_and_cpu_agree_on_suzanne_and_the_hands_in_every_space() {
+    let mut gpu = tracer();
+    for name in catalog::NAMES {
+        let space = catalog::by_name(name).expect("catalog");
+        let scene = Scene::paper_default(&space);
+        assert_eq!(scene.meshes.len(), 3);
+        let settings = TraceSettings {
+            width: 256,
+            height: 256,
+            levels: 8,
+            ..TraceSettings::default()
+        };
+        let g = gpu.render(&space, &scene, &settings).expect("render");
+        let c = render::<f64>(&space, &scene, &settings);
+        let (ids, colors) = agreement(&g, &c);
+        let meshes = c.pixels.iter().filter(|p| (1..=3).contains(&p.object)).count();
+        eprintln!(
+            "{name}: ids {:.3}%, colours {:.3}% ({meshes} mesh pixels of {})",
+            ids * 100.0,
+            colors * 100.0,
+            c.pixels.len()
+        );
+        assert!(meshes > 2000, "{name}: the meshes are in view");
+        assert!(ids >= 0.995, "{name}: ids agree on {:.3}%", ids * 100.0);
+        assert!(colors >= 0.99, "{name}: colours agree on {:.3}%", colors * 100.0);
+    }
+}
+
+fn meshes_share_one_bvh_and_scenes_without_them_compile_none() {
+    let space = catalog::torus(1.0);
+    let mut scene = Scene::empty();
+    let data = MeshData::shared(
+        TriMesh::new(
+            vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            None,
+            None,
+            vec![[0, 1, 2]],
+        )
+        .unwrap(),
+    );
+    for i in 0..10 {
+        let at = DMat4::from_translation(DVec3::new(-0.4 + 0.08 * f64::from(i), 0.0, 0.0));
+        scene
+            .meshes
+            .push(SceneMesh::new(data.clone(), MeshMaterial::default(), at, 0.05));
+    }
+    let prep = bevy_manifold_core::trace::FlatScene::<f32>::new(&space, &scene);
+    assert_eq!(prep.meshes.len(), 1, "ten instances, one mesh");
+    assert_eq!(prep.instances.len(), 10);
+    let defs = bevy_manifold_gpu::TraceDefs::for_scene(&space, &scene, false);
+    assert!(defs.meshes);
+    assert!(!bevy_manifold_gpu::TraceDefs::for_scene(&space, &Scene::default_for(&space), false).meshes);
+}
+
+bevy_manifold_test_support::test_main! {
+    cpu: [meshes_share_one_bvh_and_scenes_without_them_compile_none],
+    gpu: [
+        gpu_and_cpu_agree_on_suzanne_and_the_hands_in_every_space,
+    ],
+}

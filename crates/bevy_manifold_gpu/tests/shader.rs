@@ -1,0 +1,173 @@
+//! The WGSL tracer, composed for every specialisation with Bevy's own
+//! preprocessor (naga_oil) and validated by naga: no GPU needed.
+
+use bevy_manifold_core::geometry::Geometry;
+use bevy_manifold_core::prelude::*;
+use bevy_manifold_gpu::{GpuTracer, TraceDefs};
+
+/// Composed exactly as the GPU tracer composes it (naga_oil, Bevy's
+/// preprocessor).
+fn compose(defs: &TraceDefs) -> Result<naga::Module, String> {
+    GpuTracer::compose(defs).map_err(|e| e.to_string())
+}
+
+fn validate(module: &naga::Module) -> Result<(), String> {
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    )
+    .validate(module)
+    .map(|_| ())
+    .map_err(|e| format!("{e:?}"))
+}
+
+#[test]
+fn every_specialisation_composes_and_validates() {
+    let all = TraceDefs::all();
+    assert_eq!(all.len(), 6 * 64);
+    for defs in &all {
+        let module = compose(defs).unwrap_or_else(|e| panic!("{:?}: {e}", defs.names()));
+        validate(&module).unwrap_or_else(|e| panic!("{:?}: {e}", defs.names()));
+        // The headless compute entry and the render pass's fragment entry.
+        assert!(module.entry_points.iter().any(|e| e.name == "trace"));
+        assert!(module.entry_points.iter().any(|e| e.name == "fragment"));
+        assert!(module.entry_points.iter().any(|e| e.name == "drift"));
+        // The BVH walk is compiled in only with meshes.
+        let has_bvh = module
+            .functions
+            .iter()
+            .any(|(_, f)| f.name.as_deref() == Some("hit_mesh"));
+        assert_eq!(has_bvh, defs.meshes, "{:?}", defs.names());
+    }
+}
+
+#[test]
+fn the_srgb_encoding_variant_composes_and_encodes() {
+    use naga_oil::compose::{Composer, NagaModuleDescriptor, ShaderDefValue};
+    let torus = catalog::torus(1.0);
+    let defs = TraceDefs::for_scene(&torus, &Scene::default_for(&torus), false);
+    let with = |extra: &[&str]| {
+        let mut composer = Composer::default();
+        let shader_defs = defs
+            .names()
+            .iter()
+            .chain(extra)
+            .map(|n| (n.to_string(), ShaderDefValue::Bool(true)))
+            .collect();
+        let module = composer
+            .make_naga_module(NagaModuleDescriptor {
+                source: bevy_manifold_gpu::TRACE_WGSL,
+                file_path: "shaders/trace.wgsl",
+                shader_defs,
+                ..Default::default()
+            })
+            .expect("compose");
+        validate(&module).expect("validate");
+        functions(&module)
+    };
+    assert!(with(&["ENCODE_SRGB"]).iter().any(|f| f == "encode_srgb"));
+    assert!(!with(&[]).iter().any(|f| f == "encode_srgb"));
+}
+
+/// The names of the functions a composed module kept.
+fn functions(module: &naga::Module) -> Vec<String> {
+    module.functions.iter().filter_map(|(_, f)| f.name.clone()).collect()
+}
+
+/// True when the module calls a math function like `sinh` anywhere.
+fn uses_math(module: &naga::Module, fun: naga::MathFunction) -> bool {
+    let in_fn = |f: &naga::Function| {
+        f.expressions
+            .iter()
+            .any(|(_, e)| matches!(e, naga::Expression::Math { fun: m, .. } if *m == fun))
+    };
+    module.functions.iter().any(|(_, f)| in_fn(f)) || module.entry_points.iter().any(|e| in_fn(&e.function))
+}
+
+#[test]
+fn scenes_compile_only_what_they_use() {
+    // A fog-free torus: no fog, no hyperbolic or spherical functions, no
+    // general transport, no cell colours.
+    let torus = catalog::torus(1.0);
+    let mut scene = Scene::default_for(&torus);
+    let defs = TraceDefs::for_scene(&torus, &scene, false);
+    let names = defs.names();
+    for absent in [
+        "FOG",
+        "MESHES",
+        "GEOMETRY_HYPERBOLIC",
+        "GEOMETRY_SPHERICAL",
+        "CELL_COLORS",
+        "CELLS_HASHED",
+    ] {
+        assert!(!names.contains(&absent), "{absent} in {names:?}");
+    }
+    for present in [
+        "GEOMETRY_EUCLIDEAN",
+        "TRANSLATIONS_ONLY",
+        "CELLS_LATTICE",
+        "BALLS",
+        "TUBES",
+        "LIGHTS",
+    ] {
+        assert!(names.contains(&present), "{present} missing from {names:?}");
+    }
+    let module = compose(&defs).expect("compose");
+    for fun in [
+        naga::MathFunction::Sinh,
+        naga::MathFunction::Atanh,
+        naga::MathFunction::Asinh,
+        naga::MathFunction::Exp,
+    ] {
+        assert!(!uses_math(&module, fun), "the fog-free torus shader uses {fun:?}");
+    }
+    assert!(!functions(&module).iter().any(|f| f == "cell_color"));
+
+    // Fog and cell colours switch their code on.
+    scene.fog = Some(Fog {
+        density: 0.3,
+        color: [0.5; 3],
+    });
+    let fogged = compose(&TraceDefs::for_scene(&torus, &scene, true)).expect("compose");
+    assert!(uses_math(&fogged, naga::MathFunction::Exp));
+    assert!(functions(&fogged).iter().any(|f| f == "cell_color"));
+
+    // Seifert-Weber: hyperbolic functions, general transport, hashed cells.
+    let sw = catalog::seifert_weber();
+    let defs = TraceDefs::for_scene(&sw, &Scene::default_for(&sw), false);
+    assert_eq!(defs.geometry, Geometry::Hyperbolic);
+    assert!(!defs.translations_only);
+    assert!(defs.names().contains(&"CELLS_HASHED"));
+    assert!(uses_math(&compose(&defs).expect("compose"), naga::MathFunction::Atanh));
+    // The mirrored cube is Euclidean but its pairings are reflections.
+    let mc = catalog::mirrored_cube(1.0);
+    assert!(!TraceDefs::for_scene(&mc, &Scene::default_for(&mc), false).translations_only);
+    // Poincaré uses the Cayley table.
+    let p = catalog::poincare();
+    assert!(
+        TraceDefs::for_scene(&p, &Scene::empty(), false)
+            .names()
+            .contains(&"CELLS_FINITE")
+    );
+    // An empty scene compiles no object code at all.
+    let empty = TraceDefs::for_scene(&sw, &Scene::empty(), false);
+    let names = empty.names();
+    assert!(!names.contains(&"BALLS") && !names.contains(&"TUBES") && !names.contains(&"LIGHTS"));
+    let module = compose(&empty).expect("compose");
+    assert!(!functions(&module).iter().any(|f| f == "hit_ball" || f == "hit_tube"));
+}
+
+#[test]
+fn the_generic_shader_is_the_largest() {
+    for g in [Geometry::Euclidean, Geometry::Hyperbolic, Geometry::Spherical] {
+        let generic = compose(&TraceDefs::generic(g)).expect("compose");
+        let count = |m: &naga::Module| m.functions.iter().map(|(_, f)| f.expressions.len()).sum::<usize>();
+        for defs in TraceDefs::all().iter().filter(|d| d.geometry == g) {
+            assert!(
+                count(&compose(defs).expect("compose")) <= count(&generic),
+                "{:?}",
+                defs.names()
+            );
+        }
+    }
+}

@@ -1,0 +1,16 @@
+//! What bevy_manifold's tests and benchmarks share (unpublished, like
+//! `vello_tests`): one image comparison, one seeded RNG, the stress
+//! fixtures, and (feature `gpu`) the GPU to test on or an honest skip.
+
+pub mod compare;
+#[cfg(feature = "gpu")]
+pub mod gpu;
+#[cfg(feature = "gpu")]
+pub mod harness;
+pub mod rng;
+pub mod stress;
+
+pub use compare::agreement;
+#[cfg(feature = "gpu")]
+pub use gpu::tracer;
+pub use rng::Rng;

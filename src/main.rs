@@ -1,9 +1,0 @@
-//! The `bevy_manifold` command line: with no arguments the explorer (a
-//! window into the manifold, or without a display `explorer.png`); with a
-//! command, inspect, export, render and benchmark spaces.
-
-mod cli;
-
-fn main() -> std::process::ExitCode {
-    cli::run()
-}

@@ -1,0 +1,117 @@
+//! The tracer's render pipeline, specialised per view: the scene's shader
+//! defs ([`TraceDefs`]) and the view target's format and sample count.
+//! Bevy's pipeline cache composes `shaders/trace.wgsl` with those defs, so a
+//! fog-free torus compiles no fog and no hyperbolic code.
+
+use bevy::core_pipeline::FullscreenShader;
+use bevy::core_pipeline::core_3d::CORE_3D_DEPTH_FORMAT;
+use bevy::prelude::*;
+use bevy::render::render_resource::{
+    BindGroupLayoutDescriptor, BindGroupLayoutEntry, BindingType, ColorTargetState, ColorWrites, CompareFunction,
+    DepthStencilState, FragmentState, MultisampleState, RenderPipelineDescriptor, ShaderStages,
+    SpecializedRenderPipeline, TextureFormat,
+};
+use bevy::shader::{Shader, ShaderDefVal};
+use bevy_manifold_gpu::TraceDefs;
+use bevy_manifold_gpu::bindings::render_bindings;
+
+/// The embedded tracer shader, added to `Assets<Shader>` by the plugin.
+#[derive(Resource, Clone)]
+pub struct TraceShader(pub Handle<Shader>);
+
+/// What the tracer pipeline is specialised on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TracePipelineKey {
+    /// The scene's defs.
+    pub defs: TraceDefs,
+    /// The view target's format.
+    pub format: TextureFormat,
+    /// The view target's sample count (MSAA).
+    pub samples: u32,
+    /// The target stores sRGB-encoded values the shader must encode
+    /// (`ENCODE_SRGB`).
+    pub encode_srgb: bool,
+}
+
+impl TracePipelineKey {
+    /// The shader defs of this key.
+    #[must_use]
+    pub fn shader_defs(&self) -> Vec<ShaderDefVal> {
+        let mut names = self.defs.names();
+        if self.encode_srgb {
+            names.push("ENCODE_SRGB");
+        }
+        names.into_iter().map(ShaderDefVal::from).collect()
+    }
+}
+
+/// The tracer pipeline's layout and shaders (render world).
+#[derive(Resource, Clone)]
+pub struct TracePipeline {
+    /// Group 0: the params uniform, then faces, balls, tubes, lights, the
+    /// cell table, mesh instances and mesh data (the compute path's
+    /// `pixels` is not bound here).
+    pub layout: BindGroupLayoutDescriptor,
+    shader: Handle<Shader>,
+    fullscreen: FullscreenShader,
+}
+
+impl TracePipeline {
+    /// The pipeline for `shader`.
+    #[must_use]
+    pub fn new(shader: Handle<Shader>, fullscreen: FullscreenShader) -> Self {
+        // The render bindings of the one table, as the runner's layout.
+        let entries: Vec<BindGroupLayoutEntry> = render_bindings()
+            .map(|b| BindGroupLayoutEntry {
+                binding: b.binding,
+                visibility: ShaderStages::FRAGMENT,
+                ty: BindingType::Buffer {
+                    ty: b.kind.buffer_binding_type(),
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            })
+            .collect();
+        let layout = BindGroupLayoutDescriptor::new("manifold_trace", &entries);
+        TracePipeline {
+            layout,
+            shader,
+            fullscreen,
+        }
+    }
+}
+
+impl SpecializedRenderPipeline for TracePipeline {
+    type Key = TracePipelineKey;
+
+    fn specialize(&self, key: Self::Key) -> RenderPipelineDescriptor {
+        RenderPipelineDescriptor {
+            label: Some("manifold_trace".into()),
+            layout: vec![self.layout.clone()],
+            vertex: self.fullscreen.to_vertex_state(),
+            fragment: Some(FragmentState {
+                shader: self.shader.clone(),
+                shader_defs: key.shader_defs(),
+                entry_point: Some("fragment".into()),
+                targets: vec![Some(ColorTargetState {
+                    format: key.format,
+                    blend: None,
+                    write_mask: ColorWrites::ALL,
+                })],
+            }),
+            depth_stencil: Some(DepthStencilState {
+                format: CORE_3D_DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(CompareFunction::Always),
+                stencil: default(),
+                bias: default(),
+            }),
+            multisample: MultisampleState {
+                count: key.samples,
+                ..default()
+            },
+            ..default()
+        }
+    }
+}

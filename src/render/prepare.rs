@@ -1,0 +1,331 @@
+//! Preparation: each space's scene packed for the GPU
+//! ([`prepare_manifold_scenes`], when its generation or its space
+//! changed), then per manifold view the pipeline variant it needs and its
+//! GPU buffers ([`prepare_manifold_views`]). The space's buffers are
+//! rebuilt only when the space changed, the objects' only when an object
+//! changed, and the 240-byte params uniform only when the camera or the
+//! settings changed. [`ManifoldUploads`] counts what was uploaded, so this
+//! is testable.
+
+use super::extract::ExtractedManifoldView;
+use super::pipeline::{TracePipeline, TracePipelineKey};
+use crate::space::Space;
+use crate::trace::FlatScene;
+use bevy::camera::CompositingSpace;
+use bevy::platform::collections::{HashMap, HashSet};
+use bevy::prelude::*;
+use bevy::render::camera::ExtractedCamera;
+use bevy::render::render_resource::{
+    BindGroup, BindGroupEntries, Buffer, BufferInitDescriptor, BufferUsages, CachedPipelineState,
+    CachedRenderPipelineId, PipelineCache, SpecializedRenderPipelines,
+};
+use bevy::render::renderer::{RenderDevice, RenderQueue};
+use bevy::render::view::{ExtractedView, Msaa};
+use bevy_manifold_gpu::{GpuObjects, GpuParams, GpuSpace, GpuView};
+use std::sync::Arc;
+
+/// What the pass needs to draw a manifold view this frame.
+#[derive(Component, Clone)]
+pub struct ManifoldViewBinding {
+    /// The specialised pipeline.
+    pub pipeline: CachedRenderPipelineId,
+    /// Group 0.
+    pub bind_group: BindGroup,
+}
+
+/// Running totals of what the pass uploaded (render world). Uploads happen
+/// on change only: a still camera in a still scene uploads nothing.
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ManifoldUploads {
+    /// Times a space's faces and cell table were uploaded.
+    pub space: u64,
+    /// Times a scene's balls, tubes, lights and instances were uploaded
+    /// (the meshes' data only when it changed).
+    pub objects: u64,
+    /// Times a view's params uniform was written.
+    pub params: u64,
+    /// Bytes uploaded in all.
+    pub bytes: u64,
+}
+
+/// One space's scene, packed for the GPU, and what it was packed from.
+struct PackedScene {
+    space: Arc<Space>,
+    generation: u64,
+    gpu_space: Arc<GpuSpace>,
+    objects: Arc<GpuObjects>,
+}
+
+/// Every space's packed scene, by the main-world root entity; spaces no
+/// view looks into any more are dropped the next frame.
+#[derive(Resource, Default)]
+pub struct ManifoldPackedScenes {
+    scenes: HashMap<Entity, PackedScene>,
+}
+
+impl ManifoldPackedScenes {
+    /// The space and objects packed for `root`'s space, if a view looks
+    /// into it this frame.
+    #[must_use]
+    pub fn get(&self, root: Entity) -> Option<(&Arc<GpuSpace>, &Arc<GpuObjects>)> {
+        self.scenes.get(&root).map(|p| (&p.gpu_space, &p.objects))
+    }
+}
+
+/// Packs each space's scene for the GPU when its generation or its space
+/// changed (in f32, as the CPU tracer's f32 mode reads it). A repacked
+/// scene equal to the old one keeps the old `Arc`, so nothing is uploaded.
+pub fn prepare_manifold_scenes(views: Query<&ExtractedManifoldView>, mut packed: ResMut<ManifoldPackedScenes>) {
+    let mut seen = HashSet::new();
+    for view in &views {
+        if !seen.insert(view.root) {
+            continue;
+        }
+        let space = view.space.shared();
+        let generation = view.scene.generation();
+        let old = packed.scenes.get(&view.root);
+        let same_space = old.is_some_and(|o| Arc::ptr_eq(&o.space, space));
+        if same_space && old.is_some_and(|o| o.generation == generation) {
+            continue;
+        }
+        let objects = GpuObjects::pack(&FlatScene::<f32>::new(space, view.scene.scene()));
+        let (gpu_space, objects) = match old {
+            Some(o) if same_space => (
+                o.gpu_space.clone(),
+                if *o.objects == objects {
+                    o.objects.clone()
+                } else {
+                    Arc::new(objects)
+                },
+            ),
+            _ => (Arc::new(GpuSpace::pack(space)), Arc::new(objects)),
+        };
+        packed.scenes.insert(
+            view.root,
+            PackedScene {
+                space: space.clone(),
+                generation,
+                gpu_space,
+                objects,
+            },
+        );
+    }
+    packed.scenes.retain(|root, _| seen.contains(root));
+}
+
+/// One view's buffers and what they hold.
+struct ViewBuffers {
+    space: Arc<GpuSpace>,
+    objects: Arc<GpuObjects>,
+    params: GpuParams,
+    params_buffer: Buffer,
+    faces: Buffer,
+    cell_table: Buffer,
+    balls: Buffer,
+    tubes: Buffer,
+    lights: Buffer,
+    instances: Buffer,
+    mesh_data: Buffer,
+    bind_group: Option<BindGroup>,
+}
+
+/// Every manifold view's buffers, by render-world view entity; views that
+/// went away are dropped (with their buffers) the next frame.
+#[derive(Resource, Default)]
+pub struct ManifoldBufferCache {
+    views: HashMap<Entity, ViewBuffers>,
+    failed: HashSet<CachedRenderPipelineId>,
+}
+
+impl ManifoldBufferCache {
+    /// How many views hold buffers.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.views.len()
+    }
+
+    /// Drops every view's buffers and bind groups, so the next frame
+    /// uploads everything again as if nothing had been uploaded before
+    /// (`bench specialise` measures what change detection saves this way).
+    pub fn invalidate(&mut self) {
+        self.views.clear();
+    }
+
+    /// True when no view holds buffers.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.views.is_empty()
+    }
+}
+
+fn storage(device: &RenderDevice, label: &'static str, data: &[u8], stats: &mut ManifoldUploads) -> Buffer {
+    stats.bytes += data.len() as u64;
+    device.create_buffer_with_data(&BufferInitDescriptor {
+        label: Some(label),
+        contents: data,
+        usage: BufferUsages::STORAGE | BufferUsages::COPY_DST,
+    })
+}
+
+fn space_buffers(device: &RenderDevice, s: &GpuSpace, stats: &mut ManifoldUploads) -> (Buffer, Buffer) {
+    stats.space += 1;
+    (
+        storage(device, "manifold_faces", bytemuck::cast_slice(&s.faces), stats),
+        storage(
+            device,
+            "manifold_cell_table",
+            bytemuck::cast_slice(&s.cell_table),
+            stats,
+        ),
+    )
+}
+
+/// The objects' buffers: balls, tubes, lights, instances, and the meshes'
+/// data, unless `reuse` holds a buffer of the same mesh data (a moved
+/// instance changes its matrix, not its mesh: the BVHs stay uploaded).
+fn object_buffers(
+    device: &RenderDevice,
+    o: &GpuObjects,
+    reuse: Option<Buffer>,
+    stats: &mut ManifoldUploads,
+) -> [Buffer; 5] {
+    stats.objects += 1;
+    [
+        storage(device, "manifold_balls", bytemuck::cast_slice(&o.balls), stats),
+        storage(device, "manifold_tubes", bytemuck::cast_slice(&o.tubes), stats),
+        storage(device, "manifold_lights", bytemuck::cast_slice(&o.lights), stats),
+        storage(device, "manifold_instances", bytemuck::cast_slice(&o.instances), stats),
+        reuse.unwrap_or_else(|| storage(device, "manifold_mesh_data", bytemuck::cast_slice(&o.mesh_data), stats)),
+    ]
+}
+
+/// The per-frame view data of an extracted view.
+fn gpu_view(view: &ExtractedManifoldView, extracted: &ExtractedView) -> GpuView {
+    // Bevy's perspective projection: y_axis.y = 1 / tan(fov/2); the near
+    // plane sits in w_axis.z (infinite reverse z).
+    let p = extracted.clip_from_view;
+    GpuView {
+        camera: view.camera.as_mat4(),
+        camera_cell: view.cell,
+        tan_half_fov: 1.0 / p.y_axis.y,
+        fog: view.fog,
+        size: [extracted.viewport.z, extracted.viewport.w],
+        origin: [extracted.viewport.x, extracted.viewport.y],
+        near: p.w_axis.z,
+        levels: view.levels,
+        max_distance: view.max_distance,
+        flags: 0,
+        cell_tint: view.cell_tint,
+    }
+}
+
+/// Specialises the pipeline for each manifold view and brings its buffers
+/// up to date (uploading only what changed), then binds them.
+#[expect(clippy::too_many_arguments, reason = "a system's parameters")]
+pub fn prepare_manifold_views(
+    mut commands: Commands,
+    views: Query<(
+        Entity,
+        &ExtractedManifoldView,
+        &ExtractedView,
+        &ExtractedCamera,
+        Option<&Msaa>,
+    )>,
+    pipeline: Option<Res<TracePipeline>>,
+    mut pipelines: ResMut<SpecializedRenderPipelines<TracePipeline>>,
+    pipeline_cache: Res<PipelineCache>,
+    device: Res<RenderDevice>,
+    queue: Res<RenderQueue>,
+    mut cache: ResMut<ManifoldBufferCache>,
+    mut stats: ResMut<ManifoldUploads>,
+    packed: Res<ManifoldPackedScenes>,
+) {
+    let Some(pipeline) = pipeline else { return };
+    let cache = &mut *cache;
+    let stats = &mut *stats;
+    let mut seen = HashSet::new();
+    for (entity, view, extracted, camera, msaa) in &views {
+        seen.insert(entity);
+        let key = TracePipelineKey {
+            defs: view.defs,
+            format: extracted.target_format,
+            samples: msaa.map_or(1, Msaa::samples),
+            encode_srgb: camera.compositing_space == Some(CompositingSpace::Srgb),
+        };
+        let id = pipelines.specialize(&pipeline_cache, &pipeline, key);
+        if let CachedPipelineState::Err(e) = pipeline_cache.get_render_pipeline_state(id)
+            && cache.failed.insert(id)
+        {
+            error!("the manifold tracer pipeline for {:?} failed: {e}", key.defs.names());
+        }
+        let Some((space, objects)) = packed.get(view.root) else {
+            continue;
+        };
+        let params = GpuParams::new(view.space.space(), space, objects, &gpu_view(view, extracted));
+        let entry = cache.views.entry(entity).or_insert_with(|| {
+            let (faces, cell_table) = space_buffers(&device, space, stats);
+            let [balls, tubes, lights, instances, mesh_data] = object_buffers(&device, objects, None, stats);
+            stats.params += 1;
+            stats.bytes += std::mem::size_of::<GpuParams>() as u64;
+            let params_buffer = device.create_buffer_with_data(&BufferInitDescriptor {
+                label: Some("manifold_params"),
+                contents: bytemuck::bytes_of(&params),
+                usage: BufferUsages::UNIFORM | BufferUsages::COPY_DST,
+            });
+            ViewBuffers {
+                space: space.clone(),
+                objects: objects.clone(),
+                params,
+                params_buffer,
+                faces,
+                cell_table,
+                balls,
+                tubes,
+                lights,
+                instances,
+                mesh_data,
+                bind_group: None,
+            }
+        });
+        if !Arc::ptr_eq(&entry.space, space) {
+            (entry.faces, entry.cell_table) = space_buffers(&device, space, stats);
+            entry.space = space.clone();
+            entry.bind_group = None;
+        }
+        if !Arc::ptr_eq(&entry.objects, objects) {
+            let same_meshes = entry.objects.mesh_data == objects.mesh_data;
+            let reuse = same_meshes.then(|| entry.mesh_data.clone());
+            [entry.balls, entry.tubes, entry.lights, entry.instances, entry.mesh_data] =
+                object_buffers(&device, objects, reuse, stats);
+            entry.objects = objects.clone();
+            entry.bind_group = None;
+        }
+        if bytemuck::bytes_of(&entry.params) != bytemuck::bytes_of(&params) {
+            queue.write_buffer(&entry.params_buffer, 0, bytemuck::bytes_of(&params));
+            entry.params = params;
+            stats.params += 1;
+            stats.bytes += std::mem::size_of::<GpuParams>() as u64;
+        }
+        let bind_group = entry.bind_group.get_or_insert_with(|| {
+            device.create_bind_group(
+                "manifold_trace",
+                &pipeline_cache.get_bind_group_layout(&pipeline.layout),
+                &BindGroupEntries::sequential((
+                    entry.params_buffer.as_entire_binding(),
+                    entry.faces.as_entire_binding(),
+                    entry.balls.as_entire_binding(),
+                    entry.tubes.as_entire_binding(),
+                    entry.lights.as_entire_binding(),
+                    entry.cell_table.as_entire_binding(),
+                    entry.instances.as_entire_binding(),
+                    entry.mesh_data.as_entire_binding(),
+                )),
+            )
+        });
+        commands.entity(entity).insert(ManifoldViewBinding {
+            pipeline: id,
+            bind_group: bind_group.clone(),
+        });
+    }
+    cache.views.retain(|e, _| seen.contains(e));
+}
