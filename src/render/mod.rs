@@ -10,7 +10,8 @@
 //!   generation changed, the pipeline specialised to the view
 //!   ([`pipeline`]), buffers uploaded on change, the bind group;
 //! - the pass ([`node`]): a `Core3d` system in the main-pass set, before
-//!   Bevy's opaque pass, that draws `shaders/trace.wgsl`'s fragment entry
+//!   Bevy's opaque pass, that draws the tracer's `fragment` entry (`bevy_manifold_gpu`'s
+//!   `shaders/trace.wgsl`)
 //!   over the viewport.
 //!
 //! The fragment path was chosen over compute by measurement on lavapipe
@@ -35,7 +36,7 @@ use bevy::prelude::*;
 use bevy::render::render_resource::SpecializedRenderPipelines;
 use bevy::render::{ExtractSchedule, Render, RenderApp, RenderStartup, RenderSystems};
 use bevy::shader::Shader;
-use bevy_manifold_gpu::TRACE_WGSL;
+use bevy_manifold_gpu::{SHADER_IMPORTS, TRACE_WGSL};
 
 /// The render pass. Added by [`crate::ManifoldPlugin`] when the app has a
 /// renderer; on its own it does nothing without the ECS layer.
@@ -75,9 +76,13 @@ impl Plugin for ManifoldRenderPlugin {
         let Some(mut shaders) = app.world_mut().get_resource_mut::<Assets<Shader>>() else {
             return;
         };
-        let handle = shaders.add(Shader::from_wgsl(TRACE_WGSL, "bevy_manifold/shaders/trace.wgsl"));
+        let imports = SHADER_IMPORTS
+            .iter()
+            .map(|m| shaders.add(Shader::from_wgsl(m.source, m.path)))
+            .collect();
+        let entry = shaders.add(Shader::from_wgsl(TRACE_WGSL.source, TRACE_WGSL.path));
         if let Some(render_app) = app.get_sub_app_mut(RenderApp) {
-            render_app.insert_resource(pipeline::TraceShader(handle));
+            render_app.insert_resource(pipeline::TraceShader { entry, imports });
         }
     }
 }
@@ -93,5 +98,5 @@ fn init_trace_pipeline(
         );
         return;
     };
-    commands.insert_resource(pipeline::TracePipeline::new(shader.0.clone(), fullscreen.clone()));
+    commands.insert_resource(pipeline::TracePipeline::new(shader.entry.clone(), fullscreen.clone()));
 }

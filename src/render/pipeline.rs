@@ -1,6 +1,6 @@
 //! The tracer's render pipeline, specialised per view: the scene's shader
 //! defs ([`TraceDefs`]) and the view target's format and sample count.
-//! Bevy's pipeline cache composes `shaders/trace.wgsl` with those defs, so a
+//! Bevy's pipeline cache composes the tracer's WGSL with those defs, so a
 //! fog-free torus compiles no fog and no hyperbolic code.
 
 use bevy::core_pipeline::FullscreenShader;
@@ -15,9 +15,17 @@ use bevy::shader::{Shader, ShaderDefVal};
 use bevy_manifold_gpu::TraceDefs;
 use bevy_manifold_gpu::bindings::render_bindings;
 
-/// The embedded tracer shader, added to `Assets<Shader>` by the plugin.
+/// The embedded tracer shader, added to `Assets<Shader>` by the plugin:
+/// the entry module, and the import modules it needs (their handles kept
+/// here, or Bevy would drop them and the pipeline would wait for an
+/// import forever).
 #[derive(Resource, Clone)]
-pub struct TraceShader(pub Handle<Shader>);
+pub struct TraceShader {
+    /// `trace.wgsl`, the entry points.
+    pub entry: Handle<Shader>,
+    /// The modules it imports, kept alive.
+    pub imports: Vec<Handle<Shader>>,
+}
 
 /// What the tracer pipeline is specialised on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -1,5 +1,5 @@
 //! The tracer's GPU data: `#[repr(C)]` twins of the structs in
-//! `shaders/trace.wgsl`, packed from the same [`FlatScene`] scene the CPU
+//! `shaders/bindings.wgsl` (held to them by `tests/contract.rs`), packed from the same [`FlatScene`] scene the CPU
 //! tracer reads (in f32), so both trace identical inputs.
 
 use bevy_manifold_core::space::Space;
@@ -8,7 +8,7 @@ use bevy_manifold_core::trace::{FlatScene, TraceSettings};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec4};
 
-/// WGSL `Params`.
+/// WGSL twin: `Params` in `shaders/bindings.wgsl`.
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 #[repr(C)]
 pub struct GpuParams {
@@ -56,11 +56,17 @@ pub struct GpuParams {
     pub cell_scale: [f32; 4],
     /// Number of mesh instances.
     pub instance_count: u32,
-    /// Per-cell shading: [`bevy_manifold_core::space::cells::CellTint::words`].
-    pub cell_tint: [u32; 3],
+    /// Per-cell shading, the three words of
+    /// [`bevy_manifold_core::space::cells::CellTint::words`]: the mode
+    /// (0 by cell, 1 highlight, 2 on/off pattern)...
+    pub cell_mode: u32,
+    /// ... the highlighted cell's low word, or the pattern's threshold...
+    pub cell_a: u32,
+    /// ... and the highlighted cell's high word.
+    pub cell_b: u32,
 }
 
-/// WGSL `Face`.
+/// WGSL twin: `Face` in `shaders/bindings.wgsl`.
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 #[repr(C)]
 pub struct GpuFace {
@@ -76,7 +82,7 @@ pub struct GpuFace {
     pub pad: [u32; 3],
 }
 
-/// WGSL `Ball`.
+/// WGSL twin: `Ball` in `shaders/bindings.wgsl`.
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 #[repr(C)]
 pub struct GpuBall {
@@ -92,7 +98,7 @@ pub struct GpuBall {
     pub pad: [u32; 3],
 }
 
-/// WGSL `Tube`.
+/// WGSL twin: `Tube` in `shaders/bindings.wgsl`.
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 #[repr(C)]
 pub struct GpuTube {
@@ -108,7 +114,7 @@ pub struct GpuTube {
     pub color: [f32; 4],
 }
 
-/// WGSL `Instance`: one placement of a mesh, with offsets into
+/// WGSL twin: `Instance` in `shaders/bindings.wgsl`: one placement of a mesh, with offsets into
 /// [`GpuObjects::mesh_data`].
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 #[repr(C)]
@@ -143,7 +149,7 @@ pub struct GpuInstance {
     pub pad: [u32; 3],
 }
 
-/// WGSL `Light`.
+/// WGSL twin: `Light` in `shaders/bindings.wgsl`.
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 #[repr(C)]
 pub struct GpuLight {
@@ -155,7 +161,7 @@ pub struct GpuLight {
     pub intensity: f32,
 }
 
-/// WGSL `Pixel`.
+/// WGSL twin: `Pixel` in `shaders/bindings.wgsl`.
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 #[repr(C)]
 pub struct GpuPixel {
@@ -229,7 +235,7 @@ pub struct GpuView {
     pub max_distance: f32,
     /// [`GpuParams::flags`].
     pub flags: u32,
-    /// [`GpuParams::cell_tint`].
+    /// [`GpuParams::cell_mode`], `cell_a`, `cell_b`.
     pub cell_tint: [u32; 3],
 }
 
@@ -470,7 +476,9 @@ impl GpuParams {
             flags: view.flags,
             cell_scale: packed.cell_scale,
             instance_count: objects.counts[3],
-            cell_tint: view.cell_tint,
+            cell_mode: view.cell_tint[0],
+            cell_a: view.cell_tint[1],
+            cell_b: view.cell_tint[2],
         }
     }
 }

@@ -51,6 +51,43 @@ pub use probe::{probe_adapter, probe_adapter_info};
 #[cfg(feature = "headless")]
 pub use runner::GpuTracer;
 
-/// The tracer's WGSL source, carried inside the crate so an app that
+/// One WGSL file of the tracer, carried inside the crate so an app that
 /// depends on it from crates.io finds it.
-pub const TRACE_WGSL: &str = include_str!("../shaders/trace.wgsl");
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WgslModule {
+    /// Its path, as Bevy's asset and naga_oil's composer name it.
+    pub path: &'static str,
+    /// Its source.
+    pub source: &'static str,
+}
+
+macro_rules! wgsl {
+    ($name:literal) => {
+        WgslModule {
+            path: concat!("bevy_manifold/shaders/", $name, ".wgsl"),
+            source: include_str!(concat!("../shaders/", $name, ".wgsl")),
+        }
+    };
+}
+
+/// The tracer's import modules, each after the modules it imports (the
+/// order naga_oil's composer needs; Bevy resolves them by their
+/// `#define_import_path`, `bevy_manifold::<name>`). Each is the WGSL twin
+/// of a Rust file: `bindings` of [`layout`], `geometry`, `step`, `cells`,
+/// `bvh`, `mesh_hit`, `walk`, `render` and `drift` of the core's files of
+/// the same names.
+pub const SHADER_IMPORTS: [WgslModule; 9] = [
+    wgsl!("bindings"),
+    wgsl!("geometry"),
+    wgsl!("step"),
+    wgsl!("cells"),
+    wgsl!("bvh"),
+    wgsl!("mesh_hit"),
+    wgsl!("walk"),
+    wgsl!("render"),
+    wgsl!("drift"),
+];
+
+/// The tracer's entry module: `trace` and `drift` (compute, the headless
+/// runner) and `fragment` (the render pass).
+pub const TRACE_WGSL: WgslModule = wgsl!("trace");

@@ -97,25 +97,49 @@ impl GpuTracer {
     /// # Errors
     /// [`GpuError::Shader`] when composition fails.
     pub fn compose(defs: &TraceDefs) -> Result<naga::Module, GpuError> {
-        use naga_oil::compose::{Composer, NagaModuleDescriptor, ShaderDefValue, ShaderType};
+        Self::compose_with(&defs.names())
+    }
+
+    /// The shader composed with these shader defs on (those of a
+    /// [`TraceDefs`], and `ENCODE_SRGB` as the render pass may add): the
+    /// import modules ([`crate::SHADER_IMPORTS`]) added to naga_oil's
+    /// composer, then the entry module, as Bevy's pipeline cache does.
+    ///
+    /// # Errors
+    /// [`GpuError::Shader`] when composition fails.
+    pub fn compose_with(names: &[&'static str]) -> Result<naga::Module, GpuError> {
+        use naga_oil::compose::{
+            ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderDefValue, ShaderLanguage, ShaderType,
+        };
         let mut composer = Composer::default();
-        let shader_defs = defs
-            .names()
-            .into_iter()
+        let fail = |composer: &Composer, e: naga_oil::compose::ComposerError| GpuError::Shader {
+            defs: names.to_vec(),
+            message: e.emit_to_string(composer),
+        };
+        for module in crate::SHADER_IMPORTS {
+            let added = composer
+                .add_composable_module(ComposableModuleDescriptor {
+                    source: module.source,
+                    file_path: module.path,
+                    language: ShaderLanguage::Wgsl,
+                    ..Default::default()
+                })
+                .map(|_| ());
+            added.map_err(|e| fail(&composer, e))?;
+        }
+        let shader_defs = names
+            .iter()
             .map(|n| (n.to_string(), ShaderDefValue::Bool(true)))
             .collect();
         composer
             .make_naga_module(NagaModuleDescriptor {
-                source: TRACE_WGSL,
-                file_path: "shaders/trace.wgsl",
+                source: TRACE_WGSL.source,
+                file_path: TRACE_WGSL.path,
                 shader_type: ShaderType::Wgsl,
                 shader_defs,
                 additional_imports: &[],
             })
-            .map_err(|e| GpuError::Shader {
-                defs: defs.names(),
-                message: e.emit_to_string(&composer),
-            })
+            .map_err(|e| fail(&composer, e))
     }
 
     fn shader(&self, defs: &TraceDefs) -> Result<wgpu::ShaderModule, GpuError> {

@@ -1,6 +1,6 @@
 //! Which parts of the tracer a scene needs (pay only for what the scene
 //! uses): each optional
-//! part of `shaders/trace.wgsl` sits behind a shader def, and the pipeline
+//! part of the WGSL tracer (`shaders/`) sits behind a shader def, and the pipeline
 //! is specialised on the scene's actual content.
 
 use bevy_manifold_core::geometry::Geometry;

@@ -33,35 +33,18 @@ fn every_specialisation_composes_and_validates() {
         assert!(module.entry_points.iter().any(|e| e.name == "fragment"));
         assert!(module.entry_points.iter().any(|e| e.name == "drift"));
         // The BVH walk is compiled in only with meshes.
-        let has_bvh = module
-            .functions
-            .iter()
-            .any(|(_, f)| f.name.as_deref() == Some("hit_mesh"));
+        let has_bvh = functions(&module).iter().any(|f| f == "hit_mesh");
         assert_eq!(has_bvh, defs.meshes, "{:?}", defs.names());
     }
 }
 
 #[test]
 fn the_srgb_encoding_variant_composes_and_encodes() {
-    use naga_oil::compose::{Composer, NagaModuleDescriptor, ShaderDefValue};
     let torus = catalog::torus(1.0);
     let defs = TraceDefs::for_scene(&torus, &Scene::default_for(&torus), false);
-    let with = |extra: &[&str]| {
-        let mut composer = Composer::default();
-        let shader_defs = defs
-            .names()
-            .iter()
-            .chain(extra)
-            .map(|n| (n.to_string(), ShaderDefValue::Bool(true)))
-            .collect();
-        let module = composer
-            .make_naga_module(NagaModuleDescriptor {
-                source: bevy_manifold_gpu::TRACE_WGSL,
-                file_path: "shaders/trace.wgsl",
-                shader_defs,
-                ..Default::default()
-            })
-            .expect("compose");
+    let with = |extra: &[&'static str]| {
+        let names: Vec<&'static str> = defs.names().into_iter().chain(extra.iter().copied()).collect();
+        let module = GpuTracer::compose_with(&names).expect("compose");
         validate(&module).expect("validate");
         functions(&module)
     };
@@ -69,9 +52,16 @@ fn the_srgb_encoding_variant_composes_and_encodes() {
     assert!(!with(&[]).iter().any(|f| f == "encode_srgb"));
 }
 
-/// The names of the functions a composed module kept.
+/// The names of the functions a composed module kept, as the WGSL names
+/// them (naga_oil suffixes an imported module's items with
+/// `X_naga_oil_mod_X<its path>X`).
 fn functions(module: &naga::Module) -> Vec<String> {
-    module.functions.iter().filter_map(|(_, f)| f.name.clone()).collect()
+    module
+        .functions
+        .iter()
+        .filter_map(|(_, f)| f.name.as_deref())
+        .map(|n| n.split("X_naga_oil_mod_X").next().unwrap_or(n).to_string())
+        .collect()
 }
 
 /// True when the module calls a math function like `sinh` anywhere.

@@ -1,5 +1,8 @@
 //! The three classical geometries in one projective chart.
 //!
+//! WGSL twin of the metric functions: `shaders/geometry.wgsl` in
+//! `bevy_manifold_gpu` (`form`, `normalize_point`, `distance`, ...).
+//!
 //! Points are homogeneous 4-vectors `(x, y, z, w)`, normalised per geometry:
 //! `w = 1` in E3, `<p,p> = -1` with `w > 0` in H3 (hyperboloid, seen in the
 //! Klein ball), `|p| = 1` in S3 (seen in the gnomonic chart). In every chart

@@ -2,7 +2,7 @@
 //! with the surface-area heuristic (binned), flattened so the shader can
 //! walk it with a bounded stack. Traversal and the ray/triangle test here
 //! are the twins of `hit_box`, `hit_triangle` and `hit_mesh` in
-//! `shaders/trace.wgsl`.
+//! `bevy_manifold_gpu`'s `shaders/bvh.wgsl`.
 //!
 //! Rays are affine here: `o + s d` in the object's local chart, `s >= 0`
 //! (the tracer converts its chart parameter, see `trace::mesh_ray`).

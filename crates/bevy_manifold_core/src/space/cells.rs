@@ -3,6 +3,9 @@
 //! never on the path (the word) that reached it: per-cell shading reads
 //! this id, so two paths to the same copy give the same colour.
 //!
+//! WGSL twin: `shaders/cells.wgsl` in `bevy_manifold_gpu` (`cell_id`,
+//! `cell_hash`, `cell_color`).
+//!
 //! - **Lattice**: Euclidean box domains (the 3-torus, the mirrored cube),
 //!   whose copies sit on a lattice of boxes. The id packs the integer triple
 //!   `(i, j, k)` of the copy's centre.
@@ -104,7 +107,7 @@ impl CellId {
     }
 
     /// 32 bits hashed from the id, in 32-bit arithmetic only so the GPU
-    /// (`cell_hash` in `shaders/trace.wgsl`) gets the same bits.
+    /// (`cell_hash` in `bevy_manifold_gpu`'s `shaders/cells.wgsl`) gets the same bits.
     #[must_use]
     pub fn hash(self) -> u32 {
         hash32((self.0 as u32) ^ hash32((self.0 >> 32) as u32))
@@ -345,7 +348,7 @@ const HASH_SEED_LO: u32 = 0x9e37_79b9;
 const HASH_SEED_HI: u32 = 0x85eb_ca6b;
 
 /// A 32-bit integer hash (PCG's output permutation), identical in WGSL
-/// (`hash32` in `shaders/trace.wgsl`).
+/// (`hash32` in `bevy_manifold_gpu`'s `shaders/cells.wgsl`).
 #[must_use]
 pub fn hash32(x: u32) -> u32 {
     let state = x.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);

@@ -1,6 +1,8 @@
-//! How far a ray drifts off the model over many transports: the CPU twin
-//! of the shader's `drift` entry, for the stability tests and
-//! `bench stability`.
+//! How far a ray drifts off the model over many transports, for the
+//! stability tests and `bench stability`.
+//!
+//! WGSL twin: `shaders/drift.wgsl` in `bevy_manifold_gpu` (`ray_drift`,
+//! run by the `drift` entry).
 
 use super::flat::FlatScene;
 use super::render::{TraceSettings, trace_ray};

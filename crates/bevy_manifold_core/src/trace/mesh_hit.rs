@@ -1,7 +1,8 @@
 //! Where a ray meets a mesh instance: the bounding ball first, then the
 //! ray carried into the mesh's own chart, where it is an affine ray and
 //! the BVH and the ray/triangle test are ordinary (see [`crate::geometry`]). The
-//! WGSL twins (`meets_ball`, `hit_instance`, `mesh_normal`) do the same
+//! WGSL twins (`meets_ball`, `hit_instance`, `mesh_normal`, `mesh_albedo`
+//! in `bevy_manifold_gpu`'s `shaders/mesh_hit.wgsl`) do the same
 //! arithmetic in the same order.
 
 use super::flat::{FlatInstance, FlatScene};

@@ -48,11 +48,12 @@ pub use mesh_hit::{InstanceHit, hit_instance, meets_ball, mesh_albedo, mesh_norm
 pub use output::{id_pixel, srgb8};
 #[cfg(feature = "png")]
 pub use output::{write_ids_png, write_png};
-pub use render::{PathStep, Stop, TraceImage, TracePixel, TraceSettings, camera_ray, render, trace_ray};
+pub use render::{FOG_CUT, PathStep, Stop, TraceImage, TracePixel, TraceSettings, camera_ray, render, trace_ray};
+pub use scene::MeshPart;
 pub use scene::{
     Ball, Camera, Fog, HAND_COLOR, Light, PaperOptions, SUZANNE_COLOR, Scene, SceneError, SceneMesh, SuzanneMode,
     baked, hand_offset, suzanne_offset,
 };
 #[cfg(feature = "gltf")]
-pub use scene::{MeshPart, builtin, meshes_of};
+pub use scene::{builtin, meshes_of};
 pub use walk::Walker;

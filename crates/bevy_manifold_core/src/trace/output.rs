@@ -1,7 +1,9 @@
 //! Writing traced images: colour as sRGB PNG, and the id buffer as RGBA8
 //! PNG (R = object, G = levels, B = low 8 bits of the cell id, A = 255).
 
-use super::render::{TraceImage, TracePixel};
+#[cfg(feature = "png")]
+use super::render::TraceImage;
+use super::render::TracePixel;
 #[cfg(feature = "png")]
 use std::path::Path;
 

@@ -1,4 +1,12 @@
 //! Algorithm 1 per pixel (see [`crate::trace`]), in parallel over pixels.
+//!
+//! WGSL twin: `shaders/render.wgsl` in `bevy_manifold_gpu` (`camera_ray`,
+//! `trace_pixel`, `nearest_object`, `shade`).
+
+/// ln 255: once fog density times the distance travelled passes it, fog
+/// has left less than 1/255 of an object's light and the ray may stop.
+/// WGSL twin: `FOG_CUT` in `shaders/bindings.wgsl`.
+pub const FOG_CUT: f64 = 5.541_263_545_158_426;
 
 use super::flat::{EDGE_ID, FlatScene};
 use super::mesh_hit::{hit_instance, mesh_albedo, mesh_normal};
@@ -159,7 +167,7 @@ pub fn trace_ray<R: Real>(
     on_step: &mut dyn FnMut(&PathStep<R>),
 ) -> (TracePixel, Stop) {
     let g = prep.faces.geometry;
-    let fog_cut = R::of((255.0f64).ln());
+    let fog_cut = R::of(FOG_CUT);
     let max_distance = R::of(settings.max_distance);
     let mut walk = Walker::new(ray, R::m4_of(prep.camera_cell));
     let mut travelled = R::of(0.0);

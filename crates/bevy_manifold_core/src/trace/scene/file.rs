@@ -336,7 +336,6 @@ fn normal_form(g: Geometry) -> &'static str {
 }
 
 /// A mesh ready to place, with its surface.
-#[cfg(feature = "gltf")]
 pub type MeshPart = (Arc<MeshData>, MeshMaterial);
 
 /// The meshes of a glTF file, each part baked, BVHs built, and the
@@ -407,7 +406,7 @@ pub(super) fn read_meshes(
         #[cfg(not(feature = "gltf"))]
         let _ = path;
         #[cfg(not(feature = "gltf"))]
-        let loaded: Result<(Vec<(Arc<MeshData>, MeshMaterial)>, Vec<String>), &str> =
+        let loaded: Result<(Vec<MeshPart>, Vec<String>), &str> =
             Err("this build has no glTF support (bevy_manifold_core's `gltf` feature)");
         #[cfg(feature = "gltf")]
         let loaded = meshes_of(&path);

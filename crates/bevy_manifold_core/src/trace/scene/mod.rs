@@ -7,9 +7,10 @@ mod file;
 mod mesh;
 mod presets;
 
+pub use file::MeshPart;
 pub use file::SceneError;
 #[cfg(feature = "gltf")]
-pub use file::{MeshPart, meshes_of};
+pub use file::meshes_of;
 pub use mesh::{SceneMesh, baked};
 #[cfg(feature = "gltf")]
 pub use presets::builtin;

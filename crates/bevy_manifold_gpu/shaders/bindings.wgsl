@@ -1,0 +1,158 @@
+// The tracer's data as the GPU sees it: the structs of bind group 0, the
+// bindings themselves, and the constants the CPU and GPU sides share.
+//
+// Rust twin: crates/bevy_manifold_gpu/src/layout.rs (the `Gpu…` structs,
+// `#[repr(C)]`, byte for byte; a naga layouter test holds the two to the
+// same sizes and offsets). The bind group layout that matches the
+// `@binding`s below is built in crates/bevy_manifold_gpu (headless runner,
+// render pass).
+//
+// Shader defs read: MESHES (the mesh bindings 6 and 7).
+//
+// Padding is `pad: array<u32, 3>` as in Rust (`pad: [u32; 3]`): the same
+// bytes as the single file's `_pad0`..`_pad2`, which naga_oil rejects in an
+// import module (a member name ending in a digit does not survive naga's
+// write-back unchanged).
+#define_import_path bevy_manifold::bindings
+
+// Rust twin: GpuParams in crates/bevy_manifold_gpu/src/layout.rs.
+struct Params {
+    camera: mat4x4<f32>,
+    camera_cell: mat4x4<f32>,
+    fog_color: vec4<f32>,
+    width: u32,
+    height: u32,
+    // Most transports per ray (TraceSettings::levels).
+    levels: u32,
+    face_count: u32,
+    ball_count: u32,
+    tube_count: u32,
+    light_count: u32,
+    camera_cell_index: u32,
+    tan_half_fov: f32,
+    max_distance: f32,
+    fog_density: f32,
+    tube_k: f32,
+    // The render pass: the viewport's top-left pixel in the target, and the
+    // camera's near plane (Bevy's reverse-z depth is near / view depth).
+    origin_x: u32,
+    origin_y: u32,
+    near: f32,
+    // FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE: measurement switches
+    // (TraceSettings::fog_early_stop, ::renormalize), both off by default.
+    flags: u32,
+    // CELLS_LATTICE: 1 / edge lengths of the box; CELLS_HASHED: 1 / grid
+    // step in x, the f32 horizon (HASHED_HORIZON_F32) in y.
+    cell_scale: vec4<f32>,
+    instance_count: u32,
+    // CELL_COLORS: the tint (CellTint::words): mode 0 by cell, 1 highlight
+    // the cell (cell_a, cell_b), 2 on/off pattern with threshold cell_a.
+    cell_mode: u32,
+    cell_a: u32,
+    cell_b: u32,
+}
+
+// Rust twin: GpuFace in crates/bevy_manifold_gpu/src/layout.rs.
+struct Face {
+    plane: vec4<f32>,
+    pairing: mat4x4<f32>,
+    // T_i^-1: what the ray's cell element is right-multiplied by.
+    crossing: mat4x4<f32>,
+    partner: u32,
+    pad: array<u32, 3>,
+}
+
+// Rust twin: GpuBall in crates/bevy_manifold_gpu/src/layout.rs.
+struct Ball {
+    center: vec4<f32>,
+    color: vec3<f32>,
+    // cosh r (H3), cos r (S3), r^2 (E3)
+    k: f32,
+    id: u32,
+    pad: array<u32, 3>,
+}
+
+// Rust twin: GpuTube in crates/bevy_manifold_gpu/src/layout.rs (the
+// geometry of Segment in crates/bevy_manifold_core/src/trace/step.rs, and
+// a colour).
+struct Tube {
+    a: vec4<f32>,
+    e: vec4<f32>,
+    b: vec4<f32>,
+    e_b: vec4<f32>,
+    color: vec4<f32>,
+}
+
+// Rust twin: GpuInstance in crates/bevy_manifold_gpu/src/layout.rs. A mesh
+// instance: offsets into mesh_data.
+struct Instance {
+    // World chart to the mesh's own coordinates.
+    to_local: mat4x4<f32>,
+    // Bounding ball.
+    center: vec4<f32>,
+    color: vec3<f32>,
+    k: f32,
+    nodes: u32,
+    vertices: u32,
+    triangles: u32,
+    id: u32,
+    // Texels' offset, and size (width 0: no texture).
+    texture: u32,
+    tex_width: u32,
+    tex_height: u32,
+    node_count: u32,
+    // 1: the home copy of a mesh attached to the camera, not drawn before
+    // the first transport.
+    attached: u32,
+    pad: array<u32, 3>,
+}
+
+// Rust twin: GpuLight in crates/bevy_manifold_gpu/src/layout.rs.
+struct Light {
+    position: vec4<f32>,
+    color: vec3<f32>,
+    intensity: f32,
+}
+
+// Rust twin: GpuPixel in crates/bevy_manifold_gpu/src/layout.rs. What one
+// pixel saw: colour, then object id, levels, cell id (two words).
+struct Pixel {
+    color: vec4<f32>,
+    object: u32,
+    levels: u32,
+    cell_lo: u32,
+    cell_hi: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<storage, read> faces: array<Face>;
+@group(0) @binding(2) var<storage, read> balls: array<Ball>;
+@group(0) @binding(3) var<storage, read> tubes: array<Tube>;
+@group(0) @binding(4) var<storage, read> lights: array<Light>;
+// CELLS_FINITE: table[k * face_count + f] = index of element k * T_f.
+@group(0) @binding(5) var<storage, read> cell_table: array<u32>;
+#ifdef MESHES
+@group(0) @binding(6) var<storage, read> instances: array<Instance>;
+// Per mesh: BVH nodes, vertices, triangles, texels (bvh.wgsl reads them).
+@group(0) @binding(7) var<storage, read> mesh_data: array<vec4<u32>>;
+#endif
+// The compute entries' output.
+@group(0) @binding(8) var<storage, read_write> pixels: array<Pixel>;
+
+// Pixel::object of a domain edge (a tube). Rust twin: EDGE_ID in
+// crates/bevy_manifold_core/src/trace/flat.rs.
+const EDGE_ID: u32 = 255u;
+// Params::flags bits. Rust twins: FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE
+// in crates/bevy_manifold_gpu/src/layout.rs.
+const FLAG_NO_EARLY_STOP: u32 = 1u;
+const FLAG_NO_RENORMALIZE: u32 = 2u;
+// No face: a ray that entered by none, or leaves by none (S3, no face
+// within a quarter turn). Rust: None, or usize::MAX for Walker::entered.
+const NO_FACE: u32 = 0xffffffffu;
+// The BVH walk's stack depth. Rust twin: MAX_DEPTH in
+// crates/bevy_manifold_core/src/mesh/bvh.rs.
+const BVH_STACK: u32 = 40u;
+// ln 255 (the f32 nearest it): once fog_density * distance passes it, fog
+// has left less than 1/255 of an object's light and the ray may stop.
+// Rust twin: FOG_CUT in crates/bevy_manifold_core/src/trace/render.rs.
+const FOG_CUT: f32 = 5.5412636;

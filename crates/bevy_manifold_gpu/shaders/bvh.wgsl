@@ -1,0 +1,141 @@
+// Triangle meshes in their own chart, where a ray is affine: the packed
+// mesh data, the slab test, Moller-Trumbore, and the BVH walk.
+//
+// Rust twin: crates/bevy_manifold_core/src/mesh/bvh.rs (MeshHit,
+// hit_triangle, hit_box, safe_inverse, hit_mesh; MAX_DEPTH is BVH_STACK in
+// bindings.wgsl). The packing of mesh_data is GpuObjects::mesh_data in
+// crates/bevy_manifold_gpu/src/layout.rs.
+//
+// Shader defs read: MESHES (the whole module: compiled in only with
+// meshes; render.wgsl imports it only then).
+#define_import_path bevy_manifold::bvh
+
+#ifdef MESHES
+#import bevy_manifold::bindings::{Instance, mesh_data, BVH_STACK}
+
+// mesh_data holds, per mesh: BVH nodes (two words each: min.xyz and
+// first, max.xyz and count; an inner node's left child is the next node,
+// `first` its right child), vertices (two words: position.xyz and u,
+// normal.xyz and v), triangles (one word: three vertex indices) and
+// texels (four RGBA8 per word). Floats are stored as their bits.
+fn data_vec3(i: u32) -> vec3<f32> {
+    return bitcast<vec3<f32>>(mesh_data[i].xyz);
+}
+
+struct MeshHit {
+    s: f32,
+    triangle: u32,
+    u: f32,
+    v: f32,
+}
+
+// Moller-Trumbore, either side: (s, u, v), s = -1 for a miss.
+fn hit_triangle(o: vec3<f32>, d: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> vec3<f32> {
+    let miss = vec3<f32>(-1.0, 0.0, 0.0);
+    let e1 = b - a;
+    let e2 = c - a;
+    let p = cross(d, e2);
+    let det = dot(e1, p);
+    if det == 0.0 {
+        return miss;
+    }
+    let inv = 1.0 / det;
+    let q = o - a;
+    let u = dot(q, p) * inv;
+    if u < 0.0 || u > 1.0 {
+        return miss;
+    }
+    let r = cross(q, e1);
+    let v = dot(d, r) * inv;
+    if v < 0.0 || u + v > 1.0 {
+        return miss;
+    }
+    let s = dot(e2, r) * inv;
+    return select(miss, vec3<f32>(s, u, v), s >= 0.0);
+}
+
+// Entering s of o + s d into the box within [0, s_max]; -1 for a miss.
+fn hit_box(o: vec3<f32>, inv_d: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>, s_max: f32) -> f32 {
+    let t0 = (lo - o) * inv_d;
+    let t1 = (hi - o) * inv_d;
+    let near = min(t0, t1);
+    let far = max(t0, t1);
+    let enter = max(max(near.x, near.y), max(near.z, 0.0));
+    let leave = min(min(far.x, far.y), min(far.z, s_max));
+    return select(-1.0, enter, enter <= leave);
+}
+
+// 1 / c, with |c| kept above 1e-20 so the slab test meets no infinity.
+fn safe_inverse(c: vec3<f32>) -> vec3<f32> {
+    let small = abs(c) < vec3<f32>(1.0e-20);
+    return 1.0 / select(c, select(vec3<f32>(1.0e-20), vec3<f32>(-1.0e-20), c < vec3<f32>(0.0)), small);
+}
+
+fn triangle_corner(inst: Instance, tri: vec4<u32>, k: u32) -> vec3<f32> {
+    return data_vec3(inst.vertices + 2u * tri[k]);
+}
+
+// The nearest hit through the hierarchy, nearer child first. (Rust loops
+// while the stack is not empty; here node_count also bounds the loop.)
+fn hit_mesh(inst: Instance, o: vec3<f32>, d: vec3<f32>, s_max: f32) -> MeshHit {
+    let inv_d = safe_inverse(d);
+    var best = MeshHit(-1.0, 0u, 0.0, 0.0);
+    var limit = s_max;
+    var stack: array<u32, BVH_STACK>;
+    var top = 1u;
+    stack[0] = 0u;
+    // Every node is visited at most once: a hard bound on the loop.
+    for (var guard = 0u; guard < inst.node_count && top > 0u; guard++) {
+        top -= 1u;
+        let index = stack[top];
+        let w0 = mesh_data[inst.nodes + 2u * index];
+        let w1 = mesh_data[inst.nodes + 2u * index + 1u];
+        if hit_box(o, inv_d, bitcast<vec3<f32>>(w0.xyz), bitcast<vec3<f32>>(w1.xyz), limit) < 0.0 {
+            continue;
+        }
+        if w1.w > 0u {
+            for (var t = w0.w; t < w0.w + w1.w; t++) {
+                let tri = mesh_data[inst.triangles + t];
+                let h = hit_triangle(o, d, triangle_corner(inst, tri, 0u), triangle_corner(inst, tri, 1u), triangle_corner(inst, tri, 2u));
+                if h.x >= 0.0 && h.x <= limit {
+                    limit = h.x;
+                    best = MeshHit(h.x, t, h.y, h.z);
+                }
+            }
+            continue;
+        }
+        // Push the farther child first so the nearer is walked first.
+        let l = index + 1u;
+        let r = w0.w;
+        let lw0 = mesh_data[inst.nodes + 2u * l];
+        let lw1 = mesh_data[inst.nodes + 2u * l + 1u];
+        let rw0 = mesh_data[inst.nodes + 2u * r];
+        let rw1 = mesh_data[inst.nodes + 2u * r + 1u];
+        let nl = hit_box(o, inv_d, bitcast<vec3<f32>>(lw0.xyz), bitcast<vec3<f32>>(lw1.xyz), limit);
+        let nr = hit_box(o, inv_d, bitcast<vec3<f32>>(rw0.xyz), bitcast<vec3<f32>>(rw1.xyz), limit);
+        if nl >= 0.0 && nr >= 0.0 {
+            let first = select(r, l, nl <= nr);
+            let second = select(l, r, nl <= nr);
+            if top < BVH_STACK {
+                stack[top] = second;
+                top += 1u;
+            }
+            if top < BVH_STACK {
+                stack[top] = first;
+                top += 1u;
+            }
+        } else if nl >= 0.0 {
+            if top < BVH_STACK {
+                stack[top] = l;
+                top += 1u;
+            }
+        } else if nr >= 0.0 {
+            if top < BVH_STACK {
+                stack[top] = r;
+                top += 1u;
+            }
+        }
+    }
+    return best;
+}
+#endif

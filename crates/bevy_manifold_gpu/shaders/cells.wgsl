@@ -1,0 +1,87 @@
+// Cells of the covering space: which copy of the domain a
+// ray ended in, as the two words of a CellId, and the per-cell tint.
+//
+// Rust twin: crates/bevy_manifold_core/src/space/cells.rs (CellScheme::
+// id_within, CellId::hash, CellTint::tint, hash32, hash_key; u32
+// arithmetic only, so both sides make the same ids).
+//
+// Shader defs read: CELLS_FINITE, CELLS_LATTICE (else CELLS_HASHED),
+// CELL_COLORS (cell_hash, cell_color); MESHES through bindings.
+#define_import_path bevy_manifold::cells
+
+#import bevy_manifold::bindings::params
+
+// The cell id as (lo, hi) words of CellId, from the cell's group element
+// (and, for finite groups, its table index). Rust: CellScheme::id_within.
+fn cell_id(cell: mat4x4<f32>, index: u32) -> vec2<u32> {
+#ifdef CELLS_FINITE
+    return vec2<u32>(index, 0u);
+#else ifdef CELLS_LATTICE
+    let c = cell[3].xyz / cell[3].w * params.cell_scale.xyz;
+    let l = vec3<i32>(round(c));
+    if all(l == vec3<i32>(0)) {
+        return vec2<u32>(0u);
+    }
+    // 21 bits per coordinate, tag bit 63 (CellId::from_lattice).
+    let m = 0x1fffffu;
+    let x = bitcast<u32>(l.x) & m;
+    let y = bitcast<u32>(l.y) & m;
+    let z = bitcast<u32>(l.z) & m;
+    let lo = x | (y << 21u);
+    let hi = (y >> 11u) | (z << 10u) | 0x80000000u;
+    return vec2<u32>(lo, hi);
+#else
+    let c = cell[3];
+    let key = vec4<i32>(round(c * params.cell_scale.x));
+    let origin = vec4<i32>(round(vec4<f32>(0.0, 0.0, 0.0, 1.0) * params.cell_scale.x));
+    if all(key == origin) {
+        return vec2<u32>(0u);
+    }
+    let lo = hash_key(key, 0x9e3779b9u);
+    var hi = hash_key(key, 0x85ebca6bu) & 0x3fffffffu;
+    if abs(c.w) >= params.cell_scale.y {
+        hi |= 0x40000000u; // CellId::FAR, past the f32 horizon
+    }
+    return vec2<u32>(select(lo, 1u, lo == 0u && hi == 0u), hi);
+#endif
+}
+
+#ifdef CELL_COLORS
+// CellId::hash
+fn cell_hash(id: vec2<u32>) -> u32 {
+    return hash32(id.x ^ hash32(id.y));
+}
+
+// CellTint::tint
+fn cell_color(id: vec2<u32>) -> vec3<f32> {
+    let origin = id.x == 0u && id.y == 0u;
+    if params.cell_mode == 1u {
+        return select(vec3<f32>(1.0), vec3<f32>(1.0, 0.55, 0.15), id.x == params.cell_a && id.y == params.cell_b);
+    }
+    if params.cell_mode == 2u {
+        return vec3<f32>(select(0.12, 1.0, origin || (cell_hash(id) >> 8u) < params.cell_a));
+    }
+    if origin {
+        return vec3<f32>(1.0);
+    }
+    let h = cell_hash(id);
+    return 0.25 + 0.75 * vec3<f32>(f32(h & 0xffu), f32((h >> 8u) & 0xffu), f32((h >> 16u) & 0xffu)) / 255.0;
+}
+#endif
+
+// PCG's output permutation. Rust: hash32.
+fn hash32(x: u32) -> u32 {
+    let state = x * 747796405u + 2891336453u;
+    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+// Hash of a rounded cell centre, seeded. Rust: hash_key.
+fn hash_key(key: vec4<i32>, seed: u32) -> u32 {
+    var h = seed;
+    h = hash32(h ^ bitcast<u32>(key.x));
+    h = hash32(h ^ bitcast<u32>(key.y));
+    h = hash32(h ^ bitcast<u32>(key.z));
+    h = hash32(h ^ bitcast<u32>(key.w));
+    return h;
+}

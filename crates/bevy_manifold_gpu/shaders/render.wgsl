@@ -1,0 +1,194 @@
+// Algorithm 1 per pixel: the camera ray, the nearest object
+// on each segment of its walk, and the shading at the hit.
+//
+// Rust twin: crates/bevy_manifold_core/src/trace/render.rs (camera_ray,
+// trace_ray as trace_pixel, Hit, nearest_object, shade).
+//
+// Shader defs read: FOG (early stop, fog colour), BALLS, TUBES, MESHES
+// (which objects are tested and shaded), CELL_COLORS, LIGHTS;
+// GEOMETRY_*, TRANSLATIONS_ONLY, CELLS_* through the imports.
+#define_import_path bevy_manifold::render
+
+#import bevy_manifold::bindings::{params, balls, tubes, lights, Pixel, EDGE_ID, FLAG_NO_EARLY_STOP, FOG_CUT}
+#import bevy_manifold::geometry::{form, normalize_point, normalize_tangent, distance, chart_to_distance, sphere_area}
+#import bevy_manifold::step::{Ray, normal_from}
+#import bevy_manifold::cells::cell_id
+#import bevy_manifold::walk::{walker_new, max_passes, segment_end, walk_segment}
+#ifdef BALLS
+#import bevy_manifold::step::hit_ball
+#endif
+#ifdef TUBES
+#import bevy_manifold::step::{hit_tube, foot_on_line}
+#endif
+#ifdef CELL_COLORS
+#import bevy_manifold::cells::cell_color
+#endif
+#ifdef MESHES
+#import bevy_manifold::bindings::instances
+#import bevy_manifold::bvh::MeshHit
+#import bevy_manifold::mesh_hit::{hit_instance, mesh_normal, mesh_albedo}
+#endif
+
+// The pixel's view direction in the camera's frame (unit, -z forward).
+fn view_direction(i: u32, j: u32) -> vec4<f32> {
+    let w = f32(params.width);
+    let h = f32(params.height);
+    let x = 2.0 * (f32(i) + 0.5) / w - 1.0;
+    let y = 1.0 - 2.0 * (f32(j) + 0.5) / h;
+    let d = vec4<f32>(x * params.tan_half_fov * (w / h), y * params.tan_half_fov, -1.0, 0.0);
+    return d * (1.0 / sqrt(dot(d, d)));
+}
+
+fn camera_ray(i: u32, j: u32) -> Ray {
+    let d = view_direction(i, j);
+    let o = normalize_point(params.camera * vec4<f32>(0.0, 0.0, 0.0, 1.0));
+    return Ray(o, normalize_tangent(o, params.camera * d));
+}
+
+fn background() -> vec3<f32> {
+#ifdef FOG
+    return params.fog_color.xyz;
+#else
+    return vec3<f32>(0.0);
+#endif
+}
+
+// Algorithm 1 for the pixel (i, j) of the view (Rust: trace_ray): on each
+// segment the nearest object, else walk on through the exit face.
+fn trace_pixel(i: u32, j: u32) -> Pixel {
+    var walk = walker_new(camera_ray(i, j), params.camera_cell, params.camera_cell_index);
+    let passes = max_passes();
+    for (var pass_index = 0u; pass_index < passes; pass_index++) {
+#ifdef FOG
+        let early_stop = (params.flags & FLAG_NO_EARLY_STOP) == 0u;
+        if early_stop && params.fog_density * walk.travelled > FOG_CUT {
+            break;
+        }
+#endif
+        let seg = segment_end(walk);
+        let hit = nearest_object(walk.ray, seg.t, walk.levels);
+        if hit.kind != 0u {
+            let dist = walk.travelled + chart_to_distance(hit.t);
+            let cid = cell_id(walk.cell, walk.index);
+            var object = EDGE_ID;
+#ifdef BALLS
+            if hit.kind == 1u {
+                object = balls[hit.index].id;
+            }
+#endif
+#ifdef MESHES
+            if hit.kind == 3u {
+                object = instances[hit.index].id;
+            }
+#endif
+            return Pixel(vec4<f32>(shade(walk.ray, hit, dist, cid), dist), object, walk.levels, cid.x, cid.y);
+        }
+        if walk_segment(&walk, seg).stop {
+            break;
+        }
+    }
+    let cid = cell_id(walk.cell, walk.index);
+    return Pixel(vec4<f32>(background(), walk.travelled), 0u, walk.levels, cid.x, cid.y);
+}
+
+// Which object a ray hit (Rust: the enum Hit).
+struct Hit {
+    t: f32,
+    // 0 none, 1 ball, 2 tube, 3 mesh instance
+    kind: u32,
+    index: u32,
+    // A mesh hit: triangle and barycentrics.
+    triangle: u32,
+    u: f32,
+    v: f32,
+}
+
+// The nearest object on the ray within [0, t_end], at `level` transports
+// (a mesh attached to the camera is skipped at 0).
+fn nearest_object(ray: Ray, t_end: f32, level: u32) -> Hit {
+    var best = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
+#ifdef BALLS
+    for (var i = 0u; i < params.ball_count; i++) {
+        let t = hit_ball(ray, balls[i].center, balls[i].k, 0.0);
+        if t >= 0.0 && t <= t_end && (best.kind == 0u || t < best.t) {
+            best = Hit(t, 1u, i, 0u, 0.0, 0.0);
+        }
+    }
+#endif
+#ifdef TUBES
+    for (var i = 0u; i < params.tube_count; i++) {
+        let t = hit_tube(ray, tubes[i], params.tube_k, 0.0);
+        if t >= 0.0 && t <= t_end && (best.kind == 0u || t < best.t) {
+            best = Hit(t, 2u, i, 0u, 0.0, 0.0);
+        }
+    }
+#endif
+#ifdef MESHES
+    for (var i = 0u; i < params.instance_count; i++) {
+        if instances[i].attached != 0u && level == 0u {
+            continue;
+        }
+        let limit = select(t_end, best.t, best.kind != 0u);
+        let h = hit_instance(ray, instances[i], limit);
+        if h.t >= 0.0 && h.t <= limit {
+            best = Hit(h.t, 3u, i, h.hit.triangle, h.hit.u, h.hit.v);
+        }
+    }
+#endif
+    return best;
+}
+
+// Lambert + Blinn shading at the hit, lights with geometry-correct
+// fall-off (1 / area of the sphere of radius d), per-cell colour, fog.
+fn shade(ray: Ray, hit: Hit, dist: f32, cell: vec2<u32>) -> vec3<f32> {
+    let x = normalize_point(ray.origin + ray.dir * hit.t);
+    let view = -normalize_tangent(x, ray.dir);
+    var normal = vec4<f32>(0.0);
+    var albedo = vec3<f32>(1.0);
+#ifdef BALLS
+    if hit.kind == 1u {
+        normal = normal_from(x, balls[hit.index].center);
+        albedo = balls[hit.index].color;
+    }
+#endif
+#ifdef TUBES
+    if hit.kind == 2u {
+        let seg = tubes[hit.index];
+        normal = normal_from(x, foot_on_line(x, seg));
+        albedo = seg.color.xyz;
+    }
+#endif
+#ifdef MESHES
+    if hit.kind == 3u {
+        let inst = instances[hit.index];
+        let h = MeshHit(0.0, hit.triangle, hit.u, hit.v);
+        normal = mesh_normal(inst, h, x, view);
+        albedo = mesh_albedo(inst, h);
+    }
+#endif
+#ifdef CELL_COLORS
+    albedo *= cell_color(cell);
+#endif
+    var rgb = albedo * 0.08;
+#ifdef LIGHTS
+    for (var i = 0u; i < params.light_count; i++) {
+        let l = lights[i];
+        let d = distance(x, l.position);
+        let to_light = normalize_tangent(x, l.position);
+        let irradiance = l.intensity / max(sphere_area(d), 1.0e-4);
+        let lambert = max(form(normal, to_light), 0.0);
+        let half = to_light + view;
+        let hl = sqrt(form(half, half));
+        var spec = 0.0;
+        if hl > 1.0e-12 {
+            spec = pow(max(form(normal, half) / hl, 0.0), 32.0) * 0.35;
+        }
+        rgb += (albedo * lambert + spec) * irradiance * l.color;
+    }
+#endif
+#ifdef FOG
+    let tr = exp(-(params.fog_density * dist));
+    rgb = rgb * tr + params.fog_color.xyz * (1.0 - tr);
+#endif
+    return rgb;
+}

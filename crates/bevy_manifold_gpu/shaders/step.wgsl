@@ -1,0 +1,206 @@
+// The steps of Algorithm 1 on one ray: where it crosses a face, how it
+// advances to there and is carried through the pairing, and where it meets
+// a ball or a tube. A ray is a normalised point and a unit tangent there;
+// its points are o + t d in the chart.
+//
+// Rust twin: crates/bevy_manifold_core/src/trace/step.rs (same names, same
+// order of functions, same arithmetic in the same order).
+//
+// Shader defs read: TRANSLATIONS_ONLY (transport), BALL_HITS (hit_ball),
+// TUBES (hit_tube, foot_on_line), GEOMETRY_HYPERBOLIC / GEOMETRY_SPHERICAL
+// / GEOMETRY_EUCLIDEAN (the quadrics); MESHES through bindings.
+#define_import_path bevy_manifold::step
+
+#import bevy_manifold::bindings::{params, faces, Tube, NO_FACE, FLAG_NO_RENORMALIZE}
+#import bevy_manifold::geometry::{form, normalize_point, normalize_tangent}
+
+struct Ray {
+    origin: vec4<f32>,
+    dir: vec4<f32>,
+}
+
+// Where a ray crosses a face: the nearest face it leaves through
+// (n . d > 0), skipping the face it just entered; t = -(n . o) / (n . d),
+// clamped at 0 so a point a hair outside leaves at once.
+struct Exit {
+    face: u32,
+    t: f32,
+}
+
+// Where a ray crosses a face (see Exit); NO_FACE when it leaves by none.
+fn exit_face(ray: Ray, skip: u32) -> Exit {
+    var best = Exit(NO_FACE, 0.0);
+    for (var i = 0u; i < params.face_count; i++) {
+        if i == skip {
+            continue;
+        }
+        let n = faces[i].plane;
+        let nd = dot(n, ray.dir);
+        if nd > 0.0 {
+            let t = max(-dot(n, ray.origin) / nd, 0.0);
+            if best.face == NO_FACE || t < best.t {
+                best = Exit(i, t);
+            }
+        }
+    }
+    return best;
+}
+
+fn advance(ray: Ray, t: f32) -> Ray {
+    let p = normalize_point(ray.origin + ray.dir * t);
+    return Ray(p, normalize_tangent(p, ray.dir));
+}
+
+// advance without renormalisation (measuring drift only): the factors
+// that are exact for a normalised ray, not measured from the vectors.
+fn advance_raw(ray: Ray, t: f32) -> Ray {
+    let o = ray.origin;
+    let d = ray.dir;
+#ifdef GEOMETRY_HYPERBOLIC
+    let s = 1.0 / sqrt(1.0 - t * t);
+    return Ray((o + d * t) * s, (o * t + d) * s);
+#else ifdef GEOMETRY_SPHERICAL
+    let s = 1.0 / sqrt(1.0 + t * t);
+    return Ray((o + d * t) * s, (d - o * t) * s);
+#else
+    return Ray(o + d * t, d);
+#endif
+}
+
+// Rust passes `renormalize` in (TraceSettings::renormalize); here it is
+// the FLAG_NO_RENORMALIZE bit of Params::flags.
+fn renormalize() -> bool {
+    return (params.flags & FLAG_NO_RENORMALIZE) == 0u;
+}
+
+// advance, or advance_raw when FLAG_NO_RENORMALIZE is set.
+fn advance_or_raw(ray: Ray, t: f32) -> Ray {
+    if renormalize() {
+        return advance(ray, t);
+    }
+    return advance_raw(ray, t);
+}
+
+// Carries a ray that reached `face` through its pairing T_face, and
+// renormalises it. (Rust takes the pairing matrix; here the face index.)
+fn transport(face: u32, ray: Ray) -> Ray {
+#ifdef TRANSLATIONS_ONLY
+    // A translation moves the point and leaves directions alone.
+    return Ray(faces[face].pairing * ray.origin, ray.dir);
+#else
+    let o = normalize_point(faces[face].pairing * ray.origin);
+    return Ray(o, normalize_tangent(o, faces[face].pairing * ray.dir));
+#endif
+}
+
+// transport without renormalisation (measuring drift only).
+fn transport_raw(face: u32, ray: Ray) -> Ray {
+    return Ray(faces[face].pairing * ray.origin, faces[face].pairing * ray.dir);
+}
+
+// transport, or transport_raw when FLAG_NO_RENORMALIZE is set.
+fn transport_or_raw(face: u32, ray: Ray) -> Ray {
+    if renormalize() {
+        return transport(face, ray);
+    }
+    return transport_raw(face, ray);
+}
+
+// Smallest t >= t_min where a t^2 + 2 b t + c goes from positive to
+// non-positive; -1 when none.
+fn entering_root(a: f32, b: f32, c: f32, t_min: f32) -> f32 {
+    let disc = b * b - a * c;
+    if disc < 0.0 {
+        return -1.0;
+    }
+    let s = sqrt(disc);
+    let q = select(-(b + s), s - b, b < 0.0);
+    var best = -1.0;
+    if q != 0.0 {
+        let t = c / q;
+        if t >= t_min && a * t + b < 0.0 {
+            best = t;
+        }
+    }
+    if abs(a) > 1.1920929e-7 * (abs(b) + abs(c)) {
+        let t = q / a;
+        if t >= t_min && a * t + b < 0.0 && (best < 0.0 || t < best) {
+            best = t;
+        }
+    }
+    return best;
+}
+
+#ifdef BALL_HITS
+// Balls, and the bounding balls of mesh instances.
+fn hit_ball(ray: Ray, c: vec4<f32>, k: f32, t_min: f32) -> f32 {
+    let o = ray.origin;
+    let d = ray.dir;
+#ifdef GEOMETRY_HYPERBOLIC
+    let a0 = form(o, c);
+    let b0 = form(d, c);
+    let t = entering_root(b0 * b0 + k * k, a0 * b0, a0 * a0 - k * k, t_min);
+    return select(-1.0, t, t >= 0.0 && a0 + t * b0 < 0.0);
+#else ifdef GEOMETRY_SPHERICAL
+    let a0 = form(o, c);
+    let b0 = form(d, c);
+    let t = entering_root(k * k - b0 * b0, -(a0 * b0), k * k - a0 * a0, t_min);
+    return select(-1.0, t, t >= 0.0 && a0 + t * b0 > 0.0);
+#else
+    let q = o - c;
+    let b = form(q, d);
+    return entering_root(form(d, d), b, form(q, q) - k, t_min);
+#endif
+}
+#endif
+
+#ifdef TUBES
+fn hit_tube(ray: Ray, seg: Tube, k: f32, t_min: f32) -> f32 {
+    let o = ray.origin;
+    let d = ray.dir;
+#ifdef GEOMETRY_HYPERBOLIC
+    let a1 = form(o, seg.a);
+    let b1 = form(d, seg.a);
+    let a2 = form(o, seg.e);
+    let b2 = form(d, seg.e);
+    let t = entering_root(b1 * b1 - b2 * b2 + k * k, a1 * b1 - a2 * b2, a1 * a1 - a2 * a2 - k * k, t_min);
+#else ifdef GEOMETRY_SPHERICAL
+    let a1 = form(o, seg.a);
+    let b1 = form(d, seg.a);
+    let a2 = form(o, seg.e);
+    let b2 = form(d, seg.e);
+    let t = entering_root(k * k - b1 * b1 - b2 * b2, -(a1 * b1 + a2 * b2), k * k - a1 * a1 - a2 * a2, t_min);
+#else
+    let q = o - seg.a;
+    let qe = form(q, seg.e);
+    let de = form(d, seg.e);
+    let t = entering_root(1.0 - de * de, form(q, d) - qe * de, form(q, q) - qe * qe - k, t_min);
+#endif
+    if t < 0.0 {
+        return -1.0;
+    }
+    let p = o + d * t;
+#ifdef GEOMETRY_EUCLIDEAN
+    let along_a = form(p - seg.a, seg.e);
+    let along_b = form(p - seg.b, seg.e_b);
+#else
+    let along_a = form(p, seg.e);
+    let along_b = form(p, seg.e_b);
+#endif
+    return select(-1.0, t, along_a >= 0.0 && along_b <= 0.0);
+}
+
+fn foot_on_line(x: vec4<f32>, seg: Tube) -> vec4<f32> {
+#ifdef GEOMETRY_HYPERBOLIC
+    return seg.e * form(x, seg.e) - seg.a * form(x, seg.a);
+#else ifdef GEOMETRY_SPHERICAL
+    return seg.a * form(x, seg.a) + seg.e * form(x, seg.e);
+#else
+    return seg.a + seg.e * form(x - seg.a, seg.e);
+#endif
+}
+#endif
+
+fn normal_from(x: vec4<f32>, c: vec4<f32>) -> vec4<f32> {
+    return normalize_tangent(x, -c);
+}

@@ -1,0 +1,109 @@
+// A ray walking segment by segment through the manifold: the part of
+// Algorithm 1 shared by the tracer (render.wgsl's
+// trace_pixel) and the drift probe (drift.wgsl), objects aside. It is
+// written once, here; both walks call it.
+//
+// Rust twin: crates/bevy_manifold_core/src/trace/walk.rs (Walker::new,
+// Walker::segment_end, Walker::step), and of trace_ray in
+// crates/bevy_manifold_core/src/trace/render.rs the part after the object
+// test (advance, add the length, stop past max_distance or at the level
+// limit, step on). Rust shares that part through trace_ray's on_step
+// callback, which WGSL lacks, so here it is walk_segment, and the distance
+// travelled is on the Walker.
+//
+// Shader defs read: CELLS_FINITE (the Cayley-table index);
+// GEOMETRY_* through geometry and step, TRANSLATIONS_ONLY through step,
+// MESHES through bindings.
+#define_import_path bevy_manifold::walk
+
+#import bevy_manifold::bindings::{params, faces, cell_table, NO_FACE}
+#import bevy_manifold::geometry::{chart_to_distance, max_chart_parameter}
+#import bevy_manifold::step::{Ray, Exit, exit_face, advance_or_raw, transport_or_raw}
+
+// Where a walking ray is: the start of its current segment, the face it
+// came in through, the cell it is in, how many faces it has crossed, and
+// how far it has gone.
+struct Walker {
+    // Start of the current segment (inside the domain).
+    ray: Ray,
+    // The face it entered by (skipped when looking for the exit), or
+    // NO_FACE.
+    entered: u32,
+    // The group element of the current cell: the ray's point in the cover
+    // is cell * ray.origin.
+    cell: mat4x4<f32>,
+    // CELLS_FINITE: the cell's index in the Cayley table (cell_table).
+    // Rust finds it from `cell` instead (CellScheme::id_within).
+    index: u32,
+    // Faces crossed so far (the paper's level).
+    levels: u32,
+    // Distance travelled (a local of trace_ray in Rust).
+    travelled: f32,
+}
+
+// A walk starting at `ray` in the cell (cell, index).
+fn walker_new(ray: Ray, cell: mat4x4<f32>, index: u32) -> Walker {
+    return Walker(ray, NO_FACE, cell, index, 0u, 0.0);
+}
+
+// The hard bound on a walk's passes, as the CPU's: every pass either
+// transports (at most params.levels times) or, in S3, advances by a fixed
+// distance of 1 (at most max_distance times), so no input makes it spin.
+fn max_passes() -> u32 {
+    return params.levels + u32(min(params.max_distance, 1.0e4)) + 2u;
+}
+
+// Where the current segment ends: the face it leaves through (NO_FACE in
+// S3 when no face is within a quarter turn) and the chart parameter.
+fn segment_end(walk: Walker) -> Exit {
+    let t_cap = max_chart_parameter();
+    var exit = exit_face(walk.ray, walk.entered);
+    if exit.face != NO_FACE && exit.t >= t_cap {
+        exit.face = NO_FACE;
+    }
+    exit.t = select(exit.t, t_cap, exit.face == NO_FACE);
+    return exit;
+}
+
+// Starts the next segment from `end`, the end of the current one: through
+// the pairing of `face` (moving to the neighbouring cell), or straight on
+// when there is no face. FLAG_NO_RENORMALIZE only to measure drift.
+fn walker_step(walk: ptr<function, Walker>, face: u32, end: Ray) {
+    if face == NO_FACE {
+        (*walk).ray = end;
+        (*walk).entered = NO_FACE;
+        return;
+    }
+    (*walk).ray = transport_or_raw(face, end);
+    (*walk).entered = faces[face].partner;
+    (*walk).cell = (*walk).cell * faces[face].crossing;
+#ifdef CELLS_FINITE
+    (*walk).index = cell_table[(*walk).index * params.face_count + faces[face].partner];
+#endif
+    (*walk).levels += 1u;
+}
+
+// One segment walked, as trace_ray's on_step sees it (Rust: PathStep).
+struct PathStep {
+    // Where the segment ended: on the face, or where the walk stopped.
+    end: Ray,
+    // The walk ends here (Rust: Stop::MaxDistance, Stop::MaxLevel).
+    stop: bool,
+}
+
+// The rest of a pass once no object was hit on the segment `seg` (from
+// segment_end): advance to its end, add its length, stop past
+// max_distance or at a face once params.levels faces are crossed, else
+// step on. Branches in trace_ray's order.
+fn walk_segment(walk: ptr<function, Walker>, seg: Exit) -> PathStep {
+    let end = advance_or_raw((*walk).ray, seg.t);
+    (*walk).travelled += chart_to_distance(seg.t);
+    if (*walk).travelled > params.max_distance {
+        return PathStep(end, true);
+    }
+    if seg.face != NO_FACE && (*walk).levels >= params.levels {
+        return PathStep(end, true);
+    }
+    walker_step(walk, seg.face, end);
+    return PathStep(end, false);
+}
