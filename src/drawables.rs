@@ -199,8 +199,13 @@ pub fn gather_scenes(
     mut removed_balls: RemovedComponents<TracedBall>,
     mut removed_lights: RemovedComponents<ManifoldLight>,
     mut removed_edges: RemovedComponents<DomainEdges>,
+    mut left_spaces: RemovedComponents<InSpace>,
 ) {
-    let removed = removed_balls.read().count() + removed_lights.read().count() + removed_edges.read().count() > 0;
+    let removed = removed_balls.read().count()
+        + removed_lights.read().count()
+        + removed_edges.read().count()
+        + left_spaces.read().count()
+        > 0;
     let any_missing = roots.iter().any(|(_, _, _, s, ..)| s.is_none());
     let dirty = removed || any_missing || !changed.is_empty() || !changed_roots.is_empty();
     if !dirty {
@@ -295,8 +300,6 @@ impl Plugin for DrawablesPlugin {
         app.register_type::<TracedBall>()
             .register_type::<ManifoldLight>()
             .register_type::<DomainEdges>()
-            .register_type::<crate::view::ManifoldFog>()
-            .register_type::<crate::view::CellShading>()
             .add_systems(self.schedule, gather_scenes.after(ManifoldSystems::Sync));
     }
 

@@ -2,6 +2,7 @@
 
 use crate::drawables::DrawablesPlugin;
 use crate::placement::PlacementPlugin;
+use crate::view::{CellShading, ManifoldFog};
 use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
 use bevy::prelude::*;
 
@@ -10,6 +11,8 @@ use bevy::prelude::*;
 ///   manifolds, gameplay ray casts;
 /// - [`DrawablesPlugin`]: the balls, lights and edges the tracer draws,
 ///   gathered per space when they change;
+/// - the view components [`ManifoldFog`] and [`CellShading`], registered
+///   for reflection (they need no renderer);
 /// - with the `render` feature and a renderer in the app,
 ///   [`crate::render::ManifoldRenderPlugin`]: every
 ///   [`crate::render::ManifoldCamera`] is ray-traced. Other cameras
@@ -55,7 +58,9 @@ impl Plugin for ManifoldPlugin {
         app.add_plugins((
             PlacementPlugin::in_schedule(self.schedule),
             DrawablesPlugin::in_schedule(self.schedule),
-        ));
+        ))
+        .register_type::<ManifoldFog>()
+        .register_type::<CellShading>();
         #[cfg(feature = "render")]
         app.add_plugins(crate::render::ManifoldRenderPlugin);
     }

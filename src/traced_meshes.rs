@@ -238,9 +238,12 @@ pub fn gather_meshes(
         ),
     >,
     mut removed: RemovedComponents<Mesh3d>,
+    mut left_spaces: RemovedComponents<InSpace>,
     mut warned: Local<HashSet<AssetId<Mesh>>>,
 ) {
-    let dirty = std::mem::take(&mut cache.dirty) || removed.read().count() > 0 || !changed.is_empty();
+    let dirty = std::mem::take(&mut cache.dirty)
+        || removed.read().count() + left_spaces.read().count() > 0
+        || !changed.is_empty();
     #[cfg(feature = "standard_material")]
     let materials_changed = materials.as_ref().is_some_and(|m| m.is_changed());
     #[cfg(not(feature = "standard_material"))]

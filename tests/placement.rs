@@ -481,3 +481,56 @@ fn two_spaces_at_once_each_wrap_their_own() {
         .collect();
     assert_eq!(faces, vec![(a, 0), (b, 0)]);
 }
+
+#[test]
+fn membership_follows_the_hierarchy_and_the_scene_follows_membership() {
+    let mut app = app(Duration::from_millis(10));
+    let torus = spawn_space(&mut app, catalog::torus(1.0));
+    let cube = spawn_space(&mut app, catalog::mirrored_cube(2.0));
+    let balls_in = |app: &App, root: Entity| app.world().get::<ManifoldScene>(root).map(|s| s.scene().balls.len());
+    let members = |app: &App, root: Entity| {
+        let mut m: Vec<Entity> = app
+            .world()
+            .get::<SpaceMembers>(root)
+            .map(|m| m.iter().collect())
+            .unwrap_or_default();
+        m.sort();
+        m
+    };
+    // A ball under a group under the torus: both live in the torus.
+    let group = app.world_mut().spawn(ChildOf(torus)).id();
+    let ball = app
+        .world_mut()
+        .spawn((ChildOf(group), TracedBall::new(0.1, Color::WHITE)))
+        .id();
+    app.update();
+    assert_eq!(app.world().get::<InSpace>(ball).map(InSpace::space), Some(torus));
+    assert_eq!(members(&app, torus), {
+        let mut m = vec![group, ball];
+        m.sort();
+        m
+    });
+    assert_eq!((balls_in(&app, torus), balls_in(&app, cube)), (Some(1), Some(0)));
+    // Re-parented into the cube: the group's whole subtree moves.
+    app.world_mut().entity_mut(group).insert(ChildOf(cube));
+    app.update();
+    assert_eq!(app.world().get::<InSpace>(ball).map(InSpace::space), Some(cube));
+    assert!(members(&app, torus).is_empty());
+    assert_eq!((balls_in(&app, torus), balls_in(&app, cube)), (Some(0), Some(1)));
+    // Detached: in no space, drawn nowhere.
+    app.world_mut().entity_mut(group).remove::<ChildOf>();
+    app.update();
+    assert!(app.world().get::<InSpace>(ball).is_none());
+    assert_eq!((balls_in(&app, torus), balls_in(&app, cube)), (Some(0), Some(0)));
+    // The group becomes a space root itself: its children live in it.
+    app.world_mut()
+        .entity_mut(group)
+        .insert(ManifoldSpace::new(catalog::poincare()));
+    app.update();
+    assert_eq!(app.world().get::<InSpace>(ball).map(InSpace::space), Some(group));
+    assert_eq!(balls_in(&app, group), Some(1));
+    // And stops being one: the ball is in no space again.
+    app.world_mut().entity_mut(group).remove::<ManifoldSpace>();
+    app.update();
+    assert!(app.world().get::<InSpace>(ball).is_none());
+}

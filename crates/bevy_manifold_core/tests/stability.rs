@@ -10,7 +10,6 @@ use bevy_manifold_core::prelude::*;
 use bevy_manifold_test_support::stress;
 use bevy_manifold_test_support::stress::{cpu_drift, empty_view, walk_settings, worst};
 use glam::DVec4;
-use rayon::prelude::*;
 
 /// Drift bounds with renormalisation on, after 1000 transports: f64 keeps
 /// every ray on the model to 1e-12, f32 to 1e-5.
@@ -72,18 +71,7 @@ fn long_rays_stay_on_the_model_only_with_renormalisation() {
 #[test]
 fn ten_million_face_crossings_keep_the_placement_exact() {
     const CROSSINGS: u64 = 10_000_000;
-    let spaces: Vec<Space> = catalog::NAMES
-        .iter()
-        .map(|n| catalog::by_name(n).expect("catalog"))
-        .collect();
-    let travels: Vec<_> = spaces
-        .par_iter()
-        .map(|s| {
-            let path = stress::face_axis_loop(s);
-            (path, stress::far_travel(s, &path, CROSSINGS))
-        })
-        .collect();
-    for (space, (path, far)) in spaces.iter().zip(travels) {
+    for (space, path, far) in stress::catalog_far_travels(CROSSINGS) {
         let name = space.name();
         let g = space.geometry();
         assert!(far.crossings >= CROSSINGS);
@@ -96,11 +84,7 @@ fn ten_million_face_crossings_keep_the_placement_exact() {
             space.outside_face(far.placement.w_axis, 1e-9).is_none(),
             "{name}: left the domain"
         );
-        let start_gap = (far.placement - path.start)
-            .abs()
-            .to_cols_array()
-            .into_iter()
-            .fold(0.0, f64::max);
+        let start_gap = stress::start_gap(&path, &far);
         eprintln!(
             "{name}: {} crossings in {} steps, isometry error {:.1e}, {:.1e} from the start",
             far.crossings, far.steps, far.isometry_error, start_gap,

@@ -58,7 +58,9 @@ fn max_passes() -> u32 {
 fn segment_end(walk: Walker) -> Exit {
     let t_cap = max_chart_parameter();
     var exit = exit_face(walk.ray, walk.entered);
-    if exit.face != NO_FACE && exit.t >= t_cap {
+    // As Walker::segment_end: a face is kept only when t < t_cap, so a NaN
+    // t keeps none.
+    if exit.face != NO_FACE && !(exit.t < t_cap) {
         exit.face = NO_FACE;
     }
     exit.t = select(exit.t, t_cap, exit.face == NO_FACE);

@@ -145,6 +145,34 @@ pub fn far_travel(space: &Space, path: &Path, crossings: u64) -> FarTravel {
     out
 }
 
+/// Every catalog space with its [`face_axis_loop`] travelled through at
+/// least `crossings` faces (the spaces in parallel): where the far-travel
+/// checks, on the CPU and on the GPU, start from.
+#[must_use]
+pub fn catalog_far_travels(crossings: u64) -> Vec<(Space, Path, FarTravel)> {
+    use rayon::prelude::*;
+    bevy_manifold_core::space::catalog::NAMES
+        .par_iter()
+        .map(|n| {
+            let space = bevy_manifold_core::space::catalog::by_name(n).expect("catalog");
+            let path = face_axis_loop(&space);
+            let far = far_travel(&space, &path, crossings);
+            (space, path, far)
+        })
+        .collect()
+}
+
+/// How far (the largest matrix entry of the difference) a travel ended
+/// from where its path began.
+#[must_use]
+pub fn start_gap(path: &Path, far: &FarTravel) -> f64 {
+    (far.placement - path.start)
+        .abs()
+        .to_cols_array()
+        .into_iter()
+        .fold(0.0, f64::max)
+}
+
 /// The placement a user would make directly at the position and facing of
 /// `m`: the translation to its point composed with the rotation of its
 /// frame, rebuilt from a unit quaternion (a mirror image keeps its
