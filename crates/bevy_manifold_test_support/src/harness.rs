@@ -1,8 +1,9 @@
-//! A test harness for files with GPU tests (libtest-mimic, so the output
-//! and the summary line are libtest's): without a GPU adapter each GPU
-//! test is listed as *ignored*, never as passed; under CI (`CI` set) a
-//! missing adapter is no excuse, so the GPU tests run and fail. CPU tests
-//! in the same file run everywhere.
+//! A test harness for test files with tests that need something the
+//! machine may not have (a GPU adapter, the shared Curved Spaces files):
+//! libtest-mimic, so the output and the summary line are libtest's.
+//! Without it each such test is listed as *ignored*, never as passed;
+//! under CI (`CI` set) its absence is no excuse, so those tests run and
+//! fail. The other tests in the file run everywhere.
 //!
 //! A test file sets `harness = false` in its crate's `Cargo.toml` and ends
 //! with:
@@ -13,28 +14,33 @@
 //!     gpu: [gpu_and_cpu_agree_in_every_space],
 //! }
 //! ```
+//!
+//! or, for another requirement, `test_main_requiring!` with
+//! `requiring(what, availability): [...]`.
 
 use libtest_mimic::{Arguments, Trial};
 
-/// Runs `cpu` tests always and `gpu` tests when a GPU adapter is there
-/// (or under CI, where its absence is a failure); the process exit code is
-/// libtest's.
+/// Runs `always` tests everywhere and `needing` tests when `available` is
+/// `Ok` (naming what was found) or under CI (where its `Err` is a
+/// failure); the process exit code is libtest's. `what` names the
+/// requirement in the lines printed.
 #[must_use]
-pub fn run(cpu: &[(&'static str, fn())], gpu: &[(&'static str, fn())]) -> std::process::ExitCode {
+pub fn run_requiring(
+    always: &[(&'static str, fn())],
+    needing: &[(&'static str, fn())],
+    what: &str,
+    available: Result<String, String>,
+) -> std::process::ExitCode {
     let args = Arguments::from_args();
-    let adapter = if gpu.is_empty() {
-        Ok(String::new())
-    } else {
-        bevy_manifold_gpu::probe_adapter().map_err(|e| e.to_string())
-    };
     let ci = std::env::var_os("CI").is_some();
-    match (&adapter, gpu.is_empty()) {
-        (_, true) => {}
-        (Ok(name), false) => eprintln!("GPU adapter: {name}"),
-        (Err(e), false) if ci => eprintln!("no GPU adapter under CI, so the GPU tests fail: {e}"),
-        (Err(e), false) => eprintln!("no GPU adapter ({e}): the GPU tests are ignored"),
+    if !needing.is_empty() {
+        match &available {
+            Ok(found) => eprintln!("{what}: {found}"),
+            Err(e) if ci => eprintln!("no {what} under CI, so the tests that need it fail: {e}"),
+            Err(e) => eprintln!("no {what} ({e}): the tests that need it are ignored"),
+        }
     }
-    let skip_gpu = adapter.is_err() && !ci;
+    let skip = available.is_err() && !ci;
     let trial = |(name, test): &(&'static str, fn()), ignored: bool| {
         let test = *test;
         Trial::test(*name, move || {
@@ -43,16 +49,30 @@ pub fn run(cpu: &[(&'static str, fn())], gpu: &[(&'static str, fn())]) -> std::p
         })
         .with_ignored_flag(ignored)
     };
-    let trials = cpu
+    let trials = always
         .iter()
         .map(|t| trial(t, false))
-        .chain(gpu.iter().map(|t| trial(t, skip_gpu)))
+        .chain(needing.iter().map(|t| trial(t, skip)))
         .collect();
     libtest_mimic::run(&args, trials).exit_code()
 }
 
+/// Runs `cpu` tests always and `gpu` tests when a GPU adapter is there
+/// (or under CI, where its absence is a failure).
+#[cfg(feature = "gpu")]
+#[must_use]
+pub fn run(cpu: &[(&'static str, fn())], gpu: &[(&'static str, fn())]) -> std::process::ExitCode {
+    let adapter = if gpu.is_empty() {
+        Ok(String::new())
+    } else {
+        bevy_manifold_gpu::probe_adapter().map_err(|e| e.to_string())
+    };
+    run_requiring(cpu, gpu, "GPU adapter", adapter)
+}
+
 /// The `main` of a test file with GPU tests: `cpu: [...]` run always,
 /// `gpu: [...]` only with an adapter (see the module docs).
+#[cfg(feature = "gpu")]
 #[macro_export]
 macro_rules! test_main {
     (cpu: [$($cpu:path),* $(,)?], gpu: [$($gpu:path),* $(,)?] $(,)?) => {
@@ -60,6 +80,23 @@ macro_rules! test_main {
             $crate::harness::run(
                 &[$((stringify!($cpu), $cpu as fn())),*],
                 &[$((stringify!($gpu), $gpu as fn())),*],
+            )
+        }
+    };
+}
+
+/// The `main` of a test file with tests that need something else:
+/// `requiring(what, availability): [...]` run when `availability` (a
+/// `Result<String, String>`) is `Ok`, or under CI.
+#[macro_export]
+macro_rules! test_main_requiring {
+    (cpu: [$($cpu:path),* $(,)?], requiring($what:expr, $available:expr): [$($needing:path),* $(,)?] $(,)?) => {
+        fn main() -> std::process::ExitCode {
+            $crate::harness::run_requiring(
+                &[$((stringify!($cpu), $cpu as fn())),*],
+                &[$((stringify!($needing), $needing as fn())),*],
+                $what,
+                $available,
             )
         }
     };

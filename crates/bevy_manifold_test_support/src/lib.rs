@@ -5,7 +5,6 @@
 pub mod compare;
 #[cfg(feature = "gpu")]
 pub mod gpu;
-#[cfg(feature = "gpu")]
 pub mod harness;
 pub mod rng;
 pub mod stress;
