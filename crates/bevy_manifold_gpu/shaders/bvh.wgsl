@@ -22,6 +22,7 @@ fn data_vec3(i: u32) -> vec3<f32> {
     return bitcast<vec3<f32>>(mesh_data[i].xyz);
 }
 
+// Rust twin: MeshHit in crates/bevy_manifold_core/src/mesh/bvh.rs.
 struct MeshHit {
     s: f32,
     triangle: u32,

@@ -37,6 +37,7 @@ fn meets_ball(ray: Ray, c: vec4<f32>, k: f32, t_end: f32) -> f32 {
     return select(-1.0, t, t >= 0.0 && t <= t_end);
 }
 
+// Rust twin: InstanceHit in crates/bevy_manifold_core/src/trace/mesh_hit.rs.
 struct InstanceHit {
     t: f32,
     hit: MeshHit,

@@ -14,6 +14,7 @@
 #import bevy_manifold::bindings::{params, faces, Tube, NO_FACE, FLAG_NO_RENORMALIZE}
 #import bevy_manifold::geometry::{form, normalize_point, normalize_tangent}
 
+// Rust twin: Ray in crates/bevy_manifold_core/src/trace/step.rs.
 struct Ray {
     origin: vec4<f32>,
     dir: vec4<f32>,
@@ -21,7 +22,8 @@ struct Ray {
 
 // Where a ray crosses a face: the nearest face it leaves through
 // (n . d > 0), skipping the face it just entered; t = -(n . o) / (n . d),
-// clamped at 0 so a point a hair outside leaves at once.
+// clamped at 0 so a point a hair outside leaves at once. Rust twin: the
+// Option<(usize, R)> exit_face returns (NO_FACE for None).
 struct Exit {
     face: u32,
     t: f32,

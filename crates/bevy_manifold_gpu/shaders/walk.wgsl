@@ -22,7 +22,9 @@
 
 // Where a walking ray is: the start of its current segment, the face it
 // came in through, the cell it is in, how many faces it has crossed, and
-// how far it has gone.
+// how far it has gone. Rust twin: Walker in
+// crates/bevy_manifold_core/src/trace/walk.rs (the distance and the
+// Cayley-table index are WGSL-only: Rust keeps them in trace_ray).
 struct Walker {
     // Start of the current segment (inside the domain).
     ray: Ray,

@@ -11,9 +11,9 @@
 //!   CPU tracer reads (in f32), so both trace identical inputs;
 //! - [`bindings`]: bind group 0, described once for every layout;
 //! - [`shader_defs`]: which optional parts of the shader a scene needs;
-//! - feature `headless`: [`GpuTracer`], the tracer on a wgpu device outside
+//! - feature `headless`: `GpuTracer`, the tracer on a wgpu device outside
 //!   Bevy's renderer (headless renders, the GPU/CPU agreement tests), and
-//!   [`probe_adapter`].
+//!   `probe_adapter`.
 //!
 //! Bevy's render pass (the `bevy_manifold` crate, feature `render`) runs
 //! the same shader over the same layout.

@@ -197,7 +197,8 @@ fn best_split(
 }
 
 /// A ray's hit on a mesh: affine parameter, triangle (in BVH order) and
-/// barycentric coordinates of vertices 1 and 2.
+/// barycentric coordinates of vertices 1 and 2. WGSL twin: `MeshHit` in
+/// `shaders/bvh.wgsl`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MeshHit<R> {
     /// `s` of the hit on `o + s d`.

@@ -291,7 +291,7 @@ fn flatten_meshes<R: Real>(space: &Space, scene: &Scene) -> FlatMeshes<R> {
 }
 
 /// The centre of a ball and of each copy of it (under words of up to
-/// [`GHOST_WORD_LENGTH`] pairings) that reaches into the domain, so a ball
+/// `GHOST_WORD_LENGTH` pairings) that reaches into the domain, so a ball
 /// straddling a face is seen whole from both sides.
 #[must_use]
 pub fn ghost_centres(space: &Space, center: DVec4, radius: f64) -> Vec<DVec4> {

@@ -33,7 +33,8 @@ pub fn meets_ball<R: Real>(g: Geometry, ray: &Ray<R>, c: R::V4, k: R, t_end: R) 
 }
 
 /// A mesh hit in the tracer's terms: chart parameter on the world ray and
-/// the triangle with its barycentrics.
+/// the triangle with its barycentrics. WGSL twin: `InstanceHit` in
+/// `shaders/mesh_hit.wgsl`.
 #[derive(Clone, Copy, Debug)]
 pub struct InstanceHit<R> {
     /// Chart parameter of the hit on the world ray.

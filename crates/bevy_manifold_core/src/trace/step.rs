@@ -10,6 +10,7 @@
 use crate::geometry::{Geometry, Real};
 
 /// A ray: origin point and unit tangent direction, both normalised.
+/// WGSL twin: `Ray` in `shaders/step.wgsl`.
 #[derive(Clone, Copy, Debug)]
 pub struct Ray<R: Real> {
     /// Normalised origin.

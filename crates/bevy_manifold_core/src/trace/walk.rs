@@ -10,7 +10,8 @@ use super::step::{Ray, exit_face, transport_or_raw};
 use crate::geometry::Real;
 
 /// Where a walking ray is: the start of its current segment, the face it
-/// came in through, the cell it is in and how many faces it has crossed.
+/// came in through, the cell it is in and how many faces it has crossed
+/// (its levels). WGSL twin: `Walker` in `shaders/walk.wgsl`.
 #[derive(Clone, Copy, Debug)]
 pub struct Walker<R: Real> {
     /// Start of the current segment (inside the domain).

@@ -1,7 +1,7 @@
 //! What the tracer draws: a camera, balls, the domain's edges as tubes,
-//! point lights, fog and triangle meshes. The model is here; [`file`]
+//! point lights, fog and triangle meshes. The model is here; `file`
 //! reads and writes it as JSON (validated field by field), and
-//! [`presets`] makes the scenes the paper and the examples use.
+//! `presets` makes the scenes the paper and the examples use.
 
 mod file;
 mod mesh;
