@@ -13,8 +13,8 @@ use bevy_manifold::prelude::*;
 use bevy_manifold::render::{ManifoldBufferCache, ManifoldUploads, offscreen};
 use bevy_manifold::space::Space;
 use bevy_manifold::trace::FlatScene;
-use bevy_manifold::trace::srgb8;
 use bevy_manifold_gpu::{GpuObjects, GpuTracer};
+use bevy_manifold_test_support::compare::rgba8_agreement;
 
 const W: u32 = 160;
 const H: u32 = 120;
@@ -37,17 +37,6 @@ fn capture(app: &mut App, target: &Handle<Image>) -> Vec<u8> {
 
 fn uploads(app: &App) -> ManifoldUploads {
     *app.sub_app(RenderApp).world().resource::<ManifoldUploads>()
-}
-
-/// The fraction of pixels whose three channels are within `tol` of the
-/// reference image's (linear colours, sRGB-encoded as the target does).
-fn agreement(bytes: &[u8], reference: &TraceImage, tol: u8) -> f64 {
-    let close = bytes
-        .chunks_exact(4)
-        .zip(&reference.pixels)
-        .filter(|(px, q)| (0..3).all(|c| px[c].abs_diff(srgb8(q.color[c])) <= tol))
-        .count();
-    close as f64 / reference.pixels.len() as f64
 }
 
 /// A space's root with the default scene of that space (with fog when
@@ -103,7 +92,11 @@ fn mesh_agreement(space: &Space, scene: &Scene, shown: &[u8]) -> (usize, f64, f6
     let compute = gpu.render(space, scene, &settings).expect("headless trace");
     let cpu = render::<f64>(space, scene, &settings);
     let mesh_pixels = cpu.pixels.iter().filter(|p| (2..=3).contains(&p.object)).count();
-    (mesh_pixels, agreement(shown, &compute, 1), agreement(shown, &cpu, 2))
+    (
+        mesh_pixels,
+        rgba8_agreement(shown, &compute, 1),
+        rgba8_agreement(shown, &cpu, 2),
+    )
 }
 
 fn the_pass_draws_what_the_tracer_computes_in_every_space() {
@@ -134,8 +127,8 @@ fn the_pass_draws_what_the_tracer_computes_in_every_space() {
         };
         let compute = gpu.render(&space, &scene, &settings).expect("headless trace");
         let cpu = render::<f64>(&space, &scene, &settings);
-        let vs_compute = agreement(&shown, &compute, 1);
-        let vs_cpu = agreement(&shown, &cpu, 2);
+        let vs_compute = rgba8_agreement(&shown, &compute, 1);
+        let vs_cpu = rgba8_agreement(&shown, &cpu, 2);
         let lit = shown
             .chunks_exact(4)
             .filter(|p| p[0] > 8 || p[1] > 8 || p[2] > 8)
@@ -496,7 +489,7 @@ fn the_papers_scene_as_entities_matches_the_tracers() {
     };
     let cpu = render::<f64>(&space, &reference, &settings);
     let mesh_pixels = cpu.pixels.iter().filter(|p| p.object >= 1 && p.object < 100).count();
-    let close = agreement(&shown, &cpu, 2);
+    let close = rgba8_agreement(&shown, &cpu, 2);
     eprintln!(
         "paper's scene as entities in the mirrored cube: {mesh_pixels} mesh pixels, {:.3}% within 2/255 of Scene::paper_default on the CPU",
         close * 100.0
@@ -572,7 +565,7 @@ fn cell_tints_agree_between_the_pass_and_the_cpu() {
             .zip(&plain.pixels)
             .filter(|(a, b)| a.color != b.color)
             .count();
-        let close = agreement(&shown, &cpu, 2);
+        let close = rgba8_agreement(&shown, &cpu, 2);
         eprintln!(
             "{tint:?}: {tinted} of {} pixels tinted on the CPU; the pass within 2/255 of it: {:.3}%",
             cpu.pixels.len(),

@@ -9,8 +9,8 @@
 use crate::plot::{PALETTE, Panel, Series, draw, pareto_front};
 use crate::{Progress, fog_for};
 use bevy_manifold::prelude::*;
-use bevy_manifold::trace::srgb8;
 use bevy_manifold_gpu::GpuTracer;
+use bevy_manifold_test_support::compare::ImageErrors;
 use bevy_manifold_test_support::stress;
 use clap::Args;
 use std::fmt::Write as _;
@@ -27,7 +27,7 @@ const BUDGET: f64 = 0.001;
 const PSNR_BUDGET: f64 = 40.0;
 
 /// A budget of the summary: its name and whether errors meet it.
-type Budget = (&'static str, fn(&Errors) -> bool);
+type Budget = (&'static str, fn(&ImageErrors) -> bool);
 
 /// Arguments of `bench accuracy`.
 #[derive(Args, Clone, Debug)]
@@ -118,78 +118,11 @@ fn views(space: &Space) -> Vec<glam::DMat4> {
     vec![base, turned, back]
 }
 
-/// Error of an image against the reference, pooled over views.
-#[derive(Clone, Copy, Debug, Default)]
-struct Errors {
-    pixels: usize,
-    object: usize,
-    /// Object mismatches where either side shows an object fog has not
-    /// hidden (all of them without fog).
-    visible: usize,
-    cell: usize,
-    far: usize,
-    squared: f64,
-}
-
-impl Errors {
-    /// Adds an image's errors; `fog` is the scene's density, if any.
-    fn add(&mut self, img: &TraceImage, reference: &TraceImage, fog: Option<f64>) {
-        // What fog leaves of an object's light at distance d: below one
-        // 8-bit step it is invisible.
-        let shows = |p: &bevy_manifold::trace::TracePixel| {
-            p.object != 0 && fog.is_none_or(|k| (-k * f64::from(p.distance)).exp() > 1.0 / 255.0)
-        };
-        for (p, q) in img.pixels.iter().zip(&reference.pixels) {
-            self.pixels += 1;
-            if p.object != q.object && (shows(p) || shows(q)) {
-                self.visible += 1;
-            }
-            for c in 0..3 {
-                let d = (f64::from(srgb8(p.color[c])) - f64::from(srgb8(q.color[c]))) / 255.0;
-                self.squared += d * d;
-            }
-            // The cell of a pixel that hit nothing is only where its ray
-            // gave up: cells are compared for hits alone.
-            if p.object != q.object {
-                self.object += 1;
-            } else if p.object != 0 {
-                if p.cell.is_far() || q.cell.is_far() {
-                    self.far += 1;
-                } else if p.cell != q.cell {
-                    self.cell += 1;
-                }
-            }
-        }
-    }
-
-    fn share(&self, n: usize) -> f64 {
-        n as f64 / self.pixels.max(1) as f64
-    }
-
-    fn id_mismatch(&self) -> f64 {
-        self.share(self.object + self.cell)
-    }
-
-    /// Id mismatch counting only objects fog leaves visible.
-    fn visible_mismatch(&self) -> f64 {
-        self.share(self.visible + self.cell)
-    }
-
-    fn rmse(&self) -> f64 {
-        (self.squared / (3 * self.pixels.max(1)) as f64).sqrt()
-    }
-
-    fn psnr(&self) -> f64 {
-        let r = self.rmse();
-        if r > 0.0 { -20.0 * r.log10() } else { f64::INFINITY }
-    }
-}
-
 struct Row {
     space: String,
     setting: Setting,
     ms: f64,
-    errors: Errors,
+    errors: ImageErrors,
 }
 
 pub fn run(args: &AccuracyArgs) -> Result<(), String> {
@@ -248,7 +181,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), String> {
                 renormalize: setting.renormalize,
                 ..TraceSettings::default()
             };
-            let mut errors = Errors::default();
+            let mut errors = ImageErrors::default();
             let mut ms = 0.0;
             for (k, &camera) in cameras.iter().enumerate() {
                 let scene = scene_for(setting.fog, camera);

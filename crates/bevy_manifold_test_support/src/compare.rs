@@ -1,6 +1,8 @@
-//! Comparing two traced images pixel by pixel.
+//! Comparing traced images pixel by pixel, the one place tests and
+//! benchmarks do it: object and cell ids, colours within a tolerance,
+//! PSNR.
 
-use bevy_manifold_core::trace::TraceImage;
+use bevy_manifold_core::trace::{TraceImage, TracePixel, srgb8};
 
 /// Fractions of pixels with the same object and cell id, and with every
 /// colour channel within 2/255, of `a` against the reference `b`. A cell id
@@ -26,4 +28,98 @@ pub fn agreement(a: &TraceImage, b: &TraceImage) -> (f64, f64) {
         })
         .count();
     (ids as f64 / n, colors as f64 / n)
+}
+
+/// The fraction of pixels of an RGBA8 image (as a render target stores
+/// it, sRGB-encoded) whose three channels are within `tol` of the
+/// reference image's colours, encoded the same way.
+#[must_use]
+pub fn rgba8_agreement(bytes: &[u8], reference: &TraceImage, tol: u8) -> f64 {
+    let close = bytes
+        .chunks_exact(4)
+        .zip(&reference.pixels)
+        .filter(|(px, q)| (0..3).all(|c| px[c].abs_diff(srgb8(q.color[c])) <= tol))
+        .count();
+    close as f64 / reference.pixels.len() as f64
+}
+
+/// Error of an image against the reference, pooled over views.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ImageErrors {
+    /// Pixels compared.
+    pub pixels: usize,
+    /// Pixels whose object differs.
+    pub object: usize,
+    /// Object mismatches where either side shows an object fog has not
+    /// hidden (all of them without fog).
+    pub visible: usize,
+    /// Pixels with the same object hit, in different cells.
+    pub cell: usize,
+    /// Pixels with the same object hit where either cell id is FAR (not
+    /// compared).
+    pub far: usize,
+    /// Sum of the squared sRGB channel differences (in units of 1).
+    pub squared: f64,
+}
+
+impl ImageErrors {
+    /// Adds an image's errors; `fog` is the scene's density, if any.
+    pub fn add(&mut self, img: &TraceImage, reference: &TraceImage, fog: Option<f64>) {
+        // What fog leaves of an object's light at distance d: below one
+        // 8-bit step it is invisible.
+        let shows =
+            |p: &TracePixel| p.object != 0 && fog.is_none_or(|k| (-k * f64::from(p.distance)).exp() > 1.0 / 255.0);
+        for (p, q) in img.pixels.iter().zip(&reference.pixels) {
+            self.pixels += 1;
+            if p.object != q.object && (shows(p) || shows(q)) {
+                self.visible += 1;
+            }
+            for c in 0..3 {
+                let d = (f64::from(srgb8(p.color[c])) - f64::from(srgb8(q.color[c]))) / 255.0;
+                self.squared += d * d;
+            }
+            // The cell of a pixel that hit nothing is only where its ray
+            // gave up: cells are compared for hits alone.
+            if p.object != q.object {
+                self.object += 1;
+            } else if p.object != 0 {
+                if p.cell.is_far() || q.cell.is_far() {
+                    self.far += 1;
+                } else if p.cell != q.cell {
+                    self.cell += 1;
+                }
+            }
+        }
+    }
+
+    /// `n` as a fraction of the pixels compared.
+    #[must_use]
+    pub fn share(&self, n: usize) -> f64 {
+        n as f64 / self.pixels.max(1) as f64
+    }
+
+    /// Object or cell id mismatch, as a fraction of the pixels.
+    #[must_use]
+    pub fn id_mismatch(&self) -> f64 {
+        self.share(self.object + self.cell)
+    }
+
+    /// Id mismatch counting only objects fog leaves visible.
+    #[must_use]
+    pub fn visible_mismatch(&self) -> f64 {
+        self.share(self.visible + self.cell)
+    }
+
+    /// Root-mean-square sRGB channel error (in units of 1).
+    #[must_use]
+    pub fn rmse(&self) -> f64 {
+        (self.squared / (3 * self.pixels.max(1)) as f64).sqrt()
+    }
+
+    /// Peak signal-to-noise ratio in dB (infinite for equal images).
+    #[must_use]
+    pub fn psnr(&self) -> f64 {
+        let r = self.rmse();
+        if r > 0.0 { -20.0 * r.log10() } else { f64::INFINITY }
+    }
 }
