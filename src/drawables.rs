@@ -128,12 +128,6 @@ impl ManifoldScene {
         &self.scene
     }
 
-    /// The scene, shared (the render world keeps it without copying).
-    #[must_use]
-    pub fn shared_scene(&self) -> &Arc<Scene> {
-        &self.scene
-    }
-
     /// The entity each ball and mesh belongs to, in object-id order (id 1
     /// first).
     #[must_use]

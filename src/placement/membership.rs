@@ -68,22 +68,16 @@ impl SpaceMembers {
 /// of the subtree whose membership may have changed; it runs once the
 /// hierarchy change is complete.
 pub(super) fn observe(app: &mut App) {
-    app.add_observer(|event: On<Insert, ChildOf>, mut commands: Commands| {
-        let entity = event.event_target();
-        commands.queue(move |world: &mut World| refresh(world, entity));
-    })
-    .add_observer(|event: On<Remove, ChildOf>, mut commands: Commands| {
-        let entity = event.event_target();
-        commands.queue(move |world: &mut World| refresh(world, entity));
-    })
-    .add_observer(|event: On<Add, ManifoldSpace>, mut commands: Commands| {
-        let entity = event.event_target();
-        commands.queue(move |world: &mut World| refresh(world, entity));
-    })
-    .add_observer(|event: On<Remove, ManifoldSpace>, mut commands: Commands| {
-        let entity = event.event_target();
-        commands.queue(move |world: &mut World| refresh(world, entity));
-    });
+    app.add_observer(refresh_later::<Insert, ChildOf>)
+        .add_observer(refresh_later::<Remove, ChildOf>)
+        .add_observer(refresh_later::<Add, ManifoldSpace>)
+        .add_observer(refresh_later::<Remove, ManifoldSpace>);
+}
+
+/// The observer: queues [`refresh`] of the entity the event is about.
+fn refresh_later<E: EntityEvent, B: Bundle>(event: On<E, B>, mut commands: Commands) {
+    let entity = event.event_target();
+    commands.queue(move |world: &mut World| refresh(world, entity));
 }
 
 /// The root an entity below `entity`'s parent chain belongs to: the

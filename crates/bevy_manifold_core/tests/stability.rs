@@ -8,7 +8,7 @@
 use bevy_manifold_core::geometry::isometry;
 use bevy_manifold_core::prelude::*;
 use bevy_manifold_test_support::stress;
-use bevy_manifold_test_support::stress::{cpu_drift, empty_view, walk_settings, worst};
+use bevy_manifold_test_support::stress::{cpu_drift, empty_view, walk_settings};
 use glam::DVec4;
 
 /// Drift bounds with renormalisation on, after 1000 transports: f64 keeps
@@ -39,14 +39,8 @@ fn long_rays_stay_on_the_model_only_with_renormalisation() {
     eprintln!("worst drift after 1000 transports, 256 rays: renormalised / not");
     for name in catalog::NAMES {
         let space = catalog::by_name(name).expect("catalog");
-        let scene = empty_view(Scene::default_for(&space).camera.isometry);
-        let mut c32 = [0.0; 2];
-        let mut c64 = [0.0; 2];
-        for (j, renormalize) in [true, false].into_iter().enumerate() {
-            let settings = walk_settings(1000, renormalize, 16);
-            c32[j] = worst(&cpu_drift::<f32>(&space, &scene, &settings));
-            c64[j] = worst(&cpu_drift::<f64>(&space, &scene, &settings));
-        }
+        let c32 = stress::long_ray_drift(&space, |scene, settings| cpu_drift::<f32>(&space, scene, settings));
+        let c64 = stress::long_ray_drift(&space, |scene, settings| cpu_drift::<f64>(&space, scene, settings));
         eprintln!(
             "{name:<22} CPU f32 {:.2e} / {:.2e}   CPU f64 {:.2e} / {:.2e}",
             c32[0], c32[1], c64[0], c64[1]

@@ -88,6 +88,19 @@ pub const SHADER_IMPORTS: [WgslModule; 9] = [
     wgsl!("drift"),
 ];
 
+/// An item's name as the WGSL wrote it: naga_oil suffixes each item of an
+/// imported module with `X_naga_oil_mod_X<the module path>X` in the
+/// composed module.
+///
+/// ```
+/// assert_eq!(bevy_manifold_gpu::undecorated("hit_meshX_naga_oil_mod_XMJSXEX"), "hit_mesh");
+/// assert_eq!(bevy_manifold_gpu::undecorated("trace"), "trace");
+/// ```
+#[must_use]
+pub fn undecorated(name: &str) -> &str {
+    name.split("X_naga_oil_mod_X").next().unwrap_or(name)
+}
+
 /// The tracer's entry module: `trace` and `drift` (compute, the headless
 /// runner) and `fragment` (the render pass).
 pub const TRACE_WGSL: WgslModule = wgsl!("trace");

@@ -108,6 +108,21 @@ impl GpuTracer {
     /// # Errors
     /// [`GpuError::Shader`] when composition fails.
     pub fn compose_with(names: &[&'static str]) -> Result<naga::Module, GpuError> {
+        Self::compose_modules(&crate::SHADER_IMPORTS, TRACE_WGSL, names)
+    }
+
+    /// `entry` composed with these import modules (each after those it
+    /// imports) and these shader defs on: what [`Self::compose_with`] does
+    /// with the tracer's own modules, open to a changed module (the
+    /// contract test's deliberately broken copy).
+    ///
+    /// # Errors
+    /// [`GpuError::Shader`] when composition fails.
+    pub fn compose_modules(
+        imports: &[crate::WgslModule],
+        entry: crate::WgslModule,
+        names: &[&'static str],
+    ) -> Result<naga::Module, GpuError> {
         use naga_oil::compose::{
             ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderDefValue, ShaderLanguage, ShaderType,
         };
@@ -116,7 +131,7 @@ impl GpuTracer {
             defs: names.to_vec(),
             message: e.emit_to_string(composer),
         };
-        for module in crate::SHADER_IMPORTS {
+        for module in imports {
             let added = composer
                 .add_composable_module(ComposableModuleDescriptor {
                     source: module.source,
@@ -133,8 +148,8 @@ impl GpuTracer {
             .collect();
         composer
             .make_naga_module(NagaModuleDescriptor {
-                source: TRACE_WGSL.source,
-                file_path: TRACE_WGSL.path,
+                source: entry.source,
+                file_path: entry.path,
                 shader_type: ShaderType::Wgsl,
                 shader_defs,
                 additional_imports: &[],

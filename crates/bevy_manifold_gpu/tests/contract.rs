@@ -11,7 +11,10 @@ use bevy_manifold_core::mesh::bvh::MAX_DEPTH;
 use bevy_manifold_core::trace::{EDGE_ID, FOG_CUT};
 use bevy_manifold_gpu::bindings::{BINDINGS, BindingKind};
 use bevy_manifold_gpu::layout::{GpuBall, GpuFace, GpuInstance, GpuLight, GpuParams, GpuPixel, GpuTube};
-use bevy_manifold_gpu::{FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE, GpuCellScheme, GpuTracer, SHADER_IMPORTS, TraceDefs};
+use bevy_manifold_gpu::{
+    FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE, GpuCellScheme, GpuTracer, SHADER_IMPORTS, TRACE_WGSL, TraceDefs,
+    WgslModule, undecorated,
+};
 use naga::proc::Layouter;
 use std::mem::{offset_of, size_of};
 
@@ -52,12 +55,6 @@ fn rust_layouts() -> Vec<RustLayout> {
     ]
 }
 
-/// An item's name as the WGSL wrote it: naga_oil suffixes an imported
-/// module's items with `X_naga_oil_mod_X<the module path>X`.
-fn wgsl_name(name: &str) -> &str {
-    name.split("X_naga_oil_mod_X").next().unwrap_or(name)
-}
-
 /// The shader with every def on, meshes and the Cayley table included
 /// (naga_oil keeps only the bindings some entry uses, so this is a
 /// specialisation that uses them all).
@@ -81,7 +78,7 @@ fn layout_mismatches(module: &naga::Module) -> Vec<String> {
         let found = module
             .types
             .iter()
-            .find(|(_, t)| t.name.as_deref().map(wgsl_name) == Some(rust.name));
+            .find(|(_, t)| t.name.as_deref().map(undecorated) == Some(rust.name));
         let Some((handle, ty)) = found else {
             out.push(format!("{}: no such WGSL struct", rust.name));
             continue;
@@ -102,7 +99,7 @@ fn layout_mismatches(module: &naga::Module) -> Vec<String> {
             ));
         }
         for (m, (field, offset)) in members.iter().zip(&rust.fields) {
-            let name = m.name.as_deref().map(wgsl_name).unwrap_or("?");
+            let name = m.name.as_deref().map(undecorated).unwrap_or("?");
             if name != *field || m.offset as usize != *offset {
                 out.push(format!(
                     "{}: WGSL member {name} at {}, Rust field {field} at {offset}",
@@ -134,7 +131,7 @@ fn the_bindings_are_the_rust_tables() {
             .iter()
             .find(|b| b.binding == binding.binding)
             .unwrap_or_else(|| panic!("WGSL binding {} is not in BINDINGS", binding.binding));
-        let name = var.name.as_deref().map(wgsl_name).unwrap_or("?");
+        let name = var.name.as_deref().map(undecorated).unwrap_or("?");
         assert_eq!(name, rust.name, "binding {}", rust.binding);
         let kind = match var.space {
             naga::AddressSpace::Uniform => BindingKind::Uniform,
@@ -163,7 +160,7 @@ fn constant(module: &naga::Module, name: &str) -> naga::Literal {
     let (_, c) = module
         .constants
         .iter()
-        .find(|(_, c)| c.name.as_deref().map(wgsl_name) == Some(name))
+        .find(|(_, c)| c.name.as_deref().map(undecorated) == Some(name))
         .unwrap_or_else(|| panic!("no WGSL constant {name}"));
     match module.global_expressions[c.init] {
         naga::Expression::Literal(l) => l,
@@ -218,34 +215,14 @@ fn the_contract_catches_a_swapped_field() {
 
 /// The entry module composed with `bindings` replaced by `source`.
 fn compose_with_bindings(source: &str) -> naga::Module {
-    use naga_oil::compose::{ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderDefValue};
-    let mut composer = Composer::default();
-    for m in SHADER_IMPORTS {
-        let source = if m.path.ends_with("/bindings.wgsl") {
-            source
+    let source: &'static str = Box::leak(source.to_owned().into_boxed_str());
+    let imports = SHADER_IMPORTS.map(|m| {
+        if m.path.ends_with("/bindings.wgsl") {
+            WgslModule { source, ..m }
         } else {
-            m.source
-        };
-        let added = composer
-            .add_composable_module(ComposableModuleDescriptor {
-                source,
-                file_path: m.path,
-                ..Default::default()
-            })
-            .map(|_| ());
-        added.unwrap_or_else(|e| panic!("{}", e.emit_to_string(&composer)));
-    }
-    let shader_defs = TraceDefs::generic(Geometry::Hyperbolic)
-        .names()
-        .into_iter()
-        .map(|n| (n.to_string(), ShaderDefValue::Bool(true)))
-        .collect();
-    composer
-        .make_naga_module(NagaModuleDescriptor {
-            source: bevy_manifold_gpu::TRACE_WGSL.source,
-            file_path: bevy_manifold_gpu::TRACE_WGSL.path,
-            shader_defs,
-            ..Default::default()
-        })
-        .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&composer)))
+            m
+        }
+    });
+    let names = TraceDefs::generic(Geometry::Hyperbolic).names();
+    GpuTracer::compose_modules(&imports, TRACE_WGSL, &names).expect("the broken copy still composes")
 }

@@ -60,7 +60,7 @@ fn functions(module: &naga::Module) -> Vec<String> {
         .functions
         .iter()
         .filter_map(|(_, f)| f.name.as_deref())
-        .map(|n| n.split("X_naga_oil_mod_X").next().unwrap_or(n).to_string())
+        .map(|n| bevy_manifold_gpu::undecorated(n).to_string())
         .collect()
 }
 

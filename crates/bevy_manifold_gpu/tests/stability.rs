@@ -35,23 +35,14 @@ fn rays_through_vertices_and_edges_and_along_faces_stay_sane_in_f32_on_the_gpu()
     }
 }
 
-/// Worst GPU drift over 16x16 rays after 1000 transports, with
-/// renormalisation on and off (the CPU's is checked in
-/// `bevy_manifold_core`'s `tests/stability.rs`).
-fn gpu_drift(gpu: &mut GpuTracer, space: &Space) -> [f64; 2] {
-    let scene = empty_view(Scene::default_for(space).camera.isometry);
-    [true, false].map(|renormalize| {
-        let settings = walk_settings(1000, renormalize, 16);
-        worst(&gpu.drift(space, &scene, &settings).expect("drift"))
-    })
-}
-
 fn long_rays_stay_on_the_model_only_with_renormalisation() {
     let mut gpu = tracer();
     eprintln!("worst drift after 1000 transports, 256 rays: renormalised / not");
     for name in catalog::NAMES {
         let space = catalog::by_name(name).expect("catalog");
-        let g = gpu_drift(&mut gpu, &space);
+        let g = stress::long_ray_drift(&space, |scene, settings| {
+            gpu.drift(&space, scene, settings).expect("drift")
+        });
         eprintln!("{name:<22} GPU {:.2e} / {:.2e}", g[0], g[1]);
         assert!(g[0] <= F32_DRIFT, "{name}: GPU drift {:e} with renormalisation", g[0]);
         // The protection is what keeps the bound: without renormalisation

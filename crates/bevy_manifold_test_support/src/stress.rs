@@ -238,6 +238,14 @@ pub fn worst(drifts: &[RayDrift]) -> f64 {
     drifts.iter().map(RayDrift::worst).fold(0.0, f64::max)
 }
 
+/// The worst drift of 16x16 rays from `space`'s default camera after 1000
+/// transports, with renormalisation on and off, as `drift` (the CPU in
+/// some precision, or the GPU) walks them: the long-ray stability check.
+pub fn long_ray_drift(space: &Space, mut drift: impl FnMut(&Scene, &TraceSettings) -> Vec<RayDrift>) -> [f64; 2] {
+    let scene = empty_view(Scene::default_for(space).camera.isometry);
+    [true, false].map(|renormalize| worst(&drift(&scene, &walk_settings(1000, renormalize, 16))))
+}
+
 /// Asserts what a degenerate ray's walk of `levels` transports must be,
 /// whoever traced it (`what` names the ray and the tracer in the message):
 /// finite, on the model and inside the domain to 1e-4, every transport
