@@ -2,6 +2,7 @@
 //! contract other tools rely on; change them only by adding.
 
 use bevy_manifold_bench as bench;
+mod library;
 mod show;
 
 use crate::policy::{UsedTracer, render_any};
@@ -57,6 +58,30 @@ enum SpaceCommand {
     Export {
         /// A catalog name or the path of a space file.
         name: String,
+    },
+    /// Build the Dirichlet domain of a generator file (Curved Spaces
+    /// `.gen`, or a JSON generator list) and write it as a space file.
+    Import {
+        /// The generator file.
+        file: PathBuf,
+        /// Where to write the space (JSON); stdout without it.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Centre the domain at this point `x,y,z,w` (normalised onto the
+        /// geometry) instead of the origin.
+        #[arg(long, value_delimiter = ',', num_args = 4, allow_negative_numbers = true)]
+        basepoint: Option<Vec<f64>>,
+        /// Refuse a group that does not act freely (an orbifold).
+        #[arg(long)]
+        manifold: bool,
+    },
+    /// The library of spaces built from generators: one line each (name,
+    /// geometry, faces, volume, group order); with --out, write their
+    /// generator files there.
+    Library {
+        /// A folder to write `NAME.gen` files into.
+        #[arg(long)]
+        out: Option<PathBuf>,
     },
 }
 
@@ -117,6 +142,13 @@ pub fn run() -> ExitCode {
         Some(Command::Space(SpaceCommand::Export { name })) => {
             resolve_space(&name).map(|s| println!("{}", s.to_json()))
         }
+        Some(Command::Space(SpaceCommand::Import {
+            file,
+            out,
+            basepoint,
+            manifold,
+        })) => library::import(&file, out.as_deref(), basepoint.as_deref(), manifold),
+        Some(Command::Space(SpaceCommand::Library { out })) => library::library(out.as_deref()),
         Some(Command::Render(args)) => render_command(&args),
         Some(Command::Bench(b)) => bench::run(&b),
     };

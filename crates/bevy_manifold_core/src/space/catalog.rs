@@ -29,8 +29,10 @@ pub fn by_name(name: &str) -> Option<Space> {
     })
 }
 
-/// A catalog space by name, or else the space file at that path: what the
-/// command line and the explorer accept wherever a space is asked for.
+/// A catalog space by name, else a library space by name (built from its
+/// generators, [`super::library`]), else the space file at that path (a
+/// space, a `.gen` file or a generator list): what the command line and
+/// the explorer accept wherever a space is asked for.
 ///
 /// # Errors
 /// An unknown name that is no file either, or the file's error.
@@ -44,12 +46,17 @@ pub fn resolve(name: &str) -> Result<Space, String> {
     if let Some(s) = by_name(name) {
         return Ok(s);
     }
+    if let Some(gens) = super::library::by_name(name) {
+        return gens
+            .dirichlet_domain()
+            .map_err(|e| format!("library space '{name}': {e}"));
+    }
     let path = std::path::Path::new(name);
     if path.exists() {
         return Space::load(path).map_err(|e| e.to_string());
     }
     Err(format!(
-        "'{name}' is neither a catalog space ({}) nor a space file",
+        "'{name}' is neither a catalog space ({}), a library space (see `space list`) nor a space file",
         NAMES.join(", ")
     ))
 }

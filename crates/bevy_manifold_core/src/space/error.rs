@@ -184,6 +184,10 @@ pub enum SpaceFileErrorKind {
     /// The space it describes is broken.
     #[error("invalid space: {0}")]
     Invalid(#[from] SpaceError),
+    /// A generator file (`.gen` or a JSON generator list) that is malformed
+    /// or whose group gives no space.
+    #[error("{0}")]
+    Generators(#[from] super::generators::GeneratorError),
 }
 
 /// A path that displays as the user wrote it.

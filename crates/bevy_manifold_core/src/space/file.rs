@@ -9,7 +9,7 @@
 //! Matrices are row-major and act on column vectors, `w` last. `vertices`
 //! and `volume` are derived from the faces; when present they are checked.
 
-use super::{DisplayPath, Face, FaceKind, Space, SpaceError, SpaceFileError, SpaceFileErrorKind};
+use super::{DisplayPath, Face, FaceKind, Generators, Space, SpaceError, SpaceFileError, SpaceFileErrorKind};
 use glam::{DMat4, DVec4};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -170,18 +170,39 @@ impl Space {
         serde_json::to_string_pretty(&self.to_desc()).unwrap_or_default()
     }
 
-    /// Loads a space file.
+    /// Loads a space file: a space (JSON), a Curved Spaces `.gen` file or a
+    /// JSON generator list (a JSON object with `"generators"`), the last
+    /// two through their Dirichlet domain.
     ///
     /// # Errors
-    /// Unreadable file, malformed JSON, or a broken space; the error names
-    /// the file.
+    /// Unreadable file, malformed JSON, a broken space, or generators that
+    /// give none; the error names the file.
     pub fn load(path: impl AsRef<Path>) -> Result<Space, SpaceFileError> {
         let path = path.as_ref();
         let text = std::fs::read_to_string(path).map_err(|e| SpaceFileError {
             path: DisplayPath(path.to_path_buf()),
             kind: SpaceFileErrorKind::Io(e),
         })?;
-        SpaceDesc::parse(&text, path)
+        Space::parse_file(&text, path)
+    }
+
+    /// [`Space::load`] from text already read; `path` picks the format (by
+    /// extension, then by content) and names the file in errors.
+    ///
+    /// # Errors
+    /// As [`Space::load`].
+    pub fn parse_file(text: &str, path: &Path) -> Result<Space, SpaceFileError> {
+        let is_gen = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gen"));
+        let is_list =
+            !is_gen && serde_json::from_str::<serde_json::Value>(text).is_ok_and(|v| v.get("generators").is_some());
+        if !(is_gen || is_list) {
+            return SpaceDesc::parse(text, path);
+        }
+        let gens = Generators::parse_file(text, path)?;
+        gens.dirichlet_domain().map_err(|e| SpaceFileError {
+            path: DisplayPath(path.to_path_buf()),
+            kind: SpaceFileErrorKind::Generators(e),
+        })
     }
 
     /// Writes the space file.

@@ -18,14 +18,18 @@
 pub mod catalog;
 pub mod cells;
 mod cycles;
+pub mod dirichlet;
 mod error;
 pub mod file;
+pub mod generators;
+pub mod library;
 mod polyhedron;
 mod volume;
 
 pub use cycles::{EdgeCycle, Homology};
 pub use error::{DisplayPath, SpaceError, SpaceFileError, SpaceFileErrorKind};
 pub use file::{FaceDesc, SpaceDesc};
+pub use generators::{GeneratorError, Generators, GeneratorsDesc};
 pub use polyhedron::{Edge, Polyhedron, Vertex, dihedral_angle};
 pub use volume::gauss_legendre;
 

@@ -1,0 +1,79 @@
+//! `space import` and `space library`: spaces from their generators.
+
+use bevy_manifold::prelude::*;
+use bevy_manifold::space::{Generators, generators::GeneratorError, library};
+use glam::DVec4;
+use std::path::Path;
+
+/// Builds the Dirichlet domain of a generator file and writes the space.
+pub fn import(file: &Path, out: Option<&Path>, basepoint: Option<&[f64]>, manifold: bool) -> Result<(), String> {
+    let mut gens = Generators::load(file).map_err(|e| e.to_string())?;
+    let named = |e: GeneratorError| format!("{}: {e}", file.display());
+    if let Some(p) = basepoint {
+        let point = DVec4::new(p[0], p[1], p[2], p[3]);
+        let g = gens.geometry;
+        let ok = point.is_finite() && (g != Geometry::Hyperbolic || g.form::<f64>(point, point) < 0.0);
+        let lifted = if ok {
+            Some(g.normalize_point::<f64>(point))
+        } else {
+            None
+        };
+        match lifted.filter(|q| q.is_finite() && g.is_point(*q)) {
+            Some(q) => gens.basepoint = Some(q),
+            None => {
+                return Err(named(GeneratorError::BadBasepoint {
+                    point: [p[0], p[1], p[2], p[3]],
+                    geometry: g.name(),
+                }));
+            }
+        }
+    }
+    gens.manifold |= manifold;
+    let start = std::time::Instant::now();
+    let space = gens.dirichlet_domain().map_err(named)?;
+    eprintln!(
+        "{}: {} geometry, {} faces, volume {:.9}, group order {}, built in {:.3} s",
+        space.name(),
+        space.geometry(),
+        space.faces().len(),
+        space.volume(),
+        space.group_order().map_or("infinite".into(), |n| n.to_string()),
+        start.elapsed().as_secs_f64()
+    );
+    match out {
+        Some(path) => space.save(path).map_err(|e| format!("{}: {e}", path.display())),
+        None => {
+            println!("{}", space.to_json());
+            Ok(())
+        }
+    }
+}
+
+/// Lists the library, or writes its generator files into `out`.
+pub fn library(out: Option<&Path>) -> Result<(), String> {
+    if let Some(dir) = out {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
+    for name in library::names() {
+        let gens = library::by_name(&name).ok_or_else(|| format!("library space {name} is missing"))?;
+        let space = gens
+            .dirichlet_domain()
+            .map_err(|e| format!("library space {name}: {e}"))?;
+        match out {
+            Some(dir) => {
+                let path = dir.join(format!("{name}.gen"));
+                std::fs::write(&path, gens.to_gen(&library::header(&name)))
+                    .map_err(|e| format!("{}: {e}", path.display()))?;
+                println!("{}", path.display());
+            }
+            None => println!(
+                "{name:<22} {:<10} {:>3} faces  volume {:<12.9} group {}",
+                space.geometry().name(),
+                space.faces().len(),
+                space.volume(),
+                space.group_order().map_or("infinite".into(), |n| n.to_string())
+            ),
+        }
+    }
+    Ok(())
+}

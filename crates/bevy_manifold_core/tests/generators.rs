@@ -1,0 +1,480 @@
+//! Spaces from their generators: the library against volumes, group orders,
+//! face counts and homology known from the mathematics; Weeks' Curved
+//! Spaces files against the catalog; convention traps and broken lists
+//! against the errors they must give.
+
+use bevy_manifold_core::geometry::{Geometry, isometry};
+use bevy_manifold_core::prelude::*;
+use bevy_manifold_core::space::generators::{GeneratorError, Generators};
+use bevy_manifold_core::space::{SpaceFileErrorKind, catalog, library};
+use glam::{DMat4, DVec3, DVec4};
+use std::f64::consts::{PI, TAU};
+use std::path::{Path, PathBuf};
+
+/// Volume of S3 over the group order.
+fn spherical_volume(order: usize) -> f64 {
+    2.0 * PI * PI / order as f64
+}
+
+fn build(name: &str) -> Space {
+    library::by_name(name)
+        .unwrap_or_else(|| panic!("{name} is in the library"))
+        .dirichlet_domain()
+        .unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// Checks volume (1e-9), face count, group order and H1 of one space.
+fn expect(s: &Space, volume: f64, faces: usize, order: Option<usize>, h1: &str) {
+    let name = s.name();
+    assert!(
+        (s.volume() - volume).abs() < 1e-9,
+        "{name}: volume {} against {volume}",
+        s.volume()
+    );
+    assert_eq!(s.faces().len(), faces, "{name}: face count");
+    assert_eq!(s.group_order(), order, "{name}: group order");
+    assert_eq!(s.first_homology().to_string(), h1, "{name}: H1");
+    assert!(s.is_manifold(), "{name} is a manifold");
+    // Euler: V - E + F = 2 for the polyhedron's boundary sphere.
+    assert_eq!(
+        s.vertices().len() + faces,
+        s.edges().len() + 2,
+        "{name}: Euler characteristic"
+    );
+}
+
+fn the_spherical_library_has_the_right_volumes_orders_and_homology() {
+    // Lens spaces L(p, q): order p, volume 2 pi^2 / p, H1 = Z/p.
+    for (p, q) in library::LENS {
+        let s = build(&format!("lens-{p}-{q}"));
+        let p = p as usize;
+        assert_eq!(s.group_order(), Some(p));
+        expect(&s, spherical_volume(p), s.faces().len(), Some(p), &format!("Z/{p}"));
+        assert!(s.faces().len() >= 4 && s.faces().len() % 2 == 0, "{q}");
+    }
+    // S3/Q8: the Voronoi cell of 1 among {+-1, +-i, +-j, +-k} is a cube.
+    expect(&build("quaternionic"), spherical_volume(8), 6, Some(8), "Z/2 + Z/2");
+    // Prism manifolds S3/D*_4m: the orbit of 1 is 2m points on the circle
+    // through 1 and i (two faces, from e^(+-i pi/m)) and 2m points on the
+    // circle through j, all at distance pi/2 (2m side faces): a prism.
+    // H1 is Z/4 for odd m, Z/2 + Z/2 for even m.
+    for m in library::PRISM {
+        let h1 = if m % 2 == 1 { "Z/4" } else { "Z/2 + Z/2" };
+        let order = 4 * m as usize;
+        expect(
+            &build(&format!("prism-{m}")),
+            spherical_volume(order),
+            2 * m as usize + 2,
+            Some(order),
+            h1,
+        );
+    }
+    // Binary tetrahedral: the 24-cell's vertices, each with 8 nearest
+    // neighbours: an octahedron. H1 = Z/3.
+    expect(&build("binary-tetrahedral"), spherical_volume(24), 8, Some(24), "Z/3");
+    // Binary octahedral: a truncated cube (6 octagons, 8 triangles). H1 = Z/2.
+    expect(&build("binary-octahedral"), spherical_volume(48), 14, Some(48), "Z/2");
+    // Binary icosahedral: the Poincare dodecahedron. H1 = 0.
+    expect(&build("poincare-generators"), spherical_volume(120), 12, Some(120), "0");
+}
+
+fn sorted_dihedrals(s: &Space) -> Vec<f64> {
+    let mut d: Vec<f64> = s.edges().iter().map(|e| e.dihedral).collect();
+    d.sort_by(f64::total_cmp);
+    d
+}
+
+fn same_shape(a: &Space, b: &Space) {
+    assert_eq!(a.faces().len(), b.faces().len(), "{} vs {}", a.name(), b.name());
+    assert_eq!(a.vertices().len(), b.vertices().len());
+    assert!((a.volume() - b.volume()).abs() < 1e-9);
+    assert!((a.inradius() - b.inradius()).abs() < 1e-9);
+    assert!((a.circumradius() - b.circumradius()).abs() < 1e-9);
+    for (x, y) in sorted_dihedrals(a).iter().zip(sorted_dihedrals(b)) {
+        assert!((x - y).abs() < 1e-9, "{}: dihedral {x} vs {y}", a.name());
+    }
+}
+
+fn lens_spaces_that_are_the_same_manifold_give_the_same_domain() {
+    // L(7,2) and L(7,3) are homeomorphic (2 * 3 = -1 mod 7), indeed
+    // isometric: the domains at a Clifford-torus point are congruent.
+    same_shape(
+        &library::lens(7, 2).dirichlet_domain().unwrap(),
+        &library::lens(7, 3).dirichlet_domain().unwrap(),
+    );
+    // L(8,3) and L(8,5) likewise (3 * 5 = -1 mod 8... 15 = -1 mod 8).
+    same_shape(
+        &library::lens(8, 3).dirichlet_domain().unwrap(),
+        &library::lens(8, 5).dirichlet_domain().unwrap(),
+    );
+}
+
+fn the_poincare_space_from_two_generators_is_the_catalog_one() {
+    let ours = catalog::poincare();
+    let built = build("poincare-generators");
+    same_shape(&built, &ours);
+    for e in built.edges() {
+        assert!((e.dihedral.to_degrees() - 120.0).abs() < 1e-9);
+    }
+}
+
+fn the_flat_library_has_the_right_volumes_and_homology() {
+    let hex = 3f64.sqrt() / 2.0;
+    // 3-tori: the lattice covolume; the Voronoi cell of the hexagonal
+    // lattice is a hexagonal prism, of the body-centred one a truncated
+    // octahedron (8 hexagons, 6 squares).
+    expect(&build("torus-hexagonal"), hex, 8, None, "Z^3");
+    expect(&build("torus-bcc"), 0.5, 14, None, "Z^3");
+    // Screw spaces: translations a, b and c = (turn by 2 pi / k) + 1 along z.
+    // The translation subgroup has c^k (length k) and a, b: covolume
+    // k * area, over the point group of order k: the volume is the area.
+    expect(&build("half-turn"), 1.0, 6, None, "Z + Z/2 + Z/2");
+    expect(&build("quarter-turn"), 1.0, 6, None, "Z + Z/2");
+    expect(&build("third-turn"), hex, 8, None, "Z + Z/3");
+    expect(&build("sixth-turn"), hex, 8, None, "Z");
+    // Hantzsche-Wendt: translations Z^3 (the squares of the generators),
+    // point group Z/2 x Z/2: volume 1/4; H1 = Z/4 + Z/4. Its Dirichlet
+    // domain at a point off the axes is a rhombic dodecahedron.
+    expect(&build("hantzsche-wendt"), 0.25, 12, None, "Z/4 + Z/4");
+    // First amphicosm: translations (2,0,0), y, z over Z/2: volume 1.
+    expect(&build("amphicosm"), 1.0, 6, None, "Z^2 + Z/2");
+    let s = build("amphicosm");
+    assert!(
+        s.faces().iter().any(|f| isometry::is_orientation_reversing(f.pairing)),
+        "the amphicosm glues by a glide reflection"
+    );
+}
+
+/// The shipped files are the library's generators, written out; each
+/// loads as a space through the file path a user would take.
+fn the_shipped_library_files_are_the_library() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/spaces");
+    let mut files: Vec<String> = std::fs::read_dir(&dir)
+        .expect("assets/spaces")
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter(|n| n.ends_with(".gen"))
+        .collect();
+    files.sort();
+    let mut names: Vec<String> = library::names().iter().map(|n| format!("{n}.gen")).collect();
+    names.sort();
+    assert_eq!(files, names, "assets/spaces holds one file per library space");
+    for name in library::names() {
+        let path = dir.join(format!("{name}.gen"));
+        let read = Generators::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let ours = library::by_name(&name).unwrap();
+        assert_eq!(read.geometry, ours.geometry, "{name}");
+        assert_eq!(read.manifold, ours.manifold, "{name}");
+        assert_eq!(read.basepoint.is_some(), ours.basepoint.is_some(), "{name}");
+        if let (Some(a), Some(b)) = (read.basepoint, ours.basepoint) {
+            assert!((a - b).length() < 1e-15, "{name}: basepoint");
+        }
+        assert_eq!(read.matrices.len(), ours.matrices.len(), "{name}");
+        for (a, b) in read.matrices.iter().zip(&ours.matrices) {
+            assert!(a.abs_diff_eq(*b, 1e-15), "{name}: the file's matrices differ");
+        }
+        let space = Space::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        assert!((space.volume() - build(&name).volume()).abs() < 1e-12, "{name}");
+    }
+}
+
+fn generator_lists_round_trip_through_json_and_gen() {
+    for name in library::names() {
+        let gens = library::by_name(&name).unwrap();
+        let json = serde_json::to_string(&gens.to_desc()).unwrap();
+        let back = Generators::parse_json(&json).unwrap();
+        assert_eq!(back, gens, "{name} through JSON");
+        let text = gens.to_gen("a comment\nover two lines");
+        let back = Generators::parse_gen(&text, name.clone()).unwrap();
+        for (a, b) in back.matrices.iter().zip(&gens.matrices) {
+            assert!(a.abs_diff_eq(*b, 1e-16), "{name} through .gen");
+        }
+        assert_eq!(back.basepoint.is_some(), gens.basepoint.is_some());
+    }
+}
+
+/// The project's shared folder's Curved Spaces files (beside the
+/// repository; never copied into it).
+fn curved_spaces() -> Result<PathBuf, String> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/curved-spaces");
+    if dir.join("poincare.gen").is_file() {
+        Ok(dir)
+    } else {
+        Err(format!("{} has no poincare.gen", dir.display()))
+    }
+}
+
+fn weeks(name: &str) -> PathBuf {
+    curved_spaces().expect("the shared Curved Spaces files").join(name)
+}
+
+fn every_curved_spaces_file_loads_and_matches() {
+    // Poincare from Weeks' two generators: the catalog's dodecahedron.
+    let poincare = Space::load(weeks("poincare.gen")).unwrap();
+    same_shape(&poincare, &catalog::poincare());
+    assert_eq!(poincare.group_order(), Some(120));
+    // Seifert-Weber from his twelve generators: the catalog's space.
+    let sw = Space::load(weeks("seifert-weber.gen")).unwrap();
+    same_shape(&sw, &catalog::seifert_weber());
+    assert_eq!(sw.first_homology().to_string(), "Z/5 + Z/5 + Z/5");
+    assert!(sw.is_manifold());
+    // The mirrored right-angled dodecahedron: twelve mirrors at 90 degrees.
+    let md = Space::load(weeks("mirrored-dodecahedron.gen")).unwrap();
+    same_shape(&md, &catalog::mirrored_dodecahedron());
+    assert!(md.faces().iter().all(|f| f.kind == FaceKind::Mirror));
+    assert!(!md.is_manifold());
+    // The flat ones: unit cube, volume 1.
+    for (file, h1) in [("3-torus.gen", "Z^3"), ("half-turn.gen", "Z + Z/2 + Z/2")] {
+        let s = Space::load(weeks(file)).unwrap();
+        assert_eq!(s.faces().len(), 6, "{file}");
+        assert!((s.volume() - 1.0).abs() < 1e-12, "{file}");
+        assert_eq!(s.first_homology().to_string(), h1, "{file}");
+    }
+    // L(5,1): its generators load (a rotation of order 5, spherical), but
+    // every Dirichlet domain of L(p,1) is a lens whose edge is a whole great
+    // circle, which no chart holds: a clear error naming the file.
+    let gens = Generators::load(weeks("lens-5-1.gen")).unwrap();
+    assert_eq!(gens.geometry, Geometry::Spherical);
+    let m = gens.matrices[0];
+    let fifth = m * m * m * m * m;
+    assert!(fifth.abs_diff_eq(DMat4::IDENTITY, 1e-12), "order 5");
+    let err = Space::load(weeks("lens-5-1.gen")).unwrap_err();
+    let text = err.to_string();
+    assert!(text.contains("lens-5-1.gen") && text.contains("L(p, 1)"), "{text}");
+}
+
+/// A matrix's text in `.gen` rows (row-vector convention: rows are our
+/// columns).
+fn gen_text(ms: &[DMat4]) -> String {
+    let mut t = String::from("# test\n");
+    for m in ms {
+        for c in m.to_cols_array_2d() {
+            t.push_str(&format!("{} {} {} {}\n", c[0], c[1], c[2], c[3]));
+        }
+        t.push('\n');
+    }
+    t
+}
+
+fn transposed_files_are_caught_or_harmless() {
+    let e = Geometry::Euclidean;
+    let cube: Vec<DMat4> = [DVec3::X, DVec3::Y, DVec3::Z]
+        .map(|v| isometry::translation(e, v))
+        .to_vec();
+    assert!(Generators::parse_gen(&gen_text(&cube), "cube").is_ok());
+    // Written with the translation in the last column: caught.
+    let transposed: Vec<DMat4> = cube.iter().map(|m| m.transpose()).collect();
+    let err = Generators::parse_gen(&gen_text(&transposed), "cube").unwrap_err();
+    assert_eq!(err, GeneratorError::Transposed { matrix: 0 });
+    // S3 and H3: the transposed list generates the same group (S3) or its
+    // mirror image (H3): the same domain, never a wrong space.
+    for space in [catalog::poincare(), catalog::seifert_weber()] {
+        let ms: Vec<DMat4> = space.faces().iter().map(|f| f.pairing.transpose()).collect();
+        let built = Generators::parse_gen(&gen_text(&ms), "t")
+            .unwrap()
+            .dirichlet_domain()
+            .unwrap();
+        same_shape(&built, &space);
+    }
+}
+
+fn broken_generator_lists_give_their_own_errors() {
+    let e = Geometry::Euclidean;
+    let t = |v: DVec3| isometry::translation(e, v);
+    let parse = |text: &str| Generators::parse_gen(text, "x");
+    // Text problems name the line.
+    assert_eq!(
+        parse("1 0 0 0\n0 1 0 0\n0 zero 1 0\n").unwrap_err(),
+        GeneratorError::NotANumber {
+            line: 3,
+            token: "zero".into()
+        }
+    );
+    assert_eq!(
+        parse("1 0 0\n").unwrap_err(),
+        GeneratorError::RowLength { line: 1, count: 3 }
+    );
+    assert_eq!(
+        parse("1 0 0 0\n0 1 0 0\n").unwrap_err(),
+        GeneratorError::Incomplete { matrix: 0, rows: 2 }
+    );
+    assert_eq!(parse("# nothing\n").unwrap_err(), GeneratorError::Count { count: 0 });
+    assert!(matches!(
+        parse("NaN 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n").unwrap_err(),
+        GeneratorError::NonFinite {
+            matrix: 0,
+            row: 0,
+            col: 0
+        }
+    ));
+    // A scaling is an isometry of nothing.
+    let scale = DMat4::from_scale(DVec3::splat(1.5));
+    assert!(matches!(
+        Generators::new("x", vec![t(DVec3::X), scale]),
+        Err(GeneratorError::NotIsometry { matrix: 1, .. })
+    ));
+    // Mixed: a flat translation with an S3 rotation of the xw-plane.
+    let s3 = isometry::translation(Geometry::Spherical, DVec3::X * 0.3);
+    assert!(matches!(
+        Generators::new("x", vec![t(DVec3::X), s3]),
+        Err(GeneratorError::MixedGeometries {
+            matrix: 1,
+            other: 0,
+            ..
+        })
+    ));
+    // Only rotations about the origin: no geometry, no compact quotient.
+    assert_eq!(
+        Generators::new("x", vec![isometry::rotation(DVec3::Z, 1.0)]).unwrap_err(),
+        GeneratorError::AllFixOrigin
+    );
+    // Not discrete: translations by 1 and sqrt 2 along x pile up.
+    let dense = Generators::new(
+        "x",
+        vec![t(DVec3::X), t(DVec3::X * 2f64.sqrt()), t(DVec3::Y), t(DVec3::Z)],
+    )
+    .unwrap();
+    assert!(
+        matches!(dense.dirichlet_domain(), Err(GeneratorError::NotDiscrete { .. })),
+        "{:?}",
+        dense.dirichlet_domain().err()
+    );
+    // An S3 rotation by an irrational angle: infinite order, not discrete.
+    let irrational = Generators::new("x", vec![isometry::translation(Geometry::Spherical, DVec3::X)]).unwrap();
+    assert!(matches!(
+        irrational.dirichlet_domain(),
+        Err(GeneratorError::NotDiscrete { .. })
+    ));
+    // Unbounded: two translations only.
+    let slab = Generators::new("x", vec![t(DVec3::X), t(DVec3::Y)]).unwrap();
+    assert!(matches!(
+        slab.dirichlet_domain(),
+        Err(GeneratorError::NotCompact { .. })
+    ));
+    // Half-turns about the lines x = +-1/2, z = 0 (along y) pair the faces
+    // x = +-1/2 with themselves by rotation: refused with a named face.
+    let half_turn_about = |x: f64| t(DVec3::X * x) * isometry::rotation(DVec3::Y, PI) * t(DVec3::X * -x);
+    let pillow = Generators::new(
+        "x",
+        vec![half_turn_about(0.5), half_turn_about(-0.5), t(DVec3::Y), t(DVec3::Z)],
+    )
+    .unwrap();
+    assert!(matches!(
+        pillow.dirichlet_domain(),
+        Err(GeneratorError::SelfPairedHalfTurn { .. })
+    ));
+}
+
+fn orbifolds_move_the_basepoint_and_manifold_files_refuse_them() {
+    let e = Geometry::Euclidean;
+    let t = |v: DVec3| isometry::translation(e, v);
+    // The cubic lattice and a half-turn about the z-axis through the
+    // origin: the origin is fixed, so the domain is tried at generic
+    // points; there the bisector of p and its turned image contains the
+    // axis, a face paired with itself by the half-turn, which is refused
+    // by name (only mirrors may pair a face with itself).
+    let mut gens = Generators::new(
+        "x",
+        vec![t(DVec3::X), t(DVec3::Y), t(DVec3::Z), isometry::rotation(DVec3::Z, PI)],
+    )
+    .unwrap();
+    let err = gens.dirichlet_domain().unwrap_err();
+    assert!(matches!(err, GeneratorError::SelfPairedHalfTurn { .. }), "{err}");
+    // Declared a manifold: refused at the origin, naming the element
+    // that fixes it.
+    gens.manifold = true;
+    let err = gens.dirichlet_domain().unwrap_err();
+    match &err {
+        GeneratorError::NotFree { word, .. } => assert!(word.contains("g3"), "{err}"),
+        _ => panic!("{err}"),
+    }
+    // Mirrors: reflections in the faces of the unit cube give the mirrored
+    // cube, every face its own partner.
+    let refl = |n: DVec3| isometry::reflection(e, n.extend(-0.5));
+    let mirrors: Vec<DMat4> = [DVec3::X, -DVec3::X, DVec3::Y, -DVec3::Y, DVec3::Z, -DVec3::Z]
+        .map(refl)
+        .to_vec();
+    let s = Generators::new("mirrors", mirrors).unwrap().dirichlet_domain().unwrap();
+    assert_eq!(s.faces().len(), 6);
+    assert!(s.faces().iter().all(|f| f.kind == FaceKind::Mirror));
+    assert!((s.volume() - 1.0).abs() < 1e-12);
+    same_shape(&s, &catalog::mirrored_cube(1.0));
+}
+
+fn a_basepoint_centres_the_domain_there() {
+    // The 3-torus at any basepoint is the unit cube around it; the space
+    // comes out with the basepoint at the chart origin.
+    let e = Geometry::Euclidean;
+    let mut gens = Generators::new(
+        "t",
+        [DVec3::X, DVec3::Y, DVec3::Z]
+            .map(|v| isometry::translation(e, v))
+            .to_vec(),
+    )
+    .unwrap();
+    gens.basepoint = Some(DVec4::new(0.3, -0.2, 0.1, 1.0));
+    let s = gens.dirichlet_domain().unwrap();
+    assert!((s.inradius() - 0.5).abs() < 1e-12);
+    // The Poincare space at a point off the origin: the group acts by left
+    // multiplication, whose isometries commute with right multiplications,
+    // which move any point to any other: the same dodecahedron.
+    let mut p = library::by_name("poincare-generators").unwrap();
+    p.basepoint = Some(isometry::translation(Geometry::Spherical, DVec3::new(0.1, 0.2, 0.05)).w_axis);
+    same_shape(&p.dirichlet_domain().unwrap(), &catalog::poincare());
+    // A bad basepoint in a JSON list is named.
+    let json = r#"{"name": "x", "generators": [[[1,0,0,1],[0,1,0,0],[0,0,1,0],[0,0,0,1]]], "basepoint": [0, 0, 0, 0]}"#;
+    assert!(matches!(
+        Generators::parse_json(json),
+        Err(GeneratorError::BadBasepoint { .. })
+    ));
+}
+
+fn generator_files_name_the_file_in_errors() {
+    let dir = std::env::temp_dir().join(format!("bevy_manifold_gens_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("broken.gen");
+    std::fs::write(&path, "1 0 0 0\n0 1 0 0\n0 0 1 0\n").unwrap();
+    let err = Space::load(&path).unwrap_err();
+    assert!(matches!(
+        err.kind,
+        SpaceFileErrorKind::Generators(GeneratorError::Incomplete { .. })
+    ));
+    assert!(err.to_string().contains("broken.gen"), "{err}");
+    // A JSON generator list is told from a space file by its "generators".
+    let path = dir.join("list.json");
+    let rot = |a: f64| {
+        let (c, s) = (a.cos(), a.sin());
+        [
+            [c, -s, 0.0, 0.0],
+            [s, c, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+        ]
+    };
+    let text = serde_json::json!({"name": "rotation only", "generators": [rot(TAU / 5.0)]}).to_string();
+    std::fs::write(&path, text).unwrap();
+    let err = Space::load(&path).unwrap_err();
+    assert!(
+        err.to_string().contains("list.json") && err.to_string().contains("fixes the origin"),
+        "{err}"
+    );
+}
+
+bevy_manifold_test_support::test_main_requiring! {
+    cpu: [
+        the_spherical_library_has_the_right_volumes_orders_and_homology,
+        lens_spaces_that_are_the_same_manifold_give_the_same_domain,
+        the_poincare_space_from_two_generators_is_the_catalog_one,
+        the_flat_library_has_the_right_volumes_and_homology,
+        the_shipped_library_files_are_the_library,
+        generator_lists_round_trip_through_json_and_gen,
+        transposed_files_are_caught_or_harmless,
+        broken_generator_lists_give_their_own_errors,
+        orbifolds_move_the_basepoint_and_manifold_files_refuse_them,
+        a_basepoint_centres_the_domain_there,
+        generator_files_name_the_file_in_errors,
+    ],
+    requiring(
+        "the shared Curved Spaces files",
+        curved_spaces().map(|d| d.display().to_string())
+    ): [every_curved_spaces_file_loads_and_matches],
+}
