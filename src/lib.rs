@@ -74,6 +74,8 @@ pub mod placement;
 mod plugin;
 #[cfg(feature = "render")]
 pub mod render;
+#[cfg(feature = "asset")]
+pub mod space_asset;
 #[cfg(feature = "render")]
 pub mod traced_meshes;
 pub mod view;
@@ -99,6 +101,8 @@ pub mod prelude {
     pub use crate::render::ManifoldCamera;
     #[cfg(feature = "render")]
     pub use crate::traced_meshes::{CameraBody, Rasterized};
+    #[cfg(feature = "asset")]
+    pub use crate::space_asset::{ManifoldSpaceSource, SpaceAsset};
     pub use crate::view::{CellShading, ManifoldFog};
     pub use bevy_manifold_core::prelude::*;
 }

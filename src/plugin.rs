@@ -13,6 +13,10 @@ use bevy::prelude::*;
 ///   gathered per space when they change;
 /// - the view components [`ManifoldFog`] and [`CellShading`], registered
 ///   for reflection (they need no renderer);
+/// - with the `asset` feature (on with `render`) and an asset server in the
+///   app, [`crate::space_asset`]: space files (`.gen`, `.space.json`,
+///   `.gens.json`) as assets, applied to roots with a
+///   [`crate::space_asset::ManifoldSpaceSource`];
 /// - with the `render` feature and a renderer in the app,
 ///   [`crate::render::ManifoldRenderPlugin`]: every
 ///   [`crate::render::ManifoldCamera`] is ray-traced. Other cameras
@@ -63,5 +67,17 @@ impl Plugin for ManifoldPlugin {
         .register_type::<CellShading>();
         #[cfg(feature = "render")]
         app.add_plugins(crate::render::ManifoldRenderPlugin);
+        // Space files as assets, when the app has an asset server: now if
+        // it is there (so handles can be made before the app runs), else
+        // once every plugin is built, whatever the plugin order.
+        #[cfg(feature = "asset")]
+        crate::space_asset::register(app);
+    }
+
+    fn finish(&self, app: &mut App) {
+        #[cfg(feature = "asset")]
+        crate::space_asset::register(app);
+        #[cfg(not(feature = "asset"))]
+        let _ = app;
     }
 }

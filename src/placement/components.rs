@@ -36,11 +36,14 @@ impl ManifoldSpace {
     /// Wraps a space for the ECS.
     #[must_use]
     pub fn new(space: Space) -> Self {
+        Self::from_shared(Arc::new(space))
+    }
+
+    /// Wraps a space already shared (a loaded [`crate::space_asset::SpaceAsset`]'s).
+    #[must_use]
+    pub fn from_shared(space: Arc<Space>) -> Self {
         let tables = Arc::new(FaceTables::new(&space));
-        ManifoldSpace {
-            space: Arc::new(space),
-            tables,
-        }
+        ManifoldSpace { space, tables }
     }
 
     /// The space.

@@ -146,13 +146,12 @@ impl Search<'_> {
                     *item += if k[d] - k[d].floor() < 0.5 { -1 } else { 1 };
                 }
             }
-            if let Some(list) = self.grid.get(&key) {
-                if let Some(&i) = list
-                    .iter()
+            let near = self.grid.get(&key).and_then(|list| {
+                list.iter()
                     .find(|&&i| self.g.distance::<f64>(self.elements[i].m.w_axis, p) < SAME_POINT)
-                {
-                    return Some(i);
-                }
+            });
+            if let Some(&i) = near {
+                return Some(i);
             }
         }
         None

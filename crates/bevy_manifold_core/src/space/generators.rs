@@ -286,7 +286,7 @@ impl Generators {
         for (i, m) in matrices.iter().enumerate() {
             check_finite(i, m)?;
             let error = geometry_error(geometry, *m);
-            if !(error < ISOMETRY_TOLERANCE) {
+            if error.is_nan() || error >= ISOMETRY_TOLERANCE {
                 return Err(GeneratorError::WrongGeometry {
                     matrix: i,
                     geometry: geometry.name(),

@@ -1,0 +1,144 @@
+//! Space files as Bevy assets: loaded by the asset server onto a root,
+//! swapped when the asset changes, and failures reported as asset events
+//! while the root keeps its space.
+
+use bevy::asset::AssetLoadFailedEvent;
+use bevy::prelude::*;
+use bevy_manifold::geometry::{Geometry, isometry};
+use bevy_manifold::prelude::*;
+use bevy_manifold::space::library;
+use glam::{DMat4, DVec3};
+use std::path::PathBuf;
+use std::sync::Arc;
+
+#[derive(Resource, Default)]
+struct Failures(Vec<String>);
+
+fn collect(mut failed: MessageReader<AssetLoadFailedEvent<SpaceAsset>>, mut all: ResMut<Failures>) {
+    all.0.extend(failed.read().map(|e| format!("{}: {}", e.path, e.error)));
+}
+
+/// A folder of space files for this test run.
+fn folder() -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("bevy_manifold_space_assets_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let lens = library::by_name("lens-7-2").expect("library");
+    std::fs::write(dir.join("lens-7-2.gen"), lens.to_gen("test")).expect("write");
+    std::fs::write(dir.join("broken.gen"), "1 0 0 0\n0 1 0 0\n0 0 1 0\n").expect("write");
+    std::fs::write(
+        dir.join("torus.space.json"),
+        catalog::torus(1.0).to_json(),
+    )
+    .expect("write");
+    dir
+}
+
+fn app(dir: &std::path::Path) -> App {
+    let mut app = App::new();
+    app.add_plugins((
+        MinimalPlugins,
+        AssetPlugin {
+            file_path: dir.display().to_string(),
+            ..default()
+        },
+        ManifoldPlugin::default(),
+    ))
+    .init_resource::<Failures>()
+    .add_systems(Last, collect);
+    app
+}
+
+/// Updates until `done` holds (the loader runs on the task pool).
+fn update_until(app: &mut App, what: &str, done: impl Fn(&mut App) -> bool) {
+    for _ in 0..2_000 {
+        app.update();
+        if done(app) {
+            return;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    panic!("timed out waiting for {what}");
+}
+
+#[test]
+fn a_gen_file_loads_onto_its_root_and_a_swap_rewraps_the_members() {
+    let dir = folder();
+    let mut app = app(&dir);
+    let handle: Handle<SpaceAsset> = app.world().resource::<AssetServer>().load("lens-7-2.gen");
+    let root = app.world_mut().spawn(ManifoldSpaceSource(handle.clone())).id();
+    // A member placed before the space is there.
+    let s = Geometry::Spherical;
+    let member = app
+        .world_mut()
+        .spawn((ChildOf(root), Placement::from_isometry(isometry::translation(s, DVec3::new(0.05, 0.0, 0.0)))))
+        .id();
+    update_until(&mut app, "the lens space", |app| app.world().get::<ManifoldSpace>(root).is_some());
+    let space = app.world().get::<ManifoldSpace>(root).expect("loaded").space().clone();
+    assert_eq!(space.name(), "lens-7-2");
+    assert_eq!(space.geometry(), Geometry::Spherical);
+    assert_eq!(space.group_order(), Some(7));
+    assert!((space.volume() - 2.0 * std::f64::consts::PI.powi(2) / 7.0).abs() < 1e-9);
+
+    // The asset changes (what hot reload does): the root takes the new
+    // space, and the member is wrapped into the new domain from its origin
+    // cell. A point far outside the Poincare dodecahedron ends inside it.
+    app.world_mut().get_mut::<Placement>(member).expect("member").isometry =
+        isometry::translation(s, DVec3::new(1.2, 0.3, 0.0));
+    app.update();
+    // Where the lens space's wrap left it: the chart point the swap keeps.
+    let before = app.world().get::<Placement>(member).expect("member").isometry;
+    let poincare = catalog::poincare();
+    assert!(
+        poincare.outside_face(before.w_axis, 1e-6).is_some(),
+        "the test wants a point outside the Poincare dodecahedron"
+    );
+    app.world_mut()
+        .resource_mut::<Assets<SpaceAsset>>()
+        .insert(handle.id(), SpaceAsset(Arc::new(poincare.clone())))
+        .expect("insert");
+    update_until(&mut app, "the swap", |app| {
+        app.world().get::<ManifoldSpace>(root).is_some_and(|m| m.space().name() == "poincare")
+    });
+    app.update();
+    let placed = app.world().get::<Placement>(member).expect("member").isometry;
+    assert!(
+        poincare.outside_face(placed.w_axis, 1e-9).is_none(),
+        "the member was wrapped into the new domain"
+    );
+    let cell = app.world().get::<DomainCell>(member).expect("cell");
+    // Its point in the cover is unchanged by the wrap: element * placement.
+    let back = cell.element * placed;
+    assert!(
+        (back - before).to_cols_array().iter().all(|x| x.abs() < 1e-9),
+        "the cover point moved: {:?} vs {:?}",
+        back.w_axis,
+        before.w_axis
+    );
+    assert_ne!(cell.element, DMat4::IDENTITY);
+}
+
+#[test]
+fn a_broken_file_is_reported_and_the_root_keeps_its_space() {
+    let dir = folder();
+    let mut app = app(&dir);
+    let server = app.world().resource::<AssetServer>().clone();
+    let root = app
+        .world_mut()
+        .spawn(ManifoldSpaceSource(server.load("torus.space.json")))
+        .id();
+    update_until(&mut app, "the torus", |app| app.world().get::<ManifoldSpace>(root).is_some());
+    app.world_mut()
+        .entity_mut(root)
+        .insert(ManifoldSpaceSource(server.load("broken.gen")));
+    update_until(&mut app, "the failure", |app| !app.world().resource::<Failures>().0.is_empty());
+    let failures = &app.world().resource::<Failures>().0;
+    assert!(
+        failures[0].contains("broken.gen") && failures[0].contains("matrix 0 is incomplete"),
+        "{failures:?}"
+    );
+    for _ in 0..5 {
+        app.update();
+    }
+    let kept = app.world().get::<ManifoldSpace>(root).expect("still there");
+    assert_eq!(kept.space().name(), "torus");
+}
