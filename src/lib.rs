@@ -99,10 +99,10 @@ pub mod prelude {
     };
     #[cfg(feature = "render")]
     pub use crate::render::ManifoldCamera;
-    #[cfg(feature = "render")]
-    pub use crate::traced_meshes::{CameraBody, Rasterized};
     #[cfg(feature = "asset")]
     pub use crate::space_asset::{ManifoldSpaceSource, SpaceAsset};
+    #[cfg(feature = "render")]
+    pub use crate::traced_meshes::{CameraBody, Rasterized};
     pub use crate::view::{CellShading, ManifoldFog};
     pub use bevy_manifold_core::prelude::*;
 }

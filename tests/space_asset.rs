@@ -25,11 +25,7 @@ fn folder() -> PathBuf {
     let lens = library::by_name("lens-7-2").expect("library");
     std::fs::write(dir.join("lens-7-2.gen"), lens.to_gen("test")).expect("write");
     std::fs::write(dir.join("broken.gen"), "1 0 0 0\n0 1 0 0\n0 0 1 0\n").expect("write");
-    std::fs::write(
-        dir.join("torus.space.json"),
-        catalog::torus(1.0).to_json(),
-    )
-    .expect("write");
+    std::fs::write(dir.join("torus.space.json"), catalog::torus(1.0).to_json()).expect("write");
     dir
 }
 
@@ -70,9 +66,14 @@ fn a_gen_file_loads_onto_its_root_and_a_swap_rewraps_the_members() {
     let s = Geometry::Spherical;
     let member = app
         .world_mut()
-        .spawn((ChildOf(root), Placement::from_isometry(isometry::translation(s, DVec3::new(0.05, 0.0, 0.0)))))
+        .spawn((
+            ChildOf(root),
+            Placement::from_isometry(isometry::translation(s, DVec3::new(0.05, 0.0, 0.0))),
+        ))
         .id();
-    update_until(&mut app, "the lens space", |app| app.world().get::<ManifoldSpace>(root).is_some());
+    update_until(&mut app, "the lens space", |app| {
+        app.world().get::<ManifoldSpace>(root).is_some()
+    });
     let space = app.world().get::<ManifoldSpace>(root).expect("loaded").space().clone();
     assert_eq!(space.name(), "lens-7-2");
     assert_eq!(space.geometry(), Geometry::Spherical);
@@ -97,7 +98,9 @@ fn a_gen_file_loads_onto_its_root_and_a_swap_rewraps_the_members() {
         .insert(handle.id(), SpaceAsset(Arc::new(poincare.clone())))
         .expect("insert");
     update_until(&mut app, "the swap", |app| {
-        app.world().get::<ManifoldSpace>(root).is_some_and(|m| m.space().name() == "poincare")
+        app.world()
+            .get::<ManifoldSpace>(root)
+            .is_some_and(|m| m.space().name() == "poincare")
     });
     app.update();
     let placed = app.world().get::<Placement>(member).expect("member").isometry;
@@ -126,11 +129,15 @@ fn a_broken_file_is_reported_and_the_root_keeps_its_space() {
         .world_mut()
         .spawn(ManifoldSpaceSource(server.load("torus.space.json")))
         .id();
-    update_until(&mut app, "the torus", |app| app.world().get::<ManifoldSpace>(root).is_some());
+    update_until(&mut app, "the torus", |app| {
+        app.world().get::<ManifoldSpace>(root).is_some()
+    });
     app.world_mut()
         .entity_mut(root)
         .insert(ManifoldSpaceSource(server.load("broken.gen")));
-    update_until(&mut app, "the failure", |app| !app.world().resource::<Failures>().0.is_empty());
+    update_until(&mut app, "the failure", |app| {
+        !app.world().resource::<Failures>().0.is_empty()
+    });
     let failures = &app.world().resource::<Failures>().0;
     assert!(
         failures[0].contains("broken.gen") && failures[0].contains("matrix 0 is incomplete"),

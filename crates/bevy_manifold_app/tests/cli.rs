@@ -105,6 +105,75 @@ fn a_broken_space_file_is_reported_with_its_name() {
     assert!(stderr(&o).contains("neither a catalog space"), "{}", stderr(&o));
 }
 
+fn gen_files_import_show_and_render() {
+    // A .gen file of our own (the library's Hantzsche-Wendt space, row
+    // vectors as Curved Spaces writes them).
+    let gen_path =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../bevy_manifold_core/assets/spaces/hantzsche-wendt.gen");
+    let g = gen_path.to_str().expect("utf-8 path");
+    let shown = stdout(&run(&["space", "show", g]));
+    for needle in [
+        "geometry:      euclidean",
+        "faces:         12",
+        "volume:        0.250000000",
+        "first homology: Z/4 + Z/4",
+    ] {
+        assert!(shown.contains(needle), "missing '{needle}' in:\n{shown}");
+    }
+    // Import writes the space file, which loads like any other.
+    let out = tmp("hw.json");
+    let o = run(&["space", "import", g, "--out", out.to_str().expect("utf-8")]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("12 faces, volume 0.250000000"), "{}", stderr(&o));
+    let again = stdout(&run(&["space", "show", out.to_str().expect("utf-8")]));
+    assert!(again.contains("faces:         12"), "{again}");
+    // A basepoint on request: the 3-torus centred elsewhere is the same cube.
+    let bcc = gen_path.with_file_name("torus-bcc.gen");
+    let o = run(&[
+        "space",
+        "import",
+        bcc.to_str().expect("utf-8"),
+        "--basepoint",
+        "0.1,-0.2,0.3,1",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("14 faces, volume 0.500000000"), "{}", stderr(&o));
+    // Render takes it too.
+    let png = tmp("hw.png");
+    let o = run(&[
+        "render",
+        "--space",
+        g,
+        "--cpu",
+        "--width",
+        "64",
+        "--height",
+        "36",
+        "--out",
+        png.to_str().expect("utf-8"),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(image::open(&png).is_ok());
+    // The library listing: one line per space, with its invariants.
+    let listing = stdout(&run(&["space", "library"]));
+    assert!(
+        listing
+            .lines()
+            .any(|l| l.starts_with("binary-octahedral") && l.contains("14 faces") && l.contains("group 48")),
+        "{listing}"
+    );
+    // A broken .gen names the file and the line.
+    let bad = tmp("bad.gen");
+    std::fs::write(&bad, "1 0 0 0\n0 1 x 0\n").expect("write");
+    let o = run(&["space", "import", bad.to_str().expect("utf-8")]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stderr(&o).contains("bad.gen") && stderr(&o).contains("line 2: 'x' is not a number"),
+        "{}",
+        stderr(&o)
+    );
+}
+
 fn render_writes_the_image_and_the_id_buffer() {
     let (out, ids) = (tmp("torus.png"), tmp("torus_ids.png"));
     let o = run(&[
@@ -223,6 +292,7 @@ bevy_manifold_test_support::test_main! {
     cpu: [
         help_prints_usage,
         space_list_prints_one_name_per_line,
+        gen_files_import_show_and_render,
         space_show_gives_the_invariants,
         export_then_load_the_file_by_path,
         a_broken_space_file_is_reported_with_its_name,

@@ -236,8 +236,45 @@ fn a_space_that_cannot_be_loaded_is_reported_and_the_view_stays() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+fn library_spaces_and_gen_files_open_in_the_explorer() {
+    let mut app = App::new();
+    app.add_plugins((MinimalPlugins, AssetPlugin::default(), ImagePlugin::default()))
+        .init_asset::<Mesh>()
+        .init_asset::<StandardMaterial>()
+        .add_plugins(ExplorerPlugin::default());
+    app.update();
+    // A library space by name: its Dirichlet domain, a truncated cube.
+    app.world_mut().resource_mut::<ExplorerSettings>().space = "binary-octahedral".into();
+    app.update();
+    let world = app.world().resource::<ExplorerWorld>();
+    assert_eq!(world.space.name(), "binary-octahedral");
+    assert_eq!(world.space.faces().len(), 14);
+    assert_eq!(world.space.group_order(), Some(48));
+    // A generator file by path, as "Open a space file" passes it.
+    let dir = tmp_dir("genfile");
+    let path = dir.join("quarter.gen");
+    let gens = bevy_manifold::space::library::by_name("quarter-turn").unwrap();
+    std::fs::write(&path, gens.to_gen("quarter-turn space")).unwrap();
+    app.world_mut().resource_mut::<ExplorerSettings>().space = path.display().to_string();
+    app.update();
+    let world = app.world().resource::<ExplorerWorld>();
+    assert_eq!(world.space.name(), "quarter");
+    assert!((world.space.volume() - 1.0).abs() < 1e-12);
+    let status = app.world().resource::<ExplorerStatus>();
+    assert!(
+        status
+            .message
+            .as_ref()
+            .is_some_and(|(m, e)| !e && m.contains("quarter")),
+        "{:?}",
+        status.message
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [
+        library_spaces_and_gen_files_open_in_the_explorer,
         settings_round_trip_and_broken_files_are_replaced_not_lost,
         without_a_display_the_explorer_renders_explorer_png_and_exits_0,
         a_space_that_cannot_be_loaded_is_reported_and_the_view_stays,

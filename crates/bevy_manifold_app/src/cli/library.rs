@@ -10,6 +10,10 @@ pub fn import(file: &Path, out: Option<&Path>, basepoint: Option<&[f64]>, manifo
     let mut gens = Generators::load(file).map_err(|e| e.to_string())?;
     let named = |e: GeneratorError| format!("{}: {e}", file.display());
     if let Some(p) = basepoint {
+        let [x, y, z, w] = p else {
+            return Err(format!("--basepoint takes four numbers x,y,z,w, got {}", p.len()));
+        };
+        let p = [*x, *y, *z, *w];
         let point = DVec4::new(p[0], p[1], p[2], p[3]);
         let g = gens.geometry;
         let ok = point.is_finite() && (g != Geometry::Hyperbolic || g.form::<f64>(point, point) < 0.0);

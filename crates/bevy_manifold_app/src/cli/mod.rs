@@ -69,7 +69,7 @@ enum SpaceCommand {
         out: Option<PathBuf>,
         /// Centre the domain at this point `x,y,z,w` (normalised onto the
         /// geometry) instead of the origin.
-        #[arg(long, value_delimiter = ',', num_args = 4, allow_negative_numbers = true)]
+        #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
         basepoint: Option<Vec<f64>>,
         /// Refuse a group that does not act freely (an orbifold).
         #[arg(long)]

@@ -11,8 +11,9 @@ use bevy_egui::egui::{self, Color32, LayerId, Ui, UiBuilder};
 use bevy_egui::{
     EguiContexts, EguiGlobalSettings, EguiPlugin, EguiPrimaryContextPass, EguiTextureHandle, PrimaryEguiContext,
 };
+use bevy_manifold::geometry::Geometry;
 use bevy_manifold::placement::DomainCell;
-use bevy_manifold::space::catalog;
+use bevy_manifold::space::{catalog, library};
 use bevy_manifold::trace::SuzanneMode;
 
 /// The panel and the view in the primary window. Needs
@@ -140,11 +141,41 @@ fn contents(
     egui::ComboBox::from_id_salt("space")
         .selected_text(world.space.name())
         .show_ui(ui, |ui| {
+            ui.label("The paper's spaces");
             for name in catalog::NAMES {
                 ui.selectable_value(&mut s.space, (*name).to_string(), name.to_string());
             }
+            // The library, by geometry: built from generators on selection.
+            for (geometry, title) in [
+                (Geometry::Spherical, "Spherical (from generators)"),
+                (Geometry::Euclidean, "Flat (from generators)"),
+                (Geometry::Hyperbolic, "Hyperbolic (from generators)"),
+            ] {
+                let names: Vec<String> = library::names()
+                    .into_iter()
+                    .filter(|n| library::by_name(n).is_some_and(|g| g.geometry == geometry))
+                    .collect();
+                if names.is_empty() {
+                    continue;
+                }
+                ui.separator();
+                ui.label(title);
+                for name in names {
+                    ui.selectable_value(&mut s.space, name.clone(), name);
+                }
+            }
         });
-    ui.collapsing("Open a space file…", |ui| {
+    let space = &world.space;
+    ui.label(format!(
+        "{} · {} faces · volume {:.4} · group {}",
+        space.geometry(),
+        space.faces().len(),
+        space.volume(),
+        space
+            .group_order()
+            .map_or("infinite".into(), |n| format!("of order {n}"))
+    ));
+    ui.collapsing("Open a space file (.json, .gen)…", |ui| {
         ui.horizontal(|ui| {
             ui.text_edit_singleline(path);
             if ui.button("Open").clicked() {

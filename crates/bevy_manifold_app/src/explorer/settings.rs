@@ -24,7 +24,7 @@
 
 use bevy::prelude::*;
 use bevy_manifold::render::ManifoldCamera;
-use bevy_manifold::space::catalog;
+use bevy_manifold::space::{catalog, library};
 use bevy_manifold::trace::{PaperOptions, SuzanneMode};
 use bevy_manifold::view::{CellShading, ManifoldFog};
 use serde::{Deserialize, Serialize};
@@ -61,7 +61,8 @@ impl CellMode {
 #[derive(Resource, Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct ExplorerSettings {
-    /// A catalog name or the path of a space file.
+    /// A catalog or library name, or the path of a space file (`.json`,
+    /// `.gen`).
     pub space: String,
     /// Most face transports per ray.
     pub levels: u32,
@@ -218,9 +219,10 @@ impl ExplorerSettings {
             fix("render_scale", self.render_scale.to_string(), v.to_string());
             self.render_scale = v;
         }
-        if catalog::by_name(&self.space).is_none() && !Path::new(&self.space).exists() {
+        let known = catalog::by_name(&self.space).is_some() || library::by_name(&self.space).is_some();
+        if !known && !Path::new(&self.space).exists() {
             warnings.push(format!(
-                "settings: space '{}' is neither a catalog space nor an existing file; using {}",
+                "settings: space '{}' is neither a catalog or library space nor an existing file; using {}",
                 self.space, d.space
             ));
             self.space = d.space;
