@@ -13,6 +13,37 @@ fn gpu_and_cpu_agree_in_every_space() {
     let mut gpu = tracer();
     for name in catalog::NAMES {
         let space = catalog::by_name(name).expect("catalog");
+        agree(&mut gpu, name, &space);
+    }
+}
+
+/// Spaces built from generators by their Dirichlet domains are traced like
+/// the catalog's: up to 14 faces, a glide reflection, lens and prism
+/// domains, a screw space on a hexagonal lattice.
+fn gpu_and_cpu_agree_in_spaces_built_from_generators() {
+    let mut gpu = tracer();
+    for name in [
+        "binary-octahedral",
+        "lens-8-3",
+        "prism-5",
+        "torus-bcc",
+        "third-turn",
+        "hantzsche-wendt",
+        "amphicosm",
+    ] {
+        let space = bevy_manifold_core::space::library::by_name(name)
+            .expect("library")
+            .dirichlet_domain()
+            .expect("builds");
+        agree(&mut gpu, name, &space);
+    }
+}
+
+/// The GPU trace against the CPU f32 and f64 references, plain and with
+/// fog and per-cell colour, 256x256 at 8 levels.
+fn agree(gpu: &mut bevy_manifold_gpu::GpuTracer, name: &str, space: &Space) {
+    {
+        let space = space.clone();
         for (fog, cells) in [(false, false), (true, true)] {
             let mut scene = Scene::default_for(&space);
             if fog {
@@ -176,6 +207,7 @@ bevy_manifold_test_support::test_main! {
     cpu: [],
     gpu: [
         gpu_and_cpu_agree_in_every_space,
+        gpu_and_cpu_agree_in_spaces_built_from_generators,
         a_ball_straddling_a_torus_face_is_seen_whole_from_either_side,
         the_fragment_entry_draws_what_the_compute_entry_computes,
     ],
