@@ -145,6 +145,56 @@ fn the_flat_library_has_the_right_volumes_and_homology() {
     );
 }
 
+fn the_weeks_manifold_has_the_published_volume_and_homology() {
+    let gens = library::weeks();
+    assert_eq!(gens.geometry, Geometry::Hyperbolic);
+    // The generators satisfy the relators, as Lorentz matrices.
+    let [a, b] = [gens.matrices[0], gens.matrices[1]];
+    let inv = |m: DMat4| isometry::inverse(Geometry::Hyperbolic, m);
+    for r in library::WEEKS_RELATORS {
+        let m = r.chars().fold(DMat4::IDENTITY, |m, c| {
+            m * match c {
+                'a' => a,
+                'b' => b,
+                'A' => inv(a),
+                _ => inv(b),
+            }
+        });
+        assert!(m.abs_diff_eq(DMat4::IDENTITY, 1e-9), "relator {r}");
+    }
+    // tr a in SL(2,C) is the complex root theta of t^3 - t + 1 (the trace
+    // field's generator); a Lorentz matrix's trace is |tr A|^2. The root by
+    // Newton's method, in complex arithmetic written out here.
+    let (mut x, mut y) = (0.6, 0.5);
+    for _ in 0..50 {
+        // f = t^3 - t + 1, f' = 3 t^2 - 1, t = x + i y.
+        let (t2r, t2i) = (x * x - y * y, 2.0 * x * y);
+        let (t3r, t3i) = (t2r * x - t2i * y, t2r * y + t2i * x);
+        let (fr, fi) = (t3r - x + 1.0, t3i - y);
+        let (dr, di) = (3.0 * t2r - 1.0, 3.0 * t2i);
+        let d = dr * dr + di * di;
+        x -= (fr * dr + fi * di) / d;
+        y -= (fi * dr - fr * di) / d;
+    }
+    let trace = a.x_axis.x + a.y_axis.y + a.z_axis.z + a.w_axis.w;
+    assert!(
+        (trace - (x * x + y * y)).abs() < 1e-9,
+        "trace {trace} vs |theta|^2 {}",
+        x * x + y * y
+    );
+    // Its Dirichlet domain: the published volume 0.9427073627769277 (the
+    // least of any closed orientable hyperbolic 3-manifold; Gabai,
+    // Meyerhoff and Milley 2009; OEIS A126774) and H1 = Z/5 + Z/5.
+    let s = gens.dirichlet_domain().unwrap();
+    expect(&s, 0.942_707_362_776_927_7, s.faces().len(), None, "Z/5 + Z/5");
+    // At another basepoint the domain differs, the volume does not.
+    let mut moved = gens.clone();
+    moved.basepoint = Some(isometry::translation(Geometry::Hyperbolic, DVec3::new(0.1, -0.07, 0.03)).w_axis);
+    let t = moved.dirichlet_domain().unwrap();
+    assert!((t.volume() - s.volume()).abs() < 1e-9);
+    assert_ne!(t.faces().len(), s.faces().len(), "a different domain, the same space");
+}
+
 /// The shipped files are the library's generators, written out; each
 /// loads as a space through the file path a user would take.
 fn the_shipped_library_files_are_the_library() {
@@ -465,6 +515,7 @@ bevy_manifold_test_support::test_main_requiring! {
         lens_spaces_that_are_the_same_manifold_give_the_same_domain,
         the_poincare_space_from_two_generators_is_the_catalog_one,
         the_flat_library_has_the_right_volumes_and_homology,
+        the_weeks_manifold_has_the_published_volume_and_homology,
         the_shipped_library_files_are_the_library,
         generator_lists_round_trip_through_json_and_gen,
         transposed_files_are_caught_or_harmless,

@@ -131,6 +131,9 @@ struct Search<'a> {
 
 const GRID: f64 = 1e-5;
 
+/// The `letter` of an element pushed as the inverse of its `parent`.
+const INVERSE: usize = usize::MAX;
+
 impl Search<'_> {
     fn key(p: DVec4) -> [f64; 4] {
         (p / GRID).to_array()
@@ -165,6 +168,9 @@ impl Search<'_> {
 
     /// The word of element `i`, in the user's generator numbering.
     fn word(&self, mut i: usize, generators: usize) -> String {
+        if self.elements[i].letter == INVERSE {
+            return format!("({})^-1", self.word(self.elements[i].parent, generators));
+        }
         let mut letters = Vec::new();
         while self.elements[i].parent != usize::MAX {
             let l = self.elements[i].letter;
@@ -237,6 +243,19 @@ impl Search<'_> {
                             letter: l,
                             expanded: false,
                         });
+                        // The elements within a radius are closed under
+                        // inversion; the walk might reach g and not g^-1,
+                        // whose bisector holds the partner face.
+                        let inverse = isometry::orthonormalize(self.g, isometry::inverse(self.g, m));
+                        if self.find(inverse.w_axis).is_none() {
+                            self.push(Element {
+                                m: inverse,
+                                displacement,
+                                parent: self.elements.len() - 1,
+                                letter: INVERSE,
+                                expanded: false,
+                            });
+                        }
                         if self.elements.len() > MAX_ELEMENTS {
                             return Err(GeneratorError::NotDiscrete {
                                 detail: format!(

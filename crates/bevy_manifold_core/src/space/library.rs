@@ -13,6 +13,10 @@
 //! - **Flat**: the 3-torus on a hexagonal and a body-centred lattice, the
 //!   half-, quarter-, third- and sixth-turn spaces, the Hantzsche-Wendt
 //!   space, and the first amphicosm (non-orientable).
+//! - **Hyperbolic**: the Weeks manifold, the closed hyperbolic manifold of
+//!   least volume, from a presentation of its fundamental group: the
+//!   relators are solved for a representation into SL(2, C) by Newton's
+//!   method ([`weeks`]).
 //!
 //! A point `(x, y, z, w)` of S3 is the quaternion `w + x i + y j + z k`.
 //!
@@ -57,6 +61,7 @@ pub fn names() -> Vec<String> {
             "sixth-turn",
             "hantzsche-wendt",
             "amphicosm",
+            "weeks",
         ]
         .map(String::from),
     );
@@ -126,6 +131,7 @@ pub fn by_name(name: &str) -> Option<Generators> {
                 translate(DVec3::Z),
             ],
         ),
+        "weeks" => weeks(),
         _ => return None,
     })
 }
@@ -241,4 +247,186 @@ fn affine(s: DVec3, t: DVec3) -> DMat4 {
         DVec4::new(0.0, 0.0, s.z, 0.0),
         t.extend(1.0),
     )
+}
+
+/// A presentation of the Weeks manifold's fundamental group, two
+/// generators `a`, `b` (capitals are inverses): `a^2 b^2 a^2 b^-1 a b^-1`
+/// and `a^2 b^2 a^-1 b a^-1 b^2`, as given by Chinburg, Friedman, Jones and
+/// Reid, "The arithmetic hyperbolic 3-manifold of smallest volume" (2001).
+/// Abelianised they say `5a = 5b = 0`: H1 = Z/5 + Z/5.
+pub const WEEKS_RELATORS: [&str; 2] = ["aabbaaBaB", "aabbAbAbb"];
+
+/// The Weeks manifold: its group's representation into SL(2, C) with
+/// `a = [[x, 1], [0, 1/x]]`, `b = [[y, 0], [z, 1/y]]`, the relators solved
+/// for `(x, y, z)` by Gauss-Newton from a start near the discrete faithful
+/// solution (the one where `tr a` is the complex root of `t^3 - t + 1`, the
+/// generator of the manifold's trace field), then carried to SO(3,1).
+/// Other starts reach the Galois conjugates (real traces), which are no
+/// discrete group; the Dirichlet domain's volume tells them apart.
+#[must_use]
+pub fn weeks() -> Generators {
+    let start = [C(0.237, -0.708), C(0.425, 1.270), C(-1.215, 1.307)];
+    let v = solve_relators(&WEEKS_RELATORS, start);
+    let (a, b) = sl2_pair(v);
+    let mut gens = of("weeks".into(), Geometry::Hyperbolic, vec![lorentz(a), lorentz(b)]);
+    gens.manifold = true;
+    gens
+}
+
+/// A complex number, for the SL(2, C) side of the Weeks manifold.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct C(f64, f64);
+
+impl core::ops::Add for C {
+    type Output = C;
+    fn add(self, o: C) -> C {
+        C(self.0 + o.0, self.1 + o.1)
+    }
+}
+
+impl core::ops::Sub for C {
+    type Output = C;
+    fn sub(self, o: C) -> C {
+        C(self.0 - o.0, self.1 - o.1)
+    }
+}
+
+impl core::ops::Mul for C {
+    type Output = C;
+    fn mul(self, o: C) -> C {
+        C(self.0 * o.0 - self.1 * o.1, self.0 * o.1 + self.1 * o.0)
+    }
+}
+
+impl C {
+    fn conj(self) -> C {
+        C(self.0, -self.1)
+    }
+    fn norm2(self) -> f64 {
+        self.0 * self.0 + self.1 * self.1
+    }
+    fn recip(self) -> C {
+        let n = self.norm2();
+        C(self.0 / n, -self.1 / n)
+    }
+}
+
+type M2 = [[C; 2]; 2];
+
+fn mul2(a: &M2, b: &M2) -> M2 {
+    let e = |i: usize, j: usize| a[i][0] * b[0][j] + a[i][1] * b[1][j];
+    [[e(0, 0), e(0, 1)], [e(1, 0), e(1, 1)]]
+}
+
+/// The inverse of a matrix of determinant 1.
+fn inv2(a: &M2) -> M2 {
+    let z = C(0.0, 0.0);
+    [[a[1][1], z - a[0][1]], [z - a[1][0], a[0][0]]]
+}
+
+fn sl2_pair(v: [C; 3]) -> (M2, M2) {
+    let (one, zero) = (C(1.0, 0.0), C(0.0, 0.0));
+    (
+        [[v[0], one], [zero, v[0].recip()]],
+        [[v[1], zero], [v[2], v[1].recip()]],
+    )
+}
+
+/// The entries that vanish when every relator is `+-I`: the off-diagonal
+/// entries and the difference of the diagonal ones.
+fn relator_residual(relators: &[&str], v: [C; 3]) -> Vec<C> {
+    let (a, b) = sl2_pair(v);
+    let (ai, bi) = (inv2(&a), inv2(&b));
+    let mut out = Vec::new();
+    for r in relators {
+        let mut m: M2 = [[C(1.0, 0.0), C(0.0, 0.0)], [C(0.0, 0.0), C(1.0, 0.0)]];
+        for ch in r.chars() {
+            let g = match ch {
+                'a' => &a,
+                'b' => &b,
+                'A' => &ai,
+                _ => &bi,
+            };
+            m = mul2(&m, g);
+        }
+        out.extend([m[0][1], m[1][0], m[0][0] - m[1][1]]);
+    }
+    out
+}
+
+/// Gauss-Newton on the relators (holomorphic in `x, y, z`, so the complex
+/// Jacobian is taken by a forward difference), to machine precision.
+fn solve_relators(relators: &[&str], mut v: [C; 3]) -> [C; 3] {
+    for _ in 0..60 {
+        let r = relator_residual(relators, v);
+        if r.iter().map(|c| c.norm2()).sum::<f64>() < 1e-30 {
+            break;
+        }
+        let h = 1e-7;
+        let cols: Vec<Vec<C>> = (0..3)
+            .map(|k| {
+                let mut w = v;
+                w[k] = w[k] + C(h, 0.0);
+                let rk = relator_residual(relators, w);
+                rk.iter()
+                    .zip(&r)
+                    .map(|(p, q)| C((p.0 - q.0) / h, (p.1 - q.1) / h))
+                    .collect()
+            })
+            .collect();
+        // Normal equations J^H J d = -J^H r, a complex 3x3 system.
+        let mut m = [[C(0.0, 0.0); 4]; 3];
+        for k in 0..3 {
+            for l in 0..3 {
+                m[k][l] = cols[k]
+                    .iter()
+                    .zip(&cols[l])
+                    .fold(C(0.0, 0.0), |s, (p, q)| s + p.conj() * *q);
+            }
+            m[k][3] = cols[k].iter().zip(&r).fold(C(0.0, 0.0), |s, (p, q)| s - p.conj() * *q);
+        }
+        for c in 0..3 {
+            let p = (c..3)
+                .max_by(|&i, &j| m[i][c].norm2().total_cmp(&m[j][c].norm2()))
+                .unwrap_or(c);
+            m.swap(c, p);
+            let pivot = m[c][c].recip();
+            for i in 0..3 {
+                if i != c {
+                    let f = m[i][c] * pivot;
+                    for j in c..4 {
+                        m[i][j] = m[i][j] - f * m[c][j];
+                    }
+                }
+            }
+        }
+        for k in 0..3 {
+            v[k] = v[k] + m[k][3] * m[k][k].recip();
+        }
+    }
+    v
+}
+
+/// The Lorentz transformation of `A` in SL(2, C): its action `X -> A X A^H`
+/// on the Hermitian matrices `X = [[w + z, x + i y], [x - i y, w - z]]`,
+/// whose determinant is `w^2 - x^2 - y^2 - z^2`.
+fn lorentz(a: M2) -> DMat4 {
+    let (o, z, i) = (C(1.0, 0.0), C(0.0, 0.0), C(0.0, 1.0));
+    let basis: [M2; 4] = [
+        [[z, o], [o, z]],
+        [[z, i], [z - i, z]],
+        [[o, z], [z, z - o]],
+        [[o, z], [z, o]],
+    ];
+    let ah = [[a[0][0].conj(), a[1][0].conj()], [a[0][1].conj(), a[1][1].conj()]];
+    let cols = basis.map(|x| {
+        let y = mul2(&mul2(&a, &x), &ah);
+        DVec4::new(
+            y[0][1].0,
+            y[0][1].1,
+            (y[0][0].0 - y[1][1].0) / 2.0,
+            (y[0][0].0 + y[1][1].0) / 2.0,
+        )
+    });
+    DMat4::from_cols(cols[0], cols[1], cols[2], cols[3])
 }
