@@ -3,6 +3,7 @@
 //! ratios measured side by side in one run. Unpublished.
 
 mod accuracy;
+mod faces;
 mod frames;
 mod meshes;
 mod pass;
@@ -72,6 +73,19 @@ pub enum BenchCommand {
     /// without fog and per-cell shading, and uploads with and without
     /// change detection in the render pass.
     Specialise(specialise::SpecialiseArgs),
+    /// Frame time against the domain's face count (4 to 20 faces), GPU and
+    /// CPU f32, with nothing to hit and with the default scene, 8 levels.
+    Faces {
+        /// Image width.
+        #[arg(long, default_value_t = 640)]
+        width: u32,
+        /// Image height.
+        #[arg(long, default_value_t = 360)]
+        height: u32,
+        /// Runs per setting; the best is reported.
+        #[arg(long, default_value_t = 3)]
+        runs: u32,
+    },
 }
 
 /// Runs one benchmark, printing its table (and writing its files).
@@ -87,6 +101,7 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
         BenchCommand::Stability(ref args) => stability::run(args),
         BenchCommand::Specialise(ref args) => specialise::run(args),
         BenchCommand::Meshes { width, height, runs } => meshes::run(width.max(1), height.max(1), runs.max(1)),
+        BenchCommand::Faces { width, height, runs } => faces::run(width.max(1), height.max(1), runs.max(1)),
     }
 }
 

@@ -1,0 +1,73 @@
+//! `bench faces`: frame time against the number of faces of the domain,
+//! on spaces built from generators (lens, prism and binary polyhedral
+//! spaces in S3, lattices and screw spaces in E3, Seifert-Weber and the
+//! Weeks manifold in H3). The tracer tests every face at every level, so a
+//! level costs in proportion to the face count; this measures how much.
+
+use crate::best_ms;
+use bevy_manifold::prelude::*;
+use bevy_manifold_gpu::GpuTracer;
+
+/// The spaces, by geometry and face count.
+const SPACES: [&str; 13] = [
+    "lens-5-2",
+    "quaternionic",
+    "binary-tetrahedral",
+    "prism-4",
+    "poincare",
+    "binary-octahedral",
+    "torus",
+    "torus-hexagonal",
+    "hantzsche-wendt",
+    "torus-bcc",
+    "seifert-weber",
+    "mirrored-dodecahedron",
+    "weeks",
+];
+
+/// GPU and CPU f32 frame times at 8 levels, with nothing to hit (the
+/// transport alone) and with the default scene (a ball, the edges and a
+/// light), per space.
+///
+/// # Errors
+/// No GPU, or a space that does not build.
+pub fn run(width: u32, height: u32, runs: u32) -> Result<(), String> {
+    let mut tracer = GpuTracer::new().map_err(|e| e.to_string())?;
+    println!(
+        "Frame time against face count, {width}x{height}, 8 levels, best of {runs}; GPU on {}, CPU f32 reference",
+        tracer.adapter_name()
+    );
+    println!(
+        "{:<22} {:<10} {:>5} {:>12} {:>12} {:>12} {:>12} {:>14}",
+        "space", "geometry", "faces", "GPU empty", "GPU scene", "CPU empty", "CPU scene", "GPU empty/face"
+    );
+    for name in SPACES {
+        let space = catalog::resolve(name)?;
+        let settings = TraceSettings {
+            width,
+            height,
+            levels: 8,
+            ..TraceSettings::default()
+        };
+        let scenes = [Scene::empty(), Scene::default_for(&space)];
+        let mut gpu = [0.0; 2];
+        let mut cpu = [0.0; 2];
+        for (k, scene) in scenes.iter().enumerate() {
+            gpu[k] = best_ms(runs, || {
+                tracer.render(&space, scene, &settings).map_err(|e| e.to_string())
+            })?;
+            cpu[k] = best_ms(runs, || Ok(render::<f32>(&space, scene, &settings)))?;
+        }
+        let faces = space.faces().len();
+        println!(
+            "{name:<22} {:<10} {faces:>5} {:>12.1} {:>12.1} {:>12.1} {:>12.1} {:>14.2}",
+            space.geometry().name(),
+            gpu[0],
+            gpu[1],
+            cpu[0],
+            cpu[1],
+            gpu[0] / faces as f64
+        );
+    }
+    Ok(())
+}
