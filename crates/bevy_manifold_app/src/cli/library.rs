@@ -60,9 +60,11 @@ pub fn library(out: Option<&Path>) -> Result<(), String> {
     }
     for name in library::names() {
         let gens = library::by_name(&name).ok_or_else(|| format!("library space {name} is missing"))?;
+        let start = std::time::Instant::now();
         let space = gens
             .dirichlet_domain()
             .map_err(|e| format!("library space {name}: {e}"))?;
+        let ms = start.elapsed().as_secs_f64() * 1e3;
         match out {
             Some(dir) => {
                 let path = dir.join(format!("{name}.gen"));
@@ -71,11 +73,12 @@ pub fn library(out: Option<&Path>) -> Result<(), String> {
                 println!("{}", path.display());
             }
             None => println!(
-                "{name:<22} {:<10} {:>3} faces  volume {:<12.9} group {}",
+                "{name:<22} {:<10} {:>3} faces  volume {:<12.9} group {:<9} H1 {:<14} built in {ms:.1} ms",
                 space.geometry().name(),
                 space.faces().len(),
                 space.volume(),
-                space.group_order().map_or("infinite".into(), |n| n.to_string())
+                space.group_order().map_or("infinite".into(), |n| n.to_string()),
+                space.first_homology().to_string()
             ),
         }
     }
