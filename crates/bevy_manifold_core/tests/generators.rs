@@ -50,7 +50,7 @@ fn the_spherical_library_has_the_right_volumes_orders_and_homology() {
         let p = p as usize;
         assert_eq!(s.group_order(), Some(p));
         expect(&s, spherical_volume(p), s.faces().len(), Some(p), &format!("Z/{p}"));
-        assert!(s.faces().len() >= 4 && s.faces().len() % 2 == 0, "{q}");
+        assert!(s.faces().len() >= 4 && s.faces().len().is_multiple_of(2), "{q}");
     }
     // S3/Q8: the Voronoi cell of 1 among {+-1, +-i, +-j, +-k} is a cube.
     expect(&build("quaternionic"), spherical_volume(8), 6, Some(8), "Z/2 + Z/2");

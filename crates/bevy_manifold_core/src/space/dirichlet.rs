@@ -20,8 +20,9 @@
 //!    space is (faces onto faces, edge cycles closing with angle `2 pi / k`),
 //!    which by Poincare's polyhedron theorem makes it a fundamental domain
 //!    of the group its pairings generate; and every given generator is
-//!    reduced to the identity by those pairings ([`Space::wrap`]), so that
-//!    group is the whole group.
+//!    reduced to the identity by those pairings (each step carrying its
+//!    image of the basepoint strictly nearer), so that group is the whole
+//!    group.
 //!
 //! The space comes out in coordinates that put the basepoint at the chart
 //! origin (the generators conjugated by the translation from the origin to

@@ -391,11 +391,12 @@ fn solve_relators(relators: &[&str], mut v: [C; 3]) -> [C; 3] {
                 .unwrap_or(c);
             m.swap(c, p);
             let pivot = m[c][c].recip();
-            for i in 0..3 {
+            let row = m[c];
+            for (i, other) in m.iter_mut().enumerate() {
                 if i != c {
-                    let f = m[i][c] * pivot;
-                    for j in c..4 {
-                        m[i][j] = m[i][j] - f * m[c][j];
+                    let f = other[c] * pivot;
+                    for (x, y) in other.iter_mut().zip(row).skip(c) {
+                        *x = *x - f * y;
                     }
                 }
             }
