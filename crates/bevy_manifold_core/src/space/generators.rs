@@ -35,10 +35,10 @@
 //! ```
 //! use bevy_manifold_core::{geometry::Geometry, space::generators::Generators};
 //! // Curved Spaces' cubic 3-torus: translations in the bottom row.
-//! let gen = "1 0 0 0\n0 1 0 0\n0 0 1 0\n1 0 0 1\n\n\
+//! let text = "1 0 0 0\n0 1 0 0\n0 0 1 0\n1 0 0 1\n\n\
 //!            1 0 0 0\n0 1 0 0\n0 0 1 0\n0 1 0 1\n\n\
 //!            1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 1 1\n";
-//! let gens = Generators::parse_gen(gen, "cube").unwrap();
+//! let gens = Generators::parse_gen(text, "cube").unwrap();
 //! assert_eq!(gens.geometry, Geometry::Euclidean);
 //! assert_eq!(gens.matrices[0].w_axis, glam::DVec4::new(1.0, 0.0, 0.0, 1.0));
 //! let space = gens.dirichlet_domain().unwrap();
