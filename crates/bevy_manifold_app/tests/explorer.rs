@@ -223,13 +223,19 @@ fn switching_spaces_100_times_leaks_no_buffers_or_pipelines() {
     assert_eq!(w.query::<&ManifoldCamera>().iter(w).count(), 1);
 }
 
-fn a_space_that_cannot_be_loaded_is_reported_and_the_view_stays() {
+/// The explorer's plugin in an app with no renderer, one frame run.
+fn headless_explorer() -> App {
     let mut app = App::new();
     app.add_plugins((MinimalPlugins, AssetPlugin::default(), ImagePlugin::default()))
         .init_asset::<Mesh>()
         .init_asset::<StandardMaterial>()
         .add_plugins(ExplorerPlugin::default());
     app.update();
+    app
+}
+
+fn a_space_that_cannot_be_loaded_is_reported_and_the_view_stays() {
+    let mut app = headless_explorer();
     let dir = tmp_dir("badspace");
     let bad = dir.join("broken.json");
     std::fs::write(&bad, "{ \"geometry\": ").unwrap();
@@ -247,12 +253,7 @@ fn a_space_that_cannot_be_loaded_is_reported_and_the_view_stays() {
 }
 
 fn library_spaces_and_gen_files_open_in_the_explorer() {
-    let mut app = App::new();
-    app.add_plugins((MinimalPlugins, AssetPlugin::default(), ImagePlugin::default()))
-        .init_asset::<Mesh>()
-        .init_asset::<StandardMaterial>()
-        .add_plugins(ExplorerPlugin::default());
-    app.update();
+    let mut app = headless_explorer();
     // A library space by name: its Dirichlet domain, a truncated cube.
     app.world_mut().resource_mut::<ExplorerSettings>().space = "binary-octahedral".into();
     app.update();

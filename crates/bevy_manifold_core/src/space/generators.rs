@@ -264,13 +264,19 @@ impl Generators {
     /// cannot be told apart (every generator fixes the origin).
     pub fn new(name: impl Into<String>, matrices: Vec<DMat4>) -> Result<Self, GeneratorError> {
         let geometry = recognise(&matrices)?;
-        Ok(Generators {
-            name: name.into(),
+        Ok(Self::unchecked(name.into(), geometry, matrices))
+    }
+
+    /// Generators taken as given (the library's, computed here), centred at
+    /// the origin, orbifolds allowed.
+    pub(crate) fn unchecked(name: String, geometry: Geometry, matrices: Vec<DMat4>) -> Self {
+        Generators {
+            name,
             geometry,
             matrices,
             basepoint: None,
             manifold: false,
-        })
+        }
     }
 
     /// Generators of a declared geometry, each checked against it.
@@ -294,13 +300,7 @@ impl Generators {
                 });
             }
         }
-        Ok(Generators {
-            name: name.into(),
-            geometry,
-            matrices,
-            basepoint: None,
-            manifold: false,
-        })
+        Ok(Self::unchecked(name.into(), geometry, matrices))
     }
 
     /// Reads a Curved Spaces `.gen` text (row vectors) into column-vector

@@ -226,13 +226,7 @@ fn flat(name: &str, matrices: Vec<DMat4>) -> Generators {
 }
 
 fn of(name: String, geometry: Geometry, matrices: Vec<DMat4>) -> Generators {
-    Generators {
-        name,
-        geometry,
-        matrices,
-        basepoint: None,
-        manifold: false,
-    }
+    Generators::unchecked(name, geometry, matrices)
 }
 
 fn translate(v: DVec3) -> DMat4 {
