@@ -167,10 +167,7 @@ pub fn texture(image: &Image) -> Result<Texture, String> {
         .chunks_exact(4)
         .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
         .collect();
-    if texels.len() < (width * height) as usize {
-        return Err("fewer texels than the size says".into());
-    }
-    Ok(Texture { width, height, texels })
+    Texture::new(width, height, texels)
 }
 
 fn note_mesh_events(mut events: MessageReader<AssetEvent<Mesh>>, mut cache: ResMut<MeshBvhCache>) {

@@ -206,3 +206,113 @@ fn copies_seen_in_a_mirror_are_mirror_images() {
         "and not the hand itself"
     );
 }
+
+/// Writes a one-triangle `.gltf` whose JSON is `json` (with the triangle's
+/// buffer beside it as `tri.bin`), and loads it.
+fn load_json(
+    dir: &Path,
+    name: &str,
+    json: &serde_json::Value,
+) -> Result<bevy_manifold_core::mesh::gltf::Loaded, GltfError> {
+    let bin: Vec<u8> = [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+        .iter()
+        .flatten()
+        .flat_map(|f| f.to_le_bytes())
+        .collect();
+    std::fs::write(dir.join("tri.bin"), &bin).unwrap();
+    let path = dir.join(format!("{name}.gltf"));
+    std::fs::write(&path, json.to_string()).unwrap();
+    load(&path)
+}
+
+/// A glTF with one triangle mesh and the given nodes.
+fn with_nodes(nodes: serde_json::Value) -> serde_json::Value {
+    serde_json::json!({
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+        "nodes": nodes,
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 1]}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}],
+        "buffers": [{"byteLength": 36, "uri": "tri.bin"}]
+    })
+}
+
+#[test]
+fn hostile_gltf_files_end_quickly_with_a_named_reason() {
+    let dir = std::env::temp_dir().join(format!("bevy_manifold_hostile_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // A node that lists itself, and a longer loop 0 -> 1 -> 2 -> 0: the
+    // mesh still loads (once per path), the cycle is named.
+    for (name, nodes) in [
+        ("self", serde_json::json!([{"mesh": 0, "children": [0]}])),
+        (
+            "loop",
+            serde_json::json!([{"children": [1]}, {"children": [2], "mesh": 0}, {"children": [0]}]),
+        ),
+    ] {
+        let loaded = load_json(&dir, name, &with_nodes(nodes)).expect("the rest of the file loads");
+        assert_eq!(loaded.parts.len(), 1, "{name}");
+        assert!(
+            loaded.warnings.iter().any(|w| w.contains("cycle") && w.contains(name)),
+            "{name}: {:?}",
+            loaded.warnings
+        );
+    }
+    // A graph that reuses children: 2^40 paths to the mesh. Walked at most
+    // MAX_NODE_VISITS times, with a warning.
+    let mut nodes: Vec<serde_json::Value> = (0..40)
+        .map(|i| serde_json::json!({"children": [i + 1, i + 1]}))
+        .collect();
+    nodes.push(serde_json::json!({"mesh": 0}));
+    let start = std::time::Instant::now();
+    let loaded = load_json(&dir, "reuse", &with_nodes(serde_json::Value::Array(nodes))).expect("loads");
+    assert!(
+        loaded.warnings.iter().any(|w| w.contains("node instances")),
+        "{:?}",
+        loaded.warnings
+    );
+    assert!(loaded.parts.len() <= bevy_manifold_core::mesh::gltf::MAX_NODE_VISITS);
+    assert!(start.elapsed().as_secs() < 60, "bounded work");
+    // A sparse accessor claiming three billion positions in a few bytes:
+    // refused before anything is allocated, naming the attribute.
+    let mut json = with_nodes(serde_json::json!([{"mesh": 0}]));
+    json["accessors"] = serde_json::json!([{
+        "componentType": 5126, "count": 3_000_000_000u64, "type": "VEC3",
+        "min": [0, 0, 0], "max": [1, 1, 1],
+        "sparse": {"count": 1, "indices": {"bufferView": 0, "componentType": 5125}, "values": {"bufferView": 0}}
+    }]);
+    let e = load_json(&dir, "sparse", &json).unwrap_err();
+    assert!(
+        e.to_string().contains("sparse") && e.to_string().contains("3000000000"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn degenerate_normals_uvs_and_textures_are_repaired_or_refused() {
+    use bevy_manifold_core::mesh::{MAX_TRIANGLES, MeshError, Texture, texel_index};
+    // A zero normal and a NaN one are replaced by the face's normal (+z
+    // for this triangle in the xy-plane); good ones are kept.
+    let positions = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let normals = vec![[0.0, 0.0, 0.0], [f32::NAN, 0.0, 0.0], [1.0, 0.0, 0.0]];
+    let uvs = vec![[f32::INFINITY, 0.5], [0.25, 0.5], [0.0, f32::NAN]];
+    let m = TriMesh::new(positions.clone(), Some(normals), Some(uvs), vec![[0, 1, 2]]).unwrap();
+    assert_eq!(m.normals, vec![[0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]);
+    assert_eq!(m.uvs, vec![[0.0, 0.0], [0.25, 0.5], [0.0, 0.0]]);
+    // Too many triangles: refused by count, not by running out of memory.
+    let many = vec![[0u32, 1, 2]; MAX_TRIANGLES + 1];
+    assert!(matches!(
+        TriMesh::new(positions, None, None, many),
+        Err(MeshError::TooLarge { what: "triangles", .. })
+    ));
+    // Textures: an empty one, a size that overflows u32, too few texels.
+    assert!(Texture::new(0, 4, vec![]).unwrap_err().contains("empty"));
+    assert!(Texture::new(1 << 16, 1 << 16, vec![]).is_err());
+    assert!(Texture::new(2, 2, vec![0; 3]).unwrap_err().contains("3 texels"));
+    assert_eq!(Texture::new(2, 1, vec![1, 2, 3]).unwrap().texels, vec![1, 2]);
+    // The texel index of an empty axis is 0, never an underflow.
+    assert_eq!(texel_index(0.7, 0), 0);
+    assert_eq!(texel_index(0.7, 10), 7);
+    assert_eq!(texel_index(-0.25, 4), 3);
+}

@@ -121,7 +121,7 @@ fn mesh_albedo(inst: Instance, h: MeshHit) -> vec3<f32> {
 
 fn texel_index(x: f32, n: u32) -> u32 {
     let f = x - floor(x);
-    return min(u32(f * f32(n)), n - 1u);
+    return min(u32(f * f32(n)), max(n, 1u) - 1u);
 }
 
 fn srgb_to_linear(c: f32) -> f32 {

@@ -17,6 +17,13 @@ use glam::Mat4;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+/// Most node instances walked in one file's scene (a graph that reuses
+/// children can name exponentially many).
+pub const MAX_NODE_VISITS: usize = 100_000;
+
+/// Most texels a side of a glTF texture may have.
+pub const MAX_TEXTURE_SIDE: u32 = 4096;
+
 /// Why a glTF file gave nothing to trace.
 #[derive(Debug, thiserror::Error)]
 pub enum GltfError {
@@ -121,22 +128,58 @@ pub fn from_slice(bytes: &[u8], path: &Path) -> Result<Loaded, GltfError> {
     let Some(scene) = gltf.default_scene().or_else(|| gltf.scenes().next()) else {
         return Err(parse("no scene".into()));
     };
-    let mut stack: Vec<(gltf::Node, Mat4)> = scene.nodes().map(|n| (n, Mat4::IDENTITY)).collect();
-    while let Some((node, parent)) = stack.pop() {
+    // Depth first, each entry with the chain of nodes above it: a node that
+    // is its own ancestor (a cycle, which glTF forbids and a broken file
+    // can still hold) is reported and its subtree left out, and a graph
+    // that reuses children is walked at most MAX_NODE_VISITS times.
+    let mut stack: Vec<(gltf::Node, Mat4, Vec<usize>)> =
+        scene.nodes().map(|n| (n, Mat4::IDENTITY, Vec::new())).collect();
+    let mut visits = 0usize;
+    let mut triangles = 0usize;
+    while let Some((node, parent, above)) = stack.pop() {
+        visits += 1;
+        if visits > MAX_NODE_VISITS {
+            loaded.warnings.push(format!(
+                "{}: the node graph has more than {MAX_NODE_VISITS} node instances; the rest is left out",
+                path.display()
+            ));
+            break;
+        }
         let transform = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        let mut chain = above;
+        chain.push(node.index());
         for child in node.children() {
-            stack.push((child, transform));
+            if chain.contains(&child.index()) {
+                loaded.warnings.push(format!(
+                    "{}: node {} lists node {} below itself (a cycle); that branch is left out",
+                    path.display(),
+                    node.index(),
+                    child.index()
+                ));
+                continue;
+            }
+            stack.push((child, transform, chain.clone()));
         }
         let Some(mesh) = node.mesh() else { continue };
         for prim in mesh.primitives() {
             let name = format!("{}/{}", mesh.name().unwrap_or("mesh"), prim.index());
             match part(&prim, &buffers, dir, &mut textures, &mut loaded.warnings) {
-                Ok(mesh) => loaded.parts.push(MeshPart {
-                    name,
-                    mesh: mesh.0,
-                    transform,
-                    material: mesh.1,
-                }),
+                Ok(mesh) if triangles + mesh.0.triangles.len() > super::MAX_TRIANGLES => {
+                    loaded.warnings.push(format!(
+                        "{}: {name}: the file's meshes would pass {} triangles in all; left out",
+                        path.display(),
+                        super::MAX_TRIANGLES
+                    ));
+                }
+                Ok(mesh) => {
+                    triangles += mesh.0.triangles.len();
+                    loaded.parts.push(MeshPart {
+                        name,
+                        mesh: mesh.0,
+                        transform,
+                        material: mesh.1,
+                    });
+                }
                 Err(e) => loaded.warnings.push(format!("{}: {name}: {e}", path.display())),
             }
         }
@@ -159,6 +202,24 @@ fn part(
 ) -> Result<(TriMesh, MeshMaterial), String> {
     if prim.mode() != gltf::mesh::Mode::Triangles {
         return Err(format!("{:?} primitives are not traced", prim.mode()));
+    }
+    // Accessor counts are the file's word, not its size (a sparse accessor
+    // of a few bytes can claim billions): checked before anything is read.
+    for (semantic, accessor) in prim.attributes() {
+        if accessor.count() > super::MAX_VERTICES {
+            return Err(format!(
+                "{semantic:?} has {} entries, more than the {} a traced mesh may have",
+                accessor.count(),
+                super::MAX_VERTICES
+            ));
+        }
+    }
+    if let Some(indices) = prim.indices().filter(|i| i.count() > 3 * super::MAX_TRIANGLES) {
+        return Err(format!(
+            "{} indices, more than the {} triangles a traced mesh may have",
+            indices.count(),
+            super::MAX_TRIANGLES
+        ));
     }
     let reader = prim.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
     let positions: Vec<[f32; 3]> = reader.read_positions().ok_or("no POSITION attribute")?.collect();
@@ -208,12 +269,22 @@ fn texture(t: &gltf::Texture, buffers: &[Vec<u8>], dir: &Path) -> Result<Texture
             std::fs::read(dir.join(uri)).map_err(|e| format!("'{uri}': {e}"))?
         }
     };
-    let img = image::load_from_memory(&bytes)
-        .map_err(|e| format!("cannot decode it ({e}); only PNG is built in"))?
+    // The decoder refuses sizes past the cap before it allocates them.
+    let mut reader = image::ImageReader::new(std::io::Cursor::new(&bytes))
+        .with_guessed_format()
+        .map_err(|e| format!("cannot read it ({e})"))?;
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(MAX_TEXTURE_SIDE);
+    limits.max_image_height = Some(MAX_TEXTURE_SIDE);
+    limits.max_alloc = Some(4 * super::MAX_TEXELS);
+    reader.limits(limits);
+    let img = reader
+        .decode()
+        .map_err(|e| format!("cannot decode it ({e}); only PNG is built in, at most {MAX_TEXTURE_SIDE} texels a side"))?
         .to_rgba8();
-    Ok(Texture {
-        width: img.width(),
-        height: img.height(),
-        texels: img.pixels().map(|p| u32::from_le_bytes(p.0)).collect(),
-    })
+    Texture::new(
+        img.width(),
+        img.height(),
+        img.pixels().map(|p| u32::from_le_bytes(p.0)).collect(),
+    )
 }

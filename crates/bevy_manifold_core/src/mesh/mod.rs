@@ -48,6 +48,16 @@ pub enum MeshError {
         /// How many vertices there are.
         vertices: usize,
     },
+    /// More vertices or triangles than a traced mesh may have.
+    #[error("{count} {what}: more than the {max} a traced mesh may have")]
+    TooLarge {
+        /// "vertices" or "triangles".
+        what: &'static str,
+        /// How many.
+        count: usize,
+        /// The cap.
+        max: usize,
+    },
     /// Attribute arrays of different lengths.
     #[error("{what} has {got} entries for {vertices} vertices")]
     Attribute {
@@ -59,6 +69,16 @@ pub enum MeshError {
         vertices: usize,
     },
 }
+
+/// Most vertices a traced mesh may have.
+pub const MAX_VERTICES: usize = 1 << 22;
+
+/// Most triangles a traced mesh may have (two million: its GPU buffers
+/// stay under the 128 MiB storage-binding size every adapter allows).
+pub const MAX_TRIANGLES: usize = 1 << 21;
+
+/// Most texels a traced texture may have (4096 x 4096).
+pub const MAX_TEXELS: u64 = 1 << 24;
 
 /// A triangle mesh in its object's local chart: positions, per-vertex
 /// normals and texture coordinates, triangles by vertex index.
@@ -92,6 +112,14 @@ impl TriMesh {
         if triangles.is_empty() {
             return Err(MeshError::Empty);
         }
+        for (what, count, max) in [
+            ("vertices", n, MAX_VERTICES),
+            ("triangles", triangles.len(), MAX_TRIANGLES),
+        ] {
+            if count > max {
+                return Err(MeshError::TooLarge { what, count, max });
+            }
+        }
         if let Some(i) = positions.iter().position(|p| p.iter().any(|c| !c.is_finite())) {
             return Err(MeshError::NonFinite(i));
         }
@@ -112,15 +140,34 @@ impl TriMesh {
             }
         };
         let normals = match normals {
-            Some(v) if v.iter().all(|x| x.iter().all(|c| c.is_finite())) => {
+            Some(mut v) => {
                 check("NORMAL", v.len())?;
+                // A zero, tiny or non-finite normal would give NaN shading:
+                // such vertices take the normal of their faces instead.
+                let usable = |x: &[f32; 3]| {
+                    let l2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+                    l2.is_finite() && l2 > 1e-12
+                };
+                if !v.iter().all(usable) {
+                    let fallback = face_normals(&positions, &triangles);
+                    for (x, f) in v.iter_mut().zip(fallback) {
+                        if !usable(x) {
+                            *x = f;
+                        }
+                    }
+                }
                 v
             }
-            _ => face_normals(&positions, &triangles),
+            None => face_normals(&positions, &triangles),
         };
         let uvs = match uvs {
-            Some(v) => {
+            Some(mut v) => {
                 check("TEXCOORD_0", v.len())?;
+                for uv in &mut v {
+                    if !(uv[0].is_finite() && uv[1].is_finite()) {
+                        *uv = [0.0; 2];
+                    }
+                }
                 v
             }
             None => vec![[0.0; 2]; n],
@@ -223,6 +270,29 @@ pub struct Texture {
 }
 
 impl Texture {
+    /// A texture of `width x height` packed RGBA8 texels, checked: at least
+    /// one texel, at most [`MAX_TEXELS`], and as many texels as the size
+    /// says (extra ones are dropped).
+    ///
+    /// # Errors
+    /// A zero or oversized size, or too few texels, said in words.
+    pub fn new(width: u32, height: u32, mut texels: Vec<u32>) -> Result<Texture, String> {
+        let count = u64::from(width) * u64::from(height);
+        if count == 0 {
+            return Err(format!("an empty {width}x{height} image"));
+        }
+        if count > MAX_TEXELS {
+            return Err(format!(
+                "{width}x{height} texels, more than the {MAX_TEXELS} a traced texture may have"
+            ));
+        }
+        if (texels.len() as u64) < count {
+            return Err(format!("{} texels for a {width}x{height} image", texels.len()));
+        }
+        texels.truncate(count as usize);
+        Ok(Texture { width, height, texels })
+    }
+
     /// The linear RGB colour at `uv`, nearest texel, repeating.
     #[must_use]
     pub fn sample(&self, uv: [f32; 2]) -> [f32; 3] {
@@ -238,7 +308,7 @@ impl Texture {
 #[must_use]
 pub fn texel_index(x: f32, n: u32) -> u32 {
     let f = x - x.floor();
-    ((f * n as f32) as u32).min(n - 1)
+    ((f * n as f32) as u32).min(n.max(1) - 1)
 }
 
 /// sRGB-encoded to linear: the same formula as the shader's.
