@@ -90,8 +90,13 @@ pub fn extract_manifold_views(
             camera: placement.isometry,
             cell: cell.element,
             fog,
-            levels: mc.levels,
-            max_distance: mc.max_distance,
+            levels: mc.levels.min(crate::trace::MAX_LEVELS),
+            max_distance: if mc.max_distance > 0.0 {
+                mc.max_distance.min(crate::trace::MAX_TRACE_DISTANCE as f32)
+            } else {
+                // NaN or not positive: the default.
+                100.0
+            },
             defs,
             cell_tint: tint.unwrap_or_default().words(),
         });

@@ -174,6 +174,24 @@ fn gen_files_import_show_and_render() {
     );
 }
 
+fn render_refuses_sizes_and_levels_no_tracer_takes() {
+    let out = tmp("never.png");
+    let out = out.to_str().expect("utf-8");
+    // 70000 x 70000 overflows u32 when multiplied: checked in 64 bits.
+    for (args, needle) in [
+        (vec!["--width", "70000", "--height", "70000"], "70000x70000"),
+        (vec!["--width", "0"], "0x360"),
+        (vec!["--levels", "5000"], "5000 levels"),
+    ] {
+        let mut all = vec!["render", "--space", "torus", "--cpu", "--out", out];
+        all.extend(args);
+        let o = run(&all);
+        assert_eq!(o.status.code(), Some(1), "{all:?}");
+        let err = stderr(&o);
+        assert!(err.contains(needle) && !err.contains("panicked"), "{err}");
+    }
+}
+
 fn render_writes_the_image_and_the_id_buffer() {
     let (out, ids) = (tmp("torus.png"), tmp("torus_ids.png"));
     let o = run(&[
@@ -293,6 +311,7 @@ bevy_manifold_test_support::test_main! {
         help_prints_usage,
         space_list_prints_one_name_per_line,
         gen_files_import_show_and_render,
+        render_refuses_sizes_and_levels_no_tracer_takes,
         space_show_gives_the_invariants,
         export_then_load_the_file_by_path,
         a_broken_space_file_is_reported_with_its_name,

@@ -393,6 +393,22 @@ fn broken_spaces_each_give_their_own_error() {
     ));
 }
 
+fn oversized_spaces_are_refused_before_any_quartic_work() {
+    // 200 faces (the torus's six repeated): refused by count at once, where
+    // building the polyhedron would take 200^4 / 6 plane tests.
+    let faces: Vec<Face> = (0..200).map(|i| torus_faces()[i % 6].clone()).collect();
+    let start = std::time::Instant::now();
+    let err = Space::new("big", Geometry::Euclidean, faces).unwrap_err();
+    assert_eq!(
+        err,
+        SpaceError::TooManyFaces {
+            count: 200,
+            max: bevy_manifold_core::space::MAX_FACES
+        }
+    );
+    assert!(start.elapsed().as_millis() < 1000);
+}
+
 fn broken_space_files_name_the_file_and_the_problem() {
     let good = catalog::torus(1.0).to_desc();
     let parse = |text: &str| SpaceDesc::parse(text, Path::new("broken.json")).unwrap_err();
@@ -459,6 +475,7 @@ bevy_manifold_test_support::test_main_requiring! {
         every_catalog_space_validates_and_round_trips_through_json,
         broken_spaces_each_give_their_own_error,
         broken_space_files_name_the_file_and_the_problem,
+        oversized_spaces_are_refused_before_any_quartic_work,
     ],
     requiring(
         "the shared Curved Spaces files",

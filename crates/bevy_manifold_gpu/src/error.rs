@@ -26,6 +26,10 @@ pub enum GpuError {
     /// wgpu reported a validation error.
     #[error("wgpu validation error: {0}")]
     Validation(String),
+    /// Settings no tracer takes (see `TraceSettings::check`), or a buffer
+    /// past the device's limits.
+    #[error("{0}")]
+    Settings(String),
     /// Reading the image back failed.
     #[error("reading the image back from the GPU failed: {0}")]
     Readback(String),

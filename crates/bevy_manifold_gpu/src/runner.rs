@@ -389,11 +389,28 @@ impl GpuTracer {
         defs: TraceDefs,
         entry: &'static str,
     ) -> Result<Vec<GpuPixel>, GpuError> {
+        settings.check().map_err(GpuError::Settings)?;
         let prep = FlatScene::<f32>::new(space, scene);
         let gpu = GpuScene::pack(space, &prep, settings);
         self.pipeline(defs, entry)?;
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let count = (settings.width * settings.height) as usize;
+        let count = (u64::from(settings.width) * u64::from(settings.height)) as usize;
+        // Every storage buffer within what the device binds, checked before
+        // wgpu would raise a validation error.
+        let limit = self.device.limits().max_storage_buffer_binding_size;
+        for (what, bytes) in [
+            ("the pixels", count * std::mem::size_of::<GpuPixel>()),
+            ("the meshes", std::mem::size_of_val(&gpu.objects.mesh_data[..])),
+            ("the mesh instances", std::mem::size_of_val(&gpu.objects.instances[..])),
+            ("the balls", std::mem::size_of_val(&gpu.objects.balls[..])),
+            ("the cell table", std::mem::size_of_val(&gpu.space.cell_table[..])),
+        ] {
+            if bytes as u64 > limit {
+                return Err(GpuError::Settings(format!(
+                    "{what} need a {bytes}-byte buffer, more than the {limit} bytes this adapter binds"
+                )));
+            }
+        }
         let (bind, pixels) = self.upload(&gpu, count);
         let size = (count * std::mem::size_of::<GpuPixel>()) as u64;
         let readback = self.readback_buffer(size);

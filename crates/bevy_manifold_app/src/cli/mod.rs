@@ -175,12 +175,13 @@ pub fn resolve_space(name: &str) -> Result<Space, String> {
 
 fn render_command(args: &RenderArgs) -> Result<(), String> {
     let space = resolve_space(&args.space)?;
-    if args.width == 0 || args.height == 0 {
-        return Err(format!(
-            "the image must be at least 1x1, got {}x{}",
-            args.width, args.height
-        ));
-    }
+    let size_check = TraceSettings {
+        width: args.width,
+        height: args.height,
+        levels: args.levels,
+        ..TraceSettings::default()
+    };
+    size_check.check().map_err(|e| format!("render: {e}"))?;
     let mut scene = match &args.scene {
         Some(p) => Scene::load(p, &space).map_err(|e| e.to_string())?,
         None => Scene::paper_default(&space),

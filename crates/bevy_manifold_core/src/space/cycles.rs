@@ -93,7 +93,8 @@ pub(super) fn edge_cycles(space: &Space) -> Result<Vec<EdgeCycle>, SpaceError> {
             }
         }
         let k = core::f64::consts::TAU / cycle.angle_sum;
-        cycle.order = if (k - k.round()).abs() < 1e-6 && k.round() >= 1.0 {
+        let whole = (1.0..=f64::from(super::MAX_CYCLE_ORDER)).contains(&k.round());
+        cycle.order = if (k - k.round()).abs() < 1e-6 && whole {
             k.round() as u32
         } else {
             0
@@ -114,8 +115,9 @@ pub(super) fn check_cycles(cycles: &[EdgeCycle]) -> Result<(), SpaceError> {
         };
         if c.order == 0 {
             return Err(fail(format!(
-                "the dihedral angles add up to {:.6} deg, which is not 360/k deg for a whole k",
-                c.angle_sum.to_degrees()
+                "the dihedral angles add up to {:.6} deg, which is not 360/k deg for a whole k up to {}",
+                c.angle_sum.to_degrees(),
+                super::MAX_CYCLE_ORDER
             )));
         }
         let mut power = DMat4::IDENTITY;

@@ -38,8 +38,8 @@ use std::collections::HashMap;
 /// the radius means the group is not discrete, or the domain is huge).
 pub const MAX_ELEMENTS: usize = 60_000;
 
-/// Most faces a Dirichlet domain may have.
-pub const MAX_FACES: usize = 120;
+/// Most faces a Dirichlet domain may have: those of any space.
+pub use super::MAX_FACES;
 
 /// Two orbit points closer than this are one point.
 const SAME_POINT: f64 = 1e-7;

@@ -12,6 +12,15 @@ pub enum SpaceError {
         /// How many faces were given.
         count: usize,
     },
+    /// More faces than a space may have (the polyhedron's construction is
+    /// quartic in them).
+    #[error("a space may have at most {max} faces, this one has {count}")]
+    TooManyFaces {
+        /// How many were given.
+        count: usize,
+        /// The cap, [`super::MAX_FACES`].
+        max: usize,
+    },
     /// A NaN or infinite number in a face's plane or pairing.
     #[error("face {face}: its {what} has a NaN or infinite entry")]
     NonFinite {

@@ -38,6 +38,13 @@ use cells::{CellId, CellScheme};
 use glam::{DMat4, DVec4};
 use serde::{Deserialize, Serialize};
 
+/// Most faces a space may have: building the polyhedron is quartic in the
+/// face count (128 faces take about a tenth of a second).
+pub const MAX_FACES: usize = 128;
+
+/// Largest order of an edge cycle's rotation (angle sum `2 pi / k`).
+pub const MAX_CYCLE_ORDER: u32 = 1000;
+
 /// How a face is identified with its partner.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -120,6 +127,12 @@ impl Space {
     fn build(name: String, geometry: Geometry, mut faces: Vec<Face>) -> Result<Self, SpaceError> {
         if faces.len() < 4 {
             return Err(SpaceError::TooFewFaces { count: faces.len() });
+        }
+        if faces.len() > MAX_FACES {
+            return Err(SpaceError::TooManyFaces {
+                count: faces.len(),
+                max: MAX_FACES,
+            });
         }
         for (i, f) in faces.iter_mut().enumerate() {
             if !f.plane.is_finite() {

@@ -48,7 +48,10 @@ pub use mesh_hit::{InstanceHit, hit_instance, meets_ball, mesh_albedo, mesh_norm
 pub use output::{id_pixel, srgb8};
 #[cfg(feature = "png")]
 pub use output::{write_ids_png, write_png};
-pub use render::{FOG_CUT, PathStep, Stop, TraceImage, TracePixel, TraceSettings, camera_ray, render, trace_ray};
+pub use render::{
+    FOG_CUT, MAX_LEVELS, MAX_PIXELS, MAX_TRACE_DISTANCE, PathStep, Stop, TraceImage, TracePixel, TraceSettings,
+    camera_ray, render, trace_ray,
+};
 pub use scene::MeshPart;
 pub use scene::{
     Ball, Camera, Fog, HAND_COLOR, Light, PaperOptions, SUZANNE_COLOR, Scene, SceneError, SceneMesh, SuzanneMode,

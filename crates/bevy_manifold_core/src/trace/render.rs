@@ -42,6 +42,54 @@ pub struct TraceSettings {
     pub renormalize: bool,
 }
 
+/// Most levels (face transports per ray) any tracer takes; more are
+/// clamped or refused. The GPU walk's loop bound (levels plus the distance)
+/// stays far from `u32` overflow.
+pub const MAX_LEVELS: u32 = 1024;
+
+/// Most pixels in one traced image (8192 x 8192).
+pub const MAX_PIXELS: u64 = 1 << 26;
+
+/// Largest `max_distance`, in units of the space (the GPU counts steps up
+/// to it).
+pub const MAX_TRACE_DISTANCE: f64 = 1.0e4;
+
+impl TraceSettings {
+    /// Checks the settings a tracer can honour: a size of at least one
+    /// pixel and at most [`MAX_PIXELS`] (multiplied in 64 bits), levels at
+    /// most [`MAX_LEVELS`], a positive finite `max_distance` at most
+    /// [`MAX_TRACE_DISTANCE`].
+    ///
+    /// # Errors
+    /// The first setting out of range, named with its value.
+    ///
+    /// ```
+    /// use bevy_manifold_core::trace::TraceSettings;
+    /// let huge = TraceSettings { width: 70_000, height: 70_000, ..TraceSettings::default() };
+    /// assert!(huge.check().unwrap_err().contains("70000x70000"));
+    /// assert!(TraceSettings::default().check().is_ok());
+    /// ```
+    pub fn check(&self) -> Result<(), String> {
+        let pixels = u64::from(self.width) * u64::from(self.height);
+        if pixels == 0 || pixels > MAX_PIXELS {
+            return Err(format!(
+                "an image of {}x{} pixels: it must have between 1 and {MAX_PIXELS} pixels",
+                self.width, self.height
+            ));
+        }
+        if self.levels > MAX_LEVELS {
+            return Err(format!("{} levels: at most {MAX_LEVELS}", self.levels));
+        }
+        if !(self.max_distance > 0.0 && self.max_distance <= MAX_TRACE_DISTANCE) {
+            return Err(format!(
+                "max distance {}: it must be positive and at most {MAX_TRACE_DISTANCE}",
+                self.max_distance
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Default for TraceSettings {
     fn default() -> Self {
         TraceSettings {
