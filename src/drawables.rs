@@ -24,7 +24,7 @@
 //! ```
 
 use crate::placement::{InSpace, ManifoldSpace, ManifoldSystems, Placement, SpaceMembers};
-use crate::trace::{Ball, Light, Scene};
+use crate::trace::{Ball, Light, MAX_LIGHTS, Scene, max_radius};
 use bevy::color::{Color, LinearRgba};
 use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
 use bevy::prelude::*;
@@ -215,13 +215,15 @@ pub fn gather_scenes(
                     e,
                     Ball {
                         center: p.position(),
-                        radius: b.radius,
+                        // Past the geometry's largest radius (H3: cosh r
+                        // overflows f32) the ball is drawn at that radius.
+                        radius: b.radius.min(max_radius(ms.space().geometry())),
                         color: rgb(b.color),
                     },
                 )
             })
             .collect();
-        let light_list = members
+        let light_list: Vec<Light> = members
             .iter()
             .filter_map(|&e| lights.get(e).ok())
             .map(|(p, l)| Light {
@@ -230,7 +232,27 @@ pub fn gather_scenes(
                 color: rgb(l.color),
             })
             .collect();
-        let (mut entities, balls): (Vec<Entity>, Vec<Ball>) = ball_list.into_iter().unzip();
+        let (mut entities, mut balls): (Vec<Entity>, Vec<Ball>) = ball_list.into_iter().unzip();
+        // Object ids are bytes: 254 objects at most, balls first.
+        if balls.len() > 254 {
+            warn!(
+                "bevy_manifold: {} traced balls in space {}: only the first 254 are drawn",
+                balls.len(),
+                ms.space().name()
+            );
+            balls.truncate(254);
+            entities.truncate(254);
+        }
+        let light_list = if light_list.len() > MAX_LIGHTS {
+            warn!(
+                "bevy_manifold: {} lights in space {}: only the first {MAX_LIGHTS} light the scene",
+                light_list.len(),
+                ms.space().name()
+            );
+            light_list[..MAX_LIGHTS].to_vec()
+        } else {
+            light_list
+        };
         let mut scene = Scene::empty();
         if let Some(m) = meshes {
             // Object ids are bytes: 254 objects at most.

@@ -534,3 +534,27 @@ fn membership_follows_the_hierarchy_and_the_scene_follows_membership() {
     app.update();
     assert!(app.world().get::<InSpace>(ball).is_none());
 }
+
+#[test]
+fn a_space_with_more_balls_and_lights_than_the_ids_hold_draws_the_first_ones() {
+    // Object ids are bytes (254 objects), and every hit loops over the
+    // lights: 300 balls and 100 lights are cut to 254 and 64 with a warning,
+    // never wrapped into wrong ids; a huge H3 radius is drawn at the cap.
+    let mut app = app(Duration::from_millis(10));
+    let space = catalog::seifert_weber();
+    let root = spawn_space(&mut app, space.clone());
+    for i in 0..300 {
+        let radius = if i == 0 { 500.0 } else { 0.01 };
+        app.world_mut()
+            .spawn((ChildOf(root), TracedBall::new(radius, Color::WHITE)));
+    }
+    for _ in 0..100 {
+        app.world_mut().spawn((ChildOf(root), ManifoldLight::default()));
+    }
+    app.update();
+    let scene = app.world().get::<ManifoldScene>(root).expect("gathered").scene();
+    assert_eq!(scene.balls.len(), 254);
+    assert_eq!(scene.lights.len(), bevy_manifold::trace::MAX_LIGHTS);
+    let biggest = scene.balls.iter().map(|b| b.radius).fold(0.0, f64::max);
+    assert_eq!(biggest, bevy_manifold::trace::max_radius(Geometry::Hyperbolic));
+}

@@ -601,3 +601,46 @@ fn rays_through_vertices_along_edges_and_tangent_to_faces_stay_sane() {
         }
     }
 }
+
+#[test]
+fn scene_files_refuse_radii_lights_and_meshes_no_tracer_can_draw() {
+    // H3: cosh r overflows f32 past r = 89, where the GPU would draw
+    // nothing and the CPU a ball: radii are capped by geometry.
+    let s = catalog::seifert_weber();
+    let mut v: serde_json::Value = serde_json::from_str(&Scene::default_for(&s).to_json()).expect("json");
+    v["balls"][0]["radius"] = serde_json::json!(95.0);
+    let e = Scene::parse(&v.to_string(), "scene.json", &s).unwrap_err().to_string();
+    assert_eq!(
+        e,
+        "scene.json: balls[0].radius: must be at most 40 in hyperbolic space, got 95"
+    );
+    v["balls"][0]["radius"] = serde_json::json!(0.1);
+    v["edges"] = serde_json::json!({"radius": 1e9});
+    let e = Scene::parse(&v.to_string(), "scene.json", &s).unwrap_err().to_string();
+    assert!(e.contains("edges.radius") && e.contains("at most 40"), "{e}");
+    // 65 lights: every hit would loop over each.
+    v["edges"] = serde_json::json!({"radius": 0.02});
+    let light = v["lights"][0].clone();
+    v["lights"] = serde_json::Value::Array(vec![light; 65]);
+    let e = Scene::parse(&v.to_string(), "scene.json", &s).unwrap_err().to_string();
+    assert!(e.contains("lights: at most 64 lights"), "{e}");
+    // A mesh with a NaN colour, or placed outside the domain, is named
+    // before its file is read.
+    let rows = |x: f64| {
+        let m = bevy_manifold_core::geometry::isometry::translation(Geometry::Hyperbolic, DVec3::X * x);
+        bevy_manifold_core::space::file::to_rows(m)
+    };
+    let t = catalog::seifert_weber();
+    let mut v: serde_json::Value = serde_json::from_str(&Scene::default_for(&t).to_json()).expect("json");
+    v["lights"] = serde_json::json!([]);
+    v["meshes"] =
+        serde_json::json!([{"file": "nowhere.glb", "placement": rows(0.1), "scale": 0.1, "color": [0.5, -1.0, 0.5]}]);
+    let e = Scene::parse(&v.to_string(), "scene.json", &t).unwrap_err().to_string();
+    assert!(e.contains("meshes[0].color"), "{e}");
+    v["meshes"] = serde_json::json!([{"file": "nowhere.glb", "placement": rows(3.0), "scale": 0.1}]);
+    let e = Scene::parse(&v.to_string(), "scene.json", &t).unwrap_err().to_string();
+    assert!(
+        e.contains("meshes[0].placement") && e.contains("outside the fundamental domain"),
+        "{e}"
+    );
+}

@@ -54,8 +54,8 @@ pub use render::{
 };
 pub use scene::MeshPart;
 pub use scene::{
-    Ball, Camera, Fog, HAND_COLOR, Light, PaperOptions, SUZANNE_COLOR, Scene, SceneError, SceneMesh, SuzanneMode,
-    baked, hand_offset, suzanne_offset,
+    Ball, Camera, Fog, HAND_COLOR, Light, MAX_LIGHTS, PaperOptions, SUZANNE_COLOR, Scene, SceneError, SceneMesh,
+    SuzanneMode, baked, hand_offset, max_radius, suzanne_offset,
 };
 #[cfg(feature = "gltf")]
 pub use scene::{builtin, meshes_of};

@@ -173,7 +173,7 @@ impl Scene {
         let mut balls = Vec::new();
         for (i, b) in desc.balls.iter().enumerate() {
             let center = point_field(space, b.center, &format!("balls[{i}].center")).map_err(|(f, m)| field(f, m))?;
-            positive(b.radius, &format!("balls[{i}].radius")).map_err(|(f, m)| field(f, m))?;
+            radius(g, b.radius, &format!("balls[{i}].radius")).map_err(|(f, m)| field(f, m))?;
             color(b.color, &format!("balls[{i}].color")).map_err(|(f, m)| field(f, m))?;
             balls.push(Ball {
                 center,
@@ -185,6 +185,15 @@ impl Scene {
             return Err(field(
                 "balls".into(),
                 format!("at most 254 balls (ids 1..254), got {}", balls.len()),
+            ));
+        }
+        if desc.lights.len() > MAX_LIGHTS {
+            return Err(field(
+                "lights".into(),
+                format!(
+                    "at most {MAX_LIGHTS} lights (every hit is lit by each), got {}",
+                    desc.lights.len()
+                ),
             ));
         }
         let mut lights = Vec::new();
@@ -206,7 +215,7 @@ impl Scene {
         }
         let edge_radius = match desc.edges {
             Some(e) => {
-                positive(e.radius, "edges.radius").map_err(|(f, m)| field(f, m))?;
+                radius(g, e.radius, "edges.radius").map_err(|(f, m)| field(f, m))?;
                 Some(e.radius)
             }
             None => None,
@@ -228,7 +237,7 @@ impl Scene {
             None => None,
         };
         let dir = Path::new(path).parent().unwrap_or(Path::new("."));
-        let (meshes, skipped) = read_meshes(&desc.meshes, dir, g).map_err(|(f, m)| field(f, m))?;
+        let (meshes, skipped) = read_meshes(&desc.meshes, dir, space).map_err(|(f, m)| field(f, m))?;
         if balls.len() + meshes.len() > 254 {
             return Err(field(
                 "meshes".into(),
@@ -284,6 +293,32 @@ impl Scene {
         };
         serde_json::to_string_pretty(&desc).unwrap_or_default()
     }
+}
+
+/// Most lights a scene may have: every hit loops over all of them.
+pub const MAX_LIGHTS: usize = 64;
+
+/// The largest ball or tube radius a geometry takes: in H3 `cosh r` must
+/// stay far inside f32 (it overflows past r = 89), in S3 a ball of radius
+/// pi is the whole sphere, in E3 a bound no scene needs.
+#[must_use]
+pub fn max_radius(g: Geometry) -> f64 {
+    match g {
+        Geometry::Hyperbolic => 40.0,
+        Geometry::Spherical => core::f64::consts::PI,
+        Geometry::Euclidean => 1.0e6,
+    }
+}
+
+fn radius(g: Geometry, r: f64, name: &str) -> Result<(), (String, String)> {
+    positive(r, name)?;
+    if r > max_radius(g) {
+        return Err((
+            name.into(),
+            format!("must be at most {} in {g} space, got {r}", max_radius(g)),
+        ));
+    }
+    Ok(())
 }
 
 fn positive(x: f64, name: &str) -> Result<(), (String, String)> {
@@ -382,8 +417,9 @@ fn one() -> f64 {
 pub(super) fn read_meshes(
     descs: &[MeshDesc],
     dir: &Path,
-    g: Geometry,
+    domain: &Space,
 ) -> Result<(Vec<SceneMesh>, Vec<String>), (String, String)> {
+    let g = domain.geometry();
     let mut meshes = Vec::new();
     let mut skipped = Vec::new();
     for (i, d) in descs.iter().enumerate() {
@@ -401,6 +437,18 @@ pub(super) fn read_meshes(
         }
         if !(d.scale > 0.0 && d.scale.is_finite()) {
             return Err((field("scale"), format!("must be positive and finite, got {}", d.scale)));
+        }
+        if let Some(c) = d.color {
+            color(c, &field("color"))?;
+        }
+        if let Some(f) = domain.outside_face(m.w_axis, 1e-9) {
+            return Err((
+                field("placement"),
+                format!(
+                    "puts the mesh at {:?}, outside the fundamental domain beyond face {f}",
+                    m.w_axis.to_array()
+                ),
+            ));
         }
         let path = dir.join(&d.file);
         #[cfg(not(feature = "gltf"))]

@@ -8,9 +8,9 @@ mod mesh;
 mod presets;
 
 pub use file::MeshPart;
-pub use file::SceneError;
 #[cfg(feature = "gltf")]
 pub use file::meshes_of;
+pub use file::{MAX_LIGHTS, SceneError, max_radius};
 pub use mesh::{SceneMesh, baked};
 #[cfg(feature = "gltf")]
 pub use presets::builtin;
