@@ -223,6 +223,40 @@ fn switching_spaces_100_times_leaks_no_buffers_or_pipelines() {
     assert_eq!(w.query::<&ManifoldCamera>().iter(w).count(), 1);
 }
 
+/// The settings file, fuzzed (the `fuzz` module of the test support):
+/// every mutant loads without a panic, and what it loads is in range (a
+/// second clean-up finds nothing to fix).
+fn fuzzed_settings_files_load_in_range() {
+    use bevy_manifold_test_support::fuzz::{Target, cases, mutate_json, run};
+    let dir = tmp_dir("fuzz");
+    let path = dir.join("explorer.json");
+    let seed: serde_json::Value = serde_json::to_value(ExplorerSettings::default()).expect("json");
+    let target = Target {
+        format: "explorer settings",
+        mutate: mutate_json,
+        run: |v: &serde_json::Value| {
+            std::fs::write(&path, v.to_string()).expect("write");
+            let (s, _) = settings::load(&path);
+            let mut again = s.clone();
+            assert!(again.sanitize().is_empty(), "loaded settings out of range: {s:?}");
+            assert_eq!(again, s);
+            let broken = path.with_extension("json.broken");
+            let refused = broken.exists();
+            let _ = std::fs::remove_file(&broken);
+            !refused
+        },
+        bytes: |v: &serde_json::Value| v.to_string().into_bytes(),
+    };
+    run(
+        &target,
+        &[seed],
+        cases(1500),
+        6_000_000,
+        std::time::Duration::from_secs(5),
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// The explorer's plugin in an app with no renderer, one frame run.
 fn headless_explorer() -> App {
     let mut app = App::new();
@@ -285,6 +319,7 @@ fn library_spaces_and_gen_files_open_in_the_explorer() {
 
 bevy_manifold_test_support::test_main! {
     cpu: [
+        fuzzed_settings_files_load_in_range,
         library_spaces_and_gen_files_open_in_the_explorer,
         settings_round_trip_and_broken_files_are_replaced_not_lost,
         without_a_display_the_explorer_renders_explorer_png_and_exits_0,

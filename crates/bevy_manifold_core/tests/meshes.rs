@@ -316,3 +316,16 @@ fn degenerate_normals_uvs_and_textures_are_repaired_or_refused() {
     assert_eq!(texel_index(0.7, 10), 7);
     assert_eq!(texel_index(-0.25, 4), 3);
 }
+
+#[test]
+fn a_gltf_that_crashed_the_gltf_crate_is_an_error_naming_the_file() {
+    // Found by the fuzzer (tests/fuzz.rs): a primitive whose POSITION names
+    // accessor 0 in a file with no accessors panics inside gltf-json's
+    // validation. It is this file's error now.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fuzz/gltf/no-accessors.glb");
+    let e = load(&path).unwrap_err();
+    assert!(
+        matches!(e, GltfError::Parse { .. }) && e.to_string().contains("no-accessors.glb"),
+        "{e}"
+    );
+}

@@ -3,6 +3,7 @@
 //! fixtures, and (feature `gpu`) the GPU to test on or an honest skip.
 
 pub mod compare;
+pub mod fuzz;
 #[cfg(feature = "gpu")]
 pub mod gpu;
 pub mod harness;

@@ -95,11 +95,44 @@ pub fn load(path: impl AsRef<Path>) -> Result<Loaded, GltfError> {
 /// # Errors
 /// As [`load`].
 pub fn from_slice(bytes: &[u8], path: &Path) -> Result<Loaded, GltfError> {
+    // The glTF crate's validation indexes lists a broken file may lack
+    // (found by fuzzing: a POSITION attribute with no "accessors" at all
+    // panicked inside gltf-json; `read` now checks that case first). Any
+    // other such panic is this file's error, not the program's end.
+    std::panic::catch_unwind(|| read(bytes, path)).unwrap_or_else(|_| {
+        Err(GltfError::Parse {
+            path: path.to_path_buf(),
+            message: "the glTF reader failed on a field it does not check (an index past its list?)".into(),
+        })
+    })
+}
+
+fn read(bytes: &[u8], path: &Path) -> Result<Loaded, GltfError> {
     let parse = |message: String| GltfError::Parse {
         path: path.to_path_buf(),
         message,
     };
-    let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| parse(e.to_string()))?;
+    // Parsed first, then every accessor index a primitive names checked
+    // against the accessor list, then validated: the crate's validation
+    // indexes that list without a bound check.
+    let raw = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| parse(e.to_string()))?;
+    let root = raw.document.into_json();
+    let accessors = root.accessors.len();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            let named = prim.attributes.values().chain(prim.indices.as_ref());
+            if let Some(bad) = named.map(|i| i.value()).find(|&i| i >= accessors) {
+                return Err(parse(format!(
+                    "meshes[{m}].primitives[{p}] names accessor {bad}, but the file has {accessors}"
+                )));
+            }
+        }
+    }
+    let document = gltf::Document::from_json(root).map_err(|e| parse(e.to_string()))?;
+    let gltf = gltf::Gltf {
+        document,
+        blob: raw.blob,
+    };
     let dir = path.parent().unwrap_or(Path::new("."));
     let mut buffers = Vec::new();
     for b in gltf.buffers() {
