@@ -644,3 +644,37 @@ fn scene_files_refuse_radii_lights_and_meshes_no_tracer_can_draw() {
         "{e}"
     );
 }
+
+#[test]
+fn the_camera_never_sees_its_own_body_from_inside_even_beside_a_face() {
+    // The camera 0.05 inradius from face 0, looking at it, wearing a body
+    // (Suzanne around the eye) that reaches across the face. Every copy of
+    // the body other than its own lies a whole translation away (1 in the
+    // torus, 2r = 1.99 in Seifert-Weber), so a hit nearer than the body's
+    // radius can only be the home body met from inside: through the face,
+    // a ghost copy of it is that body, and must be skipped at every level.
+    for s in [catalog::torus(1.0), catalog::seifert_weber()] {
+        let (scene, radius) = bevy_manifold_test_support::stress::body_beside_a_face(&s);
+        let settings = TraceSettings {
+            width: 96,
+            height: 96,
+            levels: 6,
+            ..TraceSettings::default()
+        };
+        let img = render::<f64>(&s, &scene, &settings);
+        let id = 1; // no balls: the mesh is object 1
+        let seen: Vec<f32> = img
+            .pixels
+            .iter()
+            .filter(|p| p.object == id)
+            .map(|p| p.distance)
+            .collect();
+        let nearest = seen.iter().copied().fold(f32::INFINITY, f32::min);
+        assert!(!seen.is_empty(), "{}: the body's images are seen", s.name());
+        assert!(
+            f64::from(nearest) > radius,
+            "{}: a hit on the body at {nearest}, inside its own radius {radius}: the home body seen from inside",
+            s.name()
+        );
+    }
+}

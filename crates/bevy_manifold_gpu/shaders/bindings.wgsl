@@ -101,10 +101,12 @@ struct Instance {
     tex_width: u32,
     tex_height: u32,
     node_count: u32,
-    // 1: the home copy of a mesh attached to the camera, not drawn before
-    // the first transport.
+    // 1: a copy of a mesh attached to the camera (see `home`).
     attached: u32,
     pad: array<u32, 3>,
+    // With `attached`: the cell point g o from which this copy is the
+    // camera's own body, never hit from there (FlatInstance::home in Rust).
+    home: vec4<f32>,
 }
 
 // Rust twin: GpuLight in crates/bevy_manifold_gpu/src/layout.rs.

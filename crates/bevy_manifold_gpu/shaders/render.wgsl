@@ -66,7 +66,7 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
         }
 #endif
         let seg = segment_end(walk);
-        let hit = nearest_object(walk.ray, seg.t, walk.levels);
+        let hit = nearest_object(walk.ray, seg.t, walk.cell[3]);
         if hit.kind != 0u {
             let dist = walk.travelled + chart_to_distance(hit.t);
             let cid = cell_id(walk.cell, walk.index);
@@ -103,9 +103,18 @@ struct Hit {
     v: f32,
 }
 
-// The nearest object on the ray within [0, t_end], at `level` transports
-// (a mesh attached to the camera is skipped at 0).
-fn nearest_object(ray: Ray, t_end: f32, level: u32) -> Hit {
+// True when two cell points g o name the same copy of the domain.
+// Rust twin: same_cell_point in crates/bevy_manifold_core/src/trace/flat.rs.
+fn same_cell_point(a: vec4<f32>, b: vec4<f32>) -> bool {
+    let d = a - b;
+    let size = max(dot(a, a), 1.0);
+    return dot(d, d) <= 1.0e-6 * size;
+}
+
+// The nearest object on the ray within [0, t_end], seen from the cell whose
+// element takes the origin to `cell_point` (the copy of a camera-attached
+// mesh that is the camera's own body from there is skipped).
+fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>) -> Hit {
     var best = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
 #ifdef BALLS
     for (var i = 0u; i < params.ball_count; i++) {
@@ -125,7 +134,7 @@ fn nearest_object(ray: Ray, t_end: f32, level: u32) -> Hit {
 #endif
 #ifdef MESHES
     for (var i = 0u; i < params.instance_count; i++) {
-        if instances[i].attached != 0u && level == 0u {
+        if instances[i].attached != 0u && same_cell_point(instances[i].home, cell_point) {
             continue;
         }
         let limit = select(t_end, best.t, best.kind != 0u);

@@ -143,10 +143,13 @@ pub struct GpuInstance {
     pub tex_height: u32,
     /// Number of BVH nodes (bounds the traversal loop).
     pub node_count: u32,
-    /// 1 for the home copy of a mesh attached to the camera.
+    /// 1 for a copy of a mesh attached to the camera (see `home`).
     pub attached: u32,
     /// Padding to 16 bytes.
     pub pad: [u32; 3],
+    /// With `attached`: the cell point `g o` from which this copy is the
+    /// camera's own body (`FlatInstance::home`).
+    pub home: [f32; 4],
 }
 
 /// WGSL twin: `Light` in `shaders/bindings.wgsl`.
@@ -438,8 +441,9 @@ fn pack_meshes(prep: &FlatScene<f32>) -> (Vec<GpuInstance>, Vec<[u32; 4]>) {
                 tex_width,
                 tex_height,
                 node_count,
-                attached: u32::from(inst.attached),
+                attached: u32::from(inst.home.is_some()),
                 pad: [0; 3],
+                home: inst.home.map_or([0.0; 4], v),
             }
         })
         .collect();

@@ -48,7 +48,7 @@ fn rust_layouts() -> Vec<RustLayout> {
         rust_layout!(GpuTube => "Tube" { a, e, b, e_b, color }),
         rust_layout!(GpuInstance => "Instance" {
             to_local, center, color, k, nodes, vertices, triangles, id, texture, tex_width, tex_height,
-            node_count, attached, pad,
+            node_count, attached, pad, home,
         }),
         rust_layout!(GpuLight => "Light" { position, color, intensity }),
         rust_layout!(GpuPixel => "Pixel" { color, object, levels, cell_lo, cell_hi }),

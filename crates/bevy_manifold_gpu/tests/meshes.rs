@@ -37,6 +37,36 @@ fn gpu_and_cpu_agree_on_suzanne_and_the_hands_in_every_space() {
     }
 }
 
+/// The camera beside a face wearing its body: the GPU skips the home body
+/// through the face as the CPU does (the same rule, `same_cell_point`).
+fn the_gpu_never_sees_the_cameras_own_body_from_inside() {
+    let mut gpu = tracer();
+    for space in [catalog::torus(1.0), catalog::seifert_weber()] {
+        let (scene, radius) = bevy_manifold_test_support::stress::body_beside_a_face(&space);
+        let settings = TraceSettings {
+            width: 96,
+            height: 96,
+            levels: 6,
+            ..TraceSettings::default()
+        };
+        let g = gpu.render(&space, &scene, &settings).expect("render");
+        let c = render::<f64>(&space, &scene, &settings);
+        let nearest = g
+            .pixels
+            .iter()
+            .filter(|p| p.object == 1)
+            .map(|p| p.distance)
+            .fold(f32::INFINITY, f32::min);
+        assert!(
+            f64::from(nearest) > radius,
+            "{}: GPU hit on the body at {nearest}",
+            space.name()
+        );
+        let (ids, _) = agreement(&g, &c);
+        assert!(ids >= 0.995, "{}: ids agree on {:.3}%", space.name(), ids * 100.0);
+    }
+}
+
 fn meshes_share_one_bvh_and_scenes_without_them_compile_none() {
     let space = catalog::torus(1.0);
     let mut scene = Scene::empty();
@@ -66,6 +96,7 @@ fn meshes_share_one_bvh_and_scenes_without_them_compile_none() {
 bevy_manifold_test_support::test_main! {
     cpu: [meshes_share_one_bvh_and_scenes_without_them_compile_none],
     gpu: [
+        the_gpu_never_sees_the_cameras_own_body_from_inside,
         gpu_and_cpu_agree_on_suzanne_and_the_hands_in_every_space,
     ],
 }

@@ -80,11 +80,11 @@ pub fn mutate_json(v: &mut Value, rng: &mut Rng) {
         }
         6 => {
             // Repeat an array's entries (many of them).
-            if let Value::Array(a) = node {
-                if let Some(first) = a.first().cloned() {
-                    let n = [2, 10, 300][rng.below(3)];
-                    a.extend(std::iter::repeat_n(first, n));
-                }
+            if let Value::Array(a) = node
+                && let Some(first) = a.first().cloned()
+            {
+                let n = [2, 10, 300][rng.below(3)];
+                a.extend(std::iter::repeat_n(first, n));
             }
         }
         7 => {

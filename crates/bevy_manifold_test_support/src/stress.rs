@@ -265,3 +265,35 @@ pub fn assert_sane_walk(space: &Space, d: &RayDrift, levels: u32, what: &str) {
         d.distance
     );
 }
+
+/// The camera 0.05 inradius from face 0, looking at it with a 90 degree
+/// field of view, wearing a body (Suzanne centred on the eye, attached)
+/// of radius a fifth of the inradius, which reaches across the face; and
+/// that radius. A hit on the body nearer than the radius is the home body
+/// met from inside (every other copy is a translation away).
+#[must_use]
+pub fn body_beside_a_face(space: &Space) -> (bevy_manifold_core::trace::Scene, f64) {
+    use bevy_manifold_core::trace::{Scene, SceneMesh, builtin};
+    let g = space.geometry();
+    let r = space.inradius();
+    let n = bevy_manifold_core::geometry::plane::normal_at(g, space.faces()[0].plane, DVec4::W).truncate();
+    let dir = n.normalize();
+    let look = glam::DQuat::from_rotation_arc(-glam::DVec3::Z, dir);
+    let camera = isometry::translation(g, dir * (0.95 * r)) * DMat4::from_quat(look);
+    let mut scene = Scene::default_for(space);
+    scene.balls.clear();
+    scene.camera.isometry = camera;
+    scene.camera.fov_y_degrees = 90.0;
+    let suzanne = builtin::suzanne();
+    let radius = 0.2 * r;
+    let scale = radius / f64::from(suzanne.mesh.bounding_radius());
+    let mut body = SceneMesh::new(
+        suzanne,
+        bevy_manifold_core::mesh::MeshMaterial::default(),
+        camera,
+        scale,
+    );
+    body.attached = true;
+    scene.meshes = vec![body];
+    (scene, radius)
+}

@@ -67,9 +67,23 @@ pub struct FlatInstance<R: Real> {
     pub texture: Option<usize>,
     /// Object id.
     pub id: u32,
-    /// Not drawn before the first transport: the home copy of a mesh
-    /// attached to the camera.
-    pub attached: bool,
+    /// For a copy of a mesh attached to the camera: the point `g o` of the
+    /// walk's cell element `g` from which this copy is the camera's own
+    /// body (the copy `h` of the body seen from cell `g` is the home body
+    /// when `g h` is the camera's cell). The walk never hits it from there,
+    /// at any level. `None` for other meshes.
+    pub home: Option<R::V4>,
+}
+
+/// True when two cell points `g o` name the same copy of the domain:
+/// copies' centres are at least twice the inradius apart, so a tolerance
+/// of a thousandth of their size tells them apart in f32 as in f64.
+/// WGSL twin: `same_cell_point` in `shaders/render.wgsl`.
+#[must_use]
+pub fn same_cell_point<R: Real>(a: R::V4, b: R::V4) -> bool {
+    let d = a - b;
+    let size = R::dot4(a, a).max(R::of(1.0));
+    R::dot4(d, d) <= R::of(1e-6) * size
 }
 
 /// The per-face arrays a walk through the manifold reads, in precision `R`.
@@ -216,8 +230,8 @@ impl<R: Real> FlatScene<R> {
                 color: l.color,
             })
             .collect();
-        let (instances, meshes, textures) = flatten_meshes::<R>(space, scene);
         let (camera, camera_cell) = space.wrap(scene.camera.isometry, 1000);
+        let (instances, meshes, textures) = flatten_meshes::<R>(space, scene, camera_cell);
         FlatScene {
             faces: FaceTables::new(space),
             balls,
@@ -245,7 +259,7 @@ type FlatMeshes<R> = (Vec<FlatInstance<R>>, Vec<Arc<MeshData>>, Vec<Arc<Texture>
 /// The scene's mesh instances with their ghosts, and the distinct meshes
 /// and textures they use. Meshes whose bounding ball does not fit the
 /// geometry's chart (reaching infinity in H3) are left out.
-fn flatten_meshes<R: Real>(space: &Space, scene: &Scene) -> FlatMeshes<R> {
+fn flatten_meshes<R: Real>(space: &Space, scene: &Scene, camera_cell: DMat4) -> FlatMeshes<R> {
     let g = space.geometry();
     let mut instances = Vec::new();
     let mut meshes: Vec<Arc<MeshData>> = Vec::new();
@@ -273,8 +287,11 @@ fn flatten_meshes<R: Real>(space: &Space, scene: &Scene) -> FlatMeshes<R> {
         let unscale = DMat4::from_diagonal(DVec4::new(1.0 / m.scale, 1.0 / m.scale, 1.0 / m.scale, 1.0));
         let center = m.center(g);
         let k = R::of(radius_param(g, radius));
-        for (copy, h) in ghost_elements(space, center, radius).into_iter().enumerate() {
+        for h in ghost_elements(space, center, radius) {
             let placed = h * m.placement;
+            let home = m
+                .attached
+                .then(|| R::v4_of(g.normalize_point::<f64>((camera_cell * isometry::inverse(g, h)).w_axis)));
             instances.push(FlatInstance {
                 to_local: R::m4_of(m.local.inverse() * unscale * isometry::inverse(g, placed)),
                 center: R::v4_of(g.normalize_point::<f64>(h * center)),
@@ -283,7 +300,7 @@ fn flatten_meshes<R: Real>(space: &Space, scene: &Scene) -> FlatMeshes<R> {
                 color: m.material.base_color,
                 texture,
                 id: (scene.balls.len() + 1 + j) as u32,
-                attached: m.attached && copy == 0,
+                home,
             });
         }
     }

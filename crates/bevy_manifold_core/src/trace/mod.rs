@@ -42,6 +42,7 @@ pub use cast::{CastBall, CastHit, cast_balls};
 pub use drift::{RayDrift, ray_drift};
 pub use flat::{
     EDGE_ID, FaceTables, FlatBall, FlatInstance, FlatLight, FlatScene, FlatTube, ghost_centres, ghost_elements,
+    same_cell_point,
 };
 pub use flow::{Flowed, flow};
 pub use mesh_hit::{InstanceHit, hit_instance, meets_ball, mesh_albedo, mesh_normal};

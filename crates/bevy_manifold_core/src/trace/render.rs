@@ -8,7 +8,7 @@
 /// WGSL twin: `FOG_CUT` in `shaders/bindings.wgsl`.
 pub const FOG_CUT: f64 = 5.541_263_545_158_426;
 
-use super::flat::{EDGE_ID, FlatScene};
+use super::flat::{EDGE_ID, FlatScene, same_cell_point};
 use super::mesh_hit::{hit_instance, mesh_albedo, mesh_normal};
 use super::scene::Scene;
 use super::step::{Ray, advance_or_raw, foot_on_line, hit_ball, hit_tube, normal_from};
@@ -239,7 +239,8 @@ pub fn trace_ray<R: Real>(
             return (finish(background, 0, &walk, travelled), Stop::Fog);
         }
         let (face, t_end) = walk.segment_end(&prep.faces);
-        if let Some((t, hit)) = nearest_object(g, prep, &walk.ray, t_end, walk.levels) {
+        let cell_point = walk.cell * R::v4_of(glam::DVec4::W);
+        if let Some((t, hit)) = nearest_object(g, prep, &walk.ray, t_end, cell_point) {
             let dist = travelled + g.chart_to_distance::<R>(t);
             let color = shade(g, prep, &walk.ray, t, hit, dist, space, walk.cell, settings);
             return (finish(color, hit.id(prep), &walk, dist), Stop::Hit(hit.id(prep)));
@@ -283,13 +284,15 @@ impl<R: Real> Hit<R> {
 }
 
 /// The nearest object along the ray with chart parameter in `[0, t_end]`,
-/// at `level` transports (a mesh attached to the camera is skipped at 0).
+/// seen from the cell whose element takes the origin to `cell_point` (the
+/// copy of a camera-attached mesh that is the camera's own body from
+/// there is skipped).
 fn nearest_object<R: Real>(
     g: Geometry,
     prep: &FlatScene<R>,
     ray: &Ray<R>,
     t_end: R,
-    level: u32,
+    cell_point: R::V4,
 ) -> Option<(R, Hit<R>)> {
     let zero = R::of(0.0);
     let mut best: Option<(R, Hit<R>)> = None;
@@ -310,7 +313,7 @@ fn nearest_object<R: Real>(
         }
     }
     for (i, inst) in prep.instances.iter().enumerate() {
-        if inst.attached && level == 0 {
+        if inst.home.is_some_and(|home| same_cell_point::<R>(home, cell_point)) {
             continue;
         }
         let limit = best.map_or(t_end, |(bt, _)| bt);
