@@ -678,3 +678,31 @@ fn the_camera_never_sees_its_own_body_from_inside_even_beside_a_face() {
         );
     }
 }
+
+#[test]
+fn a_ball_on_a_seifert_weber_vertex_has_a_copy_in_each_of_its_20_cells() {
+    // In the tiling {5,3,5} twenty dodecahedra meet at each vertex (the
+    // vertex figure is an icosahedron, 20 faces); four of them are four or
+    // five crossings from the home cell. A small ball on a vertex of the
+    // domain reaches into it from each: 20 copies, all distinct.
+    let s = catalog::seifert_weber();
+    for v in s.vertices().iter().take(4) {
+        let ghosts = bevy_manifold_core::trace::ghost_elements(&s, v.point, 0.05);
+        assert_eq!(ghosts.len(), 20, "vertex on faces {:?}", v.faces);
+        let mut ids: Vec<_> = ghosts.iter().map(|h| s.cell_id(h)).collect();
+        ids.sort();
+        ids.dedup();
+        assert_eq!(ids.len(), 20);
+        // Each copy's centre is the vertex of D it sits on: at the
+        // circumradius from the origin, within rounding.
+        for h in &ghosts {
+            let c = Geometry::Hyperbolic.normalize_point::<f64>(*h * v.point);
+            let d = Geometry::Hyperbolic.distance::<f64>(DVec4::W, c);
+            assert!((d - s.circumradius()).abs() < 1e-9, "a copy's centre at {d}");
+        }
+    }
+    // In the torus, a ball on a corner of the cube: 8 cubes meet there.
+    let t = catalog::torus(1.0);
+    let corner = t.vertices()[0].point;
+    assert_eq!(bevy_manifold_core::trace::ghost_elements(&t, corner, 0.05).len(), 8);
+}

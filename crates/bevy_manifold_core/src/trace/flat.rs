@@ -160,8 +160,12 @@ const PALETTE: [[f32; 3]; 10] = [
     [0.95, 0.45, 0.65],
 ];
 
-/// Longest word of pairings tried when looking for ghost copies of a ball.
-pub const GHOST_WORD_LENGTH: usize = 3;
+/// Most copies of one object kept as ghosts (a huge ball in a small
+/// domain would otherwise ask for thousands).
+pub const MAX_GHOSTS: usize = 256;
+
+/// Most copies of the domain visited while looking for an object's ghosts.
+pub const MAX_GHOST_SEARCH: usize = 8192;
 
 impl<R: Real> FlatScene<R> {
     /// Prepares `scene` in `space` for tracing in precision `R`.
@@ -307,9 +311,10 @@ fn flatten_meshes<R: Real>(space: &Space, scene: &Scene, camera_cell: DMat4) -> 
     (instances, meshes, textures)
 }
 
-/// The centre of a ball and of each copy of it (under words of up to
-/// `GHOST_WORD_LENGTH` pairings) that reaches into the domain, so a ball
-/// straddling a face is seen whole from both sides.
+/// The centre of a ball and of each copy of it that reaches into the
+/// domain, so a ball straddling a face (or sitting on a vertex, where 20
+/// copies of the domain meet in Seifert-Weber) is seen whole from every
+/// side.
 #[must_use]
 pub fn ghost_centres(space: &Space, center: DVec4, radius: f64) -> Vec<DVec4> {
     let g = space.geometry();
@@ -334,30 +339,35 @@ pub fn ghost_elements(space: &Space, center: DVec4, radius: f64) -> Vec<DMat4> {
     if !straddles {
         return vec![DMat4::IDENTITY];
     }
+    // Breadth first over the copies of the domain, by distance: a copy `h`
+    // of the object reaches into the domain when its centre `h c` is
+    // nearer than `radius` to every face's inner side; copies are walked
+    // through while `h c` is within `radius` plus twice the circumradius of
+    // the origin (beyond, no copy can reach back in), under hard caps.
+    let reach = radius + 2.0 * space.circumradius();
     let mut seen: HashSet<CellId> = HashSet::new();
     seen.insert(CellId(0));
     let mut out = vec![DMat4::IDENTITY];
-    let mut frontier = vec![DMat4::IDENTITY];
-    for _ in 0..GHOST_WORD_LENGTH {
-        let mut next = Vec::new();
-        for m in &frontier {
-            for f in space.faces() {
-                let h = isometry::orthonormalize(g, f.pairing * *m);
-                if !seen.insert(space.cell_id(&h)) {
-                    continue;
-                }
-                let c = g.normalize_point::<f64>(h * center);
-                let reaches = space
-                    .faces()
-                    .iter()
-                    .all(|face| crate::geometry::plane::signed_distance(g, face.plane, c) < radius);
-                if reaches {
-                    out.push(h);
-                }
-                next.push(h);
+    let mut frontier = std::collections::VecDeque::from([DMat4::IDENTITY]);
+    while let Some(m) = frontier.pop_front() {
+        for f in space.faces() {
+            let h = isometry::orthonormalize(g, f.pairing * m);
+            if seen.len() >= MAX_GHOST_SEARCH || !seen.insert(space.cell_id(&h)) {
+                continue;
             }
+            let c = g.normalize_point::<f64>(h * center);
+            if g.distance::<f64>(DVec4::W, c) > reach {
+                continue;
+            }
+            let reaches = space
+                .faces()
+                .iter()
+                .all(|face| crate::geometry::plane::signed_distance(g, face.plane, c) < radius);
+            if reaches && out.len() < MAX_GHOSTS {
+                out.push(h);
+            }
+            frontier.push_back(h);
         }
-        frontier = next;
     }
     out
 }
