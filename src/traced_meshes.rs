@@ -172,12 +172,31 @@ pub fn texture(image: &Image) -> Result<Texture, String> {
 
 fn note_mesh_events(mut events: MessageReader<AssetEvent<Mesh>>, mut cache: ResMut<MeshBvhCache>) {
     for e in events.read() {
+        // Every event drops what was cached for the asset (a mesh that
+        // arrives after an entity named it is traced from then on).
+        let (AssetEvent::Added { id }
+        | AssetEvent::LoadedWithDependencies { id }
+        | AssetEvent::Modified { id }
+        | AssetEvent::Removed { id }
+        | AssetEvent::Unused { id }) = e;
+        cache.meshes.remove(id);
+        cache.dirty = true;
+    }
+}
+
+/// Textures likewise: an image that loads or changes after its material
+/// was gathered is read again.
+#[cfg(feature = "standard_material")]
+fn note_image_events(mut events: MessageReader<AssetEvent<Image>>, mut cache: ResMut<MeshBvhCache>) {
+    for e in events.read() {
         match e {
-            AssetEvent::Modified { id } | AssetEvent::Removed { id } | AssetEvent::Unused { id } => {
-                cache.meshes.remove(id);
-                cache.dirty = true;
-            }
+            // A new image may be one a material waits for.
             AssetEvent::Added { .. } | AssetEvent::LoadedWithDependencies { .. } => cache.dirty = true,
+            AssetEvent::Modified { id } | AssetEvent::Removed { id } | AssetEvent::Unused { id } => {
+                if cache.textures.remove(id).is_some() {
+                    cache.dirty = true;
+                }
+            }
         }
     }
 }
@@ -263,22 +282,27 @@ pub fn gather_meshes(
                 }
                 if visible.is_none_or(|v| v.get()) {
                     let id = mesh3d.0.id();
-                    let data = cache
-                        .meshes
-                        .entry(id)
-                        .or_insert_with(|| {
-                            let mesh = mesh_assets.get(id)?;
-                            match tri_mesh(mesh) {
-                                Ok(m) => Some(MeshData::shared(m)),
-                                Err(err) => {
-                                    if warned.insert(id) {
-                                        warn!("bevy_manifold: mesh {id} of entity {e} is not traced: {err}");
+                    // Cached only once the asset is there: one still loading
+                    // is looked up again when its load event arrives.
+                    let data = match cache.meshes.get(&id) {
+                        Some(cached) => cached.clone(),
+                        None => match mesh_assets.get(id) {
+                            None => None,
+                            Some(mesh) => {
+                                let built = match tri_mesh(mesh) {
+                                    Ok(m) => Some(MeshData::shared(m)),
+                                    Err(err) => {
+                                        if warned.insert(id) {
+                                            warn!("bevy_manifold: mesh {id} of entity {e} is not traced: {err}");
+                                        }
+                                        None
                                     }
-                                    None
-                                }
+                                };
+                                cache.meshes.insert(id, built.clone());
+                                built
                             }
-                        })
-                        .clone();
+                        },
+                    };
                     if let Some(data) = data {
                         #[cfg(feature = "standard_material")]
                         let surface = surface(material, materials.as_deref(), images.as_deref(), &mut cache.textures);
@@ -328,19 +352,19 @@ fn surface(
     };
     let LinearRgba { red, green, blue, .. } = m.base_color.to_linear();
     let texture = m.base_color_texture.as_ref().and_then(|h| {
+        // Not cached while the image is still loading (its load event
+        // makes the next gathering read it).
+        let image = images?.get(h)?;
         textures
             .entry(h.id())
-            .or_insert_with(|| {
-                let image = images?.get(h)?;
-                match texture(image) {
-                    Ok(t) => Some(Arc::new(t)),
-                    Err(e) => {
-                        warn!(
-                            "bevy_manifold: texture {} is not traced: {e}; the base colour alone is used",
-                            h.id()
-                        );
-                        None
-                    }
+            .or_insert_with(|| match texture(image) {
+                Ok(t) => Some(Arc::new(t)),
+                Err(e) => {
+                    warn!(
+                        "bevy_manifold: texture {} is not traced: {e}; the base colour alone is used",
+                        h.id()
+                    );
+                    None
                 }
             })
             .clone()
@@ -364,5 +388,12 @@ pub(crate) fn build(app: &mut App, schedule: bevy::ecs::schedule::InternedSchedu
             .chain()
             .after(crate::placement::ManifoldSystems::Sync)
             .before(crate::drawables::gather_scenes),
+    );
+    #[cfg(feature = "standard_material")]
+    app.add_systems(
+        schedule,
+        note_image_events
+            .run_if(resource_exists::<Messages<AssetEvent<Image>>>)
+            .before(gather_meshes),
     );
 }

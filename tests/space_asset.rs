@@ -1,6 +1,6 @@
-//! Space files as Bevy assets: loaded by the asset server onto a root,
-//! swapped when the asset changes, and failures reported as asset events
-//! while the root keeps its space.
+//! Assets in a manifold: space files loaded by the asset server onto a
+//! root, swapped when the asset changes, failures reported as asset events
+//! while the root keeps its space; and meshes traced once they arrive.
 
 use bevy::asset::AssetLoadFailedEvent;
 use bevy::prelude::*;
@@ -148,4 +148,62 @@ fn a_broken_file_is_reported_and_the_root_keeps_its_space() {
     }
     let kept = app.world().get::<ManifoldSpace>(root).expect("still there");
     assert_eq!(kept.space().name(), "torus");
+}
+
+/// A `Mesh3d` whose asset is not there yet (still loading) is traced once it
+/// arrives, while the entity keeps moving; before, the missing asset was
+/// cached as untraceable for good.
+#[test]
+fn a_mesh_that_arrives_after_its_entity_is_traced_from_then_on() {
+    use bevy::asset::RenderAssetUsages;
+    use bevy::mesh::{Indices, PrimitiveTopology};
+    let dir = folder();
+    let mut app = app(&dir);
+    app.init_asset::<Mesh>();
+    app.finish();
+    app.cleanup();
+    let space = catalog::torus(1.0);
+    let root = app.world_mut().spawn(ManifoldSpace::new(space.clone())).id();
+    let handle = app.world().resource::<Assets<Mesh>>().reserve_handle();
+    let mover = app
+        .world_mut()
+        .spawn((
+            ChildOf(root),
+            Mesh3d(handle.clone()),
+            Placement::default(),
+            Transform::default(),
+        ))
+        .id();
+    // Frames go by with the entity moving and the mesh still "loading".
+    let e = Geometry::Euclidean;
+    for k in 0..5 {
+        app.world_mut().get_mut::<Placement>(mover).expect("placed").isometry =
+            isometry::translation(e, DVec3::X * (0.01 * f64::from(k)));
+        app.update();
+        let traced = app
+            .world()
+            .get::<bevy_manifold::drawables::ManifoldMeshes>(root)
+            .map_or(0, |m| m.meshes.len());
+        assert_eq!(traced, 0, "nothing to trace before the mesh is there");
+    }
+    // It arrives.
+    let mut mesh = Mesh::new(PrimitiveTopology::TriangleList, RenderAssetUsages::default());
+    mesh.insert_attribute(
+        Mesh::ATTRIBUTE_POSITION,
+        vec![[0.0f32, 0.0, 0.0], [0.1, 0.0, 0.0], [0.0, 0.1, 0.0]],
+    );
+    mesh.insert_indices(Indices::U32(vec![0, 1, 2]));
+    app.world_mut()
+        .resource_mut::<Assets<Mesh>>()
+        .insert(handle.id(), mesh)
+        .expect("insert");
+    for _ in 0..3 {
+        app.update();
+    }
+    let meshes = app
+        .world()
+        .get::<bevy_manifold::drawables::ManifoldMeshes>(root)
+        .expect("gathered");
+    assert_eq!(meshes.meshes.len(), 1, "the mesh is traced once it is there");
+    assert_eq!(meshes.meshes[0].data.mesh.triangles.len(), 1);
 }
