@@ -91,12 +91,8 @@ pub fn extract_manifold_views(
             cell: cell.element,
             fog,
             levels: mc.levels.min(crate::trace::MAX_LEVELS),
-            max_distance: if mc.max_distance > 0.0 {
-                mc.max_distance.min(crate::trace::MAX_TRACE_DISTANCE as f32)
-            } else {
-                // NaN or not positive: the default.
-                100.0
-            },
+            // NaN or not positive: the default distance.
+            max_distance: if mc.max_distance > 0.0 { mc.max_distance } else { 100.0 },
             defs,
             cell_tint: tint.unwrap_or_default().words(),
         });

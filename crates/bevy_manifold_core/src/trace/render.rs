@@ -50,15 +50,11 @@ pub const MAX_LEVELS: u32 = 1024;
 /// Most pixels in one traced image (8192 x 8192).
 pub const MAX_PIXELS: u64 = 1 << 26;
 
-/// Largest `max_distance`, in units of the space (the GPU counts steps up
-/// to it).
-pub const MAX_TRACE_DISTANCE: f64 = 1.0e4;
-
 impl TraceSettings {
     /// Checks the settings a tracer can honour: a size of at least one
     /// pixel and at most [`MAX_PIXELS`] (multiplied in 64 bits), levels at
-    /// most [`MAX_LEVELS`], a positive finite `max_distance` at most
-    /// [`MAX_TRACE_DISTANCE`].
+    /// most [`MAX_LEVELS`], a positive `max_distance` (not NaN; the GPU
+    /// walk bounds its loop by at most 10^4 steps of it whatever it is).
     ///
     /// # Errors
     /// The first setting out of range, named with its value.
@@ -80,11 +76,8 @@ impl TraceSettings {
         if self.levels > MAX_LEVELS {
             return Err(format!("{} levels: at most {MAX_LEVELS}", self.levels));
         }
-        if !(self.max_distance > 0.0 && self.max_distance <= MAX_TRACE_DISTANCE) {
-            return Err(format!(
-                "max distance {}: it must be positive and at most {MAX_TRACE_DISTANCE}",
-                self.max_distance
-            ));
+        if self.max_distance.is_nan() || self.max_distance <= 0.0 {
+            return Err(format!("max distance {}: it must be positive", self.max_distance));
         }
         Ok(())
     }
