@@ -136,3 +136,30 @@ fn the_poincare_cayley_table_is_the_group_law() {
         }
     }
 }
+
+#[test]
+fn hashed_keys_round_half_to_even_and_never_saturate_like_the_gpu() {
+    use bevy_manifold_core::space::cells::{HASH_KEY_LIMIT, hash_key_of};
+    use glam::DVec4;
+    // Ties go to the even neighbour, as WGSL's round does (Rust's round
+    // would take 2.5 to 3 and -0.5 to -1).
+    assert_eq!(hash_key_of(DVec4::new(2.5, -0.5, 1.5, 3.5), 1.0), [2, 0, 2, 4]);
+    assert_eq!(hash_key_of(DVec4::new(0.25, 0.75, -1.25, 1.0), 2.0), [0, 2, -2, 2]);
+    // Past the limit every coordinate is clamped, not saturated at i32::MAX.
+    let limit = HASH_KEY_LIMIT as i32;
+    assert_eq!(hash_key_of(DVec4::new(1e300, -1e300, 0.0, 1.0), 1.0), [limit, -limit, 0, 1]);
+    // A centre with NaN (an overflowed element) is FAR, never a real cell.
+    let sw = catalog::seifert_weber();
+    let mut broken = glam::DMat4::IDENTITY;
+    broken.w_axis = DVec4::new(f64::NAN, 0.0, 0.0, 1.0);
+    let id = sw.cell_id(&broken);
+    assert!(id.is_far() && id.0 != 0, "{id:?}");
+    // A centre past the horizon is FAR too, with a key that stayed exact.
+    let far = sw.crossing(0) * sw.crossing(5) * sw.crossing(0) * sw.crossing(5) * sw.crossing(0);
+    let mut far_id = far;
+    for _ in 0..6 {
+        far_id = far_id * sw.crossing(0) * sw.crossing(5);
+    }
+    assert!(sw.cell_id(&far_id).is_far());
+    assert!(!sw.cell_id(&far).is_far());
+}

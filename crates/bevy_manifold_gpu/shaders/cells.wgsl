@@ -32,8 +32,17 @@ fn cell_id(cell: mat4x4<f32>, index: u32) -> vec2<u32> {
     return vec2<u32>(lo, hi);
 #else
     let c = cell[3];
-    let key = vec4<i32>(round(c * params.cell_scale.x));
-    let origin = vec4<i32>(round(vec4<f32>(0.0, 0.0, 0.0, 1.0) * params.cell_scale.x));
+    // Not finite (NaN or infinite exponent bits): flagged far, id 1, as
+    // Rust's hashed_id does.
+    let exponent = bitcast<vec4<u32>>(c) & vec4<u32>(0x7f800000u);
+    if any(exponent == vec4<u32>(0x7f800000u)) {
+        return vec2<u32>(1u, 0x40000000u);
+    }
+    // Rust: hash_key_of (times the scale, round half to even, clamped to
+    // HASH_KEY_LIMIT = 2^30, exact in f32).
+    let limit = vec4<f32>(1073741824.0);
+    let key = vec4<i32>(clamp(round(c * params.cell_scale.x), -limit, limit));
+    let origin = vec4<i32>(clamp(round(vec4<f32>(0.0, 0.0, 0.0, 1.0) * params.cell_scale.x), -limit, limit));
     if all(key == origin) {
         return vec2<u32>(0u);
     }

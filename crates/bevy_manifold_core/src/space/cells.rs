@@ -300,10 +300,10 @@ impl CellScheme {
     #[must_use]
     pub fn rounding_margin(&self, g: &DMat4) -> f64 {
         match self {
-            CellScheme::Hashed { quantum } => (g.w_axis / *quantum)
+            CellScheme::Hashed { quantum } => (g.w_axis * (1.0 / *quantum))
                 .to_array()
                 .iter()
-                .map(|x| 0.5 - (x - x.round()).abs())
+                .map(|x| 0.5 - (x - x.round_ties_even()).abs())
                 .fold(0.5, f64::min),
             _ => 0.5,
         }
@@ -324,19 +324,34 @@ fn hashed_quantum(space: &Space) -> f64 {
     }
 }
 
+/// Largest magnitude of a rounded hashed-id key coordinate: exact in f32,
+/// well inside i32, so the conversion never saturates differently on the
+/// GPU. Keys this large are FAR anyway.
+pub const HASH_KEY_LIMIT: f64 = (1u32 << 30) as f64;
+
+/// The integer grid key of a centre: each coordinate times the scale
+/// (`1 / quantum`), rounded half to even (WGSL's `round`), clamped to
+/// [`HASH_KEY_LIMIT`]. WGSL twin: the key in `cell_id`, `shaders/cells.wgsl`.
+#[must_use]
+pub fn hash_key_of(centre: DVec4, scale: f64) -> [i32; 4] {
+    (centre * scale)
+        .to_array()
+        .map(|x| x.round_ties_even().clamp(-HASH_KEY_LIMIT, HASH_KEY_LIMIT) as i32)
+}
+
 fn hashed_id(centre: DVec4, quantum: f64, horizon: f64) -> CellId {
+    // Not finite: flagged far (the GPU tests the bits the same way).
     if !centre.is_finite() {
         return CellId(CellId::FAR | 1);
     }
     let far = centre.w.abs() >= horizon;
-    let key = (centre / quantum).round();
-    let origin = (DVec4::W / quantum).round();
-    if key == origin {
+    let scale = 1.0 / quantum;
+    let key = hash_key_of(centre, scale);
+    if key == hash_key_of(DVec4::W, scale) {
         return CellId(0);
     }
     // Two independent 32-bit hashes of the integer key make the 64-bit id:
     // u32 arithmetic only, so the WGSL tracer computes the same id.
-    let key = key.to_array().map(|x| x as i32);
     let h = (u64::from(hash_key(key, HASH_SEED_HI)) << 32) | u64::from(hash_key(key, HASH_SEED_LO));
     // Keep the lattice tag and far bits clear, and never produce the
     // origin's 0; then mark far ids.
