@@ -147,7 +147,10 @@ fn hashed_keys_round_half_to_even_and_never_saturate_like_the_gpu() {
     assert_eq!(hash_key_of(DVec4::new(0.25, 0.75, -1.25, 1.0), 2.0), [0, 2, -2, 2]);
     // Past the limit every coordinate is clamped, not saturated at i32::MAX.
     let limit = HASH_KEY_LIMIT as i32;
-    assert_eq!(hash_key_of(DVec4::new(1e300, -1e300, 0.0, 1.0), 1.0), [limit, -limit, 0, 1]);
+    assert_eq!(
+        hash_key_of(DVec4::new(1e300, -1e300, 0.0, 1.0), 1.0),
+        [limit, -limit, 0, 1]
+    );
     // A centre with NaN (an overflowed element) is FAR, never a real cell.
     let sw = catalog::seifert_weber();
     let mut broken = glam::DMat4::IDENTITY;

@@ -225,9 +225,32 @@ fn spherical_rays_past_pi_and_antipodes_stay_exact() {
     assert!(ids >= 0.995 && colors >= 0.99);
 }
 
+/// Walks that leave the numbers part way (Seifert-Weber without
+/// renormalisation: the ray overflows after some hundreds of transports)
+/// report NaN on the GPU as the CPU twin does: WGSL's max() dropped a NaN
+/// that arrived after finite values, and showed a clean walk.
+fn a_walk_that_left_the_numbers_shows_nan_on_the_gpu_as_on_the_cpu() {
+    let mut gpu = tracer();
+    let space = catalog::seifert_weber();
+    let scene = empty_view(Scene::default_for(&space).camera.isometry);
+    let settings = walk_settings(1000, false, 16);
+    let drift = gpu.drift(&space, &scene, &settings).expect("drift");
+    let cpu = stress::cpu_drift::<f32>(&space, &scene, &settings);
+    let nan = |d: &[bevy_manifold_core::trace::RayDrift]| d.iter().filter(|r| r.point_error.is_nan()).count();
+    eprintln!(
+        "rays gone non-finite: GPU {} of {}, CPU f32 {}",
+        nan(&drift),
+        drift.len(),
+        nan(&cpu)
+    );
+    assert!(nan(&cpu) > 0, "the walk does leave the numbers");
+    assert_eq!(nan(&drift), nan(&cpu), "the GPU says so for the same rays");
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [],
     gpu: [
+        a_walk_that_left_the_numbers_shows_nan_on_the_gpu_as_on_the_cpu,
         rays_through_vertices_and_edges_and_along_faces_stay_sane_in_f32_on_the_gpu,
         long_rays_stay_on_the_model_only_with_renormalisation,
         a_camera_that_crossed_ten_million_faces_sees_what_a_camera_placed_there_sees,
