@@ -102,6 +102,8 @@ pub fn bevy_mesh(mesh: &TriMesh) -> Mesh {
 #[derive(Resource, Default)]
 pub struct MeshBvhCache {
     meshes: HashMap<AssetId<Mesh>, Option<Arc<MeshData>>>,
+    /// BVHs of large meshes being built on the async compute pool.
+    pending: HashMap<AssetId<Mesh>, bevy::tasks::Task<Arc<MeshData>>>,
     // Base-colour textures come from StandardMaterial (feature
     // `standard_material`).
     #[cfg_attr(
@@ -118,6 +120,12 @@ impl MeshBvhCache {
     #[must_use]
     pub fn built(&self) -> usize {
         self.meshes.values().filter(|m| m.is_some()).count()
+    }
+
+    /// How many BVHs are being built off the frame.
+    #[must_use]
+    pub fn building(&self) -> usize {
+        self.pending.len()
     }
 }
 
@@ -170,6 +178,30 @@ pub fn texture(image: &Image) -> Result<Texture, String> {
     Texture::new(width, height, texels)
 }
 
+/// Meshes with more triangles than this have their BVH built on Bevy's
+/// async compute pool, off the frame; smaller ones (Suzanne has 3,936) are
+/// built in place.
+pub const ASYNC_BVH_TRIANGLES: usize = 50_000;
+
+/// Takes the BVHs finished on the async pool into the cache, and marks the
+/// scene for gathering again so their meshes appear.
+fn collect_bvh_builds(mut cache: ResMut<MeshBvhCache>) {
+    if cache.pending.is_empty() {
+        return;
+    }
+    let mut done = Vec::new();
+    for (id, task) in &mut cache.pending {
+        if let Some(data) = bevy::tasks::futures::check_ready(task) {
+            done.push((*id, data));
+        }
+    }
+    for (id, data) in done {
+        cache.pending.remove(&id);
+        cache.meshes.insert(id, Some(data));
+        cache.dirty = true;
+    }
+}
+
 fn note_mesh_events(mut events: MessageReader<AssetEvent<Mesh>>, mut cache: ResMut<MeshBvhCache>) {
     for e in events.read() {
         // Every event drops what was cached for the asset (a mesh that
@@ -180,6 +212,8 @@ fn note_mesh_events(mut events: MessageReader<AssetEvent<Mesh>>, mut cache: ResM
         | AssetEvent::Removed { id }
         | AssetEvent::Unused { id }) = e;
         cache.meshes.remove(id);
+        // A build for the old contents is dropped (cancelled).
+        cache.pending.remove(id);
         cache.dirty = true;
     }
 }
@@ -286,21 +320,31 @@ pub fn gather_meshes(
                     // is looked up again when its load event arrives.
                     let data = match cache.meshes.get(&id) {
                         Some(cached) => cached.clone(),
+                        // A large BVH still building: the mesh appears when
+                        // it is ready (`collect_bvh_builds`).
+                        None if cache.pending.contains_key(&id) => None,
                         None => match mesh_assets.get(id) {
                             None => None,
-                            Some(mesh) => {
-                                let built = match tri_mesh(mesh) {
-                                    Ok(m) => Some(MeshData::shared(m)),
-                                    Err(err) => {
-                                        if warned.insert(id) {
-                                            warn!("bevy_manifold: mesh {id} of entity {e} is not traced: {err}");
-                                        }
-                                        None
+                            Some(mesh) => match tri_mesh(mesh) {
+                                Ok(m) if m.triangles.len() > ASYNC_BVH_TRIANGLES => {
+                                    let task = bevy::tasks::AsyncComputeTaskPool::get()
+                                        .spawn(async move { MeshData::shared(m) });
+                                    cache.pending.insert(id, task);
+                                    None
+                                }
+                                Ok(m) => {
+                                    let built = Some(MeshData::shared(m));
+                                    cache.meshes.insert(id, built.clone());
+                                    built
+                                }
+                                Err(err) => {
+                                    if warned.insert(id) {
+                                        warn!("bevy_manifold: mesh {id} of entity {e} is not traced: {err}");
                                     }
-                                };
-                                cache.meshes.insert(id, built.clone());
-                                built
-                            }
+                                    cache.meshes.insert(id, None);
+                                    None
+                                }
+                            },
                         },
                     };
                     if let Some(data) = data {
@@ -384,7 +428,7 @@ pub(crate) fn build(app: &mut App, schedule: bevy::ecs::schedule::InternedSchedu
     }
     app.init_resource::<MeshBvhCache>().add_systems(
         schedule,
-        (note_mesh_events, gather_meshes)
+        (note_mesh_events, collect_bvh_builds, gather_meshes)
             .chain()
             .after(crate::placement::ManifoldSystems::Sync)
             .before(crate::drawables::gather_scenes),

@@ -207,3 +207,53 @@ fn a_mesh_that_arrives_after_its_entity_is_traced_from_then_on() {
     assert_eq!(meshes.meshes.len(), 1, "the mesh is traced once it is there");
     assert_eq!(meshes.meshes[0].data.mesh.triangles.len(), 1);
 }
+
+/// A mesh past `ASYNC_BVH_TRIANGLES` has its BVH built off the frame: the
+/// frame that meets it does not wait, and the mesh appears once built.
+#[test]
+fn a_large_mesh_is_built_off_the_frame_and_appears_when_ready() {
+    use bevy::asset::RenderAssetUsages;
+    use bevy::mesh::{Indices, PrimitiveTopology};
+    use bevy_manifold::traced_meshes::{ASYNC_BVH_TRIANGLES, MeshBvhCache};
+    let dir = folder();
+    let mut app = app(&dir);
+    app.init_asset::<Mesh>();
+    app.finish();
+    app.cleanup();
+    // A 200 x 200 grid: 80,000 triangles.
+    let n = 200u32;
+    let positions: Vec<[f32; 3]> = (0..=n)
+        .flat_map(|i| (0..=n).map(move |j| [i as f32 * 0.001, j as f32 * 0.001, 0.0]))
+        .collect();
+    let mut indices = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let a = i * (n + 1) + j;
+            indices.extend([a, a + 1, a + n + 1, a + 1, a + n + 2, a + n + 1]);
+        }
+    }
+    assert!(indices.len() / 3 > ASYNC_BVH_TRIANGLES);
+    let mut mesh = Mesh::new(PrimitiveTopology::TriangleList, RenderAssetUsages::default());
+    mesh.insert_attribute(Mesh::ATTRIBUTE_POSITION, positions);
+    mesh.insert_indices(Indices::U32(indices));
+    let handle = app.world_mut().resource_mut::<Assets<Mesh>>().add(mesh);
+    let root = app.world_mut().spawn(ManifoldSpace::new(catalog::torus(1.0))).id();
+    app.world_mut().spawn((
+        ChildOf(root),
+        Mesh3d(handle),
+        Placement::default(),
+        Transform::default(),
+    ));
+    app.update();
+    assert_eq!(
+        app.world().resource::<MeshBvhCache>().building(),
+        1,
+        "built off the frame"
+    );
+    update_until(&mut app, "the large mesh", |app| {
+        app.world()
+            .get::<bevy_manifold::drawables::ManifoldMeshes>(root)
+            .is_some_and(|m| m.meshes.len() == 1)
+    });
+    assert_eq!(app.world().resource::<MeshBvhCache>().building(), 0);
+}
