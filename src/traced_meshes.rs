@@ -204,17 +204,18 @@ fn collect_bvh_builds(mut cache: ResMut<MeshBvhCache>) {
 
 fn note_mesh_events(mut events: MessageReader<AssetEvent<Mesh>>, mut cache: ResMut<MeshBvhCache>) {
     for e in events.read() {
-        // Every event drops what was cached for the asset (a mesh that
-        // arrives after an entity named it is traced from then on).
-        let (AssetEvent::Added { id }
-        | AssetEvent::LoadedWithDependencies { id }
-        | AssetEvent::Modified { id }
-        | AssetEvent::Removed { id }
-        | AssetEvent::Unused { id }) = e;
-        cache.meshes.remove(id);
-        // A build for the old contents is dropped (cancelled).
-        cache.pending.remove(id);
-        cache.dirty = true;
+        match e {
+            // A mesh that arrives: gather again (nothing was cached for it
+            // while it was missing).
+            AssetEvent::Added { .. } | AssetEvent::LoadedWithDependencies { .. } => cache.dirty = true,
+            // Changed or gone: its BVH, or the build under way for its old
+            // contents, is dropped.
+            AssetEvent::Modified { id } | AssetEvent::Removed { id } | AssetEvent::Unused { id } => {
+                cache.meshes.remove(id);
+                cache.pending.remove(id);
+                cache.dirty = true;
+            }
+        }
     }
 }
 
