@@ -150,6 +150,16 @@ fn a_broken_file_is_reported_and_the_root_keeps_its_space() {
     assert_eq!(kept.space().name(), "torus");
 }
 
+/// The test app with Bevy's meshes, its plugins finished (the mesh
+/// gathering is registered where meshes exist).
+fn mesh_app() -> App {
+    let mut app = app(&folder());
+    app.init_asset::<Mesh>();
+    app.finish();
+    app.cleanup();
+    app
+}
+
 /// A `Mesh3d` whose asset is not there yet (still loading) is traced once it
 /// arrives, while the entity keeps moving; before, the missing asset was
 /// cached as untraceable for good.
@@ -157,11 +167,7 @@ fn a_broken_file_is_reported_and_the_root_keeps_its_space() {
 fn a_mesh_that_arrives_after_its_entity_is_traced_from_then_on() {
     use bevy::asset::RenderAssetUsages;
     use bevy::mesh::{Indices, PrimitiveTopology};
-    let dir = folder();
-    let mut app = app(&dir);
-    app.init_asset::<Mesh>();
-    app.finish();
-    app.cleanup();
+    let mut app = mesh_app();
     let space = catalog::torus(1.0);
     let root = app.world_mut().spawn(ManifoldSpace::new(space.clone())).id();
     let handle = app.world().resource::<Assets<Mesh>>().reserve_handle();
@@ -215,11 +221,7 @@ fn a_large_mesh_is_built_off_the_frame_and_appears_when_ready() {
     use bevy::asset::RenderAssetUsages;
     use bevy::mesh::{Indices, PrimitiveTopology};
     use bevy_manifold::traced_meshes::{ASYNC_BVH_TRIANGLES, MeshBvhCache};
-    let dir = folder();
-    let mut app = app(&dir);
-    app.init_asset::<Mesh>();
-    app.finish();
-    app.cleanup();
+    let mut app = mesh_app();
     // A 200 x 200 grid: 80,000 triangles.
     let n = 200u32;
     let positions: Vec<[f32; 3]> = (0..=n)

@@ -13,24 +13,19 @@ pub fn import(file: &Path, out: Option<&Path>, basepoint: Option<&[f64]>, manifo
         let [x, y, z, w] = p else {
             return Err(format!("--basepoint takes four numbers x,y,z,w, got {}", p.len()));
         };
-        let p = [*x, *y, *z, *w];
-        let point = DVec4::new(p[0], p[1], p[2], p[3]);
+        // Lifted onto the model first (the user need not normalise); in H3
+        // only a time-like vector lifts. The check is the generators' own.
+        let point = DVec4::new(*x, *y, *z, *w);
         let g = gens.geometry;
-        let ok = point.is_finite() && (g != Geometry::Hyperbolic || g.form::<f64>(point, point) < 0.0);
-        let lifted = if ok {
-            Some(g.normalize_point::<f64>(point))
-        } else {
-            None
-        };
-        match lifted.filter(|q| q.is_finite() && g.is_point(*q)) {
-            Some(q) => gens.basepoint = Some(q),
-            None => {
-                return Err(named(GeneratorError::BadBasepoint {
-                    point: [p[0], p[1], p[2], p[3]],
-                    geometry: g.name(),
-                }));
-            }
-        }
+        let lifts = g != Geometry::Hyperbolic || g.form::<f64>(point, point) < 0.0;
+        let lifted = if lifts { g.normalize_point::<f64>(point) } else { point };
+        // The error names the point as the user wrote it.
+        gens.set_basepoint(Some(lifted.to_array())).map_err(|_| {
+            named(GeneratorError::BadBasepoint {
+                point: point.to_array(),
+                geometry: g.name(),
+            })
+        })?;
     }
     gens.manifold |= manifold;
     let start = std::time::Instant::now();

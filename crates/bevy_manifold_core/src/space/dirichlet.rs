@@ -132,6 +132,16 @@ struct Search<'a> {
 
 const GRID: f64 = 1e-5;
 
+/// Letter `l` in the user's numbering: `g3` for the fourth generator,
+/// `g3^-1` for its inverse (letters past the generators).
+fn letter_name(l: usize, generators: usize) -> String {
+    if l < generators {
+        format!("g{l}")
+    } else {
+        format!("g{}^-1", l - generators)
+    }
+}
+
 /// The `letter` of an element pushed as the inverse of its `parent`.
 const INVERSE: usize = usize::MAX;
 
@@ -174,12 +184,7 @@ impl Search<'_> {
         }
         let mut letters = Vec::new();
         while self.elements[i].parent != usize::MAX {
-            let l = self.elements[i].letter;
-            letters.push(if l < generators {
-                format!("g{l}")
-            } else {
-                format!("g{}^-1", l - generators)
-            });
+            letters.push(letter_name(self.elements[i].letter, generators));
             i = self.elements[i].parent;
         }
         letters.reverse();
@@ -213,13 +218,12 @@ impl Search<'_> {
                     Some(j) => {
                         let size = m.to_cols_array().iter().fold(1.0f64, |a, x| a.max(x.abs()));
                         if max_abs_diff(m, self.elements[j].m) > 1e-6 * size {
-                            let word = format!("({})^-1 {} {}", self.word(j, generators), self.word(k, generators), {
-                                if l < generators {
-                                    format!("g{l}")
-                                } else {
-                                    format!("g{}^-1", l - generators)
-                                }
-                            });
+                            let word = format!(
+                                "({})^-1 {} {}",
+                                self.word(j, generators),
+                                self.word(k, generators),
+                                letter_name(l, generators)
+                            );
                             let e = GeneratorError::NotFree {
                                 word,
                                 what: "the basepoint of the Dirichlet domain".into(),

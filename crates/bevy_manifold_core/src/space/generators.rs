@@ -394,7 +394,12 @@ impl Generators {
         Ok(gens)
     }
 
-    fn set_basepoint(&mut self, point: Option<[f64; 4]>) -> Result<(), GeneratorError> {
+    /// Centres the Dirichlet domain at `point` (or leaves it where it is
+    /// for `None`), checked to be a normalised point of the geometry.
+    ///
+    /// # Errors
+    /// [`GeneratorError::BadBasepoint`] for a point that is not.
+    pub fn set_basepoint(&mut self, point: Option<[f64; 4]>) -> Result<(), GeneratorError> {
         if let Some(p) = point {
             let point = DVec4::from_array(p);
             if !point.is_finite() || !self.geometry.is_point(point) {
