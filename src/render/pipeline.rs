@@ -49,7 +49,14 @@ impl TracePipelineKey {
         if self.encode_srgb {
             names.push("ENCODE_SRGB");
         }
-        names.into_iter().map(ShaderDefVal::from).collect()
+        let mut defs: Vec<ShaderDefVal> = names.into_iter().map(ShaderDefVal::from).collect();
+        defs.extend(
+            self.defs
+                .values()
+                .into_iter()
+                .map(|(name, value)| ShaderDefVal::UInt(name.into(), value)),
+        );
+        defs
     }
 }
 

@@ -181,7 +181,7 @@ fn render_refuses_sizes_and_levels_no_tracer_takes() {
     for (args, needle) in [
         (vec!["--width", "70000", "--height", "70000"], "70000x70000"),
         (vec!["--width", "0"], "0x360"),
-        (vec!["--levels", "5000"], "5000 levels"),
+        (vec!["--levels", "20000"], "20000 levels"),
     ] {
         let mut all = vec!["render", "--space", "torus", "--cpu", "--out", out];
         all.extend(args);

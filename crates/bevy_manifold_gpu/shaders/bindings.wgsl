@@ -7,13 +7,20 @@
 // `@binding`s below is built in crates/bevy_manifold_gpu (headless runner,
 // render pass).
 //
-// Shader defs read: MESHES (the mesh bindings 6 and 7).
+// Shader defs read: MESHES (the mesh bindings 6 and 7); the value def
+// FACE_COUNT.
 //
 // Padding is `pad: array<u32, 3>` as in Rust (`pad: [u32; 3]`): the same
 // bytes as the single file's `_pad0`..`_pad2`, which naga_oil rejects in an
 // import module (a member name ending in a digit does not survive naga's
 // write-back unchanged).
 #define_import_path bevy_manifold::bindings
+
+// The domain's faces (TraceDefs::face_count, equal to params.face_count):
+// a constant, so every loop over the faces has a constant trip count and
+// is unrolled. On lavapipe a run-time bound also cut long walks: it ends
+// all loops of an invocation after 65,535 iterations between them.
+const FACE_COUNT: u32 = #{FACE_COUNT}u;
 
 // Rust twin: GpuParams in crates/bevy_manifold_gpu/src/layout.rs.
 struct Params {

@@ -97,22 +97,24 @@ impl GpuTracer {
     /// # Errors
     /// [`GpuError::Shader`] when composition fails.
     pub fn compose(defs: &TraceDefs) -> Result<naga::Module, GpuError> {
-        Self::compose_with(&defs.names())
+        Self::compose_with(&defs.names(), &defs.values())
     }
 
     /// The shader composed with these shader defs on (those of a
-    /// [`TraceDefs`], and `ENCODE_SRGB` as the render pass may add): the
+    /// [`TraceDefs`], and `ENCODE_SRGB` as the render pass may add) and
+    /// these value defs (`FACE_COUNT`, [`TraceDefs::values`]): the
     /// import modules ([`crate::SHADER_IMPORTS`]) added to naga_oil's
     /// composer, then the entry module, as Bevy's pipeline cache does.
     ///
     /// # Errors
     /// [`GpuError::Shader`] when composition fails.
-    pub fn compose_with(names: &[&'static str]) -> Result<naga::Module, GpuError> {
-        Self::compose_modules(&crate::SHADER_IMPORTS, TRACE_WGSL, names)
+    pub fn compose_with(names: &[&'static str], values: &[(&'static str, u32)]) -> Result<naga::Module, GpuError> {
+        Self::compose_modules(&crate::SHADER_IMPORTS, TRACE_WGSL, names, values)
     }
 
     /// `entry` composed with these import modules (each after those it
-    /// imports) and these shader defs on: what [`Self::compose_with`] does
+    /// imports), these shader defs on and these value defs: what
+    /// [`Self::compose_with`] does
     /// with the tracer's own modules, open to a changed module (the
     /// contract test's deliberately broken copy).
     ///
@@ -122,6 +124,7 @@ impl GpuTracer {
         imports: &[crate::WgslModule],
         entry: crate::WgslModule,
         names: &[&'static str],
+        values: &[(&'static str, u32)],
     ) -> Result<naga::Module, GpuError> {
         use naga_oil::compose::{
             ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderDefValue, ShaderLanguage, ShaderType,
@@ -145,6 +148,7 @@ impl GpuTracer {
         let shader_defs = names
             .iter()
             .map(|n| (n.to_string(), ShaderDefValue::Bool(true)))
+            .chain(values.iter().map(|&(n, v)| (n.to_string(), ShaderDefValue::UInt(v))))
             .collect();
         composer
             .make_naga_module(NagaModuleDescriptor {

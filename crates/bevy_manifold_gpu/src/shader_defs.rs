@@ -50,6 +50,14 @@ pub struct TraceDefs {
     pub lights: bool,
     /// `MESHES`: triangle meshes through their BVH.
     pub meshes: bool,
+    /// `FACE_COUNT` (a value def): the domain's faces. Every loop over the
+    /// faces then has a constant trip count, which the shader compilers
+    /// unroll. Besides saving the loop, this keeps long walks whole on
+    /// lavapipe, which ends all loops of an invocation once they have
+    /// taken 65,535 iterations between them (Mesa's
+    /// `LP_MAX_TGSI_LOOP_ITERATIONS`): with the faces looped at run time a
+    /// 12-face walk was cut after 1638 transports.
+    pub face_count: u32,
 }
 
 impl TraceDefs {
@@ -77,13 +85,15 @@ impl TraceDefs {
             tubes: scene.edge_radius.is_some(),
             lights: !scene.lights.is_empty(),
             meshes: !scene.meshes.is_empty(),
+            face_count: face_count(space),
         }
     }
 
-    /// Every def on that can be on with this geometry: the generic pipeline
-    /// that specialisation is measured against.
+    /// Every def on that can be on with this geometry, for a domain of
+    /// `face_count` faces: the generic pipeline that specialisation is
+    /// measured against.
     #[must_use]
-    pub fn generic(geometry: Geometry) -> Self {
+    pub fn generic(geometry: Geometry, face_count: u32) -> Self {
         TraceDefs {
             geometry,
             translations_only: false,
@@ -94,11 +104,13 @@ impl TraceDefs {
             tubes: true,
             lights: true,
             meshes: true,
+            face_count,
         }
     }
 
     /// Every valid combination (each geometry with the cell schemes and
-    /// transport kinds it allows, every optional part on and off).
+    /// transport kinds it allows, every optional part on and off), for a
+    /// domain of 12 faces.
     #[must_use]
     pub fn all() -> Vec<Self> {
         let mut out = Vec::new();
@@ -123,10 +135,17 @@ impl TraceDefs {
                     tubes: on(3),
                     lights: on(4),
                     meshes: on(5),
+                    face_count: 12,
                 });
             }
         }
         out
+    }
+
+    /// The value defs: `FACE_COUNT`.
+    #[must_use]
+    pub fn values(&self) -> [(&'static str, u32); 1] {
+        [("FACE_COUNT", self.face_count)]
     }
 
     /// The names of the defs that are on.
@@ -162,4 +181,12 @@ impl TraceDefs {
         }
         n
     }
+}
+
+/// The faces of `space`'s domain as the shader's `FACE_COUNT` (at most
+/// [`bevy_manifold_core::space::MAX_FACES`], which a loaded space never
+/// exceeds).
+#[must_use]
+pub fn face_count(space: &Space) -> u32 {
+    u32::try_from(space.faces().len()).unwrap_or(u32::MAX)
 }

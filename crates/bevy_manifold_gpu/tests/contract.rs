@@ -61,12 +61,12 @@ fn rust_layouts() -> Vec<RustLayout> {
 fn composed() -> naga::Module {
     let defs = TraceDefs {
         cells: GpuCellScheme::Finite,
-        ..TraceDefs::generic(Geometry::Spherical)
+        ..TraceDefs::generic(Geometry::Spherical, 12)
     };
     let mut names = defs.names();
     names.push("ENCODE_SRGB");
     assert!(names.contains(&"MESHES"), "{names:?}");
-    GpuTracer::compose_with(&names).expect("the tracer composes")
+    GpuTracer::compose_with(&names, &defs.values()).expect("the tracer composes")
 }
 
 /// Each mismatch between the Rust layouts and the module's structs.
@@ -223,6 +223,7 @@ fn compose_with_bindings(source: &str) -> naga::Module {
             m
         }
     });
-    let names = TraceDefs::generic(Geometry::Hyperbolic).names();
-    GpuTracer::compose_modules(&imports, TRACE_WGSL, &names).expect("the broken copy still composes")
+    let defs = TraceDefs::generic(Geometry::Hyperbolic, 12);
+    GpuTracer::compose_modules(&imports, TRACE_WGSL, &defs.names(), &defs.values())
+        .expect("the broken copy still composes")
 }

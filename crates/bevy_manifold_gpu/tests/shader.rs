@@ -44,7 +44,7 @@ fn the_srgb_encoding_variant_composes_and_encodes() {
     let defs = TraceDefs::for_scene(&torus, &Scene::default_for(&torus), false);
     let with = |extra: &[&'static str]| {
         let names: Vec<&'static str> = defs.names().into_iter().chain(extra.iter().copied()).collect();
-        let module = GpuTracer::compose_with(&names).expect("compose");
+        let module = GpuTracer::compose_with(&names, &defs.values()).expect("compose");
         validate(&module).expect("validate");
         functions(&module)
     };
@@ -150,7 +150,7 @@ fn scenes_compile_only_what_they_use() {
 #[test]
 fn the_generic_shader_is_the_largest() {
     for g in [Geometry::Euclidean, Geometry::Hyperbolic, Geometry::Spherical] {
-        let generic = compose(&TraceDefs::generic(g)).expect("compose");
+        let generic = compose(&TraceDefs::generic(g, 12)).expect("compose");
         let count = |m: &naga::Module| m.functions.iter().map(|(_, f)| f.expressions.len()).sum::<usize>();
         for defs in TraceDefs::all().iter().filter(|d| d.geometry == g) {
             assert!(

@@ -21,7 +21,7 @@ use bevy_manifold_core::motion::move_placement;
 use bevy_manifold_core::space::Space;
 use bevy_manifold_core::trace::step::Ray;
 use bevy_manifold_core::trace::{Camera, FaceTables, FlatScene, RayDrift, Scene, TraceSettings, camera_ray, ray_drift};
-use glam::{DMat3, DMat4, DQuat, DVec3, DVec4};
+use glam::{DMat4, DQuat, DVec3, DVec4};
 use rayon::prelude::*;
 
 /// The middle of face `i`: the normalised mean of its vertices.
@@ -162,35 +162,67 @@ pub fn catalog_far_travels(crossings: u64) -> Vec<(Space, Path, FarTravel)> {
         .collect()
 }
 
-/// How far (the largest matrix entry of the difference) a travel ended
-/// from where its path began.
+/// The twist of a [`face_axis_loop`]: each step brings the mover back to
+/// its start point, facing the same way, turned about its view axis by this
+/// angle (radians; 0 where two mirrors send it back). Found from the
+/// geometry alone, without the motion code: the one element of the
+/// pairings, of word length `crossings_per_step`, that carries the end of
+/// one step in the cover back to the start point.
+///
+/// # Panics
+/// When no such element exists or the return is not a pure turn about the
+/// axis (the path is not a closed geodesic of the domain).
 #[must_use]
-pub fn start_gap(path: &Path, far: &FarTravel) -> f64 {
-    (far.placement - path.start)
+pub fn loop_twist(space: &Space, path: &Path) -> f64 {
+    let g = space.geometry();
+    let end = path.start * path.step;
+    let mut words = vec![DMat4::IDENTITY];
+    for _ in 0..path.crossings_per_step {
+        words = words
+            .iter()
+            .flat_map(|w| {
+                space
+                    .faces()
+                    .iter()
+                    .flat_map(move |f| [f.pairing * *w, isometry::inverse(g, f.pairing) * *w])
+            })
+            .collect();
+    }
+    let home = |m: &DMat4| (m.w_axis - path.start.w_axis).abs().max_element() < 1e-9;
+    let back = words
+        .into_iter()
+        .map(|w| w * end)
+        .find(home)
+        .unwrap_or_else(|| panic!("{}: no pairing word brings the loop home", space.name()));
+    // start^-1 * back fixes the point (e_w) and the view axis (e_z).
+    let turn = isometry::inverse(g, path.start) * back;
+    assert!(
+        (turn.w_axis - DVec4::W).abs().max_element() < 1e-9 && (turn.z_axis - DVec4::Z).abs().max_element() < 1e-9,
+        "{}: the loop's return is not a turn about its axis: {turn:?}",
+        space.name()
+    );
+    turn.x_axis.y.atan2(turn.x_axis.x)
+}
+
+/// Where a mover on `path` is after `steps` steps, in closed form: the
+/// start turned `steps` times by the [`loop_twist`] (the angle multiplied,
+/// reduced mod 2 pi, nothing composed). The ground truth far travel is
+/// checked against.
+#[must_use]
+pub fn loop_exact(space: &Space, path: &Path, steps: u64) -> DMat4 {
+    let angle = (steps as f64 * loop_twist(space, path)).rem_euclid(std::f64::consts::TAU);
+    path.start * DMat4::from_rotation_z(angle)
+}
+
+/// How far (the largest matrix entry of the difference) a travel ended
+/// from the closed form [`loop_exact`] after the same number of steps.
+#[must_use]
+pub fn exact_gap(space: &Space, path: &Path, far: &FarTravel) -> f64 {
+    (far.placement - loop_exact(space, path, far.steps))
         .abs()
         .to_cols_array()
         .into_iter()
         .fold(0.0, f64::max)
-}
-
-/// The placement a user would make directly at the position and facing of
-/// `m`: the translation to its point composed with the rotation of its
-/// frame, rebuilt from a unit quaternion (a mirror image keeps its
-/// parity as a reflection of x). Used to check that a long-composed
-/// placement carries no hidden skew.
-#[must_use]
-pub fn placed_directly(space: &Space, m: DMat4) -> DMat4 {
-    let g = space.geometry();
-    let t = isometry::translation_to(g, g.normalize_point::<f64>(m.w_axis));
-    let mut r = DMat3::from_mat4(isometry::inverse(g, t) * m);
-    let flip = DMat4::from_diagonal(DVec4::new(-1.0, 1.0, 1.0, 1.0));
-    let mirrored = r.determinant() < 0.0;
-    if mirrored {
-        r *= DMat3::from_diagonal(DVec3::new(-1.0, 1.0, 1.0));
-    }
-    let q = DQuat::from_mat3(&r).normalize();
-    let placed = t * DMat4::from_quat(q);
-    if mirrored { placed * flip } else { placed }
 }
 
 /// A scene with nothing in it, seen from `camera` (60 degrees): what the
@@ -238,12 +270,34 @@ pub fn worst(drifts: &[RayDrift]) -> f64 {
     drifts.iter().map(RayDrift::worst).fold(0.0, f64::max)
 }
 
-/// The worst drift of 16x16 rays from `space`'s default camera after 1000
-/// transports, with renormalisation on and off, as `drift` (the CPU in
-/// some precision, or the GPU) walks them: the long-ray stability check.
+/// Transports of the long-ray stability check.
+pub const LONG_WALK: u32 = 10_000;
+
+/// The worst drift of 16x16 rays from `space`'s default camera after
+/// [`LONG_WALK`] transports, with renormalisation on and off, as `drift`
+/// (the CPU in some precision, or the GPU) walks them: the long-ray
+/// stability check.
+///
+/// # Panics
+/// When a renormalised ray did not cross [`LONG_WALK`] faces: a walk
+/// that stops early would show a small drift it never earned (lavapipe
+/// once cut every walk at 1638 transports; see
+/// `bevy_manifold_gpu::TraceDefs::face_count`).
 pub fn long_ray_drift(space: &Space, mut drift: impl FnMut(&Scene, &TraceSettings) -> Vec<RayDrift>) -> [f64; 2] {
     let scene = empty_view(Scene::default_for(space).camera.isometry);
-    [true, false].map(|renormalize| worst(&drift(&scene, &walk_settings(1000, renormalize, 16))))
+    [true, false].map(|renormalize| {
+        let walks = drift(&scene, &walk_settings(LONG_WALK, renormalize, 16));
+        if renormalize {
+            let short = walks.iter().filter(|d| d.levels != LONG_WALK).count();
+            assert!(
+                short == 0,
+                "{}: {short} of {} rays crossed fewer than {LONG_WALK} faces",
+                space.name(),
+                walks.len()
+            );
+        }
+        worst(&walks)
+    })
 }
 
 /// Asserts what a degenerate ray's walk of `levels` transports must be,

@@ -43,9 +43,10 @@ pub struct TraceSettings {
 }
 
 /// Most levels (face transports per ray) any tracer takes; more are
-/// clamped or refused. The GPU walk's loop bound (levels plus the distance)
+/// clamped or refused. Enough for the drift probe's 10^4-transport walks;
+/// the GPU walk's loop bound (levels plus at most 10^4 distance steps)
 /// stays far from `u32` overflow.
-pub const MAX_LEVELS: u32 = 1024;
+pub const MAX_LEVELS: u32 = 16_384;
 
 /// Most pixels in one traced image (8192 x 8192).
 pub const MAX_PIXELS: u64 = 1 << 26;
