@@ -38,7 +38,7 @@ fn seifert_weber() {
     }
     assert!(s.is_manifold());
     assert!((s.volume() - 11.199065).abs() < 1e-5, "volume {}", s.volume());
-    let h = s.first_homology();
+    let h = s.first_homology().expect("homology");
     assert_eq!((h.rank, h.torsion.clone()), (0, vec![5, 5, 5]), "H1 = {h}");
     // Every pairing is a screw motion of length 2 r (r = inradius) turning by
     // 3 pi / 5: trace 2 cosh 2r + 2 cos(3 pi / 5) = phi^4.
@@ -114,7 +114,7 @@ fn poincare() {
         s.volume()
     );
     assert_eq!(s.group_order(), Some(120));
-    let h = s.first_homology();
+    let h = s.first_homology().expect("homology");
     assert_eq!((h.rank, h.torsion.len()), (0, 0), "a homology sphere: H1 = {h}");
     // The group acts freely: no element but the identity has a fixed point
     // on S3 (an eigenvalue 1, so det(g - I) = 0).
@@ -162,7 +162,7 @@ fn torus_and_mirrored_cube() {
             DMat4::IDENTITY
         );
     }
-    assert_eq!(t.first_homology().rank, 3);
+    assert_eq!(t.first_homology().expect("homology").rank, 3);
     assert!((catalog::torus(2.0).volume() - 8.0).abs() < 1e-12);
     let c = catalog::mirrored_cube(1.0);
     assert!((c.volume() - 1.0).abs() < 1e-12);
@@ -393,6 +393,42 @@ fn broken_spaces_each_give_their_own_error() {
     ));
 }
 
+/// S3 points on the far hemisphere (w <= 0) are outside the domain, which
+/// lies in w > 0: a chart test dividing by w saw the antipode of a point
+/// inside as inside, and wrap left it there. -1 is in the binary
+/// icosahedral group, so the antipode of the origin wraps home to the
+/// origin; and a spread of placements over the whole sphere (both
+/// hemispheres) all wrap into the domain by a group element.
+fn far_hemisphere_points_are_outside_and_wrap_home() {
+    let space = catalog::poincare();
+    let g = space.geometry();
+    assert!(
+        space.outside_face(-DVec4::W, 1e-9).is_some(),
+        "the antipode of the centre is outside"
+    );
+    let (wrapped, element) = space.wrap(-DMat4::IDENTITY, 100);
+    assert!((wrapped.w_axis - DVec4::W).length() < 1e-12, "{:?}", wrapped.w_axis);
+    let close = |a: DMat4, b: DMat4, tol: f64| (a - b).abs().to_cols_array().iter().all(|x| *x < tol);
+    assert!(close(element * wrapped, -DMat4::IDENTITY, 1e-12));
+    let mut far = 0;
+    for k in 0..400 {
+        // Placements along great circles through the centre, past the
+        // equator (distance pi / 2) towards the antipode.
+        let t = f64::from(k) * 0.0075 + 0.1;
+        let s = f64::from(k);
+        let dir = DVec3::new((s * 3.1).sin(), (s * 1.7).cos(), (s * 0.7).sin()).normalize();
+        let m = isometry::translation(g, dir * t);
+        far += usize::from(m.w_axis.w <= 0.0);
+        let (wrapped, element) = space.wrap(m, 1000);
+        assert!(
+            space.outside_face(wrapped.w_axis, 1e-9).is_none(),
+            "distance {t}: left outside"
+        );
+        assert!(close(element * wrapped, m, 1e-9), "distance {t}");
+    }
+    assert!(far > 100, "{far} of the placements were on the far hemisphere");
+}
+
 fn oversized_spaces_are_refused_before_any_quartic_work() {
     // 200 faces (the torus's six repeated): refused by count at once, where
     // building the polyhedron would take 200^4 / 6 plane tests.
@@ -476,6 +512,7 @@ bevy_manifold_test_support::test_main_requiring! {
         broken_spaces_each_give_their_own_error,
         broken_space_files_name_the_file_and_the_problem,
         oversized_spaces_are_refused_before_any_quartic_work,
+        far_hemisphere_points_are_outside_and_wrap_home,
     ],
     requiring(
         "the shared Curved Spaces files",

@@ -73,7 +73,9 @@ pub fn library(out: Option<&Path>) -> Result<(), String> {
                 space.faces().len(),
                 space.volume(),
                 space.group_order().map_or("infinite".into(), |n| n.to_string()),
-                space.first_homology().to_string()
+                space
+                    .first_homology()
+                    .map_or("too large to compute".into(), |h| h.to_string())
             ),
         }
     }

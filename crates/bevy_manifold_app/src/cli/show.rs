@@ -29,7 +29,10 @@ pub fn describe(s: &Space) -> String {
             let _ = writeln!(o, "group order:   infinite");
         }
     }
-    let _ = writeln!(o, "first homology: {}", s.first_homology());
+    let homology = s
+        .first_homology()
+        .map_or("too large to compute".into(), |h| h.to_string());
+    let _ = writeln!(o, "first homology: {homology}");
     let _ = writeln!(o, "cell ids:      {}", s.cells().kind());
     let _ = writeln!(o, "edge cycles:   {}", s.edge_cycles().len());
     for (i, c) in s.edge_cycles().iter().enumerate() {

@@ -163,39 +163,54 @@ impl core::fmt::Display for Homology {
 
 /// The abelianised group: one generator per face pair (or mirror), one
 /// relation per edge cycle (its word to the power `k`), `2 g = 0` per mirror.
-pub(super) fn first_homology(space: &Space) -> Homology {
+/// `None` when the elimination's entries would leave `i128` (see
+/// [`smith_diagonal`]).
+pub(super) fn first_homology(space: &Space) -> Option<Homology> {
     let faces = &space.faces;
     let gens: Vec<usize> = (0..faces.len()).filter(|&i| faces[i].partner >= i).collect();
-    let gen_of = |f: usize| -> (usize, i64) {
+    let gen_of = |f: usize| -> (usize, i128) {
         let p = faces[f].partner;
         let rep = f.min(p);
         let col = gens.iter().position(|&g| g == rep).unwrap_or(0);
         (col, if f <= p { 1 } else { -1 })
     };
-    let mut rows: Vec<Vec<i64>> = Vec::new();
+    let mut rows: Vec<Vec<i128>> = Vec::new();
     for c in &space.cycles {
-        let mut row = vec![0i64; gens.len()];
+        let mut row = vec![0i128; gens.len()];
         for &f in &c.faces {
             let (col, s) = gen_of(f);
-            row[col] += s * i64::from(c.order.max(1));
+            row[col] += s * i128::from(c.order.max(1));
         }
         rows.push(row);
     }
     for (i, f) in faces.iter().enumerate() {
         if f.kind == FaceKind::Mirror {
-            let mut row = vec![0i64; gens.len()];
+            let mut row = vec![0i128; gens.len()];
             row[gen_of(i).0] = 2;
             rows.push(row);
         }
     }
-    let diag = smith_diagonal(rows, gens.len());
+    let diag = smith_diagonal(rows, gens.len())?;
     let rank = gens.len() - diag.iter().filter(|&&d| d != 0).count();
-    let torsion = diag.into_iter().filter(|&d| d > 1).map(|d| d as u64).collect();
-    Homology { rank, torsion }
+    let torsion = diag
+        .into_iter()
+        .filter(|&d| d > 1)
+        .map(|d| u64::try_from(d).ok())
+        .collect::<Option<_>>()?;
+    Some(Homology { rank, torsion })
 }
 
 /// The nonzero diagonal of the Smith normal form of an integer matrix.
-fn smith_diagonal(mut a: Vec<Vec<i64>>, cols: usize) -> Vec<i64> {
+///
+/// Every pass either zeroes entries or moves a strictly smaller nonzero
+/// entry to the pivot, so the loops end; the entries themselves can grow
+/// during elimination (integer Gaussian elimination has no general bound
+/// short of the determinantal divisors), so every operation is checked and
+/// `None` says the `i128` range was left instead of a wrapped, wrong
+/// answer. The relation matrices of spaces within
+/// [`crate::space::MAX_FACES`] start with entries at most the largest edge
+/// order times the faces, far inside it.
+fn smith_diagonal(mut a: Vec<Vec<i128>>, cols: usize) -> Option<Vec<i128>> {
     let rows = a.len();
     let mut diag = Vec::new();
     let mut t = 0;
@@ -204,7 +219,9 @@ fn smith_diagonal(mut a: Vec<Vec<i64>>, cols: usize) -> Vec<i64> {
         let mut pivot = None;
         for i in t..rows {
             for j in t..cols {
-                if a[i][j] != 0 && pivot.is_none_or(|(pi, pj): (usize, usize)| a[i][j].abs() < a[pi][pj].abs()) {
+                if a[i][j] != 0
+                    && pivot.is_none_or(|(pi, pj): (usize, usize)| a[i][j].unsigned_abs() < a[pi][pj].unsigned_abs())
+                {
                     pivot = Some((i, j));
                 }
             }
@@ -218,19 +235,19 @@ fn smith_diagonal(mut a: Vec<Vec<i64>>, cols: usize) -> Vec<i64> {
             let p = a[t][t];
             let mut done = true;
             for i in t + 1..rows {
-                let q = a[i][t] / p;
+                let q = a[i][t].checked_div(p)?;
                 if q != 0 {
-                    add_row(&mut a, i, t, -q);
+                    add_row(&mut a, i, t, q.checked_neg()?)?;
                 }
                 if a[i][t] != 0 {
                     done = false;
                 }
             }
             for j in t + 1..cols {
-                let q = a[t][j] / p;
+                let q = a[t][j].checked_div(p)?;
                 if q != 0 {
                     for row in a.iter_mut() {
-                        row[j] -= q * row[t];
+                        row[j] = row[j].checked_sub(q.checked_mul(row[t])?)?;
                     }
                 }
                 if a[t][j] != 0 {
@@ -242,7 +259,7 @@ fn smith_diagonal(mut a: Vec<Vec<i64>>, cols: usize) -> Vec<i64> {
                 let bad = (t + 1..rows).find(|&i| (t + 1..cols).any(|j| a[i][j] % p != 0));
                 match bad {
                     Some(i) => {
-                        add_row(&mut a, t, i, 1);
+                        add_row(&mut a, t, i, 1)?;
                         continue;
                     }
                     None => break,
@@ -251,12 +268,12 @@ fn smith_diagonal(mut a: Vec<Vec<i64>>, cols: usize) -> Vec<i64> {
             // Move the smallest nonzero entry of row/column t to the pivot.
             let mut best = (t, t);
             for i in t..rows {
-                if a[i][t] != 0 && a[i][t].abs() < a[best.0][best.1].abs() {
+                if a[i][t] != 0 && a[i][t].unsigned_abs() < a[best.0][best.1].unsigned_abs() {
                     best = (i, t);
                 }
             }
             for j in t..cols {
-                if a[t][j] != 0 && a[t][j].abs() < a[best.0][best.1].abs() {
+                if a[t][j] != 0 && a[t][j].unsigned_abs() < a[best.0][best.1].unsigned_abs() {
                     best = (t, j);
                 }
             }
@@ -265,19 +282,21 @@ fn smith_diagonal(mut a: Vec<Vec<i64>>, cols: usize) -> Vec<i64> {
                 row.swap(t, best.1);
             }
         }
-        diag.push(a[t][t].abs());
+        diag.push(a[t][t].checked_abs()?);
         t += 1;
     }
-    diag
+    Some(diag)
 }
 
 /// Row operation `a[dst] += factor * a[src]` (columns left of the pivot
-/// are zero in both rows, so the whole row can be added).
-fn add_row(a: &mut [Vec<i64>], dst: usize, src: usize, factor: i64) {
+/// are zero in both rows, so the whole row can be added); `None` on
+/// overflow.
+fn add_row(a: &mut [Vec<i128>], dst: usize, src: usize, factor: i128) -> Option<()> {
     let src_row = a[src].clone();
     for (d, s) in a[dst].iter_mut().zip(&src_row) {
-        *d += factor * s;
+        *d = d.checked_add(factor.checked_mul(*s)?)?;
     }
+    Some(())
 }
 
 #[cfg(test)]
@@ -286,9 +305,22 @@ mod tests {
 
     #[test]
     fn smith_of_known_matrices() {
-        assert_eq!(smith_diagonal(vec![vec![2, 4], vec![6, 8]], 2), vec![2, 4]);
-        assert_eq!(smith_diagonal(vec![vec![5, 0, 0], vec![0, 5, 0]], 3), vec![5, 5]);
-        assert_eq!(smith_diagonal(vec![vec![2, 0], vec![0, 3]], 2), vec![1, 6]);
-        assert_eq!(smith_diagonal(vec![vec![0, 0]], 2), Vec::<i64>::new());
+        assert_eq!(smith_diagonal(vec![vec![2, 4], vec![6, 8]], 2), Some(vec![2, 4]));
+        assert_eq!(smith_diagonal(vec![vec![5, 0, 0], vec![0, 5, 0]], 3), Some(vec![5, 5]));
+        assert_eq!(smith_diagonal(vec![vec![2, 0], vec![0, 3]], 2), Some(vec![1, 6]));
+        assert_eq!(smith_diagonal(vec![vec![0, 0]], 2), Some(Vec::new()));
+    }
+
+    /// Entries whose elimination leaves i128: reported, not wrapped (a
+    /// release build would wrap silently to a wrong group) and not a panic.
+    #[test]
+    fn smith_reports_overflow() {
+        let big = i128::MAX / 3;
+        // Row 2 - q * row 1 with q = big / 2 overflows at once in column 2.
+        assert_eq!(smith_diagonal(vec![vec![2, -big], vec![big, big]], 2), None);
+        // i128::MIN has no absolute value.
+        assert_eq!(smith_diagonal(vec![vec![i128::MIN]], 1), None);
+        // Large but in range: exact (gcd 1, determinant big * 3 - big * 2).
+        assert_eq!(smith_diagonal(vec![vec![3, big], vec![2, big]], 2), Some(vec![1, big]));
     }
 }

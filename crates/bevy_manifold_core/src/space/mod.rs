@@ -402,23 +402,43 @@ impl Space {
 
     /// The first homology group of the quotient (abelianised orbifold
     /// fundamental group), from the face pairings and edge-cycle relations.
+    /// `None` when the integer elimination would leave `i128` (checked,
+    /// never wrapped; not seen for any space within [`MAX_FACES`]).
     #[must_use]
-    pub fn first_homology(&self) -> Homology {
+    pub fn first_homology(&self) -> Option<Homology> {
         cycles::first_homology(self)
     }
 
     /// Index of the face whose half-space `p` violates most, if any violates
     /// it by more than `eps` (chart units).
+    ///
+    /// A point with `w <= 0` (S3's far hemisphere, or a non-finite point)
+    /// is outside every domain, which lies in `w > 0`: dividing by its `w`
+    /// would show its antipode instead, inside for the antipode of a
+    /// point inside. The test is homogeneous (`plane . p` against
+    /// `eps * w`), and for `w <= 0` the face with the largest `plane . p`
+    /// (positive for some face, as the domain's cone holds no point with
+    /// `w <= 0`) is the answer.
     #[must_use]
     pub fn outside_face(&self, p: DVec4, eps: f64) -> Option<usize> {
-        let c = p / p.w;
         let mut best = None;
-        let mut worst = eps;
-        for (i, f) in self.faces.iter().enumerate() {
-            let s = f.plane.dot(c);
-            if s > worst {
-                worst = s;
-                best = Some(i);
+        if p.w > 0.0 {
+            let mut worst = eps;
+            for (i, f) in self.faces.iter().enumerate() {
+                let s = f.plane.dot(p) / p.w;
+                if s > worst {
+                    worst = s;
+                    best = Some(i);
+                }
+            }
+        } else {
+            let mut worst = f64::NEG_INFINITY;
+            for (i, f) in self.faces.iter().enumerate() {
+                let s = f.plane.dot(p);
+                if s > worst || best.is_none() {
+                    worst = s;
+                    best = Some(i);
+                }
             }
         }
         best
