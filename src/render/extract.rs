@@ -81,7 +81,9 @@ pub fn extract_manifold_views(
         let Some(scene) = scene else { continue };
         let fog = fog.and_then(ManifoldFog::to_fog).map(|f| (f.density as f32, f.color));
         let tint = shading.copied().unwrap_or_default().tint();
-        let mut defs = TraceDefs::for_scene(space.space(), scene.scene(), tint.is_some());
+        let levels = mc.levels.min(crate::trace::MAX_LEVELS);
+        let mut defs =
+            TraceDefs::for_scene(space.space(), scene.scene(), tint.is_some()).for_levels(space.space(), levels);
         defs.fog = fog.is_some();
         commands.entity(render_entity.id()).insert(ExtractedManifoldView {
             root,
@@ -90,7 +92,7 @@ pub fn extract_manifold_views(
             camera: placement.isometry,
             cell: cell.element,
             fog,
-            levels: mc.levels.min(crate::trace::MAX_LEVELS),
+            levels,
             // NaN or not positive: the default distance.
             max_distance: if mc.max_distance > 0.0 { mc.max_distance } else { 100.0 },
             defs,

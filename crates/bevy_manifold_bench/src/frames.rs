@@ -41,10 +41,7 @@ pub fn gpu(width: u32, height: u32, runs: u32) -> Result<(), String> {
                     })
                 };
                 let special = time(TraceDefs::for_scene(&space, &scene, false))?;
-                let generic = time(TraceDefs::generic(
-                    space.geometry(),
-                    bevy_manifold_gpu::shader_defs::face_count(&space),
-                ))?;
+                let generic = time(TraceDefs::generic(space.geometry()))?;
                 println!(
                     "{name:<22} {levels:>6} {:>5} {special:>14.1} {generic:>14.1} {:>8.2}",
                     if fog { "on" } else { "off" },

@@ -73,10 +73,7 @@ pub fn run(args: &SpecialiseArgs) -> Result<(), String> {
                 })
             };
             let special = time(defs)?;
-            let generic = time(TraceDefs::generic(
-                space.geometry(),
-                bevy_manifold_gpu::shader_defs::face_count(&space),
-            ))?;
+            let generic = time(TraceDefs::generic(space.geometry()))?;
             ratios.push(generic / special);
             let yes = |b: bool| if b { "on" } else { "off" };
             println!(

@@ -7,8 +7,8 @@
 // `@binding`s below is built in crates/bevy_manifold_gpu (headless runner,
 // render pass).
 //
-// Shader defs read: MESHES (the mesh bindings 6 and 7); the value def
-// FACE_COUNT.
+// Shader defs read: MESHES (the mesh bindings 6 and 7); FACE_COUNT (a
+// value, when set).
 //
 // Padding is `pad: array<u32, 3>` as in Rust (`pad: [u32; 3]`): the same
 // bytes as the single file's `_pad0`..`_pad2`, which naga_oil rejects in an
@@ -16,11 +16,18 @@
 // write-back unchanged).
 #define_import_path bevy_manifold::bindings
 
-// The domain's faces (TraceDefs::face_count, equal to params.face_count):
-// a constant, so every loop over the faces has a constant trip count and
-// is unrolled. On lavapipe a run-time bound also cut long walks: it ends
-// all loops of an invocation after 65,535 iterations between them.
-const FACE_COUNT: u32 = #{FACE_COUNT}u;
+// The domain's faces: params.face_count, or for long walks the value def
+// FACE_COUNT (TraceDefs::for_levels), a constant, so every loop over the
+// faces has a constant trip count and is unrolled. On lavapipe a run-time
+// bound cut long walks: it ends all loops of an invocation after 65,535
+// iterations between them.
+fn face_count() -> u32 {
+#ifdef FACE_COUNT
+    return #{FACE_COUNT}u;
+#else
+    return params.face_count;
+#endif
+}
 
 // Rust twin: GpuParams in crates/bevy_manifold_gpu/src/layout.rs.
 struct Params {

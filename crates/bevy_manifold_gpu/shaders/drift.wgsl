@@ -9,7 +9,7 @@
 // through walk, MESHES through bindings.
 #define_import_path bevy_manifold::drift
 
-#import bevy_manifold::bindings::{params, faces, Pixel, NO_FACE, FACE_COUNT}
+#import bevy_manifold::bindings::{params, faces, Pixel, NO_FACE, face_count}
 #import bevy_manifold::geometry::{point_error, tangent_error}
 #import bevy_manifold::step::Ray
 #import bevy_manifold::walk::{walker_new, max_passes, segment_end, walk_segment}
@@ -19,7 +19,7 @@
 fn ray_errors(ray: Ray) -> vec3<f32> {
     let c = ray.origin / ray.origin.w;
     var outside = -3.0e38;
-    for (var i = 0u; i < FACE_COUNT; i++) {
+    for (var i = 0u; i < face_count(); i++) {
         outside = max(outside, dot(faces[i].plane, c));
     }
     return vec3<f32>(point_error(ray.origin), tangent_error(ray.origin, ray.dir), outside);

@@ -11,7 +11,7 @@
 // / GEOMETRY_EUCLIDEAN (the quadrics); MESHES through bindings.
 #define_import_path bevy_manifold::step
 
-#import bevy_manifold::bindings::{params, faces, Tube, NO_FACE, FLAG_NO_RENORMALIZE, FACE_COUNT}
+#import bevy_manifold::bindings::{params, faces, Tube, NO_FACE, FLAG_NO_RENORMALIZE, face_count}
 #import bevy_manifold::geometry::{form, normalize_point, normalize_tangent}
 
 // Rust twin: Ray in crates/bevy_manifold_core/src/trace/step.rs.
@@ -32,7 +32,7 @@ struct Exit {
 // Where a ray crosses a face (see Exit); NO_FACE when it leaves by none.
 fn exit_face(ray: Ray, skip: u32) -> Exit {
     var best = Exit(NO_FACE, 0.0);
-    for (var i = 0u; i < FACE_COUNT; i++) {
+    for (var i = 0u; i < face_count(); i++) {
         if i == skip {
             continue;
         }

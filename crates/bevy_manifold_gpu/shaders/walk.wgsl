@@ -16,7 +16,7 @@
 // MESHES through bindings.
 #define_import_path bevy_manifold::walk
 
-#import bevy_manifold::bindings::{params, faces, cell_table, NO_FACE, FACE_COUNT}
+#import bevy_manifold::bindings::{params, faces, cell_table, NO_FACE}
 #import bevy_manifold::geometry::{chart_to_distance, max_chart_parameter}
 #import bevy_manifold::step::{Ray, Exit, exit_face, advance_or_raw, transport_or_raw}
 
@@ -82,7 +82,7 @@ fn walker_step(walk: ptr<function, Walker>, face: u32, end: Ray) {
     (*walk).entered = faces[face].partner;
     (*walk).cell = (*walk).cell * faces[face].crossing;
 #ifdef CELLS_FINITE
-    (*walk).index = cell_table[(*walk).index * FACE_COUNT + faces[face].partner];
+    (*walk).index = cell_table[(*walk).index * params.face_count + faces[face].partner];
 #endif
     (*walk).levels += 1u;
 }

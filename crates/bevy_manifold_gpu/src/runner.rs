@@ -326,7 +326,7 @@ impl GpuTracer {
     /// # Errors
     /// A shader, validation or readback failure, as [`GpuError`].
     pub fn render(&mut self, space: &Space, scene: &Scene, settings: &TraceSettings) -> Result<TraceImage, GpuError> {
-        let defs = TraceDefs::for_scene(space, scene, settings.cell_colors);
+        let defs = TraceDefs::for_scene(space, scene, settings.cell_colors).for_levels(space, settings.levels);
         self.render_with(space, scene, settings, defs)
     }
 
@@ -370,7 +370,7 @@ impl GpuTracer {
     /// # Errors
     /// As [`GpuTracer::render`].
     pub fn drift(&mut self, space: &Space, scene: &Scene, settings: &TraceSettings) -> Result<Vec<RayDrift>, GpuError> {
-        let defs = TraceDefs::for_scene(space, &Scene::empty(), false);
+        let defs = TraceDefs::for_scene(space, &Scene::empty(), false).for_levels(space, settings.levels);
         let raw = self.dispatch(space, scene, settings, defs, "drift")?;
         Ok(raw
             .iter()
@@ -451,7 +451,7 @@ impl GpuTracer {
         scene: &Scene,
         settings: &TraceSettings,
     ) -> Result<Vec<u8>, GpuError> {
-        let defs = TraceDefs::for_scene(space, scene, settings.cell_colors);
+        let defs = TraceDefs::for_scene(space, scene, settings.cell_colors).for_levels(space, settings.levels);
         let prep = FlatScene::<f32>::new(space, scene);
         let gpu = GpuScene::pack(space, &prep, settings);
         self.fragment_pipeline(defs)?;

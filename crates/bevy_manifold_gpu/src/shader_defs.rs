@@ -50,14 +50,16 @@ pub struct TraceDefs {
     pub lights: bool,
     /// `MESHES`: triangle meshes through their BVH.
     pub meshes: bool,
-    /// `FACE_COUNT` (a value def): the domain's faces. Every loop over the
-    /// faces then has a constant trip count, which the shader compilers
-    /// unroll. Besides saving the loop, this keeps long walks whole on
-    /// lavapipe, which ends all loops of an invocation once they have
-    /// taken 65,535 iterations between them (Mesa's
-    /// `LP_MAX_TGSI_LOOP_ITERATIONS`): with the faces looped at run time a
-    /// 12-face walk was cut after 1638 transports.
-    pub face_count: u32,
+    /// `FACE_COUNT` (a value def), for long walks only
+    /// ([`TraceDefs::for_levels`]): the domain's faces as a constant, so
+    /// every loop over the faces has a constant trip count and is unrolled.
+    /// This keeps long walks whole on lavapipe, which ends all loops of an
+    /// invocation once they have taken 65,535 iterations between them
+    /// (Mesa's `LP_MAX_TGSI_LOOP_ITERATIONS`): with the faces looped at run
+    /// time a 12-face walk was cut after 1638 transports. `None` (the
+    /// faces counted at run time, `params.face_count`) otherwise, so that
+    /// the pipelines do not multiply by the spaces' face counts.
+    pub face_count: Option<u32>,
 }
 
 impl TraceDefs {
@@ -85,15 +87,34 @@ impl TraceDefs {
             tubes: scene.edge_radius.is_some(),
             lights: !scene.lights.is_empty(),
             meshes: !scene.meshes.is_empty(),
-            face_count: face_count(space),
+            face_count: None,
         }
     }
 
-    /// Every def on that can be on with this geometry, for a domain of
-    /// `face_count` faces: the generic pipeline that specialisation is
-    /// measured against.
+    /// These defs for walks of up to `levels` transports in `space`: with
+    /// [`TraceDefs::face_count`] set where the face loops alone could
+    /// reach lavapipe's shared limit of 65,535 loop iterations
+    /// ([`LONG_WALK_FACE_STEPS`] face tests or more).
+    ///
+    /// ```
+    /// use bevy_manifold_core::prelude::*;
+    /// use bevy_manifold_gpu::TraceDefs;
+    /// let sw = catalog::seifert_weber();
+    /// let defs = TraceDefs::for_scene(&sw, &Scene::empty(), false);
+    /// assert_eq!(defs.for_levels(&sw, 64).face_count, None);
+    /// assert_eq!(defs.for_levels(&sw, 10_000).face_count, Some(12));
+    /// ```
     #[must_use]
-    pub fn generic(geometry: Geometry, face_count: u32) -> Self {
+    pub fn for_levels(mut self, space: &Space, levels: u32) -> Self {
+        let faces = face_count(space);
+        self.face_count = (u64::from(levels) * u64::from(faces) >= LONG_WALK_FACE_STEPS).then_some(faces);
+        self
+    }
+
+    /// Every def on that can be on with this geometry: the generic pipeline
+    /// that specialisation is measured against.
+    #[must_use]
+    pub fn generic(geometry: Geometry) -> Self {
         TraceDefs {
             geometry,
             translations_only: false,
@@ -104,13 +125,13 @@ impl TraceDefs {
             tubes: true,
             lights: true,
             meshes: true,
-            face_count,
+            face_count: None,
         }
     }
 
     /// Every valid combination (each geometry with the cell schemes and
-    /// transport kinds it allows, every optional part on and off), for a
-    /// domain of 12 faces.
+    /// transport kinds it allows, every optional part on and off, the faces
+    /// counted at run time and as a constant 12).
     #[must_use]
     pub fn all() -> Vec<Self> {
         let mut out = Vec::new();
@@ -123,7 +144,7 @@ impl TraceDefs {
             (Geometry::Spherical, false, CellScheme::Hashed),
         ];
         for (geometry, translations_only, cells) in bases {
-            for bits in 0..64u32 {
+            for bits in 0..128u32 {
                 let on = |k: u32| bits & (1 << k) != 0;
                 out.push(TraceDefs {
                     geometry,
@@ -135,17 +156,17 @@ impl TraceDefs {
                     tubes: on(3),
                     lights: on(4),
                     meshes: on(5),
-                    face_count: 12,
+                    face_count: on(6).then_some(12),
                 });
             }
         }
         out
     }
 
-    /// The value defs: `FACE_COUNT`.
+    /// The value defs: `FACE_COUNT` when set.
     #[must_use]
-    pub fn values(&self) -> [(&'static str, u32); 1] {
-        [("FACE_COUNT", self.face_count)]
+    pub fn values(&self) -> Vec<(&'static str, u32)> {
+        self.face_count.map(|n| ("FACE_COUNT", n)).into_iter().collect()
     }
 
     /// The names of the defs that are on.
@@ -182,6 +203,12 @@ impl TraceDefs {
         n
     }
 }
+
+/// Face tests per walk (levels times faces) from which the face loops get
+/// a constant trip count ([`TraceDefs::for_levels`]): 2^13, well under
+/// lavapipe's 65,535 loop iterations once the other loops of a pass
+/// (objects, lights, BVH nodes) are counted too.
+pub const LONG_WALK_FACE_STEPS: u64 = 1 << 13;
 
 /// The faces of `space`'s domain as the shader's `FACE_COUNT` (at most
 /// [`bevy_manifold_core::space::MAX_FACES`], which a loaded space never

@@ -61,7 +61,8 @@ fn rust_layouts() -> Vec<RustLayout> {
 fn composed() -> naga::Module {
     let defs = TraceDefs {
         cells: GpuCellScheme::Finite,
-        ..TraceDefs::generic(Geometry::Spherical, 12)
+        face_count: Some(12),
+        ..TraceDefs::generic(Geometry::Spherical)
     };
     let mut names = defs.names();
     names.push("ENCODE_SRGB");
@@ -223,7 +224,7 @@ fn compose_with_bindings(source: &str) -> naga::Module {
             m
         }
     });
-    let defs = TraceDefs::generic(Geometry::Hyperbolic, 12);
+    let defs = TraceDefs::generic(Geometry::Hyperbolic);
     GpuTracer::compose_modules(&imports, TRACE_WGSL, &defs.names(), &defs.values())
         .expect("the broken copy still composes")
 }

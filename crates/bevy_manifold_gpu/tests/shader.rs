@@ -24,7 +24,7 @@ fn validate(module: &naga::Module) -> Result<(), String> {
 #[test]
 fn every_specialisation_composes_and_validates() {
     let all = TraceDefs::all();
-    assert_eq!(all.len(), 6 * 64);
+    assert_eq!(all.len(), 6 * 128);
     for defs in &all {
         let module = compose(defs).unwrap_or_else(|e| panic!("{:?}: {e}", defs.names()));
         validate(&module).unwrap_or_else(|e| panic!("{:?}: {e}", defs.names()));
@@ -150,7 +150,7 @@ fn scenes_compile_only_what_they_use() {
 #[test]
 fn the_generic_shader_is_the_largest() {
     for g in [Geometry::Euclidean, Geometry::Hyperbolic, Geometry::Spherical] {
-        let generic = compose(&TraceDefs::generic(g, 12)).expect("compose");
+        let generic = compose(&TraceDefs::generic(g)).expect("compose");
         let count = |m: &naga::Module| m.functions.iter().map(|(_, f)| f.expressions.len()).sum::<usize>();
         for defs in TraceDefs::all().iter().filter(|d| d.geometry == g) {
             assert!(
