@@ -35,6 +35,10 @@ enum Command {
         #[arg(long, requires = "frames")]
         screenshot: Option<PathBuf>,
     },
+    /// The explorer left running on a script (every space, every setting,
+    /// meshes loaded and dropped), recording memory and GPU objects: a
+    /// soak test, not for CI.
+    Soak(SoakArgs),
     /// Inspect and export spaces.
     #[command(subcommand)]
     Space(SpaceCommand),
@@ -43,6 +47,25 @@ enum Command {
     /// Benchmarks.
     #[command(subcommand)]
     Bench(bench::BenchCommand),
+}
+
+#[derive(Args)]
+struct SoakArgs {
+    /// How long to run, in minutes.
+    #[arg(long, default_value_t = 60.0)]
+    minutes: f64,
+    /// Seconds per script step (one space, one set of settings, one mesh).
+    #[arg(long, default_value_t = 15.0)]
+    step: f64,
+    /// Seconds between samples of memory and GPU objects.
+    #[arg(long, default_value_t = 10.0)]
+    sample: f64,
+    /// The CSV of samples.
+    #[arg(long, default_value = "soak.csv")]
+    out: PathBuf,
+    /// The folder the glTF models are loaded from.
+    #[arg(long, default_value = "assets")]
+    assets: PathBuf,
 }
 
 #[derive(Subcommand)]
@@ -130,6 +153,7 @@ pub fn run() -> ExitCode {
         // The explorer: a window, or its headless fallback.
         None => return explore(None, None),
         Some(Command::Explore { frames, screenshot }) => return explore(frames, screenshot),
+        Some(Command::Soak(args)) => return soak(&args),
         Some(Command::Space(SpaceCommand::List)) => {
             for name in catalog::NAMES {
                 println!("{name}");
@@ -165,6 +189,37 @@ fn explore(frames: Option<u32>, screenshot: Option<PathBuf>) -> ExitCode {
     match crate::explorer::run_for(frames, screenshot) {
         bevy::app::AppExit::Success => ExitCode::SUCCESS,
         bevy::app::AppExit::Error(_) => ExitCode::FAILURE,
+    }
+}
+
+fn soak(args: &SoakArgs) -> ExitCode {
+    use crate::explorer::soak::{SoakOptions, run_soak};
+    let secs = |what: &str, v: f64| {
+        if v.is_finite() && v > 0.0 && v < 1e7 {
+            Ok(std::time::Duration::from_secs_f64(v))
+        } else {
+            Err(format!("--{what} {v}: it must be a positive number"))
+        }
+    };
+    let options = (|| {
+        Ok::<_, String>(SoakOptions {
+            duration: secs("minutes", args.minutes * 60.0)?,
+            phase: secs("step", args.step)?,
+            sample: secs("sample", args.sample)?,
+            out: args.out.clone(),
+            assets: args.assets.clone(),
+            ..SoakOptions::default()
+        })
+    })();
+    match options {
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+        Ok(options) => match run_soak(&options) {
+            bevy::app::AppExit::Success => ExitCode::SUCCESS,
+            bevy::app::AppExit::Error(_) => ExitCode::FAILURE,
+        },
     }
 }
 

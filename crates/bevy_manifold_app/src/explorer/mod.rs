@@ -24,6 +24,7 @@
 pub mod fallback;
 pub mod panel;
 pub mod settings;
+pub mod soak;
 pub mod view;
 
 pub use settings::{CellMode, ExplorerSettings};
@@ -223,6 +224,36 @@ fn save_on_exit(
     }
 }
 
+/// The explorer's app with its window, starting from `settings`, saving
+/// them to `settings_path` (`None`: not saved), loading assets from
+/// `asset_root` (`None`: Bevy's default).
+pub(crate) fn window_app(
+    settings: ExplorerSettings,
+    settings_path: Option<PathBuf>,
+    asset_root: Option<String>,
+) -> App {
+    let mut assets = AssetPlugin::default();
+    if let Some(root) = asset_root {
+        assets.file_path = root;
+    }
+    let mut app = App::new();
+    app.add_plugins(
+        DefaultPlugins
+            .set(WindowPlugin {
+                primary_window: Some(Window {
+                    title: "bevy_manifold explorer".into(),
+                    resolution: (1280, 720).into(),
+                    ..default()
+                }),
+                ..default()
+            })
+            .set(assets),
+    )
+    .insert_resource(settings)
+    .add_plugins((ExplorerPlugin { settings_path }, panel::ExplorerPanelPlugin));
+    app
+}
+
 /// Loads the settings from [`settings::settings_path`] (printing what was
 /// wrong with them), then opens the explorer window; or, without a display
 /// or a GPU adapter, says so and renders `explorer.png` instead.
@@ -258,17 +289,7 @@ pub fn run_for(frames: Option<u32>, screenshot: Option<PathBuf>) -> AppExit {
         eprintln!("note: {note}");
         warnings.push(note.into());
     }
-    let mut app = App::new();
-    app.add_plugins(DefaultPlugins.set(WindowPlugin {
-        primary_window: Some(Window {
-            title: "bevy_manifold explorer".into(),
-            resolution: (1280, 720).into(),
-            ..default()
-        }),
-        ..default()
-    }))
-    .insert_resource(settings)
-    .add_plugins((ExplorerPlugin { settings_path: path }, panel::ExplorerPanelPlugin));
+    let mut app = window_app(settings, path, None);
     if !warnings.is_empty() {
         app.world_mut().resource_mut::<ExplorerStatus>().message = Some((warnings.join("\n"), true));
     }
