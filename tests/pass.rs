@@ -202,6 +202,60 @@ fn uploads_happen_only_when_something_changed() {
     );
 }
 
+/// A view whose space is replaced on its root keeps its buffers, written
+/// in place where the new space fits and grown where it does not (the
+/// Poincare space's Cayley table does not fit the first buffer). Each
+/// space is drawn as the headless trace draws it, and coming back to the
+/// first space gives exactly the first picture: nothing of the spaces in
+/// between is left in the buffers.
+fn a_view_whose_space_changes_draws_each_space_from_its_reused_buffers() {
+    let mut app = headless_app(true);
+    let image = target(&mut app, W, H);
+    let mut gpu = GpuTracer::new().expect("adapter");
+    let first = catalog::seifert_weber();
+    let (root, camera) = spawn_view(&mut app, &first, &image, false, false);
+    wait_for_pipelines(&mut app);
+    let at_first = capture(&mut app, &image);
+    for name in ["poincare", "torus", "seifert-weber"] {
+        let space = catalog::by_name(name).expect("catalog");
+        app.world_mut()
+            .entity_mut(root)
+            .insert(ManifoldSpace::new(space.clone()));
+        // The camera where the new space's default scene puts it, wrapped
+        // from the origin of the new space.
+        app.world_mut()
+            .entity_mut(camera)
+            .insert((DomainCell::default(), bevy_manifold::placement::WrapOrigin::default()));
+        app.world_mut().get_mut::<Placement>(camera).unwrap().isometry = Scene::default_for(&space).camera.isometry;
+        app.update();
+        wait_for_pipelines(&mut app);
+        let shown = capture(&mut app, &image);
+        assert_eq!(
+            app.sub_app(RenderApp).world().resource::<ManifoldBufferCache>().len(),
+            1,
+            "one view, its buffers kept"
+        );
+        if name == first.name() {
+            assert!(shown == at_first, "back in {name}: not the first picture");
+            continue;
+        }
+        let scene = gathered_scene(&app, &space, root, false);
+        let settings = TraceSettings {
+            width: W,
+            height: H,
+            levels: 8,
+            ..TraceSettings::default()
+        };
+        let compute = gpu.render(&space, &scene, &settings).expect("headless trace");
+        let agree = rgba8_agreement(&shown, &compute, 1);
+        eprintln!(
+            "{name}: the reused view vs the headless trace (±1/255): {:.3}%",
+            agree * 100.0
+        );
+        assert!(agree >= 0.995, "{name}: the reused view draws another space");
+    }
+}
+
 fn a_viewport_shows_the_same_trace_as_a_whole_target() {
     let mut app = headless_app(true);
     let space = catalog::torus(1.0);
@@ -582,6 +636,7 @@ bevy_manifold_test_support::test_main! {
     gpu: [
         the_pass_draws_what_the_tracer_computes_in_every_space,
         uploads_happen_only_when_something_changed,
+        a_view_whose_space_changes_draws_each_space_from_its_reused_buffers,
         a_viewport_shows_the_same_trace_as_a_whole_target,
         cameras_without_the_marker_render_exactly_as_before,
         gltf_meshes_in_a_manifold_are_traced_and_not_rasterised,

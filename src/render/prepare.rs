@@ -158,13 +158,47 @@ impl ManifoldBufferCache {
     }
 }
 
+/// Smallest storage buffer made, in bytes.
+const MIN_BUFFER: u64 = 256;
+
 fn storage(device: &RenderDevice, label: &'static str, data: &[u8], stats: &mut ManifoldUploads) -> Buffer {
     stats.bytes += data.len() as u64;
+    // Room to grow (a power of two), so the next space or scene that fits
+    // is written in place and keeps the bind group (see `write_or_grow`).
+    let size = data.len().max(MIN_BUFFER as usize).next_power_of_two();
+    let mut contents = vec![0u8; size];
+    contents[..data.len()].copy_from_slice(data);
     device.create_buffer_with_data(&BufferInitDescriptor {
         label: Some(label),
-        contents: data,
+        contents: &contents,
         usage: BufferUsages::STORAGE | BufferUsages::COPY_DST,
     })
+}
+
+/// Writes `data` into `slot` in place when it fits, else replaces `slot`
+/// with a larger buffer holding it; true when replaced (the view's bind
+/// group must then be made again). Writing in place lets a view whose
+/// space or scene changes keep its buffers and bind group instead of
+/// making nine new GPU objects per change. The shader reads only the
+/// counts in the params, so a buffer larger than its data is harmless.
+fn write_or_grow(
+    device: &RenderDevice,
+    queue: &RenderQueue,
+    slot: &mut Buffer,
+    label: &'static str,
+    data: &[u8],
+    stats: &mut ManifoldUploads,
+) -> bool {
+    if data.len() as u64 <= slot.size() {
+        if !data.is_empty() {
+            queue.write_buffer(slot, 0, data);
+        }
+        stats.bytes += data.len() as u64;
+        false
+    } else {
+        *slot = storage(device, label, data, stats);
+        true
+    }
 }
 
 fn space_buffers(device: &RenderDevice, s: &GpuSpace, stats: &mut ManifoldUploads) -> (Buffer, Buffer) {
@@ -180,22 +214,16 @@ fn space_buffers(device: &RenderDevice, s: &GpuSpace, stats: &mut ManifoldUpload
     )
 }
 
-/// The objects' buffers: balls, tubes, lights, instances, and the meshes'
-/// data, unless `reuse` holds a buffer of the same mesh data (a moved
-/// instance changes its matrix, not its mesh: the BVHs stay uploaded).
-fn object_buffers(
-    device: &RenderDevice,
-    o: &GpuObjects,
-    reuse: Option<Buffer>,
-    stats: &mut ManifoldUploads,
-) -> [Buffer; 5] {
+/// The objects' buffers, first made: balls, tubes, lights, instances and
+/// the meshes' data.
+fn object_buffers(device: &RenderDevice, o: &GpuObjects, stats: &mut ManifoldUploads) -> [Buffer; 5] {
     stats.objects += 1;
     [
         storage(device, "manifold_balls", bytemuck::cast_slice(&o.balls), stats),
         storage(device, "manifold_tubes", bytemuck::cast_slice(&o.tubes), stats),
         storage(device, "manifold_lights", bytemuck::cast_slice(&o.lights), stats),
         storage(device, "manifold_instances", bytemuck::cast_slice(&o.instances), stats),
-        reuse.unwrap_or_else(|| storage(device, "manifold_mesh_data", bytemuck::cast_slice(&o.mesh_data), stats)),
+        storage(device, "manifold_mesh_data", bytemuck::cast_slice(&o.mesh_data), stats),
     ]
 }
 
@@ -264,7 +292,7 @@ pub fn prepare_manifold_views(
         let params = GpuParams::new(view.space.space(), space, objects, &gpu_view(view, extracted));
         let entry = cache.views.entry(entity).or_insert_with(|| {
             let (faces, cell_table) = space_buffers(&device, space, stats);
-            let [balls, tubes, lights, instances, mesh_data] = object_buffers(&device, objects, None, stats);
+            let [balls, tubes, lights, instances, mesh_data] = object_buffers(&device, objects, stats);
             stats.params += 1;
             stats.bytes += std::mem::size_of::<GpuParams>() as u64;
             let params_buffer = device.create_buffer_with_data(&BufferInitDescriptor {
@@ -288,17 +316,75 @@ pub fn prepare_manifold_views(
             }
         });
         if !Arc::ptr_eq(&entry.space, space) {
-            (entry.faces, entry.cell_table) = space_buffers(&device, space, stats);
+            stats.space += 1;
+            let grew = write_or_grow(
+                &device,
+                &queue,
+                &mut entry.faces,
+                "manifold_faces",
+                bytemuck::cast_slice(&space.faces),
+                stats,
+            ) | write_or_grow(
+                &device,
+                &queue,
+                &mut entry.cell_table,
+                "manifold_cell_table",
+                bytemuck::cast_slice(&space.cell_table),
+                stats,
+            );
             entry.space = space.clone();
-            entry.bind_group = None;
+            if grew {
+                entry.bind_group = None;
+            }
         }
         if !Arc::ptr_eq(&entry.objects, objects) {
-            let same_meshes = entry.objects.mesh_data == objects.mesh_data;
-            let reuse = same_meshes.then(|| entry.mesh_data.clone());
-            [entry.balls, entry.tubes, entry.lights, entry.instances, entry.mesh_data] =
-                object_buffers(&device, objects, reuse, stats);
+            stats.objects += 1;
+            let o = &**objects;
+            let mut grew = write_or_grow(
+                &device,
+                &queue,
+                &mut entry.balls,
+                "manifold_balls",
+                bytemuck::cast_slice(&o.balls),
+                stats,
+            ) | write_or_grow(
+                &device,
+                &queue,
+                &mut entry.tubes,
+                "manifold_tubes",
+                bytemuck::cast_slice(&o.tubes),
+                stats,
+            ) | write_or_grow(
+                &device,
+                &queue,
+                &mut entry.lights,
+                "manifold_lights",
+                bytemuck::cast_slice(&o.lights),
+                stats,
+            ) | write_or_grow(
+                &device,
+                &queue,
+                &mut entry.instances,
+                "manifold_instances",
+                bytemuck::cast_slice(&o.instances),
+                stats,
+            );
+            // A moved instance changes its matrix, not its mesh: the BVHs
+            // stay uploaded.
+            if entry.objects.mesh_data != o.mesh_data {
+                grew |= write_or_grow(
+                    &device,
+                    &queue,
+                    &mut entry.mesh_data,
+                    "manifold_mesh_data",
+                    bytemuck::cast_slice(&o.mesh_data),
+                    stats,
+                );
+            }
             entry.objects = objects.clone();
-            entry.bind_group = None;
+            if grew {
+                entry.bind_group = None;
+            }
         }
         if bytemuck::bytes_of(&entry.params) != bytemuck::bytes_of(&params) {
             queue.write_buffer(&entry.params_buffer, 0, bytemuck::bytes_of(&params));
