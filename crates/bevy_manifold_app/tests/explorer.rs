@@ -118,21 +118,9 @@ fn without_a_display_the_explorer_renders_explorer_png_and_exits_0() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// Live GPU objects on the app's device.
+/// Live GPU objects on the app's device (as the soak run counts them).
 fn live(app: &App) -> [isize; 6] {
-    let c = app
-        .world()
-        .resource::<RenderDevice>()
-        .wgpu_device()
-        .get_internal_counters();
-    [
-        c.hal.buffers.read(),
-        c.hal.textures.read(),
-        c.hal.bind_groups.read(),
-        c.hal.render_pipelines.read(),
-        c.hal.compute_pipelines.read(),
-        c.hal.shader_modules.read(),
-    ]
+    bevy_manifold_app::explorer::soak::live_gpu_objects(app.world().resource::<RenderDevice>())
 }
 
 /// Updates until the counts have not changed for 5 frames (freed objects
