@@ -424,6 +424,67 @@ fn shading_uses_the_geometrys_light_falloff_and_fog() {
     }
 }
 
+/// A light exactly on the point a ray hits: the direction to it is 0 / 0.
+/// It lights the point head-on (along the normal), as a light a hair
+/// above the surface does, never NaN. In the torus the numbers are exact
+/// in binary (camera 3/8 from a ball of radius 1/8: the centre ray hits at
+/// z = 1/8 exactly, where the light is); then the light is moved 1e-9
+/// along the normal and the colour must not change, in f64 and f32.
+#[test]
+fn a_light_on_the_hit_point_lights_it_head_on_never_nan() {
+    let s = catalog::torus(1.0);
+    let g = s.geometry();
+    let albedo = [0.5f32, 0.25, 1.0];
+    let at = |z: f64| Scene {
+        camera: bevy_manifold_core::trace::Camera {
+            isometry: isometry::translation(g, DVec3::Z * 0.375),
+            fov_y_degrees: 40.0,
+        },
+        balls: vec![Ball {
+            center: DVec4::W,
+            radius: 0.125,
+            color: albedo,
+        }],
+        lights: vec![Light {
+            position: DVec4::new(0.0, 0.0, z, 1.0),
+            intensity: 0.3,
+            color: [1.0; 3],
+        }],
+        ..Scene::empty()
+    };
+    let settings = TraceSettings {
+        width: 3,
+        height: 3,
+        ..TraceSettings::default()
+    };
+    for (on, above) in [
+        (
+            *render::<f64>(&s, &at(0.125), &settings).at(1, 1),
+            *render::<f64>(&s, &at(0.125 + 1e-9), &settings).at(1, 1),
+        ),
+        (
+            *render::<f32>(&s, &at(0.125), &settings).at(1, 1),
+            *render::<f32>(&s, &at(0.125 + 1e-9), &settings).at(1, 1),
+        ),
+    ] {
+        assert_eq!(on.object, 1);
+        assert!((f64::from(on.distance) - 0.25).abs() < 1e-6);
+        assert!(on.color.iter().all(|c| c.is_finite()), "{:?}", on.color);
+        // Head-on, area clamped at 1e-4: albedo * (ambient + I / 1e-4)
+        // + 0.35 I / 1e-4 (the view is along the normal too).
+        for c in 0..3 {
+            let irr = 0.3f32 / 1e-4;
+            let expect = albedo[c] * (0.08 + irr) + 0.35 * irr;
+            assert!(
+                (on.color[c] - expect).abs() <= 1e-4 * expect,
+                "channel {c}: {} vs {expect}",
+                on.color[c]
+            );
+            assert!((on.color[c] - above.color[c]).abs() <= 1e-4 * expect, "channel {c}");
+        }
+    }
+}
+
 #[test]
 fn a_ball_straddling_a_face_is_drawn_through_it() {
     let s = catalog::torus(1.0);

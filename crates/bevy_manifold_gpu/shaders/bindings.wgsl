@@ -172,3 +172,7 @@ const BVH_STACK: u32 = 40u;
 // has left less than 1/255 of an object's light and the ray may stop.
 // Rust twin: FOG_CUT in crates/bevy_manifold_core/src/trace/render.rs.
 const FOG_CUT: f32 = 5.5412636;
+// A light nearer a hit than this (|tangent towards it|^2) is on the hit
+// point, and lights it along the normal (render.wgsl's toward_light).
+// Rust twin: LIGHT_AT_HIT in crates/bevy_manifold_core/src/trace/render.rs.
+const LIGHT_AT_HIT: f32 = 1.0e-10;

@@ -9,8 +9,8 @@
 // GEOMETRY_*, TRANSLATIONS_ONLY, CELLS_* through the imports.
 #define_import_path bevy_manifold::render
 
-#import bevy_manifold::bindings::{params, balls, tubes, lights, Pixel, EDGE_ID, FLAG_NO_EARLY_STOP, FOG_CUT}
-#import bevy_manifold::geometry::{form, normalize_point, normalize_tangent, distance, chart_to_distance, sphere_area}
+#import bevy_manifold::bindings::{params, balls, tubes, lights, Pixel, EDGE_ID, FLAG_NO_EARLY_STOP, FOG_CUT, LIGHT_AT_HIT}
+#import bevy_manifold::geometry::{form, normalize_point, normalize_tangent, project_tangent, distance, chart_to_distance, sphere_area}
 #import bevy_manifold::step::{Ray, normal_from}
 #import bevy_manifold::cells::cell_id
 #import bevy_manifold::walk::{walker_new, max_passes, segment_end, walk_segment}
@@ -147,6 +147,18 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>) -> Hit {
     return best;
 }
 
+// The unit tangent at x towards the light at l; the normal when the light
+// is on x (or, in S3, at its antipode), where the direction is 0 / 0.
+// Rust twin: toward_light in crates/bevy_manifold_core/src/trace/render.rs.
+fn toward_light(x: vec4<f32>, l: vec4<f32>, normal: vec4<f32>) -> vec4<f32> {
+    let t = project_tangent(x, l);
+    let len2 = abs(form(t, t));
+    if len2 > LIGHT_AT_HIT {
+        return t / sqrt(len2);
+    }
+    return normal;
+}
+
 // Lambert + Blinn shading at the hit, lights with geometry-correct
 // fall-off (1 / area of the sphere of radius d), per-cell colour, fog.
 fn shade(ray: Ray, hit: Hit, dist: f32, cell: vec2<u32>) -> vec3<f32> {
@@ -183,7 +195,7 @@ fn shade(ray: Ray, hit: Hit, dist: f32, cell: vec2<u32>) -> vec3<f32> {
     for (var i = 0u; i < params.light_count; i++) {
         let l = lights[i];
         let d = distance(x, l.position);
-        let to_light = normalize_tangent(x, l.position);
+        let to_light = toward_light(x, l.position, normal);
         let irradiance = l.intensity / max(sphere_area(d), 1.0e-4);
         let lambert = max(form(normal, to_light), 0.0);
         let half = to_light + view;

@@ -8,7 +8,7 @@
 
 use bevy_manifold_core::geometry::Geometry;
 use bevy_manifold_core::mesh::bvh::MAX_DEPTH;
-use bevy_manifold_core::trace::{EDGE_ID, FOG_CUT};
+use bevy_manifold_core::trace::{EDGE_ID, FOG_CUT, LIGHT_AT_HIT};
 use bevy_manifold_gpu::bindings::{BINDINGS, BindingKind};
 use bevy_manifold_gpu::layout::{GpuBall, GpuFace, GpuInstance, GpuLight, GpuParams, GpuPixel, GpuTube};
 use bevy_manifold_gpu::{
@@ -184,6 +184,10 @@ fn the_shared_constants_are_equal_on_both_sides() {
     assert_eq!(constant(&module, "BVH_STACK"), naga::Literal::U32(MAX_DEPTH as u32));
     assert_eq!(constant(&module, "FOG_CUT"), naga::Literal::F32(FOG_CUT as f32));
     assert_eq!(FOG_CUT, 255f64.ln(), "FOG_CUT is ln 255");
+    assert_eq!(
+        constant(&module, "LIGHT_AT_HIT"),
+        naga::Literal::F32(LIGHT_AT_HIT as f32)
+    );
 }
 
 #[test]

@@ -204,6 +204,49 @@ fn the_fragment_entry_draws_what_the_compute_entry_computes() {
     }
 }
 
+/// A light exactly on the hit point (the CPU twin's test,
+/// `a_light_on_the_hit_point_lights_it_head_on_never_nan`): the GPU
+/// lights it head-on too, finite, as the CPU does in f32.
+fn a_light_on_the_hit_point_is_lit_head_on_on_the_gpu() {
+    use glam::{DVec3, DVec4};
+    let mut gpu = tracer();
+    let s = catalog::torus(1.0);
+    let scene = Scene {
+        camera: bevy_manifold_core::trace::Camera {
+            isometry: bevy_manifold_core::geometry::isometry::translation(s.geometry(), DVec3::Z * 0.375),
+            fov_y_degrees: 40.0,
+        },
+        balls: vec![Ball {
+            center: DVec4::W,
+            radius: 0.125,
+            color: [0.5, 0.25, 1.0],
+        }],
+        lights: vec![Light {
+            position: DVec4::new(0.0, 0.0, 0.125, 1.0),
+            intensity: 0.3,
+            color: [1.0; 3],
+        }],
+        ..Scene::empty()
+    };
+    let settings = TraceSettings {
+        width: 3,
+        height: 3,
+        ..TraceSettings::default()
+    };
+    let g = *gpu.render(&s, &scene, &settings).expect("render").at(1, 1);
+    let c = *render::<f32>(&s, &scene, &settings).at(1, 1);
+    assert_eq!(g.object, 1);
+    for k in 0..3 {
+        assert!(g.color[k].is_finite(), "{:?}", g.color);
+        assert!(
+            (g.color[k] - c.color[k]).abs() <= 1e-4 * c.color[k],
+            "channel {k}: GPU {} CPU {}",
+            g.color[k],
+            c.color[k]
+        );
+    }
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [],
     gpu: [
@@ -211,5 +254,6 @@ bevy_manifold_test_support::test_main! {
         gpu_and_cpu_agree_in_spaces_built_from_generators,
         a_ball_straddling_a_torus_face_is_seen_whole_from_either_side,
         the_fragment_entry_draws_what_the_compute_entry_computes,
+        a_light_on_the_hit_point_is_lit_head_on_on_the_gpu,
     ],
 }

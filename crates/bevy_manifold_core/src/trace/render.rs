@@ -320,6 +320,25 @@ fn nearest_object<R: Real>(
     best
 }
 
+/// A light nearer a hit than this (`|tangent towards it|^2`) is on the hit
+/// point: [`toward_light`] lights it along the normal.
+/// WGSL twin: `LIGHT_AT_HIT` in `shaders/bindings.wgsl`.
+pub const LIGHT_AT_HIT: f64 = 1e-10;
+
+/// The unit tangent at `x` towards the light at `l`; `normal` when the
+/// light is on `x` (or, in S3, at its antipode), where the direction is
+/// 0 / 0 and `normalize_tangent` would give NaN.
+/// WGSL twin: `toward_light` in `shaders/render.wgsl`.
+fn toward_light<R: Real>(g: Geometry, x: R::V4, l: R::V4, normal: R::V4) -> R::V4 {
+    let t = g.project_tangent::<R>(x, l);
+    let len2 = g.form::<R>(t, t).abs();
+    if len2.f64() > LIGHT_AT_HIT {
+        t * (R::of(1.0) / len2.sqrt())
+    } else {
+        normal
+    }
+}
+
 /// Lambert + Blinn shading at the hit, lights with geometry-correct
 /// fall-off (1 / area of the sphere of radius d), per-cell colour, fog.
 #[expect(clippy::too_many_arguments, reason = "the shading inputs are all distinct")]
@@ -363,7 +382,7 @@ fn shade<R: Real>(
     let mut rgb = [albedo[0] * ambient, albedo[1] * ambient, albedo[2] * ambient];
     for l in &prep.lights {
         let d = g.distance::<R>(x, l.position);
-        let to_light = g.normalize_tangent::<R>(x, l.position);
+        let to_light = toward_light::<R>(g, x, l.position, normal);
         let area = g.sphere_area::<R>(d).max(R::of(1e-4));
         let irradiance = (l.intensity / area).f64() as f32;
         let lambert = g.form::<R>(normal, to_light).max(R::of(0.0)).f64() as f32;
