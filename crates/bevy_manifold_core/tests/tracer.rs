@@ -472,9 +472,9 @@ fn a_light_on_the_hit_point_lights_it_head_on_never_nan() {
         assert!(on.color.iter().all(|c| c.is_finite()), "{:?}", on.color);
         // Head-on, area clamped at 1e-4: albedo * (ambient + I / 1e-4)
         // + 0.35 I / 1e-4 (the view is along the normal too).
-        for c in 0..3 {
+        for (c, a) in albedo.iter().enumerate() {
             let irr = 0.3f32 / 1e-4;
-            let expect = albedo[c] * (0.08 + irr) + 0.35 * irr;
+            let expect = a * (0.08 + irr) + 0.35 * irr;
             assert!(
                 (on.color[c] - expect).abs() <= 1e-4 * expect,
                 "channel {c}: {} vs {expect}",
