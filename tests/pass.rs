@@ -169,7 +169,7 @@ fn uploads_happen_only_when_something_changed() {
     }
     assert_eq!(uploads(&app), settled, "a still view uploads nothing");
 
-    // The camera turns: only the params uniform is written.
+    // The camera turns: only the params buffer is written.
     app.world_mut().get_mut::<Placement>(camera).unwrap().isometry *=
         bevy_manifold::geometry::isometry::rotation(glam::DVec3::Y, 0.1);
     app.update();

@@ -63,7 +63,7 @@ impl TracePipelineKey {
 /// The tracer pipeline's layout and shaders (render world).
 #[derive(Resource, Clone)]
 pub struct TracePipeline {
-    /// Group 0: the params uniform, then faces, balls, tubes, lights, the
+    /// Group 0: the params, then faces, balls, tubes, lights, the
     /// cell table, mesh instances and mesh data (the compute path's
     /// `pixels` is not bound here).
     pub layout: BindGroupLayoutDescriptor,

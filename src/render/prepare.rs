@@ -3,7 +3,7 @@
 //! changed), then per manifold view the pipeline variant it needs and its
 //! GPU buffers ([`prepare_manifold_views`]). The space's buffers are
 //! rebuilt only when the space changed, the objects' only when an object
-//! changed, and the 240-byte params uniform only when the camera or the
+//! changed, and the 240-byte params buffer only when the camera or the
 //! settings changed. [`ManifoldUploads`] counts what was uploaded, so this
 //! is testable.
 
@@ -42,7 +42,7 @@ pub struct ManifoldUploads {
     /// Times a scene's balls, tubes, lights and instances were uploaded
     /// (the meshes' data only when it changed).
     pub objects: u64,
-    /// Times a view's params uniform was written.
+    /// Times a view's params buffer was written.
     pub params: u64,
     /// Bytes uploaded in all.
     pub bytes: u64,
@@ -298,7 +298,7 @@ pub fn prepare_manifold_views(
             let params_buffer = device.create_buffer_with_data(&BufferInitDescriptor {
                 label: Some("manifold_params"),
                 contents: bytemuck::bytes_of(&params),
-                usage: BufferUsages::UNIFORM | BufferUsages::COPY_DST,
+                usage: BufferUsages::STORAGE | BufferUsages::COPY_DST,
             });
             ViewBuffers {
                 space: space.clone(),

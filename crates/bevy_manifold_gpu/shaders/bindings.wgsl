@@ -140,7 +140,10 @@ struct Pixel {
     cell_hi: u32,
 }
 
-@group(0) @binding(0) var<uniform> params: Params;
+// A read-only storage buffer, not a uniform: see BINDINGS in
+// crates/bevy_manifold_gpu/src/bindings.rs (with a uniform, lavapipe's
+// memory grew at every draw).
+@group(0) @binding(0) var<storage, read> params: Params;
 @group(0) @binding(1) var<storage, read> faces: array<Face>;
 @group(0) @binding(2) var<storage, read> balls: array<Ball>;
 @group(0) @binding(3) var<storage, read> tubes: array<Tube>;

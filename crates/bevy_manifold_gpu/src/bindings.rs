@@ -37,7 +37,7 @@ pub struct Binding {
     pub kind: BindingKind,
     /// Read by the compute entries only (the render pass binds the others).
     pub compute_only: bool,
-    /// The size of one element (the uniform's size, or one array element
+    /// The size of one element (the params' size, or one array element
     /// of a storage buffer): the Rust twin's `size_of`.
     pub element_size: usize,
 }
@@ -53,14 +53,25 @@ const fn binding(binding: u32, name: &'static str, kind: BindingKind, element_si
 }
 
 use crate::layout::{GpuBall, GpuFace, GpuInstance, GpuLight, GpuParams, GpuPixel, GpuTube};
-use BindingKind::{Storage, StorageReadWrite, Uniform};
+use BindingKind::{Storage, StorageReadWrite};
 use std::mem::size_of;
 
-/// Group 0, in binding order: the params uniform, then faces, balls,
+/// Group 0, in binding order: the params, then faces, balls,
 /// tubes, lights, the cell table, mesh instances and mesh data (read by
 /// every entry), and `pixels`, the compute entries' output.
+///
+/// The params are a read-only storage buffer, not a uniform: with them in
+/// a uniform, lavapipe (Mesa 22.3.6) grew the process by about 0.9 MB a
+/// frame at 160x90 with a still camera, and by 0.35 MB a headless
+/// dispatch, without end (heaptrack places it in lavapipe's execution
+/// thread, mostly outside malloc: JIT code, we believe from its inlining
+/// of uniform values into loop bounds; trivial shaders with a uniform do
+/// not show it). Read from a storage buffer the same shader stays flat.
+/// The compute stage then binds nine storage buffers, one more than
+/// WebGPU's default limit (the headless runner asks for them; desktop
+/// adapters have more).
 pub const BINDINGS: [Binding; 9] = [
-    binding(0, "params", Uniform, size_of::<GpuParams>()),
+    binding(0, "params", Storage, size_of::<GpuParams>()),
     binding(1, "faces", Storage, size_of::<GpuFace>()),
     binding(2, "balls", Storage, size_of::<GpuBall>()),
     binding(3, "tubes", Storage, size_of::<GpuTube>()),

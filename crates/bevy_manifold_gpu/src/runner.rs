@@ -4,7 +4,7 @@
 
 use crate::GpuError;
 use crate::TRACE_WGSL;
-use crate::bindings::BINDINGS;
+use crate::bindings::{BINDINGS, BindingKind};
 use crate::layout::{GpuPixel, GpuScene};
 use crate::shader_defs::TraceDefs;
 use bevy_manifold_core::space::Space;
@@ -40,8 +40,26 @@ impl GpuTracer {
         }))
         .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
         let info = adapter.get_info();
+        // Every binding but the params is a storage buffer, and the params
+        // are one too (see [`BINDINGS`]): nine in the compute stage, one
+        // more than WebGPU's default limit, which desktop adapters exceed.
+        let storage = BINDINGS.iter().filter(|b| b.kind != BindingKind::Uniform).count() as u32;
+        let allowed = adapter.limits().max_storage_buffers_per_shader_stage;
+        if allowed < storage {
+            return Err(GpuError::NoDevice {
+                adapter: info.name.clone(),
+                message: format!(
+                    "the tracer binds {storage} storage buffers in one shader stage; this adapter allows {allowed}"
+                ),
+            });
+        }
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("bevy_manifold tracer"),
+            required_limits: wgpu::Limits {
+                max_storage_buffers_per_shader_stage:
+                    storage.max(wgpu::Limits::default().max_storage_buffers_per_shader_stage),
+                ..wgpu::Limits::default()
+            },
             ..Default::default()
         }))
         .map_err(|e| GpuError::NoDevice {
@@ -263,7 +281,7 @@ impl GpuTracer {
             })
         };
         let storage = wgpu::BufferUsages::STORAGE;
-        let params = buffer("params", bytemuck::bytes_of(&gpu.params), wgpu::BufferUsages::UNIFORM);
+        let params = buffer("params", bytemuck::bytes_of(&gpu.params), wgpu::BufferUsages::STORAGE);
         let faces = buffer("faces", bytemuck::cast_slice(&gpu.space.faces), storage);
         let balls = buffer("balls", bytemuck::cast_slice(&gpu.objects.balls), storage);
         let tubes = buffer("tubes", bytemuck::cast_slice(&gpu.objects.tubes), storage);
