@@ -17,6 +17,7 @@
 
 pub mod catalog;
 pub mod cells;
+pub mod coxeter;
 mod cycles;
 pub mod dirichlet;
 mod error;
