@@ -432,26 +432,10 @@ fn shading_uses_the_geometrys_light_falloff_and_fog() {
 /// along the normal and the colour must not change, in f64 and f32.
 #[test]
 fn a_light_on_the_hit_point_lights_it_head_on_never_nan() {
-    let s = catalog::torus(1.0);
-    let g = s.geometry();
+    use bevy_manifold_test_support::stress::light_on_the_hit;
     let albedo = [0.5f32, 0.25, 1.0];
-    let at = |z: f64| Scene {
-        camera: bevy_manifold_core::trace::Camera {
-            isometry: isometry::translation(g, DVec3::Z * 0.375),
-            fov_y_degrees: 40.0,
-        },
-        balls: vec![Ball {
-            center: DVec4::W,
-            radius: 0.125,
-            color: albedo,
-        }],
-        lights: vec![Light {
-            position: DVec4::new(0.0, 0.0, z, 1.0),
-            intensity: 0.3,
-            color: [1.0; 3],
-        }],
-        ..Scene::empty()
-    };
+    let (s, _) = light_on_the_hit(0.125);
+    let at = |z: f64| light_on_the_hit(z).1;
     let settings = TraceSettings {
         width: 3,
         height: 3,

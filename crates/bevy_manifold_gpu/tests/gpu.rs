@@ -208,26 +208,8 @@ fn the_fragment_entry_draws_what_the_compute_entry_computes() {
 /// `a_light_on_the_hit_point_lights_it_head_on_never_nan`): the GPU
 /// lights it head-on too, finite, as the CPU does in f32.
 fn a_light_on_the_hit_point_is_lit_head_on_on_the_gpu() {
-    use glam::{DVec3, DVec4};
     let mut gpu = tracer();
-    let s = catalog::torus(1.0);
-    let scene = Scene {
-        camera: bevy_manifold_core::trace::Camera {
-            isometry: bevy_manifold_core::geometry::isometry::translation(s.geometry(), DVec3::Z * 0.375),
-            fov_y_degrees: 40.0,
-        },
-        balls: vec![Ball {
-            center: DVec4::W,
-            radius: 0.125,
-            color: [0.5, 0.25, 1.0],
-        }],
-        lights: vec![Light {
-            position: DVec4::new(0.0, 0.0, 0.125, 1.0),
-            intensity: 0.3,
-            color: [1.0; 3],
-        }],
-        ..Scene::empty()
-    };
+    let (s, scene) = bevy_manifold_test_support::stress::light_on_the_hit(0.125);
     let settings = TraceSettings {
         width: 3,
         height: 3,

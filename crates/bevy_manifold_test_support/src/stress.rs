@@ -351,3 +351,32 @@ pub fn body_beside_a_face(space: &Space) -> (bevy_manifold_core::trace::Scene, f
     scene.meshes = vec![body];
     (scene, radius)
 }
+
+/// In the torus of side 1, a camera 3/8 from the centre of a ball of
+/// radius 1/8 (albedo `[0.5, 0.25, 1.0]`), looking at it, and a light of
+/// intensity 0.3 on the ball's axis at height `z`: at `z = 1/8` the light
+/// is exactly where the centre ray of a 3x3 image hits (the numbers are
+/// exact in binary), where the direction to it is 0 / 0.
+#[must_use]
+pub fn light_on_the_hit(z: f64) -> (Space, Scene) {
+    use bevy_manifold_core::trace::{Ball, Light};
+    let s = bevy_manifold_core::space::catalog::torus(1.0);
+    let scene = Scene {
+        camera: Camera {
+            isometry: isometry::translation(s.geometry(), DVec3::Z * 0.375),
+            fov_y_degrees: 40.0,
+        },
+        balls: vec![Ball {
+            center: DVec4::W,
+            radius: 0.125,
+            color: [0.5, 0.25, 1.0],
+        }],
+        lights: vec![Light {
+            position: DVec4::new(0.0, 0.0, z, 1.0),
+            intensity: 0.3,
+            color: [1.0; 3],
+        }],
+        ..Scene::empty()
+    };
+    (s, scene)
+}
