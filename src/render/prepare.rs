@@ -164,8 +164,16 @@ const MIN_BUFFER: u64 = 256;
 fn storage(device: &RenderDevice, label: &'static str, data: &[u8], stats: &mut ManifoldUploads) -> Buffer {
     stats.bytes += data.len() as u64;
     // Room to grow (a power of two), so the next space or scene that fits
-    // is written in place and keeps the bind group (see `write_or_grow`).
-    let size = data.len().max(MIN_BUFFER as usize).next_power_of_two();
+    // is written in place and keeps the bind group (see `write_or_grow`);
+    // never past what the device binds, unless the data itself is larger
+    // (then binding fails as it would have without the room).
+    let limit = usize::try_from(device.limits().max_storage_buffer_binding_size).unwrap_or(usize::MAX);
+    let size = data
+        .len()
+        .max(MIN_BUFFER as usize)
+        .next_power_of_two()
+        .min(limit & !3)
+        .max(data.len());
     let mut contents = vec![0u8; size];
     contents[..data.len()].copy_from_slice(data);
     device.create_buffer_with_data(&BufferInitDescriptor {
