@@ -135,20 +135,8 @@ fn far_travel(gpu: &mut GpuTracer, crossings: u64) -> Result<(), String> {
         let t = Instant::now();
         let far = stress::far_travel(&space, &path, crossings);
         let secs = t.elapsed().as_secs_f64();
-        let settings = TraceSettings {
-            width: 64,
-            height: 64,
-            ..TraceSettings::default()
-        };
-        let mut scene = Scene::default_for(&space);
-        scene.camera.isometry = far.placement;
-        let a = gpu.render(&space, &scene, &settings).map_err(|e| e.to_string())?;
-        let b = if space.geometry() == Geometry::Hyperbolic {
-            render::<f64>(&space, &scene, &settings)
-        } else {
-            scene.camera.isometry = stress::loop_exact(&space, &path, far.steps);
-            gpu.render(&space, &scene, &settings).map_err(|e| e.to_string())?
-        };
+        let [a, b] =
+            bevy_manifold_test_support::gpu::far_travel_views(gpu, &space, &path, &far).map_err(|e| e.to_string())?;
         let same = a
             .pixels
             .iter()
