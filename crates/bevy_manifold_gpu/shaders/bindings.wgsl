@@ -56,7 +56,8 @@ struct Params {
     // (TraceSettings::fog_early_stop, ::renormalize), both off by default.
     flags: u32,
     // CELLS_LATTICE: 1 / edge lengths of the box; CELLS_HASHED: 1 / grid
-    // step in x, the f32 horizon (HASHED_HORIZON_F32) in y.
+    // step in x, the f32 horizon (HASHED_HORIZON_F32) in y; CELLS_TABLE:
+    // the bits of x are where the ids start in cell_table.
     cell_scale: vec4<f32>,
     instance_count: u32,
     // CELL_COLORS: the tint (CellTint::words): mode 0 by cell, 1 highlight
@@ -168,6 +169,9 @@ const FLAG_NO_RENORMALIZE: u32 = 2u;
 // No face: a ray that entered by none, or leaves by none (S3, no face
 // within a quarter turn). Rust: None, or usize::MAX for Walker::entered.
 const NO_FACE: u32 = 0xffffffffu;
+
+// CELLS_TABLE: a cell beyond the table. Rust: ball::OUTSIDE.
+const CELL_OUTSIDE: u32 = 0xffffffffu;
 // The BVH walk's stack depth. Rust twin: MAX_DEPTH in
 // crates/bevy_manifold_core/src/mesh/bvh.rs.
 const BVH_STACK: u32 = 40u;

@@ -5,17 +5,26 @@
 // id_within, CellId::hash, CellTint::tint, hash32, hash_key; u32
 // arithmetic only, so both sides make the same ids).
 //
-// Shader defs read: CELLS_FINITE, CELLS_LATTICE (else CELLS_HASHED),
+// Shader defs read: CELLS_FINITE, CELLS_TABLE, CELLS_LATTICE (else
+// CELLS_HASHED),
 // CELL_COLORS (cell_hash, cell_color); MESHES through bindings.
 #define_import_path bevy_manifold::cells
 
-#import bevy_manifold::bindings::params
+#import bevy_manifold::bindings::{params, cell_table, CELL_OUTSIDE}
 
 // The cell id as (lo, hi) words of CellId, from the cell's group element
 // (and, for finite groups, its table index). Rust: CellScheme::id_within.
 fn cell_id(cell: mat4x4<f32>, index: u32) -> vec2<u32> {
 #ifdef CELLS_FINITE
     return vec2<u32>(index, 0u);
+#else ifdef CELLS_TABLE
+    // Beyond the table: CellId::BEYOND_TABLE, the far bit alone. Rust:
+    // CellBall::ids_around, in the words GpuSpace::centre_on writes.
+    if index == CELL_OUTSIDE {
+        return vec2<u32>(0u, 0x40000000u);
+    }
+    let ids = bitcast<u32>(params.cell_scale.x);
+    return vec2<u32>(cell_table[ids + 2u * index], cell_table[ids + 2u * index + 1u]);
 #else ifdef CELLS_LATTICE
     let c = cell[3].xyz / cell[3].w * params.cell_scale.xyz;
     let l = vec3<i32>(round(c));
@@ -64,6 +73,10 @@ fn cell_hash(id: vec2<u32>) -> u32 {
 // CellTint::tint
 fn cell_color(id: vec2<u32>) -> vec3<f32> {
     let origin = id.x == 0u && id.y == 0u;
+    // CellTint::UNKNOWN for a cell the table does not reach.
+    if id.x == 0u && id.y == 0x40000000u {
+        return vec3<f32>(0.5);
+    }
     if params.cell_mode == 1u {
         return select(vec3<f32>(1.0), vec3<f32>(1.0, 0.55, 0.15), id.x == params.cell_a && id.y == params.cell_b);
     }

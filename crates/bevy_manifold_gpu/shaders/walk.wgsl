@@ -16,7 +16,7 @@
 // MESHES through bindings.
 #define_import_path bevy_manifold::walk
 
-#import bevy_manifold::bindings::{params, faces, cell_table, NO_FACE}
+#import bevy_manifold::bindings::{params, faces, cell_table, NO_FACE, CELL_OUTSIDE}
 #import bevy_manifold::geometry::{chart_to_distance, max_chart_parameter}
 #import bevy_manifold::step::{Ray, Exit, exit_face, advance_or_raw, transport_or_raw}
 
@@ -34,8 +34,11 @@ struct Walker {
     // The group element of the current cell: the ray's point in the cover
     // is cell * ray.origin.
     cell: mat4x4<f32>,
-    // CELLS_FINITE: the cell's index in the Cayley table (cell_table).
-    // Rust finds it from `cell` instead (CellScheme::id_within).
+    // CELLS_FINITE: the cell's index in the Cayley table (cell_table);
+    // CELLS_TABLE: in the table of cells around the camera, or
+    // CELL_OUTSIDE. Rust finds the first from `cell` (CellScheme::
+    // id_within) and follows the exact element for the second
+    // (trace_ray's `exact`).
     index: u32,
     // Faces crossed so far (the paper's level).
     levels: u32,
@@ -83,6 +86,13 @@ fn walker_step(walk: ptr<function, Walker>, face: u32, end: Ray) {
     (*walk).cell = (*walk).cell * faces[face].crossing;
 #ifdef CELLS_FINITE
     (*walk).index = cell_table[(*walk).index * params.face_count + faces[face].partner];
+#endif
+#ifdef CELLS_TABLE
+    // Rust: CellBall's neighbours (space/ball.rs); once outside the table
+    // the walk stays outside.
+    if (*walk).index != CELL_OUTSIDE {
+        (*walk).index = cell_table[(*walk).index * params.face_count + faces[face].partner];
+    }
 #endif
     (*walk).levels += 1u;
 }

@@ -17,6 +17,9 @@ pub enum CellScheme {
     Finite,
     /// `CELLS_HASHED`: hash of the copy's rounded centre.
     Hashed,
+    /// `CELLS_TABLE`: exact ids from a table of the cells around the
+    /// camera ([`bevy_manifold_core::space::ball`]).
+    Table,
 }
 
 /// The specialisation key of the tracer pipeline.
@@ -78,6 +81,7 @@ impl TraceDefs {
             cells: match space.cells() {
                 Cells::Lattice { .. } => CellScheme::Lattice,
                 Cells::Finite { .. } => CellScheme::Finite,
+                Cells::Exact(_) => CellScheme::Table,
                 Cells::Hashed { .. } => CellScheme::Hashed,
             },
             cell_colors,
@@ -140,6 +144,7 @@ impl TraceDefs {
             (Geometry::Euclidean, true, CellScheme::Lattice),
             (Geometry::Euclidean, false, CellScheme::Hashed),
             (Geometry::Hyperbolic, false, CellScheme::Hashed),
+            (Geometry::Hyperbolic, false, CellScheme::Table),
             (Geometry::Spherical, false, CellScheme::Finite),
             (Geometry::Spherical, false, CellScheme::Hashed),
         ];
@@ -181,6 +186,7 @@ impl TraceDefs {
             CellScheme::Lattice => "CELLS_LATTICE",
             CellScheme::Finite => "CELLS_FINITE",
             CellScheme::Hashed => "CELLS_HASHED",
+            CellScheme::Table => "CELLS_TABLE",
         });
         for (on, name) in [
             (self.translations_only, "TRANSLATIONS_ONLY"),

@@ -24,7 +24,7 @@ fn validate(module: &naga::Module) -> Result<(), String> {
 #[test]
 fn every_specialisation_composes_and_validates() {
     let all = TraceDefs::all();
-    assert_eq!(all.len(), 6 * 128);
+    assert_eq!(all.len(), 7 * 128);
     for defs in &all {
         let module = compose(defs).unwrap_or_else(|e| panic!("{:?}: {e}", defs.names()));
         validate(&module).unwrap_or_else(|e| panic!("{:?}: {e}", defs.names()));
@@ -122,12 +122,15 @@ fn scenes_compile_only_what_they_use() {
     assert!(uses_math(&fogged, naga::MathFunction::Exp));
     assert!(functions(&fogged).iter().any(|f| f == "cell_color"));
 
-    // Seifert-Weber: hyperbolic functions, general transport, hashed cells.
+    // Seifert-Weber: hyperbolic functions, general transport, the exact
+    // table of cells; the Weeks manifold (not golden) hashes its cells.
     let sw = catalog::seifert_weber();
     let defs = TraceDefs::for_scene(&sw, &Scene::default_for(&sw), false);
     assert_eq!(defs.geometry, Geometry::Hyperbolic);
     assert!(!defs.translations_only);
-    assert!(defs.names().contains(&"CELLS_HASHED"));
+    assert!(defs.names().contains(&"CELLS_TABLE"));
+    let weeks = bevy_manifold_core::space::catalog::resolve("weeks").unwrap();
+    assert!(TraceDefs::for_scene(&weeks, &Scene::empty(), false).names().contains(&"CELLS_HASHED"));
     assert!(uses_math(&compose(&defs).expect("compose"), naga::MathFunction::Atanh));
     // The mirrored cube is Euclidean but its pairings are reflections.
     let mc = catalog::mirrored_cube(1.0);

@@ -12,7 +12,17 @@
 //! - **Finite**: spherical spaces, whose group is finite. The elements are
 //!   enumerated once and the id is an index into that list, with a Cayley
 //!   table for the step across each face (Poincaré: 120 elements).
-//! - **Hashed**: infinite groups that are no lattice (hyperbolic spaces).
+//! - **Exact**: hyperbolic spaces whose pairings are golden matrices (the
+//!   Seifert-Weber space, the mirrored dodecahedron): the id is a hash of
+//!   the exact group element ([`super::exact`]), the same for every path
+//!   at any distance. From an `f64` element (this module's
+//!   [`CellScheme::id_within`]) the copy is found by walking the element's
+//!   centre back into the domain, multiplying the exact crossings on the
+//!   way: exact as long as the centre is known to within the inradius.
+//!   Game code and the tracers follow the exact element itself
+//!   ([`super::element::CellElement`]).
+//! - **Hashed**: other infinite groups that are no lattice (hyperbolic spaces
+//!   over other fields, such as the Weeks manifold).
 //!   The copy's centre `g(origin)` on the hyperboloid is rounded to a grid
 //!   finer than half the distance between any two centres and hashed. Two
 //!   words for the same element land on the same grid point unless rounding
@@ -20,9 +30,7 @@
 //!   the grid step; the tests measure the margin. An f64 matrix product
 //!   loses digits like `e^(2d)` at distance `d` from the origin copy, so
 //!   beyond [`HASHED_HORIZON`] (about distance 12) the id carries
-//!   [`CellId::FAR`]: a best effort that two paths may not agree on. Exact
-//!   ids there need an exact solution of the group's word problem, which
-//!   this version does not have.
+//!   [`CellId::FAR`]: a best effort that two paths may not agree on.
 //!
 //! ```
 //! use bevy_manifold_core::space::catalog;
@@ -35,6 +43,7 @@
 
 use crate::geometry::Geometry;
 use crate::space::Space;
+use crate::space::exact::ExactGroup;
 use glam::{DMat3, DMat4, DVec3, DVec4, IVec3};
 
 /// The id of one copy of the fundamental domain in the cover. The origin
@@ -61,6 +70,11 @@ impl CellId {
     /// Set on hashed ids of copies beyond [`HASHED_HORIZON`], where f64 can
     /// no longer tell the copies apart reliably.
     pub const FAR: u64 = 1 << 62;
+
+    /// What the GPU reports for a cell beyond its table of exact ids
+    /// (`CELLS_TABLE`, [`super::ball`]): the far bit alone, which no id
+    /// from a hash carries. Shaded [`CellTint::UNKNOWN`] in every mode.
+    pub const BEYOND_TABLE: CellId = CellId(Self::FAR);
 
     /// True for a best-effort id beyond the precision horizon.
     #[must_use]
@@ -152,10 +166,18 @@ impl CellTint {
     pub const HIGHLIGHT: [f32; 3] = [1.0, 0.55, 0.15];
     /// The albedo factor of an off copy in [`CellTint::Pattern`].
     pub const OFF: f32 = 0.12;
+    /// The neutral grey of a copy whose id the GPU does not know
+    /// ([`CellId::BEYOND_TABLE`]), in every mode: neither on nor off in
+    /// the pattern, not the highlight, and in by-cell mode the colour of
+    /// one hash in 2^24 (whose three bytes are all 85).
+    pub const UNKNOWN: f32 = 0.5;
 
     /// The tint of copy `id`.
     #[must_use]
     pub fn tint(self, id: CellId) -> [f32; 3] {
+        if id == CellId::BEYOND_TABLE {
+            return [Self::UNKNOWN; 3];
+        }
         match self {
             CellTint::ByCell => id.color(),
             CellTint::Highlight(target) => {
@@ -212,6 +234,8 @@ pub enum CellScheme {
         /// `table[k][f]`: the index of `elements[k] * T_f`.
         table: Vec<Vec<u32>>,
     },
+    /// Exact golden arithmetic ([`super::exact`]).
+    Exact(Box<ExactCells>),
     /// Rounded hyperboloid (or chart) coordinates of the centre, hashed.
     Hashed {
         /// The grid step.
@@ -239,8 +263,16 @@ impl CellScheme {
                     quantum: hashed_quantum(space),
                 },
             },
-            Geometry::Hyperbolic => CellScheme::Hashed {
-                quantum: hashed_quantum(space),
+            Geometry::Hyperbolic => match ExactGroup::of(space) {
+                Some(group) => CellScheme::Exact(Box::new(ExactCells {
+                    group,
+                    planes: space.faces().iter().map(|f| f.plane).collect(),
+                    pairings: space.faces().iter().map(|f| f.pairing).collect(),
+                    ball: std::sync::OnceLock::new(),
+                })),
+                None => CellScheme::Hashed {
+                    quantum: hashed_quantum(space),
+                },
             },
         }
     }
@@ -271,6 +303,14 @@ impl CellScheme {
                     .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
                 CellId(best.0 as u64)
             }
+            CellScheme::Exact(exact) => {
+                let id = exact.locate(g).map_or(CellId(CellId::FAR | 1), |e| e.cell_id());
+                if centre.w.abs() >= horizon || !centre.is_finite() {
+                    CellId(id.0 | CellId::FAR)
+                } else {
+                    id
+                }
+            }
             CellScheme::Hashed { quantum } => hashed_id(centre, *quantum, horizon),
         }
     }
@@ -284,12 +324,13 @@ impl CellScheme {
         }
     }
 
-    /// A short name: "lattice", "finite" or "hashed".
+    /// A short name: "lattice", "finite", "exact" or "hashed".
     #[must_use]
     pub fn kind(&self) -> &'static str {
         match self {
             CellScheme::Lattice { .. } => "lattice",
             CellScheme::Finite { .. } => "finite",
+            CellScheme::Exact(_) => "exact",
             CellScheme::Hashed { .. } => "hashed",
         }
     }
@@ -307,6 +348,64 @@ impl CellScheme {
                 .fold(0.5, f64::min),
             _ => 0.5,
         }
+    }
+}
+
+/// The exact scheme's data: the group, and the faces to walk an `f64`
+/// element's centre home by.
+#[derive(Clone, Debug)]
+pub struct ExactCells {
+    /// The exact group.
+    pub group: ExactGroup,
+    planes: Vec<DVec4>,
+    pairings: Vec<DMat4>,
+    ball: std::sync::OnceLock<std::sync::Arc<super::ball::CellBall>>,
+}
+
+/// Most face steps [`ExactCells::locate`] takes walking a centre home.
+const MAX_LOCATE_STEPS: usize = 4096;
+
+impl ExactCells {
+    /// The table of cells around the origin copy that the GPU walks
+    /// ([`super::ball`], [`super::ball::DEFAULT_BALL_CELLS`] cells at
+    /// most), grown on first use (0.4 s in Seifert-Weber, 1.1 s in the
+    /// mirrored dodecahedron, on one core of the development machine) and
+    /// kept with the space.
+    pub fn ball(&self) -> &std::sync::Arc<super::ball::CellBall> {
+        self.ball.get_or_init(|| {
+            std::sync::Arc::new(super::ball::CellBall::grow(&self.group, super::ball::DEFAULT_BALL_CELLS))
+        })
+    }
+
+    /// The exact element of the copy whose centre `g` (an `f64` element)
+    /// carries the domain's centre to: the centre is walked back into the
+    /// domain through the face it lies most outside of, the exact
+    /// crossings multiplied on the way (as [`Space::wrap`] does in `f64`).
+    /// `None` when the walk does not end within 4096 steps or the
+    /// arithmetic overflows.
+    #[must_use]
+    pub fn locate(&self, g: &DMat4) -> Option<super::exact::ExactElement> {
+        let mut p = g.w_axis;
+        let mut e = self.group.identity();
+        for _ in 0..MAX_LOCATE_STEPS {
+            if !(p.w > 0.0 && p.is_finite()) {
+                return None;
+            }
+            let worst = self
+                .planes
+                .iter()
+                .enumerate()
+                .map(|(i, n)| (i, n.dot(p) / p.w))
+                .fold((usize::MAX, 1e-9), |a, b| if b.1 > a.1 { b } else { a });
+            if worst.0 == usize::MAX {
+                return Some(e);
+            }
+            let f = worst.0;
+            p = self.pairings[f] * p;
+            p /= p.w;
+            e = self.group.cross(&e, f).ok()?;
+        }
+        None
     }
 }
 

@@ -15,12 +15,15 @@
 //! assert!(poincare.validate().is_ok());
 //! ```
 
+pub mod ball;
 pub mod catalog;
 pub mod cells;
 pub mod coxeter;
 mod cycles;
 pub mod dirichlet;
+pub mod element;
 mod error;
+pub mod exact;
 pub mod file;
 pub mod generators;
 pub mod library;

@@ -8,6 +8,7 @@ use crate::geometry::{Geometry, Real, isometry};
 use crate::mesh::{MeshData, Texture};
 use crate::space::Space;
 use crate::space::cells::CellId;
+use crate::space::element::CellElement;
 use glam::{DMat4, DVec4};
 use std::collections::HashSet;
 use std::sync::Arc;
@@ -142,6 +143,9 @@ pub struct FlatScene<R: Real> {
     pub camera: R::M4,
     /// The cell the camera is in (group element, f64).
     pub camera_cell: DMat4,
+    /// The same cell as exactly as the space names it: where the tracer's
+    /// exact ids start ([`FlatScene::in_cell`] to place the camera far).
+    pub camera_element: CellElement,
     /// `tan(fov_y / 2)`.
     pub tan_half_fov: R,
 }
@@ -251,9 +255,25 @@ impl<R: Real> FlatScene<R> {
                 .filter(|f| f.density > 0.0)
                 .map(|f| (R::of(f.density), f.color)),
             camera: R::m4_of(camera),
+            camera_element: space.cell_of_matrix(&camera_cell),
             camera_cell,
             tan_half_fov: R::of((scene.camera.fov_y_degrees.to_radians() / 2.0).tan()),
         }
+    }
+}
+
+impl<R: Real> FlatScene<R> {
+    /// The scene seen from the copy `cell` instead of the origin copy: the
+    /// camera's isometry is read in `cell`'s frame, so the camera is in
+    /// `cell` times the cell its isometry wraps into. Exact wherever the
+    /// space's ids are (`CellElement::Exact`), at any distance; the `f64`
+    /// element follows, rounded. Objects are copies in every cell, so
+    /// nothing else changes.
+    #[must_use]
+    pub fn in_cell(mut self, space: &Space, cell: &CellElement) -> Self {
+        self.camera_element = space.compose_cells(cell, &self.camera_element);
+        self.camera_cell = space.cell_matrix(&self.camera_element);
+        self
     }
 }
 

@@ -17,6 +17,7 @@ use crate::geometry::{Geometry, Real};
 use crate::mesh::MeshHit;
 use crate::space::Space;
 use crate::space::cells::{CellId, CellTint};
+use crate::space::element::CellElement;
 #[cfg(feature = "parallel")]
 use rayon::prelude::*;
 
@@ -212,13 +213,24 @@ pub fn trace_ray<R: Real>(
     let fog_cut = R::of(FOG_CUT);
     let max_distance = R::of(settings.max_distance);
     let mut walk = Walker::new(ray, R::m4_of(prep.camera_cell));
+    // Where the space's ids are exact, the walk's exact element, crossed
+    // with the ray (one exact product per crossing); otherwise the id
+    // comes from the walk's matrix.
+    let mut exact = match &prep.camera_element {
+        CellElement::Exact(_) => Some(prep.camera_element.clone()),
+        _ => None,
+    };
+    let cell_id = |walk: &Walker<R>, exact: &Option<CellElement>| match exact {
+        Some(e) => space.cell_id_of(e),
+        None => space.cells().id_within(&R::m4_f64(walk.cell), R::CELL_HORIZON),
+    };
     let mut travelled = R::of(0.0);
     let background = prep.fog.map_or([0.0; 3], |(_, c)| c);
-    let finish = |color, object, walk: &Walker<R>, travelled: R| TracePixel {
+    let finish = |color, object, walk: &Walker<R>, exact: &Option<CellElement>, travelled: R| TracePixel {
         color,
         object,
         levels: walk.levels,
-        cell: space.cells().id_within(&R::m4_f64(walk.cell), R::CELL_HORIZON),
+        cell: cell_id(walk, exact),
         distance: travelled.f64() as f32,
     };
     // A hard bound on the loop: every pass either transports (at most
@@ -230,14 +242,14 @@ pub fn trace_ray<R: Real>(
             && settings.fog_early_stop
             && density * travelled > fog_cut
         {
-            return (finish(background, 0, &walk, travelled), Stop::Fog);
+            return (finish(background, 0, &walk, &exact, travelled), Stop::Fog);
         }
         let (face, t_end) = walk.segment_end(&prep.faces);
         let cell_point = walk.cell * R::v4_of(glam::DVec4::W);
         if let Some((t, hit)) = nearest_object(g, prep, &walk.ray, t_end, cell_point) {
             let dist = travelled + g.chart_to_distance::<R>(t);
-            let color = shade(g, prep, &walk.ray, t, hit, dist, space, walk.cell, settings);
-            return (finish(color, hit.id(prep), &walk, dist), Stop::Hit(hit.id(prep)));
+            let color = shade(g, prep, &walk.ray, t, hit, dist, cell_id(&walk, &exact), settings);
+            return (finish(color, hit.id(prep), &walk, &exact, dist), Stop::Hit(hit.id(prep)));
         }
         let end = advance_or_raw(g, &walk.ray, t_end, settings.renormalize);
         let length = g.chart_to_distance::<R>(t_end);
@@ -249,14 +261,17 @@ pub fn trace_ray<R: Real>(
         });
         travelled = travelled + length;
         if travelled > max_distance {
-            return (finish(background, 0, &walk, travelled), Stop::MaxDistance);
+            return (finish(background, 0, &walk, &exact, travelled), Stop::MaxDistance);
         }
         if face.is_some() && walk.levels >= settings.levels {
-            return (finish(background, 0, &walk, travelled), Stop::MaxLevel);
+            return (finish(background, 0, &walk, &exact, travelled), Stop::MaxLevel);
         }
         walk.step(&prep.faces, face, end, settings.renormalize);
+        if let (Some(e), Some(f)) = (&mut exact, face) {
+            *e = space.cross_cell(e, f);
+        }
     }
-    (finish(background, 0, &walk, travelled), Stop::MaxDistance)
+    (finish(background, 0, &walk, &exact, travelled), Stop::MaxDistance)
 }
 
 /// Which object a ray hit.
@@ -349,8 +364,7 @@ fn shade<R: Real>(
     t: R,
     hit: Hit<R>,
     dist: R,
-    space: &Space,
-    cell: R::M4,
+    cell: CellId,
     settings: &TraceSettings,
 ) -> [f32; 3] {
     let x = g.normalize_point::<R>(ray.origin + ray.dir * t);
@@ -374,8 +388,7 @@ fn shade<R: Real>(
     };
     let mut albedo = albedo;
     if settings.cell_colors {
-        let c = space.cells().id_within(&R::m4_f64(cell), R::CELL_HORIZON);
-        let c = settings.cell_tint.tint(c);
+        let c = settings.cell_tint.tint(cell);
         albedo = [albedo[0] * c[0], albedo[1] * c[1], albedo[2] * c[2]];
     }
     let ambient = 0.08f32;
