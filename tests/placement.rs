@@ -220,7 +220,7 @@ fn random_wanderers_stay_in_the_group_inside_and_in_the_right_cell() {
             );
             let crossed = std::mem::take(&mut app.world_mut().resource_mut::<Crossings>().0);
             total += crossed.len();
-            let cell = *app.world().get::<DomainCell>(e).unwrap();
+            let cell = app.world().get::<DomainCell>(e).unwrap().clone();
             let element = cover * isometry::inverse(g, p.isometry);
             let w = element.w_axis.w.abs();
             // In H3 the cover's entries grow like e^distance and the two
@@ -271,7 +271,7 @@ fn a_fast_mover_ends_where_a_finely_stepped_one_does() {
             let faces: Vec<usize> = a.world().resource::<Crossings>().0.iter().map(|c| c.face).collect();
             (
                 *a.world().get::<Placement>(e).unwrap(),
-                *a.world().get::<DomainCell>(e).unwrap(),
+                a.world().get::<DomainCell>(e).unwrap().clone(),
                 faces,
             )
         };

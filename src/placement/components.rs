@@ -4,6 +4,7 @@
 use crate::geometry::isometry;
 use crate::space::Space;
 use crate::space::cells::CellId;
+use crate::space::element::CellElement;
 use crate::trace::FaceTables;
 use bevy::prelude::*;
 use glam::{DMat4, DVec3, DVec4};
@@ -149,14 +150,24 @@ impl Placement {
 /// `element` that carries the domain onto that copy, and its
 /// path-independent id (see [`crate::space::cells`]). The entity's point in the
 /// cover is `element * placement`.
-#[derive(Component, Clone, Copy, Debug, PartialEq, Reflect)]
+///
+/// `cell` is the same element as exactly as the space names it (exact
+/// golden arithmetic in the Seifert-Weber space and the mirrored
+/// dodecahedron, [`crate::space::exact`]): the wrap system crosses it
+/// face by face, so an entity that flies any distance away and back by
+/// another route is in the same cell with the same `id`. `element` is its
+/// `f64` rounding, for drawing; game logic compares `id` or `cell`.
+#[derive(Component, Clone, Debug, PartialEq, Reflect)]
 #[reflect(Component, Debug, Default)]
 pub struct DomainCell {
     /// The path-independent id of the copy.
     #[reflect(ignore)]
     pub id: CellId,
-    /// The group element.
+    /// The group element, rounded to `f64`.
     pub element: DMat4,
+    /// The group element, exact where the space's ids are.
+    #[reflect(ignore)]
+    pub cell: CellElement,
 }
 
 impl Default for DomainCell {
@@ -164,6 +175,19 @@ impl Default for DomainCell {
         DomainCell {
             id: CellId(0),
             element: DMat4::IDENTITY,
+            cell: CellElement::default(),
+        }
+    }
+}
+
+impl DomainCell {
+    /// The cell `cell` of `space`, with its id and rounded element.
+    #[must_use]
+    pub fn new(space: &Space, cell: CellElement) -> Self {
+        DomainCell {
+            id: space.cell_id_of(&cell),
+            element: space.cell_matrix(&cell),
+            cell,
         }
     }
 }

@@ -87,7 +87,7 @@ impl ManifoldRayCast<'_, '_> {
         let Some(ms) = space_of(from, &self.members, &self.spaces) else {
             return Vec::new();
         };
-        let cell = cell.copied().unwrap_or_default();
+        let cell = cell.cloned().unwrap_or_default();
         self.cast_in(ms, placement, &cell, direction, settings)
     }
 
@@ -131,14 +131,16 @@ impl ManifoldRayCast<'_, '_> {
         )
         .into_iter()
         .map(|h| {
-            let element = cell.element * h.element;
+            // The hit's cell seen from the caster's: exact where the
+            // space's ids are (the ray's own element is short).
+            let hit_cell = space.compose_cells(&cell.cell, &space.cell_of_matrix(&h.element));
             RayHit {
                 entity: h.key,
                 distance: h.distance,
                 point: h.point,
                 faces: h.faces,
-                cell: space.cell_id(&element),
-                element,
+                cell: space.cell_id_of(&hit_cell),
+                element: cell.element * h.element,
             }
         })
         .collect()

@@ -120,23 +120,9 @@ fn apply_crossings(
     crossed: &mut MessageWriter<FaceCrossed>,
 ) {
     let space = ms.space();
-    let g = space.geometry();
     for &face in &moved.faces {
         let old_cell = cell.id;
-        let product = cell.element * space.crossing(face);
-        // Re-orthonormalising a huge H3 element does more harm than good
-        // (its form has cancelled to noise), so only elements inside the
-        // horizon are. A product that overflowed is not stored; the cell
-        // scheme gives it a FAR id.
-        let finite = product.is_finite();
-        if finite {
-            cell.element = if product.w_axis.w.abs() < crate::space::cells::HASHED_HORIZON {
-                isometry::orthonormalize(g, product)
-            } else {
-                product
-            };
-        }
-        cell.id = space.cell_id(if finite { &cell.element } else { &product });
+        *cell = DomainCell::new(space, space.cross_cell(&cell.cell, face));
         if space.faces()[face].kind == FaceKind::Mirror {
             placement.mirrored = !placement.mirrored;
         }

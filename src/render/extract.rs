@@ -8,6 +8,7 @@ use super::camera::ManifoldCamera;
 use super::prepare::ManifoldViewBinding;
 use crate::drawables::ManifoldScene;
 use crate::placement::{DomainCell, InSpace, ManifoldSpace, Placement};
+use crate::space::element::CellElement;
 use crate::view::{CellShading, ManifoldFog};
 use bevy::platform::collections::HashSet;
 use bevy::prelude::*;
@@ -28,6 +29,9 @@ pub struct ExtractedManifoldView {
     pub camera: DMat4,
     /// The camera's cell element.
     pub cell: DMat4,
+    /// The same, exact where the space's ids are: what the GPU's table of
+    /// exact ids is centred on.
+    pub element: CellElement,
     /// Fog density and linear colour, when on.
     pub fog: Option<(f32, [f32; 3])>,
     /// Most transports per ray.
@@ -91,6 +95,7 @@ pub fn extract_manifold_views(
             scene: scene.clone(),
             camera: placement.isometry,
             cell: cell.element,
+            element: cell.cell.clone(),
             fog,
             levels,
             // NaN or not positive: the default distance.

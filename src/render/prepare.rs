@@ -10,6 +10,8 @@
 use super::extract::ExtractedManifoldView;
 use super::pipeline::{TracePipeline, TracePipelineKey};
 use crate::space::Space;
+use crate::space::ball::OUTSIDE;
+use crate::space::element::CellElement;
 use crate::trace::FlatScene;
 use bevy::camera::CompositingSpace;
 use bevy::platform::collections::{HashMap, HashSet};
@@ -52,6 +54,8 @@ pub struct ManifoldUploads {
 struct PackedScene {
     space: Arc<Space>,
     generation: u64,
+    /// The cell the exact-id table is centred on (`CELLS_TABLE`).
+    centre: CellElement,
     gpu_space: Arc<GpuSpace>,
     objects: Arc<GpuObjects>,
 }
@@ -70,6 +74,12 @@ impl ManifoldPackedScenes {
     pub fn get(&self, root: Entity) -> Option<(&Arc<GpuSpace>, &Arc<GpuObjects>)> {
         self.scenes.get(&root).map(|p| (&p.gpu_space, &p.objects))
     }
+
+    /// The cell `root`'s table of exact ids is centred on.
+    #[must_use]
+    pub fn centre(&self, root: Entity) -> Option<&CellElement> {
+        self.scenes.get(&root).map(|p| &p.centre)
+    }
 }
 
 /// Packs each space's scene for the GPU when its generation or its space
@@ -85,9 +95,36 @@ pub fn prepare_manifold_scenes(views: Query<&ExtractedManifoldView>, mut packed:
         let generation = view.scene.generation();
         let old = packed.scenes.get(&view.root);
         let same_space = old.is_some_and(|o| Arc::ptr_eq(&o.space, space));
-        if same_space && old.is_some_and(|o| o.generation == generation) {
+        // The camera's cell, exactly (the first view into the space
+        // decides; a second camera in another cell sees every cell grey,
+        // as beyond the table: see prepare_manifold_views).
+        let centre = space.cell_of_matrix(&view.cell);
+        let centre = if matches!(view.element, CellElement::Float(_)) {
+            centre
+        } else {
+            view.element.clone()
+        };
+        let same_centre = old.is_some_and(|o| o.centre == centre);
+        if same_space && same_centre && old.is_some_and(|o| o.generation == generation) {
             continue;
         }
+        if same_space
+            && !same_centre
+            && let Some(o) = packed.scenes.get_mut(&view.root)
+        {
+            // Only the table's ids move with the camera (10 ms in
+            // Seifert-Weber's 16,129 cells); other schemes keep the Arc.
+            if matches!(centre, CellElement::Exact(_)) {
+                let mut gpu_space = (*o.gpu_space).clone();
+                gpu_space.centre_on(space, &centre);
+                o.gpu_space = Arc::new(gpu_space);
+            }
+            o.centre = centre.clone();
+            if o.generation == generation {
+                continue;
+            }
+        }
+        let old = packed.scenes.get(&view.root);
         let objects = GpuObjects::pack(&FlatScene::<f32>::new(space, view.scene.scene()));
         let (gpu_space, objects) = match old {
             Some(o) if same_space => (
@@ -98,13 +135,18 @@ pub fn prepare_manifold_scenes(views: Query<&ExtractedManifoldView>, mut packed:
                     Arc::new(objects)
                 },
             ),
-            _ => (Arc::new(GpuSpace::pack(space)), Arc::new(objects)),
+            _ => {
+                let mut gpu_space = GpuSpace::pack(space);
+                gpu_space.centre_on(space, &centre);
+                (Arc::new(gpu_space), Arc::new(objects))
+            }
         };
         packed.scenes.insert(
             view.root,
             PackedScene {
                 space: space.clone(),
                 generation,
+                centre,
                 gpu_space,
                 objects,
             },
@@ -297,7 +339,11 @@ pub fn prepare_manifold_views(
         let Some((space, objects)) = packed.get(view.root) else {
             continue;
         };
-        let params = GpuParams::new(view.space.space(), space, objects, &gpu_view(view, extracted));
+        let mut params = GpuParams::new(view.space.space(), space, objects, &gpu_view(view, extracted));
+        if matches!(view.element, CellElement::Exact(_)) && packed.centre(view.root) != Some(&view.element) {
+            // The table is centred on another camera's cell.
+            params.camera_cell_index = OUTSIDE;
+        }
         let entry = cache.views.entry(entity).or_insert_with(|| {
             let (faces, cell_table) = space_buffers(&device, space, stats);
             let [balls, tubes, lights, instances, mesh_data] = object_buffers(&device, objects, stats);

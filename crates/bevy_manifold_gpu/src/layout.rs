@@ -321,7 +321,11 @@ impl GpuSpace {
                 let ball = exact.ball();
                 let offset = ball.neighbours.len() as u32;
                 let mut table = ball.neighbours.clone();
-                table.extend(ball.ids_around(&exact.group, &exact.group.identity()).iter().flat_map(|id| id_words(*id)));
+                table.extend(
+                    ball.ids_around(&exact.group, &exact.group.identity())
+                        .iter()
+                        .flat_map(|id| id_words(*id)),
+                );
                 ([f32::from_bits(offset), 0.0, 0.0, 0.0], table)
             }
             CellScheme::Hashed { quantum } => (

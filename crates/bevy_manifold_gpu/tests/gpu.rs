@@ -144,6 +144,7 @@ fn a_ball_straddling_a_torus_face_is_seen_whole_from_either_side() {
             camera: bevy_manifold_core::trace::Camera {
                 isometry: DMat4::from_translation(DVec3::new(x, 0.0, 0.4)),
                 fov_y_degrees: fov,
+                cell: Vec::new(),
             },
             balls: vec![ball.clone()],
             lights: vec![],

@@ -130,7 +130,11 @@ fn scenes_compile_only_what_they_use() {
     assert!(!defs.translations_only);
     assert!(defs.names().contains(&"CELLS_TABLE"));
     let weeks = bevy_manifold_core::space::catalog::resolve("weeks").unwrap();
-    assert!(TraceDefs::for_scene(&weeks, &Scene::empty(), false).names().contains(&"CELLS_HASHED"));
+    assert!(
+        TraceDefs::for_scene(&weeks, &Scene::empty(), false)
+            .names()
+            .contains(&"CELLS_HASHED")
+    );
     assert!(uses_math(&compose(&defs).expect("compose"), naga::MathFunction::Atanh));
     // The mirrored cube is Euclidean but its pairings are reflections.
     let mc = catalog::mirrored_cube(1.0);

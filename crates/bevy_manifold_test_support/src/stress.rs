@@ -233,6 +233,7 @@ pub fn empty_view(camera: DMat4) -> Scene {
         camera: Camera {
             isometry: camera,
             fov_y_degrees: 60.0,
+            cell: Vec::new(),
         },
         ..Scene::empty()
     }
@@ -365,6 +366,7 @@ pub fn light_on_the_hit(z: f64) -> (Space, Scene) {
         camera: Camera {
             isometry: isometry::translation(s.geometry(), DVec3::Z * 0.375),
             fov_y_degrees: 40.0,
+            cell: Vec::new(),
         },
         balls: vec![Ball {
             center: DVec4::W,

@@ -187,7 +187,7 @@ pub fn apply_settings(
         let keep = if space_changed {
             None
         } else {
-            cameras.get(world.camera).ok().map(|(p, c)| (*p, *c))
+            cameras.get(world.camera).ok().map(|(p, c)| (*p, c.clone()))
         };
         commands.entity(world.root).despawn();
         let (root, camera) = spawn_world(&mut commands, &space, &settings, &view.image, keep);
@@ -257,8 +257,8 @@ pub fn track(
 }
 
 /// The camera's cell in words: the lattice triple of a box domain, the
-/// element's index in a finite group, or the hashed id (marked "far"
-/// beyond the precision horizon).
+/// element's index in a finite group, the exact id, or the hashed id
+/// (marked "far" beyond the precision horizon).
 #[must_use]
 pub fn describe_cell(space: &Space, cell: &DomainCell) -> String {
     if let Some(l) = cell.id.lattice() {
@@ -266,6 +266,9 @@ pub fn describe_cell(space: &Space, cell: &DomainCell) -> String {
     }
     if let bevy_manifold::space::cells::CellScheme::Finite { elements, .. } = space.cells() {
         return format!("element {} of {}", cell.id.0, elements.len());
+    }
+    if matches!(cell.cell, bevy_manifold::space::element::CellElement::Exact(_)) {
+        return format!("{:016x} (exact)", cell.id.0);
     }
     let far = if cell.id.is_far() { " (far: best effort)" } else { "" };
     format!("{:013x}{far}", cell.id.0 & !bevy_manifold::space::cells::CellId::FAR)

@@ -373,7 +373,10 @@ impl ExactCells {
     /// kept with the space.
     pub fn ball(&self) -> &std::sync::Arc<super::ball::CellBall> {
         self.ball.get_or_init(|| {
-            std::sync::Arc::new(super::ball::CellBall::grow(&self.group, super::ball::DEFAULT_BALL_CELLS))
+            std::sync::Arc::new(super::ball::CellBall::grow(
+                &self.group,
+                super::ball::DEFAULT_BALL_CELLS,
+            ))
         })
     }
 

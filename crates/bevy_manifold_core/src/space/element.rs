@@ -64,6 +64,17 @@ impl Space {
     /// When `face` is not a face of the space.
     #[must_use]
     pub fn cross_cell(&self, cell: &CellElement, face: usize) -> CellElement {
+        // An f64 element where the scheme is exact (a default, or one
+        // placed by hand) is located first, while f64 can locate it.
+        if let (CellElement::Float(m), CellScheme::Exact(_) | CellScheme::Finite { .. }) = (cell, self.cells())
+            && m.is_finite()
+            && m.w_axis.w.abs() < HASHED_HORIZON
+        {
+            let located = self.cell_of_matrix(m);
+            if !matches!(located, CellElement::Float(_)) {
+                return self.cross_cell(&located, face);
+            }
+        }
         match (cell, self.cells()) {
             // The table steps by T_f; crossing multiplies by T_partner.
             (CellElement::Finite(k), CellScheme::Finite { table, .. }) => {

@@ -259,6 +259,7 @@ impl<R: Real> FlatScene<R> {
             camera_cell,
             tan_half_fov: R::of((scene.camera.fov_y_degrees.to_radians() / 2.0).tan()),
         }
+        .in_cell(space, &space.cell_of_word(&scene.camera.cell))
     }
 }
 
@@ -271,6 +272,9 @@ impl<R: Real> FlatScene<R> {
     /// nothing else changes.
     #[must_use]
     pub fn in_cell(mut self, space: &Space, cell: &CellElement) -> Self {
+        if *cell == space.origin_cell() {
+            return self;
+        }
         self.camera_element = space.compose_cells(cell, &self.camera_element);
         self.camera_cell = space.cell_matrix(&self.camera_element);
         self

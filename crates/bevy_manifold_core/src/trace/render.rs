@@ -249,7 +249,10 @@ pub fn trace_ray<R: Real>(
         if let Some((t, hit)) = nearest_object(g, prep, &walk.ray, t_end, cell_point) {
             let dist = travelled + g.chart_to_distance::<R>(t);
             let color = shade(g, prep, &walk.ray, t, hit, dist, cell_id(&walk, &exact), settings);
-            return (finish(color, hit.id(prep), &walk, &exact, dist), Stop::Hit(hit.id(prep)));
+            return (
+                finish(color, hit.id(prep), &walk, &exact, dist),
+                Stop::Hit(hit.id(prep)),
+            );
         }
         let end = advance_or_raw(g, &walk.ray, t_end, settings.renormalize);
         let length = g.chart_to_distance::<R>(t_end);

@@ -60,11 +60,18 @@ pub enum SceneError {
     },
 }
 
+/// Most faces in a scene file's `camera.cell` (each is one exact product
+/// when the scene is prepared).
+pub const MAX_CAMERA_CELL_WORD: usize = 1 << 16;
+
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct CameraDesc {
     isometry: [[f64; 4]; 4],
     fov_y_degrees: f64,
+    /// The faces crossed from the origin copy to the camera's copy.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    cell: Vec<usize>,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -165,9 +172,28 @@ impl Scene {
                 format!("must be in (0, 180), got {fov}"),
             ));
         }
+        if desc.camera.cell.len() > MAX_CAMERA_CELL_WORD {
+            return Err(field(
+                "camera.cell".into(),
+                format!("has {} faces, more than {MAX_CAMERA_CELL_WORD}", desc.camera.cell.len()),
+            ));
+        }
+        if let Some((i, f)) = desc
+            .camera
+            .cell
+            .iter()
+            .enumerate()
+            .find(|(_, f)| **f >= space.faces().len())
+        {
+            return Err(field(
+                format!("camera.cell[{i}]"),
+                format!("is face {f}, but the space has {} faces", space.faces().len()),
+            ));
+        }
         let camera = Camera {
             isometry: isometry::orthonormalize(g, cam),
             fov_y_degrees: fov,
+            cell: desc.camera.cell.clone(),
         };
 
         let mut balls = Vec::new();
@@ -265,6 +291,7 @@ impl Scene {
             camera: CameraDesc {
                 isometry: to_rows(self.camera.isometry),
                 fov_y_degrees: self.camera.fov_y_degrees,
+                cell: self.camera.cell.clone(),
             },
             balls: self
                 .balls

@@ -25,6 +25,11 @@ pub struct Camera {
     pub isometry: DMat4,
     /// Vertical field of view in degrees.
     pub fov_y_degrees: f64,
+    /// The copy of the domain `isometry` is read in, as the faces crossed
+    /// from the origin copy to reach it (crossing face `i` from cell `g`
+    /// leads to `g T_i^-1`); empty for the origin copy. Exact at any
+    /// length where the space's ids are ([`crate::space::exact`]).
+    pub cell: Vec<usize>,
 }
 
 /// A ball (a metric ball of the space, drawn exactly).
@@ -95,6 +100,7 @@ impl Scene {
             camera: Camera {
                 isometry: DMat4::IDENTITY,
                 fov_y_degrees: 60.0,
+                cell: Vec::new(),
             },
             balls: Vec::new(),
             lights: Vec::new(),

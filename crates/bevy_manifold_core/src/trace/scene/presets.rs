@@ -120,6 +120,7 @@ impl Scene {
             camera: Camera {
                 isometry: camera,
                 fov_y_degrees: 60.0,
+                cell: Vec::new(),
             },
             balls: vec![Ball {
                 center: DVec4::W,
