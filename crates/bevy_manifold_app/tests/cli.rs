@@ -306,6 +306,76 @@ fn render_defaults_to_the_gpu_and_matches_the_cpu_ids() {
     );
 }
 
+/// `space cell --words`: ten thousand words in one process per catalog
+/// space. Pairs equal in the group (a relator from the polyhedron spliced
+/// in: a face and its partner, or an edge cycle to its order) print the
+/// same id; a word and the same word with one more crossing (never the
+/// identity) print different ids; every id is exact and unique per class.
+fn space_cell_reads_ten_thousand_words_in_one_process() {
+    use bevy_manifold::prelude::*;
+    use bevy_manifold_test_support::Rng;
+    for name in catalog::NAMES {
+        let space = catalog::by_name(name).unwrap();
+        let n = space.faces().len();
+        let mut rng = Rng(41);
+        let mut lines = Vec::new();
+        for k in 0..5000 {
+            let w: Vec<usize> = (0..rng.below(64)).map(|_| rng.below(n)).collect();
+            let v = if k % 2 == 0 {
+                let relator = if rng.below(2) == 0 {
+                    let a = rng.below(n);
+                    vec![a, space.faces()[a].partner]
+                } else {
+                    let c = &space.edge_cycles()[rng.below(space.edge_cycles().len())];
+                    let once: Vec<usize> = c.faces.iter().rev().map(|&a| space.faces()[a].partner).collect();
+                    once.repeat(c.order as usize)
+                };
+                let mut v = w.clone();
+                let at = rng.below(w.len() + 1);
+                v.splice(at..at, relator);
+                v
+            } else {
+                let mut v = w.clone();
+                v.push(rng.below(n));
+                v
+            };
+            let text = |w: &[usize]| w.iter().map(ToString::to_string).collect::<Vec<_>>().join(",");
+            lines.push(text(&w));
+            lines.push(text(&v));
+        }
+        let file = tmp(&format!("{name}-words.txt"));
+        std::fs::write(&file, lines.join("\n")).unwrap();
+        let o = run(&["space", "cell", name, "--words", file.to_str().unwrap()]);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        let out = stdout(&o);
+        let ids: Vec<(u64, bool)> = out
+            .lines()
+            .map(|l| {
+                let v: serde_json::Value = serde_json::from_str(l).unwrap();
+                (v["id"].as_u64().unwrap(), v["exact"].as_bool().unwrap())
+            })
+            .collect();
+        assert_eq!(ids.len(), 10_000, "{name}");
+        for (k, pair) in ids.chunks(2).enumerate() {
+            assert!(pair[0].1 && pair[1].1, "{name}: line {} not exact", 2 * k + 1);
+            assert_eq!(pair[0].0 == pair[1].0, k % 2 == 0, "{name}: lines {} and {}", 2 * k + 1, 2 * k + 2);
+        }
+    }
+    // A bad face names the file, the line and the face.
+    let file = tmp("bad-words.txt");
+    std::fs::write(&file, "1,2\n3,12,4\n").unwrap();
+    let o = run(&["space", "cell", "seifert-weber", "--words", file.to_str().unwrap()]);
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    assert!(err.contains("bad-words.txt line 2") && err.contains("face 1 is 12"), "{err}");
+    // One word, as a person asks: the origin copy's neighbour through
+    // face 0 and back through its partner is home, id 0.
+    let o = run(&["space", "cell", "seifert-weber", "--faces", "0,6", "--json"]);
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    assert_eq!(v["id"], 0);
+    assert_eq!(v["exact"], true);
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [
         help_prints_usage,
@@ -317,6 +387,7 @@ bevy_manifold_test_support::test_main! {
         a_broken_space_file_is_reported_with_its_name,
         render_writes_the_image_and_the_id_buffer,
         render_reports_a_bad_scene_field,
+        space_cell_reads_ten_thousand_words_in_one_process,
     ],
     gpu: [render_defaults_to_the_gpu_and_matches_the_cpu_ids],
 }

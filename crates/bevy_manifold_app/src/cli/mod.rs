@@ -2,6 +2,7 @@
 //! contract other tools rely on; change them only by adding.
 
 use bevy_manifold_bench as bench;
+mod cell;
 mod library;
 mod show;
 
@@ -98,6 +99,23 @@ enum SpaceCommand {
         #[arg(long)]
         manifold: bool,
     },
+    /// The cell reached by crossing faces in order from the origin copy
+    /// (crossing face i from cell g leads to g T_i^-1, as in the tracer):
+    /// its id and group element.
+    Cell {
+        /// A catalog name, a library name or the path of a space file.
+        name: String,
+        /// The faces crossed, comma-separated (none: the origin copy).
+        #[arg(long)]
+        faces: Option<String>,
+        /// Print one JSON object (`id`, `id_hex`, `exact`, `element`, ...).
+        #[arg(long)]
+        json: bool,
+        /// Read one comma-separated word a line and print one JSON line per
+        /// word.
+        #[arg(long, conflicts_with = "faces")]
+        words: Option<PathBuf>,
+    },
     /// The library of spaces built from generators: one line each (name,
     /// geometry, faces, volume, group order); with --out, write their
     /// generator files there.
@@ -173,6 +191,12 @@ pub fn run() -> ExitCode {
             manifold,
         })) => library::import(&file, out.as_deref(), basepoint.as_deref(), manifold),
         Some(Command::Space(SpaceCommand::Library { out })) => library::library(out.as_deref()),
+        Some(Command::Space(SpaceCommand::Cell {
+            name,
+            faces,
+            json,
+            words,
+        })) => resolve_space(&name).and_then(|s| cell::cell(&s, faces.as_deref(), json, words.as_deref())),
         Some(Command::Render(args)) => render_command(&args),
         Some(Command::Bench(b)) => bench::run(&b),
     };
