@@ -358,7 +358,13 @@ fn space_cell_reads_ten_thousand_words_in_one_process() {
         assert_eq!(ids.len(), 10_000, "{name}");
         for (k, pair) in ids.chunks(2).enumerate() {
             assert!(pair[0].1 && pair[1].1, "{name}: line {} not exact", 2 * k + 1);
-            assert_eq!(pair[0].0 == pair[1].0, k % 2 == 0, "{name}: lines {} and {}", 2 * k + 1, 2 * k + 2);
+            assert_eq!(
+                pair[0].0 == pair[1].0,
+                k % 2 == 0,
+                "{name}: lines {} and {}",
+                2 * k + 1,
+                2 * k + 2
+            );
         }
     }
     // A bad face names the file, the line and the face.
@@ -367,7 +373,10 @@ fn space_cell_reads_ten_thousand_words_in_one_process() {
     let o = run(&["space", "cell", "seifert-weber", "--words", file.to_str().unwrap()]);
     assert!(!o.status.success());
     let err = stderr(&o);
-    assert!(err.contains("bad-words.txt line 2") && err.contains("face 1 is 12"), "{err}");
+    assert!(
+        err.contains("bad-words.txt line 2") && err.contains("face 1 is 12"),
+        "{err}"
+    );
     // One word, as a person asks: the origin copy's neighbour through
     // face 0 and back through its partner is home, id 0.
     let o = run(&["space", "cell", "seifert-weber", "--faces", "0,6", "--json"]);

@@ -1,13 +1,13 @@
 //! The integers exact elements are made of: `i128` near the origin copy
 //! (checked, never wrapped) and [`BigInt`] beyond, so exact ids reach any
-//! distance (up to [`MAX_BITS`], about distance 45,000, to bound memory).
+//! distance (up to [`MAX_BITS`], about distance 5,600, to bound memory).
 
 use core::fmt::Debug;
 use core::hash::Hash;
 
 /// Most bits a [`BigInt`] may have: an element this far (about distance
-/// 45,000 from the origin copy) is reported too far instead.
-pub const MAX_BITS: usize = 1 << 16;
+/// 5,600 from the origin copy) is reported too far instead.
+pub const MAX_BITS: usize = 1 << 13;
 
 /// What golden arithmetic needs of an integer type.
 pub(crate) trait Int: Clone + Eq + Hash + Debug {

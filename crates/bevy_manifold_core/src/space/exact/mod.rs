@@ -25,7 +25,7 @@
 //! the action is free). The integers grow like `e^d` at distance `d`
 //! from the origin copy: `i128` holds them to about distance 80 (about 64
 //! random crossings), and integers of any size ([`int::BigInt`]) take over
-//! beyond, up to about distance 45,000 ([`int::MAX_BITS`]), where the
+//! beyond, up to about distance 5,600 ([`int::MAX_BITS`]), where the
 //! arithmetic reports [`TooFar`] rather than growing without bound.
 //!
 //! ```
@@ -61,7 +61,7 @@ struct Golden<N> {
 pub const PHI: f64 = 1.618_033_988_749_895;
 
 /// The element is farther from the origin copy than exact ids reach
-/// (about distance 45,000, [`int::MAX_BITS`]).
+/// (about distance 5,600, [`int::MAX_BITS`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 #[error("the cell is too far from the origin copy for exact ids")]
 pub struct TooFar;
