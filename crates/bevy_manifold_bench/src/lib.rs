@@ -3,6 +3,7 @@
 //! ratios measured side by side in one run. Unpublished.
 
 mod accuracy;
+mod cells;
 mod faces;
 mod frames;
 mod meshes;
@@ -73,6 +74,20 @@ pub enum BenchCommand {
     /// without fog and per-cell shading, and uploads with and without
     /// change detection in the render pass.
     Specialise(specialise::SpecialiseArgs),
+    /// What exact cell ids cost: ns per face crossing, the table's growth
+    /// and recentring, GPU frame time with the table against hashed ids,
+    /// and the share of hit pixels the table covers at 8 and 16 levels.
+    Cells {
+        /// Image width.
+        #[arg(long, default_value_t = 640)]
+        width: u32,
+        /// Image height.
+        #[arg(long, default_value_t = 360)]
+        height: u32,
+        /// Runs per setting; the best is reported.
+        #[arg(long, default_value_t = 3)]
+        runs: u32,
+    },
     /// Frame time against the domain's face count (4 to 20 faces), GPU and
     /// CPU f32, with nothing to hit and with the default scene, 8 levels.
     Faces {
@@ -101,6 +116,7 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
         BenchCommand::Stability(ref args) => stability::run(args),
         BenchCommand::Specialise(ref args) => specialise::run(args),
         BenchCommand::Meshes { width, height, runs } => meshes::run(width.max(1), height.max(1), runs.max(1)),
+        BenchCommand::Cells { width, height, runs } => cells::run(width.max(1), height.max(1), runs.max(1)),
         BenchCommand::Faces { width, height, runs } => faces::run(width.max(1), height.max(1), runs.max(1)),
     }
 }
