@@ -95,7 +95,7 @@ pub mod prelude {
     };
     pub use crate::placement::{
         DomainCell, FaceCrossed, GeodesicVelocity, InSpace, ManifoldCollider, ManifoldRayCast, ManifoldSpace,
-        ManifoldSystems, Placement, PlacementPlugin, RayCastSettings, RayHit, SpaceMembers,
+        ManifoldSystems, Placement, PlacementPlugin, RayCastSettings, RayHit, SpaceMembers, WallHit,
     };
     #[cfg(feature = "render")]
     pub use crate::render::ManifoldCamera;

@@ -257,6 +257,86 @@ fn random_wanderers_stay_in_the_group_inside_and_in_the_right_cell() {
 }
 
 #[test]
+fn walls_stop_movers_and_casts_and_hidden_cells_are_not_hit() {
+    use bevy_manifold::space::rule::{CellRule, OnOff, Walls};
+    let space = catalog::seifert_weber();
+    let walls = CellRule {
+        hidden: None,
+        walls: Some(Walls { density: 1.0, seed: 2 }),
+    };
+    // A seed that hides the neighbour through face 0.
+    let neighbour = space.cell_id_of(&space.cell_of_word(&[0]));
+    let hide = |seed| CellRule {
+        hidden: Some(OnOff { on_fraction: 0.5, seed }),
+        walls: None,
+    };
+    let hidden = hide((0..1000).find(|&seed| !hide(seed).visible(neighbour)).unwrap());
+    // (rule, the mover crosses, the copy through face 0 is hit, a wall)
+    for (rule, expect_crossing, expect_beyond, expect_wall) in [
+        (CellRule::default(), true, true, None),
+        (walls, false, false, Some(0)),
+        (hidden, true, false, None),
+    ] {
+        let mut app = app(Duration::from_millis(50));
+        let root = app
+            .world_mut()
+            .spawn(ManifoldSpace::new(space.clone()).with_rule(rule))
+            .id();
+        let mover = app
+            .world_mut()
+            .spawn((
+                ChildOf(root),
+                GeodesicVelocity {
+                    linear: DVec3::new(0.3, 0.1, -1.0),
+                    ..default()
+                },
+            ))
+            .id();
+        // A target one face away along the shot, and a shooter.
+        let shooter = app.world_mut().spawn((ChildOf(root), Placement::default())).id();
+        let through = space.cell_matrix(&space.cell_of_word(&[0])) * DVec4::W;
+        let (target_at, _) = space.wrap(isometry::translation_to(space.geometry(), through), 10);
+        app.world_mut().spawn((
+            ChildOf(root),
+            Placement::from_isometry(target_at),
+            ManifoldCollider::Ball { radius: 0.3 },
+        ));
+        run_until(&mut app, Duration::from_secs(4));
+        let crossed = app.world().resource::<Crossings>().0.len();
+        let cell = app.world().get::<DomainCell>(mover).unwrap().clone();
+        let inside = space
+            .outside_face(app.world().get::<Placement>(mover).unwrap().isometry.w_axis, 1e-9)
+            .is_none();
+        assert!(inside);
+        assert_eq!(crossed > 0, expect_crossing, "{crossed} crossings under {rule:?}");
+        if !expect_crossing {
+            assert_eq!(cell.id, CellId(0));
+        }
+        // Aim the shooter along face 0's axis.
+        let axis = space.faces()[0].plane.truncate().normalize();
+        let look = DMat4::look_to_rh(DVec3::ZERO, axis, if axis.y.abs() < 0.9 { DVec3::Y } else { DVec3::X }).inverse();
+        app.world_mut().get_mut::<Placement>(shooter).unwrap().isometry = look;
+        app.update();
+        let (hits, wall) = app
+            .world_mut()
+            .run_system_once(move |cast: ManifoldRayCast| {
+                let s = RayCastSettings {
+                    exclude: Some(shooter),
+                    ..default()
+                };
+                (
+                    cast.cast(shooter, DVec3::NEG_Z, &s),
+                    cast.wall(shooter, DVec3::NEG_Z, &s),
+                )
+            })
+            .unwrap();
+        let beyond = hits.iter().any(|h| h.faces == [0]);
+        assert_eq!(beyond, expect_beyond, "the copy through face 0 under {rule:?}");
+        assert_eq!(wall.map(|w| w.face), expect_wall);
+    }
+}
+
+#[test]
 fn a_fast_mover_ends_where_a_finely_stepped_one_does() {
     for (space, angular) in [
         (catalog::seifert_weber(), DVec3::ZERO),

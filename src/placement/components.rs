@@ -5,6 +5,7 @@ use crate::geometry::isometry;
 use crate::space::Space;
 use crate::space::cells::CellId;
 use crate::space::element::CellElement;
+use crate::space::rule::CellRule;
 use crate::trace::FaceTables;
 use bevy::prelude::*;
 use glam::{DMat4, DVec3, DVec4};
@@ -31,6 +32,7 @@ use std::sync::Arc;
 pub struct ManifoldSpace {
     space: Arc<Space>,
     tables: Arc<FaceTables<f64>>,
+    rule: CellRule,
 }
 
 impl ManifoldSpace {
@@ -44,7 +46,41 @@ impl ManifoldSpace {
     #[must_use]
     pub fn from_shared(space: Arc<Space>) -> Self {
         let tables = Arc::new(FaceTables::new(&space));
-        ManifoldSpace { space, tables }
+        ManifoldSpace {
+            space,
+            tables,
+            rule: CellRule::default(),
+        }
+    }
+
+    /// The same space under per-cell rules ([`crate::space::rule`]):
+    /// objects in off cells hidden from ray casts, walls between cells
+    /// that block ray casts and moving entities (a [`WallHit`] says so).
+    /// The CPU tracer reads them through `TraceSettings::cell_rule`; the
+    /// GPU pass does not draw them yet.
+    ///
+    /// ```
+    /// use bevy_manifold::prelude::*;
+    /// use bevy_manifold::space::rule::{CellRule, Walls};
+    /// let maze = CellRule { walls: Some(Walls { density: 0.7, seed: 3 }), ..Default::default() };
+    /// let ms = ManifoldSpace::new(catalog::seifert_weber()).with_rule(maze);
+    /// assert_eq!(*ms.rule(), maze);
+    /// ```
+    #[must_use]
+    pub fn with_rule(mut self, rule: CellRule) -> Self {
+        self.rule = rule;
+        self
+    }
+
+    /// The per-cell rules.
+    #[must_use]
+    pub fn rule(&self) -> &CellRule {
+        &self.rule
+    }
+
+    /// Changes the per-cell rules.
+    pub fn set_rule(&mut self, rule: CellRule) {
+        self.rule = rule;
     }
 
     /// The space.
@@ -221,6 +257,18 @@ pub enum ManifoldCollider {
 /// starts here. Kept by the plugin; game code can ignore it.
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
 pub struct WrapOrigin(pub Option<DMat4>);
+
+/// Sent when a wall of the space's rule ([`ManifoldSpace::with_rule`])
+/// stops a moving entity: it stays where it was before the step.
+#[derive(Message, Clone, Copy, Debug, PartialEq)]
+pub struct WallHit {
+    /// The entity.
+    pub entity: Entity,
+    /// The face it would have left through.
+    pub face: usize,
+    /// Its cell.
+    pub cell: CellId,
+}
 
 /// Sent when an entity crosses a face of the domain.
 #[derive(Message, Clone, Copy, Debug, PartialEq)]

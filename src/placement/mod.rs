@@ -34,7 +34,7 @@ mod raycast;
 mod systems;
 
 pub use components::{
-    DomainCell, FaceCrossed, GeodesicVelocity, ManifoldCollider, ManifoldSpace, Placement, WrapOrigin,
+    DomainCell, FaceCrossed, GeodesicVelocity, ManifoldCollider, ManifoldSpace, Placement, WallHit, WrapOrigin,
 };
 pub use membership::{InSpace, SpaceMembers};
 pub use raycast::{ManifoldRayCast, RayCastSettings, RayHit};
@@ -88,6 +88,7 @@ impl Plugin for PlacementPlugin {
     fn build(&self, app: &mut App) {
         membership::observe(app);
         app.add_message::<FaceCrossed>()
+            .add_message::<WallHit>()
             .register_type::<Placement>()
             .register_type::<DomainCell>()
             .register_type::<GeodesicVelocity>()

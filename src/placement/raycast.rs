@@ -6,7 +6,7 @@ use super::membership::InSpace;
 use super::systems::space_of;
 use crate::space::cells::CellId;
 use crate::trace::step::Ray;
-use crate::trace::{CastBall, cast_balls};
+use crate::trace::{CastBall, CastHit, CastWall, cast_with_rule};
 use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
 use glam::{DMat4, DVec3, DVec4};
@@ -91,18 +91,30 @@ impl ManifoldRayCast<'_, '_> {
         self.cast_in(ms, placement, &cell, direction, settings)
     }
 
-    fn cast_in(
+    /// The wall of the space's rule ([`ManifoldSpace::with_rule`]) that
+    /// stops a cast from `from` in `direction`, if one does within the
+    /// settings' reach ([`ManifoldRayCast::cast`] returns only the hits
+    /// before it).
+    #[must_use]
+    pub fn wall(&self, from: Entity, direction: DVec3, settings: &RayCastSettings) -> Option<CastWall> {
+        let (placement, cell) = self.placed.get(from).ok()?;
+        let ms = space_of(from, &self.members, &self.spaces)?;
+        let cell = cell.cloned().unwrap_or_default();
+        self.cast_raw(ms, placement, &cell, direction, settings).1
+    }
+
+    fn cast_raw(
         &self,
         ms: &ManifoldSpace,
         placement: &Placement,
         cell: &DomainCell,
         direction: DVec3,
         settings: &RayCastSettings,
-    ) -> Vec<RayHit> {
+    ) -> (Vec<CastHit<Entity>>, Option<CastWall>) {
         let space = ms.space();
         let g = space.geometry();
         if direction.length_squared() == 0.0 || !direction.is_finite() {
-            return Vec::new();
+            return (Vec::new(), None);
         }
         let o = g.normalize_point::<f64>(placement.isometry.w_axis);
         let d = g.normalize_tangent::<f64>(o, placement.isometry * direction.normalize().extend(0.0));
@@ -121,28 +133,43 @@ impl ManifoldRayCast<'_, '_> {
                 },
             })
             .collect();
-        cast_balls(
+        let (hits, wall) = cast_with_rule(
             space,
             ms.tables(),
             Ray { origin: o, dir: d },
             &balls,
             settings.max_distance,
             settings.levels,
-        )
-        .into_iter()
-        .map(|h| {
-            // The hit's cell seen from the caster's: exact where the
-            // space's ids are (the ray's own element is short).
-            let hit_cell = space.compose_cells(&cell.cell, &space.cell_of_matrix(&h.element));
-            RayHit {
-                entity: h.key,
-                distance: h.distance,
-                point: h.point,
-                faces: h.faces,
-                cell: space.cell_id_of(&hit_cell),
-                element: cell.element * h.element,
-            }
-        })
-        .collect()
+            &cell.cell,
+            ms.rule(),
+        );
+        (hits, wall)
+    }
+
+    fn cast_in(
+        &self,
+        ms: &ManifoldSpace,
+        placement: &Placement,
+        cell: &DomainCell,
+        direction: DVec3,
+        settings: &RayCastSettings,
+    ) -> Vec<RayHit> {
+        let space = ms.space();
+        let (hits, _) = self.cast_raw(ms, placement, cell, direction, settings);
+        hits.into_iter()
+            .map(|h| {
+                // The hit's cell seen from the caster's: exact where the
+                // space's ids are (the ray's own element is short).
+                let hit_cell = space.compose_cells(&cell.cell, &space.cell_of_matrix(&h.element));
+                RayHit {
+                    entity: h.key,
+                    distance: h.distance,
+                    point: h.point,
+                    faces: h.faces,
+                    cell: space.cell_id_of(&hit_cell),
+                    element: cell.element * h.element,
+                }
+            })
+            .collect()
     }
 }

@@ -1,6 +1,6 @@
 //! The systems of [`super::PlacementPlugin`], in the order they run.
 
-use super::components::{DomainCell, FaceCrossed, GeodesicVelocity, ManifoldSpace, Placement, WrapOrigin};
+use super::components::{DomainCell, FaceCrossed, GeodesicVelocity, ManifoldSpace, Placement, WallHit, WrapOrigin};
 use super::membership::InSpace;
 use crate::geometry::isometry;
 use crate::motion::{Moved, advance_placement, chart_position, move_placement};
@@ -35,6 +35,7 @@ pub fn integrate_velocities(
         &mut WrapOrigin,
     )>,
     mut crossed: MessageWriter<FaceCrossed>,
+    mut walls: MessageWriter<WallHit>,
 ) {
     let dt = time.delta_secs_f64();
     if dt <= 0.0 {
@@ -65,9 +66,30 @@ pub fn integrate_velocities(
                 velocity.linear.length() * dt
             );
         }
+        if let Some(hit) = wall_on_the_way(ms, entity, &moved, &cell) {
+            walls.write(hit);
+            continue;
+        }
         apply_crossings(ms, entity, &moved, &mut placement, &mut cell, &mut crossed);
         origin.0 = Some(placement.isometry);
     }
+}
+
+/// The first wall of the space's rule on a motion's faces, if any.
+fn wall_on_the_way(ms: &ManifoldSpace, entity: Entity, moved: &Moved, cell: &DomainCell) -> Option<WallHit> {
+    let rule = ms.rule();
+    rule.walls?;
+    let space = ms.space();
+    let mut c = cell.cell.clone();
+    for &face in &moved.faces {
+        let next = space.cross_cell(&c, face);
+        let id = space.cell_id_of(&c);
+        if rule.wall(id, space.cell_id_of(&next)) {
+            return Some(WallHit { entity, face, cell: id });
+        }
+        c = next;
+    }
+    None
 }
 
 /// Carries entities whose placement game code set outside the domain back
@@ -79,6 +101,7 @@ pub fn wrap_placements(
     members: Query<&InSpace>,
     mut entities: Query<(Entity, &mut Placement, &mut DomainCell, &mut WrapOrigin)>,
     mut crossed: MessageWriter<FaceCrossed>,
+    mut walls: MessageWriter<WallHit>,
 ) {
     for (entity, mut placement, mut cell, mut origin) in &mut entities {
         if origin.0 == Some(placement.isometry) {
@@ -104,6 +127,13 @@ pub fn wrap_placements(
             placement.isometry,
             MAX_CROSSINGS_PER_STEP,
         );
+        if let Some(hit) = wall_on_the_way(ms, entity, &moved, &cell) {
+            // Back to where the wrap last left it.
+            walls.write(hit);
+            placement.isometry = from;
+            origin.0 = Some(from);
+            continue;
+        }
         apply_crossings(ms, entity, &moved, &mut placement, &mut cell, &mut crossed);
         origin.0 = Some(placement.isometry);
     }

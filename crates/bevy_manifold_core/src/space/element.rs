@@ -149,7 +149,9 @@ impl Space {
         match (cell, self.cells()) {
             (CellElement::Finite(k), CellScheme::Finite { .. }) => CellId(u64::from(*k)),
             (CellElement::Exact(g), CellScheme::Exact(_)) => g.cell_id(),
-            (CellElement::Float(m), CellScheme::Exact(_)) => CellId(self.cell_id(m).0 | CellId::FAR),
+            // Located while f64 can (a default or hand-placed element),
+            // flagged far beyond the horizon (and past exact arithmetic).
+            (CellElement::Float(m), CellScheme::Exact(_)) => self.cell_id(m),
             (cell, _) => self.cell_id(&self.cell_matrix(cell)),
         }
     }

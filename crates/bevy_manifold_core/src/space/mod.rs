@@ -28,6 +28,7 @@ pub mod file;
 pub mod generators;
 pub mod library;
 mod polyhedron;
+pub mod rule;
 mod volume;
 
 pub use cycles::{EdgeCycle, Homology};

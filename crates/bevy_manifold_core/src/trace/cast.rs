@@ -6,6 +6,9 @@ use super::flat::{FaceTables, ghost_centres};
 use super::step::{Ray, advance, hit_ball, radius_param};
 use super::walk::Walker;
 use crate::space::Space;
+use crate::space::cells::CellId;
+use crate::space::element::CellElement;
+use crate::space::rule::CellRule;
 use glam::{DMat4, DVec4};
 
 /// A ball to cast against, with a key the caller uses to name it.
@@ -35,6 +38,17 @@ pub struct CastHit<K> {
     pub element: DMat4,
 }
 
+/// Where a cast met a wall ([`crate::space::rule`]) and stopped.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CastWall {
+    /// Distance from the ray's origin.
+    pub distance: f64,
+    /// The face that is a wall, in the domain the ray was in.
+    pub face: usize,
+    /// The point on the wall, in the domain's chart.
+    pub point: DVec4,
+}
+
 /// Casts `ray` (starting inside the domain) through at most `levels`
 /// faces and `max_distance`, returning every ball hit, nearest first.
 #[must_use]
@@ -46,7 +60,37 @@ pub fn cast_balls<K: Copy>(
     max_distance: f64,
     levels: u32,
 ) -> Vec<CastHit<K>> {
+    cast_with_rule(
+        space,
+        tables,
+        ray,
+        balls,
+        max_distance,
+        levels,
+        &space.origin_cell(),
+        &CellRule::default(),
+    )
+    .0
+}
+
+/// [`cast_balls`] under per-cell rules, from a ray starting in cell
+/// `start`: balls in cells the rule hides are passed through, and the
+/// cast stops at the first wall, which it returns. The rule is decided
+/// from the same ids as the tracer's.
+#[must_use]
+#[expect(clippy::too_many_arguments, reason = "the cast's inputs, all needed")]
+pub fn cast_with_rule<K: Copy>(
+    space: &Space,
+    tables: &FaceTables<f64>,
+    ray: Ray<f64>,
+    balls: &[CastBall<K>],
+    max_distance: f64,
+    levels: u32,
+    start: &CellElement,
+    rule: &CellRule,
+) -> (Vec<CastHit<K>>, Option<CastWall>) {
     let g = space.geometry();
+    let mut cell = start.clone();
     // A ball that reaches across a face is also tested through it.
     let mut copies: Vec<(K, DVec4, f64)> = Vec::new();
     for b in balls {
@@ -62,9 +106,14 @@ pub fn cast_balls<K: Copy>(
     let mut faces = Vec::new();
     let mut travelled = 0.0;
     let max_passes = levels as usize + max_distance.min(1e4) as usize + 2;
+    let mut wall = None;
     for _ in 0..max_passes {
         let (face, t_end) = walk.segment_end(tables);
-        for &(key, c, k) in &copies {
+        // Ids only when a rule reads them (an exact product per crossing).
+        let active = rule.is_active();
+        let id = if active { space.cell_id_of(&cell) } else { CellId(0) };
+        let shown = rule.visible(id);
+        for &(key, c, k) in copies.iter().filter(|_| shown) {
             if let Some(t) = hit_ball(g, &walk.ray, c, k, 0.0)
                 && t <= t_end
             {
@@ -82,13 +131,30 @@ pub fn cast_balls<K: Copy>(
             }
         }
         travelled += g.chart_to_distance::<f64>(t_end);
-        if travelled >= max_distance || (face.is_some() && walk.levels >= levels) {
+        if travelled >= max_distance {
             break;
         }
         let end = advance(g, &walk.ray, t_end);
+        if let Some(f) = face
+            && active
+        {
+            let next = space.cross_cell(&cell, f);
+            if rule.wall(id, space.cell_id_of(&next)) {
+                wall = Some(CastWall {
+                    distance: travelled,
+                    face: f,
+                    point: end.origin,
+                });
+                break;
+            }
+            cell = next;
+        }
+        if face.is_some() && walk.levels >= levels {
+            break;
+        }
         walk.step(tables, face, end, true);
         faces.extend(face);
     }
     hits.sort_by(|a, b| a.distance.total_cmp(&b.distance));
-    hits
+    (hits, wall)
 }

@@ -38,7 +38,7 @@ pub mod scene;
 pub mod step;
 mod walk;
 
-pub use cast::{CastBall, CastHit, cast_balls};
+pub use cast::{CastBall, CastHit, CastWall, cast_balls, cast_with_rule};
 pub use drift::{RayDrift, ray_drift};
 pub use flat::{
     EDGE_ID, FaceTables, FlatBall, FlatInstance, FlatLight, FlatScene, FlatTube, ghost_centres, ghost_elements,

@@ -18,6 +18,7 @@ use crate::mesh::MeshHit;
 use crate::space::Space;
 use crate::space::cells::{CellId, CellTint};
 use crate::space::element::CellElement;
+use crate::space::rule::{CellRule, WALL_COLOR, WALL_OBJECT};
 #[cfg(feature = "parallel")]
 use rayon::prelude::*;
 
@@ -41,6 +42,10 @@ pub struct TraceSettings {
     /// Renormalise the ray after each advance and transport (off only to
     /// measure drift: see [`super::step::advance_raw`]).
     pub renormalize: bool,
+    /// Per-cell rules: objects in off cells hidden, walls between cells
+    /// ([`crate::space::rule`]). CPU tracer and gameplay casts; the GPU
+    /// pass does not draw them yet.
+    pub cell_rule: CellRule,
 }
 
 /// Most levels (face transports per ray) any tracer takes; more are
@@ -96,6 +101,7 @@ impl Default for TraceSettings {
             cell_tint: CellTint::ByCell,
             fog_early_stop: true,
             renormalize: true,
+            cell_rule: CellRule::default(),
         }
     }
 }
@@ -213,11 +219,13 @@ pub fn trace_ray<R: Real>(
     let fog_cut = R::of(FOG_CUT);
     let max_distance = R::of(settings.max_distance);
     let mut walk = Walker::new(ray, R::m4_of(prep.camera_cell));
-    // Where the space's ids are exact, the walk's exact element, crossed
-    // with the ray (one exact product per crossing); otherwise the id
-    // comes from the walk's matrix.
+    // Where the space's ids are exact, or rules are on, the walk's cell
+    // element (exact where the space's ids are), crossed with the ray;
+    // otherwise the id comes from the walk's matrix.
+    let rule = &settings.cell_rule;
     let mut exact = match &prep.camera_element {
         CellElement::Exact(_) => Some(prep.camera_element.clone()),
+        _ if rule.is_active() => Some(prep.camera_element.clone()),
         _ => None,
     };
     let cell_id = |walk: &Walker<R>, exact: &Option<CellElement>| match exact {
@@ -246,7 +254,9 @@ pub fn trace_ray<R: Real>(
         }
         let (face, t_end) = walk.segment_end(&prep.faces);
         let cell_point = walk.cell * R::v4_of(glam::DVec4::W);
-        if let Some((t, hit)) = nearest_object(g, prep, &walk.ray, t_end, cell_point) {
+        let here = rule.is_active().then(|| cell_id(&walk, &exact));
+        let shown = here.is_none_or(|id| rule.visible(id));
+        if let Some((t, hit)) = nearest_object(g, prep, &walk.ray, t_end, cell_point).filter(|_| shown) {
             let dist = travelled + g.chart_to_distance::<R>(t);
             let color = shade(g, prep, &walk.ray, t, hit, dist, cell_id(&walk, &exact), settings);
             return (
@@ -266,6 +276,16 @@ pub fn trace_ray<R: Real>(
         if travelled > max_distance {
             return (finish(background, 0, &walk, &exact, travelled), Stop::MaxDistance);
         }
+        if let (Some(f), Some(id), Some(e)) = (face, here, &exact)
+            && rule.walls.is_some()
+            && rule.wall(id, space.cell_id_of(&space.cross_cell(e, f)))
+        {
+            let color = shade_wall(prep, &prep.faces.planes[f], &walk.ray, travelled);
+            return (
+                finish(color, WALL_OBJECT, &walk, &exact, travelled),
+                Stop::Hit(WALL_OBJECT),
+            );
+        }
         if face.is_some() && walk.levels >= settings.levels {
             return (finish(background, 0, &walk, &exact, travelled), Stop::MaxLevel);
         }
@@ -275,6 +295,25 @@ pub fn trace_ray<R: Real>(
         }
     }
     (finish(background, 0, &walk, &exact, travelled), Stop::MaxDistance)
+}
+
+/// A wall on face `plane`, met at distance `dist`: [`WALL_COLOR`] lit by
+/// the angle the ray meets it at (a lamp at the eye), then fog.
+fn shade_wall<R: Real>(prep: &FlatScene<R>, plane: &R::V4, ray: &Ray<R>, dist: R) -> [f32; 3] {
+    let n = R::dot4(*plane, *plane).sqrt();
+    let facing = (R::dot4(*plane, ray.dir) / (n * R::dot4(ray.dir, ray.dir).sqrt()))
+        .f64()
+        .abs()
+        .min(1.0) as f32;
+    let lit = 0.3 + 0.7 * facing;
+    let rgb = WALL_COLOR.map(|c| c * lit);
+    match prep.fog {
+        Some((density, fog)) => {
+            let keep = (-(density * dist).f64()).exp() as f32;
+            [0, 1, 2].map(|i| rgb[i] * keep + fog[i] * (1.0 - keep))
+        }
+        None => rgb,
+    }
 }
 
 /// Which object a ray hit.
