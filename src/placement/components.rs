@@ -56,8 +56,8 @@ impl ManifoldSpace {
     /// The same space under per-cell rules ([`crate::space::rule`]):
     /// objects in off cells hidden from ray casts, walls between cells
     /// that block ray casts and moving entities (a [`WallHit`] says so).
-    /// The CPU tracer reads them through `TraceSettings::cell_rule`; the
-    /// GPU pass does not draw them yet.
+    /// The render pass draws them (the CPU tracer reads them through
+    /// `TraceSettings::cell_rule`).
     ///
     /// ```
     /// use bevy_manifold::prelude::*;

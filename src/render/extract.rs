@@ -86,8 +86,9 @@ pub fn extract_manifold_views(
         let fog = fog.and_then(ManifoldFog::to_fog).map(|f| (f.density as f32, f.color));
         let tint = shading.copied().unwrap_or_default().tint();
         let levels = mc.levels.min(crate::trace::MAX_LEVELS);
-        let mut defs =
-            TraceDefs::for_scene(space.space(), scene.scene(), tint.is_some()).for_levels(space.space(), levels);
+        let mut defs = TraceDefs::for_scene(space.space(), scene.scene(), tint.is_some())
+            .for_levels(space.space(), levels)
+            .for_rule(space.rule());
         defs.fog = fog.is_some();
         commands.entity(render_entity.id()).insert(ExtractedManifoldView {
             root,

@@ -294,6 +294,7 @@ fn gpu_view(view: &ExtractedManifoldView, extracted: &ExtractedView) -> GpuView 
         max_distance: view.max_distance,
         flags: 0,
         cell_tint: view.cell_tint,
+        cell_rule: view.space.rule().words(),
     }
 }
 

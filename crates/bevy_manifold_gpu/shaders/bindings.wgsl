@@ -65,6 +65,12 @@ struct Params {
     cell_mode: u32,
     cell_a: u32,
     cell_b: u32,
+    // CELL_RULES: CellRule::words (the on threshold and seed, the wall
+    // threshold and seed).
+    rule_hidden: u32,
+    rule_hidden_seed: u32,
+    rule_walls: u32,
+    rule_walls_seed: u32,
 }
 
 // Rust twin: GpuFace in crates/bevy_manifold_gpu/src/layout.rs.
@@ -169,6 +175,9 @@ const FLAG_NO_RENORMALIZE: u32 = 2u;
 // No face: a ray that entered by none, or leaves by none (S3, no face
 // within a quarter turn). Rust: None, or usize::MAX for Walker::entered.
 const NO_FACE: u32 = 0xffffffffu;
+
+// The object id of a wall. Rust: rule::WALL_OBJECT.
+const WALL_OBJECT: u32 = 0xfffffffeu;
 
 // CELLS_TABLE: a cell beyond the table. Rust: ball::OUTSIDE.
 const CELL_OUTSIDE: u32 = 0xffffffffu;

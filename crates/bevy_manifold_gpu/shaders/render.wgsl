@@ -5,11 +5,12 @@
 // trace_ray as trace_pixel, Hit, nearest_object, shade).
 //
 // Shader defs read: FOG (early stop, fog colour), BALLS, TUBES, MESHES
-// (which objects are tested and shaded), CELL_COLORS, LIGHTS;
+// (which objects are tested and shaded), CELL_COLORS, LIGHTS, CELL_RULES
+// (hidden cells, walls);
 // GEOMETRY_*, TRANSLATIONS_ONLY, CELLS_* through the imports.
 #define_import_path bevy_manifold::render
 
-#import bevy_manifold::bindings::{params, balls, tubes, lights, Pixel, EDGE_ID, FLAG_NO_EARLY_STOP, FOG_CUT, LIGHT_AT_HIT}
+#import bevy_manifold::bindings::{params, balls, tubes, lights, faces, Pixel, EDGE_ID, FLAG_NO_EARLY_STOP, FOG_CUT, LIGHT_AT_HIT, WALL_OBJECT}
 #import bevy_manifold::geometry::{form, normalize_point, normalize_tangent, project_tangent, distance, chart_to_distance, sphere_area}
 #import bevy_manifold::step::{Ray, normal_from}
 #import bevy_manifold::cells::cell_id
@@ -22,6 +23,9 @@
 #endif
 #ifdef CELL_COLORS
 #import bevy_manifold::cells::cell_color
+#endif
+#ifdef CELL_RULES
+#import bevy_manifold::rules::{cell_visible, shade_wall, unknown_rules}
 #endif
 #ifdef MESHES
 #import bevy_manifold::bindings::instances
@@ -66,7 +70,13 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
         }
 #endif
         let seg = segment_end(walk);
-        let hit = nearest_object(walk.ray, seg.t, walk.cell[3]);
+        var hit = nearest_object(walk.ray, seg.t, walk.cell[3]);
+#ifdef CELL_RULES
+        // Objects in an off cell are not there (Rust: CellRule::visible).
+        if !cell_visible(cell_id(walk.cell, walk.index)) {
+            hit.kind = 0u;
+        }
+#endif
         if hit.kind != 0u {
             let dist = walk.travelled + chart_to_distance(hit.t);
             let cid = cell_id(walk.cell, walk.index);
@@ -83,7 +93,21 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
 #endif
             return Pixel(vec4<f32>(shade(walk.ray, hit, dist, cid), dist), object, walk.levels, cid.x, cid.y);
         }
-        if walk_segment(&walk, seg).stop {
+        let segment_start = walk.ray;
+        let step = walk_segment(&walk, seg);
+#ifdef CELL_RULES
+        if step.wall == 1u {
+            let cid = cell_id(walk.cell, walk.index);
+            let color = shade_wall(faces[seg.face].plane, segment_start, walk.travelled);
+            return Pixel(vec4<f32>(color, walk.travelled), WALL_OBJECT, walk.levels, cid.x, cid.y);
+        }
+        if step.wall == 2u {
+            // Beyond the table the rules are unknown: CellTint::UNKNOWN's
+            // grey, in fog, and the cell CellId::BEYOND_TABLE.
+            return Pixel(vec4<f32>(unknown_rules(walk.travelled), walk.travelled), 0u, walk.levels, 0u, 0x40000000u);
+        }
+#endif
+        if step.stop {
             break;
         }
     }

@@ -11,7 +11,8 @@
 // callback, which WGSL lacks, so here it is walk_segment, and the distance
 // travelled is on the Walker.
 //
-// Shader defs read: CELLS_FINITE (the Cayley-table index);
+// Shader defs read: CELLS_FINITE, CELLS_TABLE (the table index);
+// CELL_RULES (walls stop the walk: rules.wgsl);
 // GEOMETRY_* through geometry and step, TRANSLATIONS_ONLY through step,
 // MESHES through bindings.
 #define_import_path bevy_manifold::walk
@@ -19,6 +20,10 @@
 #import bevy_manifold::bindings::{params, faces, cell_table, NO_FACE, CELL_OUTSIDE}
 #import bevy_manifold::geometry::{chart_to_distance, max_chart_parameter}
 #import bevy_manifold::step::{Ray, Exit, exit_face, advance_or_raw, transport_or_raw}
+#ifdef CELL_RULES
+#import bevy_manifold::cells::cell_id
+#import bevy_manifold::rules::cell_wall
+#endif
 
 // Where a walking ray is: the start of its current segment, the face it
 // came in through, the cell it is in, how many faces it has crossed, and
@@ -103,21 +108,53 @@ struct PathStep {
     end: Ray,
     // The walk ends here (Rust: Stop::MaxDistance, Stop::MaxLevel).
     stop: bool,
+    // CELL_RULES: 1 when it ends at a wall (Rust: Stop::Hit(WALL_OBJECT));
+    // 2 when it would leave the table of exact ids, where the rules are
+    // unknown (CELLS_TABLE; the CPU, exact everywhere, has no twin).
+    wall: u32,
 }
+
+#ifdef CELL_RULES
+// The id of the cell across `face` from the walk's. Rust: cross_cell and
+// cell_id_of in crates/bevy_manifold_core/src/space/element.rs.
+fn next_cell_id(walk: Walker, face: u32) -> vec2<u32> {
+#ifdef CELLS_FINITE
+    return cell_id(walk.cell, cell_table[walk.index * params.face_count + faces[face].partner]);
+#else ifdef CELLS_TABLE
+    if walk.index == CELL_OUTSIDE {
+        return cell_id(walk.cell, CELL_OUTSIDE);
+    }
+    return cell_id(walk.cell, cell_table[walk.index * params.face_count + faces[face].partner]);
+#else
+    return cell_id(walk.cell * faces[face].crossing, 0u);
+#endif
+}
+#endif
 
 // The rest of a pass once no object was hit on the segment `seg` (from
 // segment_end): advance to its end, add its length, stop past
-// max_distance or at a face once params.levels faces are crossed, else
-// step on. Branches in trace_ray's order.
+// max_distance, at a wall (CELL_RULES), or at a face once params.levels
+// faces are crossed, else step on. Branches in trace_ray's order.
 fn walk_segment(walk: ptr<function, Walker>, seg: Exit) -> PathStep {
     let end = advance_or_raw((*walk).ray, seg.t);
     (*walk).travelled += chart_to_distance(seg.t);
     if (*walk).travelled > params.max_distance {
-        return PathStep(end, true);
+        return PathStep(end, true, 0u);
     }
+#ifdef CELL_RULES
+    if seg.face != NO_FACE {
+        let next = next_cell_id(*walk, seg.face);
+        if next.x == 0u && next.y == 0x40000000u {
+            return PathStep(end, true, 2u);
+        }
+        if cell_wall(cell_id((*walk).cell, (*walk).index), next) {
+            return PathStep(end, true, 1u);
+        }
+    }
+#endif
     if seg.face != NO_FACE && (*walk).levels >= params.levels {
-        return PathStep(end, true);
+        return PathStep(end, true, 0u);
     }
     walker_step(walk, seg.face, end);
-    return PathStep(end, false);
+    return PathStep(end, false, 0u);
 }

@@ -65,6 +65,16 @@ pub struct GpuParams {
     pub cell_a: u32,
     /// ... and the highlighted cell's high word.
     pub cell_b: u32,
+    /// Per-cell rules, the four words of
+    /// [`bevy_manifold_core::space::rule::CellRule::words`]: the on
+    /// threshold...
+    pub rule_hidden: u32,
+    /// ... its seed...
+    pub rule_hidden_seed: u32,
+    /// ... the wall threshold...
+    pub rule_walls: u32,
+    /// ... and its seed.
+    pub rule_walls_seed: u32,
 }
 
 /// WGSL twin: `Face` in `shaders/bindings.wgsl`.
@@ -241,6 +251,8 @@ pub struct GpuView {
     pub flags: u32,
     /// [`GpuParams::cell_mode`], `cell_a`, `cell_b`.
     pub cell_tint: [u32; 3],
+    /// [`bevy_manifold_core::space::rule::CellRule::words`].
+    pub cell_rule: [u32; 4],
 }
 
 /// [`GpuParams::flags`]: fog does not stop rays early
@@ -521,6 +533,10 @@ impl GpuParams {
             cell_mode: view.cell_tint[0],
             cell_a: view.cell_tint[1],
             cell_b: view.cell_tint[2],
+            rule_hidden: view.cell_rule[0],
+            rule_hidden_seed: view.cell_rule[1],
+            rule_walls: view.cell_rule[2],
+            rule_walls_seed: view.cell_rule[3],
         }
     }
 }
@@ -544,6 +560,7 @@ impl GpuScene {
             max_distance: settings.max_distance as f32,
             flags: settings_flags(settings),
             cell_tint: settings.cell_tint.words(),
+            cell_rule: settings.cell_rule.words(),
         };
         GpuScene {
             params: GpuParams::new(space, &packed, &objects, &view),

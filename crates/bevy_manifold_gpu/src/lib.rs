@@ -74,13 +74,14 @@ macro_rules! wgsl {
 /// order naga_oil's composer needs; Bevy resolves them by their
 /// `#define_import_path`, `bevy_manifold::<name>`). Each is the WGSL twin
 /// of a Rust file: `bindings` of [`layout`], `geometry`, `step`, `cells`,
-/// `bvh`, `mesh_hit`, `walk`, `render` and `drift` of the core's files of
+/// `rules` (of the core's `space/rule.rs`), `bvh`, `mesh_hit`, `walk`, `render` and `drift` of the core's files of
 /// the same names.
-pub const SHADER_IMPORTS: [WgslModule; 9] = [
+pub const SHADER_IMPORTS: [WgslModule; 10] = [
     wgsl!("bindings"),
     wgsl!("geometry"),
     wgsl!("step"),
     wgsl!("cells"),
+    wgsl!("rules"),
     wgsl!("bvh"),
     wgsl!("mesh_hit"),
     wgsl!("walk"),

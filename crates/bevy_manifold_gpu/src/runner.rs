@@ -344,7 +344,9 @@ impl GpuTracer {
     /// # Errors
     /// A shader, validation or readback failure, as [`GpuError`].
     pub fn render(&mut self, space: &Space, scene: &Scene, settings: &TraceSettings) -> Result<TraceImage, GpuError> {
-        let defs = TraceDefs::for_scene(space, scene, settings.cell_colors).for_levels(space, settings.levels);
+        let defs = TraceDefs::for_scene(space, scene, settings.cell_colors)
+            .for_levels(space, settings.levels)
+            .for_rule(&settings.cell_rule);
         self.render_with(space, scene, settings, defs)
     }
 
@@ -469,7 +471,9 @@ impl GpuTracer {
         scene: &Scene,
         settings: &TraceSettings,
     ) -> Result<Vec<u8>, GpuError> {
-        let defs = TraceDefs::for_scene(space, scene, settings.cell_colors).for_levels(space, settings.levels);
+        let defs = TraceDefs::for_scene(space, scene, settings.cell_colors)
+            .for_levels(space, settings.levels)
+            .for_rule(&settings.cell_rule);
         let prep = FlatScene::<f32>::new(space, scene);
         let gpu = GpuScene::pack(space, &prep, settings);
         self.fragment_pipeline(defs)?;

@@ -43,6 +43,8 @@ pub struct TraceDefs {
     pub cells: CellScheme,
     /// `CELL_COLORS`.
     pub cell_colors: bool,
+    /// `CELL_RULES`: hidden cells and walls ([`TraceDefs::for_rule`]).
+    pub cell_rules: bool,
     /// `FOG`.
     pub fog: bool,
     /// `BALLS`.
@@ -85,6 +87,7 @@ impl TraceDefs {
                 Cells::Hashed { .. } => CellScheme::Hashed,
             },
             cell_colors,
+            cell_rules: false,
             fog: scene.fog.as_ref().is_some_and(|f| f.density > 0.0),
             // Vertex joints of the edge tubes are balls too.
             balls: !scene.balls.is_empty() || scene.edge_radius.is_some(),
@@ -115,6 +118,14 @@ impl TraceDefs {
         self
     }
 
+    /// These defs for a space under `rule`: `CELL_RULES` when some rule is
+    /// on.
+    #[must_use]
+    pub fn for_rule(mut self, rule: &bevy_manifold_core::space::rule::CellRule) -> Self {
+        self.cell_rules = rule.is_active();
+        self
+    }
+
     /// Every def on that can be on with this geometry: the generic pipeline
     /// that specialisation is measured against.
     #[must_use]
@@ -124,6 +135,7 @@ impl TraceDefs {
             translations_only: false,
             cells: CellScheme::Hashed,
             cell_colors: true,
+            cell_rules: true,
             fog: true,
             balls: true,
             tubes: true,
@@ -135,7 +147,7 @@ impl TraceDefs {
 
     /// Every valid combination (each geometry with the cell schemes and
     /// transport kinds it allows, every optional part on and off, the faces
-    /// counted at run time and as a constant 12).
+    /// counted at run time and as a constant 12, the cell rules on and off).
     #[must_use]
     pub fn all() -> Vec<Self> {
         let mut out = Vec::new();
@@ -149,7 +161,7 @@ impl TraceDefs {
             (Geometry::Spherical, false, CellScheme::Hashed),
         ];
         for (geometry, translations_only, cells) in bases {
-            for bits in 0..128u32 {
+            for bits in 0..256u32 {
                 let on = |k: u32| bits & (1 << k) != 0;
                 out.push(TraceDefs {
                     geometry,
@@ -162,6 +174,7 @@ impl TraceDefs {
                     lights: on(4),
                     meshes: on(5),
                     face_count: on(6).then_some(12),
+                    cell_rules: on(7),
                 });
             }
         }
@@ -191,6 +204,7 @@ impl TraceDefs {
         for (on, name) in [
             (self.translations_only, "TRANSLATIONS_ONLY"),
             (self.cell_colors, "CELL_COLORS"),
+            (self.cell_rules, "CELL_RULES"),
             (self.fog, "FOG"),
             (self.balls, "BALLS"),
             (self.tubes, "TUBES"),

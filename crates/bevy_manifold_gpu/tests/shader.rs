@@ -24,7 +24,7 @@ fn validate(module: &naga::Module) -> Result<(), String> {
 #[test]
 fn every_specialisation_composes_and_validates() {
     let all = TraceDefs::all();
-    assert_eq!(all.len(), 7 * 128);
+    assert_eq!(all.len(), 7 * 256);
     for defs in &all {
         let module = compose(defs).unwrap_or_else(|e| panic!("{:?}: {e}", defs.names()));
         validate(&module).unwrap_or_else(|e| panic!("{:?}: {e}", defs.names()));

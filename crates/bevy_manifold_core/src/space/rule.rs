@@ -64,8 +64,8 @@ fn threshold(f: f32) -> u32 {
     (f64::from(f) * f64::from(1u32 << 24)).round() as u32
 }
 
-/// 24 bits from an id and a seed, in u32 arithmetic (a WGSL twin can
-/// compute the same).
+/// 24 bits from an id and a seed, in u32 arithmetic. WGSL twin:
+/// `rule_bits` in `bevy_manifold_gpu`'s `shaders/rules.wgsl`.
 fn bits(id: CellId, seed: u32) -> u32 {
     hash32(hash32(seed ^ id.0 as u32) ^ (id.0 >> 32) as u32) >> 8
 }
@@ -75,6 +75,17 @@ impl CellRule {
     #[must_use]
     pub fn is_active(&self) -> bool {
         self.hidden.is_some() || self.walls.is_some()
+    }
+
+    /// The four words the shader reads (`Params.rule_hidden`,
+    /// `rule_hidden_seed`, `rule_walls`, `rule_walls_seed`): the on
+    /// threshold (`1 << 24` when nothing is hidden) and its seed, the wall
+    /// threshold (0 without walls) and its seed.
+    #[must_use]
+    pub fn words(&self) -> [u32; 4] {
+        let (on, on_seed) = self.hidden.map_or((1 << 24, 0), |r| (threshold(r.on_fraction), r.seed));
+        let (wall, wall_seed) = self.walls.map_or((0, 0), |w| (threshold(w.density), w.seed));
+        [on, on_seed, wall, wall_seed]
     }
 
     /// Whether the objects in cell `id` are drawn and hit. The origin copy
@@ -89,7 +100,7 @@ impl CellRule {
     }
 
     /// Whether the face between cells `a` and `b` is a wall (the same from
-    /// either side). Never between a cell and itself, or next to a cell
+    /// either side). WGSL twin: `cell_wall` in `shaders/rules.wgsl`. Never between a cell and itself, or next to a cell
     /// the GPU could not name.
     #[must_use]
     pub fn wall(&self, a: CellId, b: CellId) -> bool {

@@ -43,8 +43,7 @@ pub struct TraceSettings {
     /// measure drift: see [`super::step::advance_raw`]).
     pub renormalize: bool,
     /// Per-cell rules: objects in off cells hidden, walls between cells
-    /// ([`crate::space::rule`]). CPU tracer and gameplay casts; the GPU
-    /// pass does not draw them yet.
+    /// ([`crate::space::rule`]); the GPU twin is `CELL_RULES`.
     pub cell_rule: CellRule,
 }
 
