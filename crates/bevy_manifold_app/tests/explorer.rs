@@ -39,6 +39,12 @@ fn settings_round_trip_and_broken_files_are_replaced_not_lost() {
         cell_mode: CellMode::Pattern,
         pattern_on: 0.25,
         highlight: 7,
+        hidden: true,
+        hidden_on: 0.3,
+        hidden_seed: 12,
+        walls: true,
+        wall_density: 0.6,
+        wall_seed: 4,
         edges: false,
         suzanne: SuzanneMode::Free,
         hands: false,
@@ -274,6 +280,37 @@ fn a_space_that_cannot_be_loaded_is_reported_and_the_view_stays() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// The panel's cell rules reach the space the world shows (what the render
+/// pass, the ray casts and the movers read), and survive a space switch.
+fn the_panels_cell_rules_reach_the_space() {
+    use bevy_manifold::placement::ManifoldSpace;
+    use bevy_manifold::space::rule::{CellRule, Walls};
+    let mut app = headless_explorer();
+    let rule_of = |app: &App| {
+        let root = app.world().resource::<ExplorerWorld>().root;
+        *app.world().get::<ManifoldSpace>(root).unwrap().rule()
+    };
+    assert_eq!(rule_of(&app), CellRule::default());
+    {
+        let mut s = app.world_mut().resource_mut::<ExplorerSettings>();
+        s.walls = true;
+        s.wall_density = 0.25;
+        s.wall_seed = 7;
+    }
+    app.update();
+    let maze = CellRule {
+        hidden: None,
+        walls: Some(Walls { density: 0.25, seed: 7 }),
+    };
+    assert_eq!(rule_of(&app), maze);
+    app.world_mut().resource_mut::<ExplorerSettings>().space = "seifert-weber".into();
+    app.update();
+    assert_eq!(rule_of(&app), maze);
+    app.world_mut().resource_mut::<ExplorerSettings>().walls = false;
+    app.update();
+    assert_eq!(rule_of(&app), CellRule::default());
+}
+
 fn library_spaces_and_gen_files_open_in_the_explorer() {
     let mut app = headless_explorer();
     // A library space by name: its Dirichlet domain, a truncated cube.
@@ -309,6 +346,7 @@ bevy_manifold_test_support::test_main! {
     cpu: [
         fuzzed_settings_files_load_in_range,
         library_spaces_and_gen_files_open_in_the_explorer,
+        the_panels_cell_rules_reach_the_space,
         settings_round_trip_and_broken_files_are_replaced_not_lost,
         without_a_display_the_explorer_renders_explorer_png_and_exits_0,
         a_space_that_cannot_be_loaded_is_reported_and_the_view_stays,

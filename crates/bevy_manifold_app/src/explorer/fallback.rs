@@ -50,6 +50,7 @@ pub fn view_scene(
         max_distance: f64::from(settings.max_distance),
         cell_colors: tint.is_some(),
         cell_tint: tint.unwrap_or_default(),
+        cell_rule: settings.rule(),
         ..TraceSettings::default()
     };
     (space, scene, trace)

@@ -222,6 +222,17 @@ fn contents(
             });
         }
     });
+    ui.label("cell rules (from the exact cell ids)");
+    ui.checkbox(&mut s.hidden, "on/off: objects in off cells hidden");
+    ui.add_enabled_ui(s.hidden, |ui| {
+        ui.add(egui::Slider::new(&mut s.hidden_on, 0.0..=1.0).text("cells on"));
+        ui.add(egui::Slider::new(&mut s.hidden_seed, 0..=99).text("seed"));
+    });
+    ui.checkbox(&mut s.walls, "walls between cells (a maze)");
+    ui.add_enabled_ui(s.walls, |ui| {
+        ui.add(egui::Slider::new(&mut s.wall_density, 0.0..=1.0).text("faces walled"));
+        ui.add(egui::Slider::new(&mut s.wall_seed, 0..=99).text("seed"));
+    });
     ui.separator();
     ui.checkbox(&mut s.edges, "domain edges");
     ui.horizontal(|ui| {

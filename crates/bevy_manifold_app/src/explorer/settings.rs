@@ -24,6 +24,7 @@
 
 use bevy::prelude::*;
 use bevy_manifold::render::ManifoldCamera;
+use bevy_manifold::space::rule::{CellRule, OnOff, Walls};
 use bevy_manifold::space::{catalog, library};
 use bevy_manifold::trace::{PaperOptions, SuzanneMode};
 use bevy_manifold::view::{CellShading, ManifoldFog};
@@ -82,6 +83,18 @@ pub struct ExplorerSettings {
     pub pattern_on: f32,
     /// [`CellMode::Highlight`]: the pinned copy's id.
     pub highlight: u64,
+    /// The on/off rule: objects in off cells hidden and passed through.
+    pub hidden: bool,
+    /// Fraction of the cells on under the on/off rule.
+    pub hidden_on: f32,
+    /// The on/off rule's seed.
+    pub hidden_seed: u32,
+    /// Walls between cells (the maze).
+    pub walls: bool,
+    /// Fraction of the faces that are walls.
+    pub wall_density: f32,
+    /// The walls' seed.
+    pub wall_seed: u32,
     /// The domain's edges drawn.
     pub edges: bool,
     /// Suzanne attached to the camera, free, or hidden.
@@ -109,6 +122,12 @@ impl Default for ExplorerSettings {
             cell_mode: CellMode::ByCell,
             pattern_on: 0.5,
             highlight: 0,
+            hidden: false,
+            hidden_on: 0.7,
+            hidden_seed: 1,
+            walls: false,
+            wall_density: 0.4,
+            wall_seed: 1,
             edges: true,
             suzanne: SuzanneMode::Attached,
             hands: true,
@@ -148,6 +167,21 @@ impl ExplorerSettings {
             CellMode::Pattern => CellShading::Pattern {
                 on_fraction: self.pattern_on,
             },
+        }
+    }
+
+    /// The per-cell rules these settings ask for.
+    #[must_use]
+    pub fn rule(&self) -> CellRule {
+        CellRule {
+            hidden: self.hidden.then_some(OnOff {
+                on_fraction: self.hidden_on,
+                seed: self.hidden_seed,
+            }),
+            walls: self.walls.then_some(Walls {
+                density: self.wall_density,
+                seed: self.wall_seed,
+            }),
         }
     }
 
@@ -209,6 +243,18 @@ impl ExplorerSettings {
         if !(0.0..=1.0).contains(&self.pattern_on) {
             fix("pattern_on", self.pattern_on.to_string(), d.pattern_on.to_string());
             self.pattern_on = d.pattern_on;
+        }
+        if !(0.0..=1.0).contains(&self.hidden_on) {
+            fix("hidden_on", self.hidden_on.to_string(), d.hidden_on.to_string());
+            self.hidden_on = d.hidden_on;
+        }
+        if !(0.0..=1.0).contains(&self.wall_density) {
+            fix(
+                "wall_density",
+                self.wall_density.to_string(),
+                d.wall_density.to_string(),
+            );
+            self.wall_density = d.wall_density;
         }
         if !(MIN_SCALE..=1.0).contains(&self.render_scale) {
             let v = if self.render_scale.is_nan() {

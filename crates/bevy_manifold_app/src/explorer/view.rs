@@ -97,7 +97,7 @@ fn spawn_world(
     let root = commands
         .spawn((
             Name::new(format!("space {}", space.name())),
-            ManifoldSpace::new(space.clone()),
+            ManifoldSpace::new(space.clone()).with_rule(settings.rule()),
         ))
         .id();
     let (placement, projection) = paper_camera(space);
@@ -166,9 +166,15 @@ pub fn apply_settings(
     view: Res<ExplorerView>,
     mut status: ResMut<ExplorerStatus>,
     cameras: Query<(&Placement, &DomainCell), With<ExplorerCamera>>,
+    mut spaces: Query<&mut ManifoldSpace>,
 ) {
     if !settings.is_changed() || *settings == world.applied {
         return;
+    }
+    if settings.rule() != world.applied.rule()
+        && let Ok(mut ms) = spaces.get_mut(world.root)
+    {
+        ms.set_rule(settings.rule());
     }
     let space_changed = settings.space != world.applied.space;
     if space_changed || settings.paper() != world.applied.paper() {
