@@ -17,3 +17,6 @@ out=docs/images
 cargo build --release -p bevy_manifold_app
 "${CARGO_TARGET_DIR:-target}/release/bevy_manifold" render --space torus --scene "$out/lighting_seam.scene.json" \
     --cpu --width 480 --height 270 --levels 4 --out "$out/lighting_seam.png"
+# Walls and hidden cells (README "Exact cells").
+"${CARGO_TARGET_DIR:-target}/release/bevy_manifold" render --space seifert-weber --walls 0.3 --hidden 0.6 --cells \
+    --rule-seed 2 --out "$out/maze.png"

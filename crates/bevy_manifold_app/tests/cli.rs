@@ -182,6 +182,8 @@ fn render_refuses_sizes_and_levels_no_tracer_takes() {
         (vec!["--width", "70000", "--height", "70000"], "70000x70000"),
         (vec!["--width", "0"], "0x360"),
         (vec!["--levels", "20000"], "20000 levels"),
+        (vec!["--walls", "1.5"], "--walls must be a fraction"),
+        (vec!["--hidden", "NaN"], "--hidden must be a fraction"),
     ] {
         let mut all = vec!["render", "--space", "torus", "--cpu", "--out", out];
         all.extend(args);

@@ -8,6 +8,7 @@ mod show;
 
 use crate::policy::{UsedTracer, render_any};
 use bevy_manifold::prelude::*;
+use bevy_manifold::space::rule::{CellRule, OnOff, Walls};
 use bevy_manifold::trace::{write_ids_png, write_png};
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
@@ -156,6 +157,16 @@ struct RenderArgs {
     /// Colour objects by the copy of the domain they are seen in.
     #[arg(long)]
     cells: bool,
+    /// The on/off rule by cell: objects in off cells hidden; this fraction
+    /// of the cells on.
+    #[arg(long)]
+    hidden: Option<f32>,
+    /// Walls between cells: this fraction of the faces walled (a maze).
+    #[arg(long)]
+    walls: Option<f32>,
+    /// The seed of --hidden and --walls.
+    #[arg(long, default_value_t = 1)]
+    rule_seed: u32,
     /// Use the CPU reference tracer instead of the GPU (f64 unless --f32).
     #[arg(long)]
     cpu: bool,
@@ -275,11 +286,23 @@ fn render_command(args: &RenderArgs) -> Result<(), String> {
         let color = scene.fog.as_ref().map_or([0.75, 0.78, 0.82], |f| f.color);
         scene.fog = Some(Fog { density, color });
     }
+    for (flag, v) in [("--hidden", args.hidden), ("--walls", args.walls)] {
+        if let Some(f) = v
+            && !(0.0..=1.0).contains(&f)
+        {
+            return Err(format!("{flag} must be a fraction in [0, 1], got {f}"));
+        }
+    }
+    let seed = args.rule_seed;
     let settings = TraceSettings {
         width: args.width,
         height: args.height,
         levels: args.levels,
         cell_colors: args.cells,
+        cell_rule: CellRule {
+            hidden: args.hidden.map(|on_fraction| OnOff { on_fraction, seed }),
+            walls: args.walls.map(|density| Walls { density, seed }),
+        },
         ..TraceSettings::default()
     };
     let start = std::time::Instant::now();
