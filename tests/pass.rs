@@ -631,9 +631,64 @@ fn cell_tints_agree_between_the_pass_and_the_cpu() {
     }
 }
 
+/// A camera 20 crossings from the origin copy of Seifert-Weber, under
+/// walls and per-cell colour: the pass centres its table of exact ids on
+/// the camera's exact cell (recentred off the frame) and draws what the
+/// CPU f64 reference draws from that cell. Three levels keep every ray in
+/// the table (radius 4).
+fn the_pass_draws_exact_cells_and_walls_far_from_the_origin_copy() {
+    use bevy_manifold::placement::DomainCell;
+    use bevy_manifold::space::rule::{CellRule, Walls};
+    let space = catalog::seifert_weber();
+    let word: Vec<usize> = (0..20).map(|k| (k * 5 + k / 3) % 12).collect();
+    let rule = CellRule {
+        hidden: None,
+        walls: Some(Walls { density: 0.3, seed: 5 }),
+    };
+    let mut app = headless_app(true);
+    let image = target(&mut app, W, H);
+    let camera = (ManifoldCamera { levels: 3, ..default() }, CellShading::ByCell);
+    let (root, cam) = offscreen::spawn_view(&mut app, &space, &Scene::default_for(&space), &image, camera);
+    app.world_mut().get_mut::<ManifoldSpace>(root).unwrap().set_rule(rule);
+    let far = DomainCell::new(&space, space.cell_of_word(&word));
+    assert!(!far.id.is_far());
+    app.world_mut().entity_mut(cam).insert(far);
+    wait_for_pipelines(&mut app);
+    // The recentred table arrives from the async pool within a few frames.
+    for _ in 0..20 {
+        app.update();
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let shown = capture(&mut app, &image);
+    let mut scene = gathered_scene(&app, &space, root, false);
+    scene.camera.cell = word;
+    let settings = TraceSettings {
+        width: W,
+        height: H,
+        levels: 3,
+        cell_colors: true,
+        cell_rule: rule,
+        ..TraceSettings::default()
+    };
+    let cpu = render::<f64>(&space, &scene, &settings);
+    let walls = cpu
+        .pixels
+        .iter()
+        .filter(|p| p.object == bevy_manifold::space::rule::WALL_OBJECT)
+        .count();
+    let close = rgba8_agreement(&shown, &cpu, 2);
+    eprintln!(
+        "far camera, walls: {walls} wall pixels on the CPU; the pass within 2/255: {:.3}%",
+        close * 100.0
+    );
+    assert!(walls > 100);
+    assert!(close >= 0.99, "{close}");
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [],
     gpu: [
+        the_pass_draws_exact_cells_and_walls_far_from_the_origin_copy,
         the_pass_draws_what_the_tracer_computes_in_every_space,
         uploads_happen_only_when_something_changed,
         a_view_whose_space_changes_draws_each_space_from_its_reused_buffers,

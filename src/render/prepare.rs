@@ -23,6 +23,8 @@ use bevy::render::render_resource::{
 };
 use bevy::render::renderer::{RenderDevice, RenderQueue};
 use bevy::render::view::{ExtractedView, Msaa};
+use bevy::tasks::futures_lite::future::{block_on, poll_once};
+use bevy::tasks::{AsyncComputeTaskPool, Task};
 use bevy_manifold_gpu::{GpuObjects, GpuParams, GpuSpace, GpuView};
 use std::sync::Arc;
 
@@ -56,6 +58,8 @@ struct PackedScene {
     generation: u64,
     /// The cell the exact-id table is centred on (`CELLS_TABLE`).
     centre: CellElement,
+    /// The table being recentred on another cell, off the frame.
+    pending: Option<(CellElement, Task<GpuSpace>)>,
     gpu_space: Arc<GpuSpace>,
     objects: Arc<GpuObjects>,
 }
@@ -96,8 +100,8 @@ pub fn prepare_manifold_scenes(views: Query<&ExtractedManifoldView>, mut packed:
         let old = packed.scenes.get(&view.root);
         let same_space = old.is_some_and(|o| Arc::ptr_eq(&o.space, space));
         // The camera's cell, exactly (the first view into the space
-        // decides; a second camera in another cell sees every cell grey,
-        // as beyond the table: see prepare_manifold_views).
+        // decides where the table is centred; every view finds its own
+        // cell in it: see prepare_manifold_views).
         let centre = space.cell_of_matrix(&view.cell);
         let centre = if matches!(view.element, CellElement::Float(_)) {
             centre
@@ -105,24 +109,41 @@ pub fn prepare_manifold_scenes(views: Query<&ExtractedManifoldView>, mut packed:
             view.element.clone()
         };
         let same_centre = old.is_some_and(|o| o.centre == centre);
-        if same_space && same_centre && old.is_some_and(|o| o.generation == generation) {
-            continue;
-        }
+        let same_generation = old.is_some_and(|o| o.generation == generation);
         if same_space
             && !same_centre
             && let Some(o) = packed.scenes.get_mut(&view.root)
         {
-            // Only the table's ids move with the camera (10 ms in
-            // Seifert-Weber's 16,129 cells); other schemes keep the Arc.
             if matches!(centre, CellElement::Exact(_)) {
-                let mut gpu_space = (*o.gpu_space).clone();
-                gpu_space.centre_on(space, &centre);
-                o.gpu_space = Arc::new(gpu_space);
+                // Only the table's ids move with the camera (11 ms in
+                // Seifert-Weber's 16,129 cells, 35 in the mirrored
+                // dodecahedron's 57,741): recomputed off the frame on the
+                // async compute pool, while the views walk the old table
+                // from the camera's cell in it (prepare_manifold_views).
+                if o.pending.as_ref().is_none_or(|(c, _)| *c != centre) {
+                    let (table, space, target) = (o.gpu_space.clone(), space.clone(), centre.clone());
+                    let task = AsyncComputeTaskPool::get().spawn(async move {
+                        let mut table = (*table).clone();
+                        table.centre_on(&space, &target);
+                        table
+                    });
+                    o.pending = Some((centre.clone(), task));
+                }
+                if let Some((c, task)) = &mut o.pending
+                    && let Some(table) = block_on(poll_once(task))
+                {
+                    o.centre = c.clone();
+                    o.gpu_space = Arc::new(table);
+                    o.pending = None;
+                }
+            } else {
+                o.centre = centre.clone();
             }
-            o.centre = centre.clone();
             if o.generation == generation {
                 continue;
             }
+        } else if same_space && same_generation {
+            continue;
         }
         let old = packed.scenes.get(&view.root);
         let objects = GpuObjects::pack(&FlatScene::<f32>::new(space, view.scene.scene()));
@@ -147,6 +168,7 @@ pub fn prepare_manifold_scenes(views: Query<&ExtractedManifoldView>, mut packed:
                 space: space.clone(),
                 generation,
                 centre,
+                pending: None,
                 gpu_space,
                 objects,
             },
@@ -342,8 +364,11 @@ pub fn prepare_manifold_views(
         };
         let mut params = GpuParams::new(view.space.space(), space, objects, &gpu_view(view, extracted));
         if matches!(view.element, CellElement::Exact(_)) && packed.centre(view.root) != Some(&view.element) {
-            // The table is centred on another camera's cell.
-            params.camera_cell_index = OUTSIDE;
+            // The table is centred on another cell (another camera's, or
+            // this one's before a crossing while it is recentred): the
+            // walk starts from this camera's cell in it, found by its id.
+            let id = view.space.space().cell_id_of(&view.element);
+            params.camera_cell_index = space.index_of(id).unwrap_or(OUTSIDE);
         }
         let entry = cache.views.entry(entity).or_insert_with(|| {
             let (faces, cell_table) = space_buffers(&device, space, stats);
