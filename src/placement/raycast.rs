@@ -133,7 +133,7 @@ impl ManifoldRayCast<'_, '_> {
                 },
             })
             .collect();
-        let (hits, wall) = cast_with_rule(
+        cast_with_rule(
             space,
             ms.tables(),
             Ray { origin: o, dir: d },
@@ -142,8 +142,7 @@ impl ManifoldRayCast<'_, '_> {
             settings.levels,
             &cell.cell,
             ms.rule(),
-        );
-        (hits, wall)
+        )
     }
 
     fn cast_in(

@@ -45,7 +45,11 @@ fn cell_wall(a: vec2<u32>, b: vec2<u32>) -> bool {
 // plane at, then fog over `dist`.
 fn shade_wall(plane: vec4<f32>, ray: Ray, dist: f32) -> vec3<f32> {
     let facing = min(abs(dot(plane, ray.dir) / (sqrt(dot(plane, plane)) * sqrt(dot(ray.dir, ray.dir)))), 1.0);
-    let rgb = vec3<f32>(0.62, 0.58, 0.52) * (0.3 + 0.7 * facing);
+    return fogged(vec3<f32>(0.62, 0.58, 0.52) * (0.3 + 0.7 * facing), dist);
+}
+
+// `rgb` seen through the fog over `dist` (as shade's fog in render.wgsl).
+fn fogged(rgb: vec3<f32>, dist: f32) -> vec3<f32> {
 #ifdef FOG
     let keep = exp(-params.fog_density * dist);
     return rgb * keep + params.fog_color.xyz * (1.0 - keep);
@@ -57,11 +61,5 @@ fn shade_wall(plane: vec4<f32>, ray: Ray, dist: f32) -> vec3<f32> {
 // What a ray shows where it would leave the table of exact ids under
 // rules (CELLS_TABLE): CellTint::UNKNOWN's grey, then fog over `dist`.
 fn unknown_rules(dist: f32) -> vec3<f32> {
-    let rgb = vec3<f32>(0.5);
-#ifdef FOG
-    let keep = exp(-params.fog_density * dist);
-    return rgb * keep + params.fog_color.xyz * (1.0 - keep);
-#else
-    return rgb;
-#endif
+    return fogged(vec3<f32>(0.5), dist);
 }

@@ -268,8 +268,8 @@ impl<R: Real> FlatScene<R> {
     /// camera's isometry is read in `cell`'s frame, so the camera is in
     /// `cell` times the cell its isometry wraps into. Exact wherever the
     /// space's ids are (`CellElement::Exact`), at any distance; the `f64`
-    /// element follows, rounded. Objects are copies in every cell, so
-    /// nothing else changes.
+    /// element follows, rounded, and so does the home of a camera-attached
+    /// mesh. Objects are copies in every cell, so nothing else changes.
     #[must_use]
     pub fn in_cell(mut self, space: &Space, cell: &CellElement) -> Self {
         if *cell == space.origin_cell() {
@@ -277,6 +277,14 @@ impl<R: Real> FlatScene<R> {
         }
         self.camera_element = space.compose_cells(cell, &self.camera_element);
         self.camera_cell = space.cell_matrix(&self.camera_element);
+        // A camera-attached mesh's home (the copy that is the camera's own
+        // body) moves with the camera.
+        let (g, c) = (space.geometry(), space.cell_matrix(cell));
+        for inst in &mut self.instances {
+            if let Some(home) = inst.home {
+                inst.home = Some(R::v4_of(g.normalize_point::<f64>(c * R::v4_f64(home))));
+            }
+        }
         self
     }
 }

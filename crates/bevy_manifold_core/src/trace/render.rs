@@ -47,6 +47,11 @@ pub struct TraceSettings {
     pub cell_rule: CellRule,
 }
 
+/// Crossings per ray the CPU tracer follows exactly (the exact ids of
+/// [`crate::space::exact`], the cell rules); past them the walk's `f64`
+/// or `f32` matrix names the cells, as in spaces without exact ids.
+pub const MAX_EXACT_LEVELS: u32 = 64;
+
 /// Most levels (face transports per ray) any tracer takes; more are
 /// clamped or refused. Enough for the drift probe's 10^4-transport walks;
 /// the GPU walk's loop bound (levels plus at most 10^4 distance steps)
@@ -291,6 +296,13 @@ pub fn trace_ray<R: Real>(
         walk.step(&prep.faces, face, end, settings.renormalize);
         if let (Some(e), Some(f)) = (&mut exact, face) {
             *e = space.cross_cell(e, f);
+        }
+        // Past MAX_EXACT_LEVELS crossings a ray is far beyond any table or
+        // rule of interest and its exact product grows into big integers
+        // (the drift probe's 10^4-transport walks): the walk's matrix
+        // names its cells from there, far-flagged beyond the horizon.
+        if walk.levels > MAX_EXACT_LEVELS {
+            exact = None;
         }
     }
     (finish(background, 0, &walk, &exact, travelled), Stop::MaxDistance)
