@@ -175,6 +175,11 @@ pub fn spawn_view(
     image: &Handle<Image>,
     camera: impl Bundle,
 ) -> (Entity, Entity) {
+    // One frame is all an offscreen render shows: the table of exact ids
+    // is grown now rather than on a task while frames go by.
+    if let crate::space::cells::CellScheme::Exact(exact) = space.cells() {
+        exact.ball();
+    }
     let world = app.world_mut();
     let root = world.spawn(crate::placement::ManifoldSpace::new(space.clone())).id();
     let mut commands = world.commands();

@@ -108,6 +108,19 @@ pub fn prepare_manifold_scenes(views: Query<&ExtractedManifoldView>, mut packed:
         } else {
             view.element.clone()
         };
+        // A table still growing: repacked once it has grown.
+        if same_space
+            && let Some(o) = packed.scenes.get_mut(&view.root)
+            && o.gpu_space.table_pending(space)
+            && let crate::space::cells::CellScheme::Exact(exact) = space.cells()
+            && exact.grown_ball().is_some()
+        {
+            let mut table = GpuSpace::pack(space);
+            table.centre_on(space, &o.centre);
+            o.gpu_space = Arc::new(table);
+            o.pending = None;
+        }
+        let old = packed.scenes.get(&view.root);
         let same_centre = old.is_some_and(|o| o.centre == centre);
         let same_generation = old.is_some_and(|o| o.generation == generation);
         if same_space
@@ -159,6 +172,19 @@ pub fn prepare_manifold_scenes(views: Query<&ExtractedManifoldView>, mut packed:
             _ => {
                 let mut gpu_space = GpuSpace::pack(space);
                 gpu_space.centre_on(space, &centre);
+                if gpu_space.table_pending(space) {
+                    // Grown off the frame (0.4 s in Seifert-Weber, 1.5 s in
+                    // the mirrored dodecahedron); until then the camera's
+                    // own cell is exact and the rest grey.
+                    let space = space.clone();
+                    AsyncComputeTaskPool::get()
+                        .spawn(async move {
+                            if let crate::space::cells::CellScheme::Exact(exact) = space.cells() {
+                                exact.ball();
+                            }
+                        })
+                        .detach();
+                }
                 (Arc::new(gpu_space), Arc::new(objects))
             }
         };

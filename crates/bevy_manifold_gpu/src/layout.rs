@@ -3,6 +3,7 @@
 //! tracer reads (in f32), so both trace identical inputs.
 
 use bevy_manifold_core::space::Space;
+use bevy_manifold_core::space::ball::OUTSIDE;
 use bevy_manifold_core::space::cells::{CellId, CellScheme};
 use bevy_manifold_core::space::element::CellElement;
 use bevy_manifold_core::trace::{FlatScene, TraceSettings};
@@ -328,18 +329,26 @@ impl GpuSpace {
             CellScheme::Finite { table, .. } => ([0.0; 4], table.iter().flatten().copied().collect()),
             // The neighbours, then each cell's id as (lo, hi) from
             // cell_scale.x's bits on; centred on the origin copy until
-            // GpuSpace::centre_on moves it.
-            CellScheme::Exact(exact) => {
-                let ball = exact.ball();
-                let offset = ball.neighbours.len() as u32;
-                let mut table = ball.neighbours.clone();
-                table.extend(
-                    ball.ids_around(&exact.group, &exact.group.identity())
-                        .iter()
-                        .flat_map(|id| id_words(*id)),
-                );
-                ([f32::from_bits(offset), 0.0, 0.0, 0.0], table)
-            }
+            // GpuSpace::centre_on moves it. Before the table is grown
+            // (the render pass grows it on a task), one cell: the camera's.
+            CellScheme::Exact(exact) => match exact.grown_ball() {
+                Some(ball) => {
+                    let offset = ball.neighbours.len() as u32;
+                    let mut table = ball.neighbours.clone();
+                    table.extend(
+                        ball.ids_around(&exact.group, &exact.group.identity())
+                            .iter()
+                            .flat_map(|id| id_words(*id)),
+                    );
+                    ([f32::from_bits(offset), 0.0, 0.0, 0.0], table)
+                }
+                None => {
+                    let faces = space.faces().len();
+                    let mut table = vec![OUTSIDE; faces];
+                    table.extend([0, 0]);
+                    ([f32::from_bits(faces as u32), 0.0, 0.0, 0.0], table)
+                }
+            },
             CellScheme::Hashed { quantum } => (
                 [
                     (1.0 / quantum) as f32,
@@ -359,6 +368,15 @@ impl GpuSpace {
 }
 
 impl GpuSpace {
+    /// For `CELLS_TABLE`: true while the table is the one cell of a space
+    /// whose table of cells is still being grown.
+    #[must_use]
+    pub fn table_pending(&self, space: &Space) -> bool {
+        matches!(space.cells(), CellScheme::Exact(_))
+            && self.cell_table.len() == space.faces().len() + 2
+            && self.cell_scale[0].to_bits() as usize == space.faces().len()
+    }
+
     /// For `CELLS_TABLE`: the table's ids for a camera in `camera` (cell
     /// `k` becomes `camera e_k`); nothing for other schemes. One exact
     /// product per cell (10 ms for Seifert-Weber's 16,129 cells).
@@ -367,7 +385,12 @@ impl GpuSpace {
             return;
         };
         let offset = self.cell_scale[0].to_bits() as usize;
-        let ids = exact.ball().ids_around(&exact.group, centre);
+        let ids = match exact.grown_ball() {
+            // The table grown when packed.
+            Some(ball) if self.cell_table.len() == offset + 2 * ball.len() => ball.ids_around(&exact.group, centre),
+            // The one-cell table of a space whose table is still growing.
+            _ => vec![centre.cell_id()],
+        };
         for (k, id) in ids.iter().enumerate() {
             let [lo, hi] = id_words(*id);
             self.cell_table[offset + 2 * k] = lo;
@@ -560,6 +583,10 @@ impl GpuScene {
     /// Packs a prepared scene for the GPU.
     #[must_use]
     pub fn pack(space: &Space, prep: &FlatScene<f32>, settings: &TraceSettings) -> Self {
+        // Headless: the whole table, grown here if it is not yet.
+        if let CellScheme::Exact(exact) = space.cells() {
+            exact.ball();
+        }
         let mut packed = GpuSpace::pack(space);
         packed.centre_on(space, &prep.camera_element);
         let objects = GpuObjects::pack(prep);

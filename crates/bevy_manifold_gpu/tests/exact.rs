@@ -242,8 +242,38 @@ fn cell_rules_draw_the_same_on_the_gpu() {
     }
 }
 
+/// Before its table of cells is grown (the render pass grows it on a
+/// task), a golden space packs one cell, the camera's, with its exact id
+/// and every neighbour outside: grey, never wrong. Once grown, the whole
+/// table.
+fn a_space_packs_one_exact_cell_until_its_table_is_grown() {
+    use bevy_manifold_core::space::ball::OUTSIDE;
+    use bevy_manifold_core::space::cells::CellScheme;
+    use bevy_manifold_gpu::GpuSpace;
+    let space = catalog::seifert_weber();
+    let CellScheme::Exact(exact) = space.cells() else {
+        panic!()
+    };
+    assert!(exact.grown_ball().is_none());
+    let camera = space.cell_of_word(&[3, 7, 1]);
+    let mut packed = GpuSpace::pack(&space);
+    assert!(packed.table_pending(&space));
+    packed.centre_on(&space, &camera);
+    assert_eq!(packed.index_of(space.cell_id_of(&camera)), Some(0));
+    assert!(packed.cell_table[..12].iter().all(|&n| n == OUTSIDE));
+    let ball = exact.ball();
+    let mut grown = GpuSpace::pack(&space);
+    assert!(!grown.table_pending(&space));
+    grown.centre_on(&space, &camera);
+    assert_eq!(grown.cell_table.len(), ball.len() * 14);
+    // The camera's neighbour through face 0 is in the table, with its id.
+    let next = space.cross_cell(&camera, 0);
+    let k = grown.cell_table[space.faces()[0].partner];
+    assert_eq!(grown.index_of(space.cell_id_of(&next)), Some(k));
+}
+
 bevy_manifold_test_support::test_main! {
-    cpu: [],
+    cpu: [a_space_packs_one_exact_cell_until_its_table_is_grown],
     gpu: [
         cell_rules_draw_the_same_on_the_gpu,
         the_gpu_gives_the_cpu_references_exact_ids_near_and_far,

@@ -372,6 +372,16 @@ impl ExactCells {
     /// mirrored dodecahedron, on one core of the development machine) and
     /// kept with the space.
     pub fn ball(&self) -> &std::sync::Arc<super::ball::CellBall> {
+        self.grown_ball().unwrap_or_else(|| self.grow_ball())
+    }
+
+    /// The table, if it has been grown (never blocks).
+    #[must_use]
+    pub fn grown_ball(&self) -> Option<&std::sync::Arc<super::ball::CellBall>> {
+        self.ball.get()
+    }
+
+    fn grow_ball(&self) -> &std::sync::Arc<super::ball::CellBall> {
         self.ball.get_or_init(|| {
             std::sync::Arc::new(super::ball::CellBall::grow(
                 &self.group,
