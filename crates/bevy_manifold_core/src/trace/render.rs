@@ -310,6 +310,7 @@ pub fn trace_ray<R: Real>(
 
 /// A wall on face `plane`, met at distance `dist`: [`WALL_COLOR`] lit by
 /// the angle the ray meets it at (a lamp at the eye), then fog.
+/// WGSL twin: `shade_wall` in `bevy_manifold_gpu`'s `shaders/rules.wgsl`.
 fn shade_wall<R: Real>(prep: &FlatScene<R>, plane: &R::V4, ray: &Ray<R>, dist: R) -> [f32; 3] {
     let n = R::dot4(*plane, *plane).sqrt();
     let facing = (R::dot4(*plane, ray.dir) / (n * R::dot4(ray.dir, ray.dir).sqrt()))
