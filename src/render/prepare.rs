@@ -102,11 +102,10 @@ pub fn prepare_manifold_scenes(views: Query<&ExtractedManifoldView>, mut packed:
         // The camera's cell, exactly (the first view into the space
         // decides where the table is centred; every view finds its own
         // cell in it: see prepare_manifold_views).
-        let centre = space.cell_of_matrix(&view.cell);
-        let centre = if matches!(view.element, CellElement::Float(_)) {
-            centre
-        } else {
-            view.element.clone()
+        let centre = match &view.element {
+            // A camera not yet crossed (or placed by hand): located once.
+            CellElement::Float(m) => space.cell_of_matrix(m),
+            exact => exact.clone(),
         };
         // A table still growing: repacked once it has grown.
         if same_space

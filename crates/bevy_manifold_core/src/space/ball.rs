@@ -26,6 +26,7 @@
 use super::cells::CellId;
 use super::exact::{ExactElement, ExactGroup};
 use std::collections::HashMap;
+use std::collections::hash_map::Entry;
 
 /// A neighbour not in the table.
 pub const OUTSIDE: u32 = u32::MAX;
@@ -59,12 +60,6 @@ impl CellBall {
         // (never seen; odds about n^2 / 2^63) keep the first, the second
         // stays outside the table.
         let mut index: HashMap<CellId, u32> = HashMap::from([(CellId(0), 0)]);
-        let find = |index: &HashMap<CellId, u32>, elements: &[ExactElement], e: &ExactElement| {
-            index
-                .get(&e.cell_id())
-                .copied()
-                .filter(|&i| elements.get(i as usize).is_none_or(|x| x == e))
-        };
         // By T_f: the crossing of f's partner.
         let pairing_face: Vec<usize> = (0..n).map(|f| group.partner(f)).collect();
         let mut sphere = 0..1usize;
@@ -74,8 +69,8 @@ impl CellBall {
             for k in sphere.clone() {
                 for &f in &pairing_face {
                     let Ok(e) = group.cross(&elements[k], f) else { continue };
-                    if find(&index, &elements, &e).is_none() && !index.contains_key(&e.cell_id()) {
-                        index.insert(e.cell_id(), elements.len() as u32);
+                    if let Entry::Vacant(slot) = index.entry(e.cell_id()) {
+                        slot.insert(elements.len() as u32);
                         elements.push(e);
                         depth.push(d);
                     }
@@ -99,7 +94,8 @@ impl CellBall {
         for (k, e) in elements.iter().enumerate() {
             for (t, &f) in pairing_face.iter().enumerate() {
                 if let Ok(next) = group.cross(e, f)
-                    && let Some(i) = find(&index, &elements, &next)
+                    && let Some(&i) = index.get(&next.cell_id())
+                    && elements[i as usize] == next
                 {
                     neighbours[k * n + t] = i;
                 }

@@ -372,16 +372,6 @@ impl ExactCells {
     /// mirrored dodecahedron, on one core of the development machine) and
     /// kept with the space.
     pub fn ball(&self) -> &std::sync::Arc<super::ball::CellBall> {
-        self.grown_ball().unwrap_or_else(|| self.grow_ball())
-    }
-
-    /// The table, if it has been grown (never blocks).
-    #[must_use]
-    pub fn grown_ball(&self) -> Option<&std::sync::Arc<super::ball::CellBall>> {
-        self.ball.get()
-    }
-
-    fn grow_ball(&self) -> &std::sync::Arc<super::ball::CellBall> {
         self.ball.get_or_init(|| {
             std::sync::Arc::new(super::ball::CellBall::grow(
                 &self.group,
@@ -390,10 +380,17 @@ impl ExactCells {
         })
     }
 
+    /// The table, if it has been grown (never blocks).
+    #[must_use]
+    pub fn grown_ball(&self) -> Option<&std::sync::Arc<super::ball::CellBall>> {
+        self.ball.get()
+    }
+
     /// The exact element of the copy whose centre `g` (an `f64` element)
     /// carries the domain's centre to: the centre is walked back into the
     /// domain through the face it lies most outside of, the exact
-    /// crossings multiplied on the way (as [`Space::wrap`] does in `f64`).
+    /// crossings multiplied on the way (as [`Space::wrap`] does in `f64`,
+    /// by the same face rule, [`Space::outside_face`]).
     /// `None` when the walk does not end within 4096 steps or the
     /// arithmetic overflows.
     #[must_use]
@@ -404,16 +401,9 @@ impl ExactCells {
             if !(p.w > 0.0 && p.is_finite()) {
                 return None;
             }
-            let worst = self
-                .planes
-                .iter()
-                .enumerate()
-                .map(|(i, n)| (i, n.dot(p) / p.w))
-                .fold((usize::MAX, 1e-9), |a, b| if b.1 > a.1 { b } else { a });
-            if worst.0 == usize::MAX {
+            let Some(f) = super::most_outside(self.planes.iter().copied(), p, 1e-9) else {
                 return Some(e);
-            }
-            let f = worst.0;
+            };
             p = self.pairings[f] * p;
             p /= p.w;
             e = self.group.cross(&e, f).ok()?;

@@ -426,27 +426,7 @@ impl Space {
     /// `w <= 0`) is the answer.
     #[must_use]
     pub fn outside_face(&self, p: DVec4, eps: f64) -> Option<usize> {
-        let mut best = None;
-        if p.w > 0.0 {
-            let mut worst = eps;
-            for (i, f) in self.faces.iter().enumerate() {
-                let s = f.plane.dot(p) / p.w;
-                if s > worst {
-                    worst = s;
-                    best = Some(i);
-                }
-            }
-        } else {
-            let mut worst = f64::NEG_INFINITY;
-            for (i, f) in self.faces.iter().enumerate() {
-                let s = f.plane.dot(p);
-                if s > worst || best.is_none() {
-                    worst = s;
-                    best = Some(i);
-                }
-            }
-        }
-        best
+        most_outside(self.faces.iter().map(|f| f.plane), p, eps)
     }
 
     /// Brings an isometry placed anywhere in the cover back into the domain:
@@ -475,6 +455,32 @@ impl Space {
         }
         (m, cell)
     }
+}
+
+/// [`Space::outside_face`] over the face planes `planes`: shared with the
+/// exact walk home of [`cells::ExactCells::locate`].
+pub(crate) fn most_outside(planes: impl Iterator<Item = DVec4>, p: DVec4, eps: f64) -> Option<usize> {
+    let mut best = None;
+    if p.w > 0.0 {
+        let mut worst = eps;
+        for (i, f) in planes.enumerate() {
+            let s = f.dot(p) / p.w;
+            if s > worst {
+                worst = s;
+                best = Some(i);
+            }
+        }
+    } else {
+        let mut worst = f64::NEG_INFINITY;
+        for (i, f) in planes.enumerate() {
+            let s = f.dot(p);
+            if s > worst || best.is_none() {
+                worst = s;
+                best = Some(i);
+            }
+        }
+    }
+    best
 }
 
 pub(crate) fn max_abs_diff(a: DMat4, b: DMat4) -> f64 {

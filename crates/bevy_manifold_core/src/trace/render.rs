@@ -280,10 +280,16 @@ pub fn trace_ray<R: Real>(
         if travelled > max_distance {
             return (finish(background, 0, &walk, &exact, travelled), Stop::MaxDistance);
         }
-        if let (Some(f), Some(id), Some(e)) = (face, here, &exact)
-            && rule.walls.is_some()
-            && rule.wall(id, space.cell_id_of(&space.cross_cell(e, f)))
+        // The cell across the face, crossed once: for the wall test, then
+        // for the walk.
+        let next = match (face, &exact) {
+            (Some(f), Some(e)) if rule.walls.is_some() => Some(space.cross_cell(e, f)),
+            _ => None,
+        };
+        if let (Some(id), Some(n)) = (here, &next)
+            && rule.wall(id, space.cell_id_of(n))
         {
+            let f = face.unwrap_or_default();
             let color = shade_wall(prep, &prep.faces.planes[f], &walk.ray, travelled);
             return (
                 finish(color, WALL_OBJECT, &walk, &exact, travelled),
@@ -295,7 +301,7 @@ pub fn trace_ray<R: Real>(
         }
         walk.step(&prep.faces, face, end, settings.renormalize);
         if let (Some(e), Some(f)) = (&mut exact, face) {
-            *e = space.cross_cell(e, f);
+            *e = next.unwrap_or_else(|| space.cross_cell(e, f));
         }
         // Past MAX_EXACT_LEVELS crossings a ray is far beyond any table or
         // rule of interest and its exact product grows into big integers

@@ -396,10 +396,7 @@ impl ExactGroup {
             Repr::Big(m) => m.mul(&self.big_crossings[face]),
         }
         .ok_or(TooFar)?;
-        checked_shift(match big.to_small() {
-            Some(small) => Repr::Small(Box::new(small)),
-            None => Repr::Big(Box::new(big)),
-        })
+        from_big(big)
     }
 
     /// The product `a b`: the copy `b` names, seen from the copy `a`
@@ -417,11 +414,7 @@ impl ExactGroup {
             Repr::Small(m) => m.to_big(),
             Repr::Big(m) => (**m).clone(),
         };
-        let r = big(&a.0).mul(&big(&b.0)).ok_or(TooFar)?;
-        checked_shift(match r.to_small() {
-            Some(small) => Repr::Small(Box::new(small)),
-            None => Repr::Big(Box::new(r)),
-        })
+        from_big(big(&a.0).mul(&big(&b.0)).ok_or(TooFar)?)
     }
 
     /// The element the crossings `faces` reach from the origin copy.
@@ -486,6 +479,14 @@ impl ExactGroup {
                 .iter()
                 .all(|c| self.element(&self.cycle_word(c)).is_ok_and(|g| g.is_identity()))
     }
+}
+
+/// A product in big integers, in its one form: `i128` when it fits.
+fn from_big(m: GoldenMatrix<BigInt>) -> Result<ExactElement, TooFar> {
+    checked_shift(match m.to_small() {
+        Some(small) => Repr::Small(Box::new(small)),
+        None => Repr::Big(Box::new(m)),
+    })
 }
 
 fn checked_shift(r: Repr) -> Result<ExactElement, TooFar> {
