@@ -35,6 +35,7 @@ pub mod geometry;
 pub mod mesh;
 pub mod motion;
 pub mod space;
+pub mod tour;
 pub mod trace;
 
 /// The types most users of the math need.
