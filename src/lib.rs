@@ -76,6 +76,7 @@ mod plugin;
 pub mod render;
 #[cfg(feature = "asset")]
 pub mod space_asset;
+pub mod tour;
 #[cfg(feature = "render")]
 pub mod traced_meshes;
 pub mod view;

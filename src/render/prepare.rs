@@ -342,6 +342,7 @@ fn gpu_view(view: &ExtractedManifoldView, extracted: &ExtractedView) -> GpuView 
         flags: 0,
         cell_tint: view.cell_tint,
         cell_rule: view.space.rule().words(),
+        projection: bevy_manifold_core::trace::Projection::Perspective.words(),
     }
 }
 

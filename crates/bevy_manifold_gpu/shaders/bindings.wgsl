@@ -71,6 +71,11 @@ struct Params {
     rule_hidden_seed: u32,
     rule_walls: u32,
     rule_walls_seed: u32,
+    // Projection::words: 0 perspective, 1 equirectangular, 2 ODS top-bottom
+    // with the eyes eye_offset either side of the camera.
+    projection: u32,
+    eye_offset: f32,
+    pad: array<u32, 2>,
 }
 
 // Rust twin: GpuFace in crates/bevy_manifold_gpu/src/layout.rs.

@@ -49,6 +49,48 @@ fn camera_ray(i: u32, j: u32) -> Ray {
     return Ray(o, normalize_tangent(o, params.camera * d));
 }
 
+// The point at distance s from the origin along the unit tangent u (Rust:
+// Geometry::exp from the origin).
+fn eye_point(u: vec4<f32>, s: f32) -> vec4<f32> {
+#ifdef GEOMETRY_HYPERBOLIC
+    return vec4<f32>(u.xyz * sinh(s), cosh(s));
+#else ifdef GEOMETRY_SPHERICAL
+    return vec4<f32>(u.xyz * sin(s), cos(s));
+#else
+    return vec4<f32>(u.xyz * s, 1.0);
+#endif
+}
+
+// The ray of pixel (i, j) under params.projection (Rust: view_ray):
+// camera_ray for the perspective, else an equirectangular panorama, mono
+// or top-bottom stereo (the top half the left eye), each eye off the
+// camera along the geodesic perpendicular to its longitude.
+fn view_ray(i: u32, j: u32) -> Ray {
+    if params.projection == 0u {
+        return camera_ray(i, j);
+    }
+    var rows = params.height;
+    var row = j;
+    var side = 0.0;
+    if params.projection == 2u {
+        let half = max(params.height / 2u, 1u);
+        if j < half {
+            rows = half;
+            side = -1.0;
+        } else {
+            rows = params.height - half;
+            row = j - half;
+            side = 1.0;
+        }
+    }
+    let lon = 6.283185307179586 * ((f32(i) + 0.5) / f32(params.width) - 0.5);
+    let lat = 3.141592653589793 * (0.5 - (f32(row) + 0.5) / f32(rows));
+    let d = vec4<f32>(sin(lon) * cos(lat), sin(lat), -(cos(lon) * cos(lat)), 0.0);
+    let right = vec4<f32>(cos(lon), 0.0, sin(lon), 0.0);
+    let o = normalize_point(params.camera * eye_point(right, side * params.eye_offset));
+    return Ray(o, normalize_tangent(o, params.camera * d));
+}
+
 fn background() -> vec3<f32> {
 #ifdef FOG
     return params.fog_color.xyz;
@@ -60,7 +102,7 @@ fn background() -> vec3<f32> {
 // Algorithm 1 for the pixel (i, j) of the view (Rust: trace_ray): on each
 // segment the nearest object, else walk on through the exit face.
 fn trace_pixel(i: u32, j: u32) -> Pixel {
-    var walk = walker_new(camera_ray(i, j), params.camera_cell, params.camera_cell_index);
+    var walk = walker_new(view_ray(i, j), params.camera_cell, params.camera_cell_index);
     let passes = max_passes();
     for (var pass_index = 0u; pass_index < passes; pass_index++) {
 #ifdef FOG

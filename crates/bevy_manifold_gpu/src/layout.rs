@@ -76,6 +76,13 @@ pub struct GpuParams {
     pub rule_walls: u32,
     /// ... and its seed.
     pub rule_walls_seed: u32,
+    /// [`bevy_manifold_core::trace::Projection::words`]: 0 perspective,
+    /// 1 equirectangular, 2 omni-directional stereo...
+    pub projection: u32,
+    /// ... and, for stereo, half the eye separation.
+    pub eye_offset: f32,
+    /// Padding to 16 bytes.
+    pub pad: [u32; 2],
 }
 
 /// WGSL twin: `Face` in `shaders/bindings.wgsl`.
@@ -254,6 +261,8 @@ pub struct GpuView {
     pub cell_tint: [u32; 3],
     /// [`bevy_manifold_core::space::rule::CellRule::words`].
     pub cell_rule: [u32; 4],
+    /// [`bevy_manifold_core::trace::Projection::words`].
+    pub projection: (u32, f32),
 }
 
 /// [`GpuParams::flags`]: fog does not stop rays early
@@ -575,6 +584,9 @@ impl GpuParams {
             rule_hidden_seed: view.cell_rule[1],
             rule_walls: view.cell_rule[2],
             rule_walls_seed: view.cell_rule[3],
+            projection: view.projection.0,
+            eye_offset: view.projection.1,
+            pad: [0; 2],
         }
     }
 }
@@ -603,6 +615,7 @@ impl GpuScene {
             flags: settings_flags(settings),
             cell_tint: settings.cell_tint.words(),
             cell_rule: settings.cell_rule.words(),
+            projection: settings.projection.words(),
         };
         GpuScene {
             params: GpuParams::new(space, &packed, &objects, &view),

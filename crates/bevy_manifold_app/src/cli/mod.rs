@@ -5,6 +5,7 @@ use bevy_manifold_bench as bench;
 mod cell;
 mod library;
 mod show;
+pub mod tour;
 
 use crate::policy::{UsedTracer, render_any};
 use bevy_manifold::prelude::*;
@@ -46,6 +47,9 @@ enum Command {
     Space(SpaceCommand),
     /// Render a view of a space to PNG.
     Render(RenderArgs),
+    /// Tours: check a tour file, render it to frames and video.
+    #[command(subcommand)]
+    Tour(tour::TourCommand),
     /// Benchmarks.
     #[command(subcommand)]
     Bench(bench::BenchCommand),
@@ -209,6 +213,7 @@ pub fn run() -> ExitCode {
             words,
         })) => resolve_space(&name).and_then(|s| cell::cell(&s, faces.as_deref(), json, words.as_deref())),
         Some(Command::Render(args)) => render_command(&args),
+        Some(Command::Tour(t)) => tour::run(&t),
         Some(Command::Bench(b)) => bench::run(&b),
     };
     match result {

@@ -164,6 +164,14 @@ impl Tour {
                 hands: self.scene.hands,
             },
         );
+        // The paper's meshes sit relative to its start camera: the body
+        // (attached Suzanne, the hands) goes with the tour's camera; a free
+        // Suzanne stays where she stands.
+        let carry = frame.placement * crate::geometry::isometry::inverse(space.geometry(), scene.camera.isometry);
+        let free = usize::from(s.suzanne == SuzanneMode::Free);
+        for mesh in scene.meshes.iter_mut().skip(free) {
+            mesh.placement = carry * mesh.placement;
+        }
         scene.camera = Camera {
             isometry: frame.placement,
             fov_y_degrees: self.fov_y_degrees,

@@ -50,8 +50,8 @@ pub use output::{id_pixel, srgb8};
 #[cfg(feature = "png")]
 pub use output::{write_ids_png, write_png};
 pub use render::{
-    FOG_CUT, LIGHT_AT_HIT, MAX_LEVELS, MAX_PIXELS, PathStep, Stop, TraceImage, TracePixel, TraceSettings, camera_ray,
-    render, trace_ray,
+    FOG_CUT, LIGHT_AT_HIT, MAX_LEVELS, MAX_PIXELS, PathStep, Projection, Stop, TraceImage, TracePixel, TraceSettings,
+    camera_ray, render, trace_ray, view_ray,
 };
 pub use scene::MeshPart;
 pub use scene::{

@@ -45,6 +45,44 @@ pub struct TraceSettings {
     /// Per-cell rules: objects in off cells hidden, walls between cells
     /// ([`crate::space::rule`]); the GPU twin is `CELL_RULES`.
     pub cell_rule: CellRule,
+    /// How pixels map to rays: the camera's perspective, or a panorama.
+    pub projection: Projection,
+}
+
+/// How the pixels of an image map to view directions.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Projection {
+    /// The camera's field of view, square pixels (the scene camera's
+    /// `fov_y_degrees`).
+    #[default]
+    Perspective,
+    /// 360 degrees mono, equirectangular: column `i` is the longitude
+    /// (the view direction -z in the middle, +x at three quarters), row
+    /// `j` the latitude (+y at the top).
+    Equirect,
+    /// Omni-directional stereo, top-bottom: the left eye's equirectangular
+    /// panorama above the right eye's. For each longitude the eyes sit
+    /// `eye_separation` apart (the space's distance) on the line through
+    /// the camera perpendicular to that direction, reached along the
+    /// geodesic, as VR eyes are; the ray's direction is carried there
+    /// unchanged (it is perpendicular to the offset).
+    Ods {
+        /// Distance between the eyes.
+        eye_separation: f64,
+    },
+}
+
+impl Projection {
+    /// The projection's number on the GPU (`params.projection`) and the
+    /// half eye separation.
+    #[must_use]
+    pub fn words(self) -> (u32, f32) {
+        match self {
+            Projection::Perspective => (0, 0.0),
+            Projection::Equirect => (1, 0.0),
+            Projection::Ods { eye_separation } => (2, (eye_separation * 0.5) as f32),
+        }
+    }
 }
 
 /// Crossings per ray the CPU tracer follows exactly (the exact ids of
@@ -106,6 +144,7 @@ impl Default for TraceSettings {
             fog_early_stop: true,
             renormalize: true,
             cell_rule: CellRule::default(),
+            projection: Projection::Perspective,
         }
     }
 }
@@ -181,7 +220,7 @@ pub fn render<R: Real>(space: &Space, scene: &Scene, settings: &TraceSettings) -
     let indices = 0..w * h;
     let pixels = indices
         .map(|k| {
-            let ray = camera_ray(&prep, k % w, k / w, w, h);
+            let ray = view_ray(&prep, settings.projection, k % w, k / w, w, h);
             trace_ray(space, &prep, ray, settings, &mut |_| {}).0
         })
         .collect();
@@ -203,6 +242,44 @@ pub fn camera_ray<R: Real>(prep: &FlatScene<R>, i: u32, j: u32, w: u32, h: u32) 
     let d = d * (one / R::dot4(d, d).sqrt());
     let g = prep.faces.geometry;
     let o = g.normalize_point::<R>(prep.camera * g.origin::<R>());
+    Ray {
+        origin: o,
+        dir: g.normalize_tangent::<R>(o, prep.camera * d),
+    }
+}
+
+/// The ray of pixel `(i, j)` of a `w` x `h` image under `projection`
+/// ([`camera_ray`] for the perspective).
+///
+/// WGSL twin: `view_ray` in `shaders/render.wgsl`.
+#[must_use]
+pub fn view_ray<R: Real>(prep: &FlatScene<R>, projection: Projection, i: u32, j: u32, w: u32, h: u32) -> Ray<R> {
+    let (kind, half_separation) = projection.words();
+    if kind == 0 {
+        return camera_ray(prep, i, j, w, h);
+    }
+    // ODS: the top half is the left eye, the bottom half the right.
+    let (rows, row, side) = if kind == 2 {
+        let half = (h / 2).max(1);
+        if j < half {
+            (half, j, -1.0)
+        } else {
+            (h - half, j - half, 1.0)
+        }
+    } else {
+        (h, j, 0.0)
+    };
+    let tau = core::f64::consts::TAU;
+    let lon = R::of(tau * ((f64::from(i) + 0.5) / f64::from(w) - 0.5));
+    let lat = R::of(core::f64::consts::PI * (0.5 - (f64::from(row) + 0.5) / f64::from(rows)));
+    let zero = R::of(0.0);
+    let d = R::v4(lon.sin() * lat.cos(), lat.sin(), -(lon.cos() * lat.cos()), zero);
+    let g = prep.faces.geometry;
+    // The eye, along the geodesic from the camera perpendicular to the
+    // longitude's direction (its right: (cos, 0, sin)).
+    let right = R::v4(lon.cos(), zero, lon.sin(), zero);
+    let (eye, _) = g.exp::<R>(g.origin::<R>(), right, R::of(side) * R::of(f64::from(half_separation)));
+    let o = g.normalize_point::<R>(prep.camera * eye);
     Ray {
         origin: o,
         dir: g.normalize_tangent::<R>(o, prep.camera * d),
