@@ -102,6 +102,7 @@ pub mod prelude {
     pub use crate::render::ManifoldCamera;
     #[cfg(feature = "asset")]
     pub use crate::space_asset::{ManifoldSpaceSource, SpaceAsset};
+    pub use crate::tour::{Tour, TourPlayer};
     #[cfg(feature = "render")]
     pub use crate::traced_meshes::{CameraBody, Rasterized};
     pub use crate::view::{CellShading, ManifoldFog};

@@ -62,6 +62,7 @@ impl Plugin for ManifoldPlugin {
         app.add_plugins((
             PlacementPlugin::in_schedule(self.schedule),
             DrawablesPlugin::in_schedule(self.schedule),
+            crate::tour::TourPlugin::in_schedule(self.schedule),
         ))
         .register_type::<ManifoldFog>()
         .register_type::<CellShading>();

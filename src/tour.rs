@@ -6,11 +6,12 @@
 //! ```no_run
 //! use bevy::prelude::*;
 //! use bevy_manifold::prelude::*;
-//! use bevy_manifold::tour::{Tour, TourPlayer, TourPlugin};
+//! use bevy_manifold::tour::{Tour, TourPlayer};
 //!
 //! let (space, tour) = Tour::load("assets/tours/seifert-weber.tour.json").unwrap();
 //! App::new()
-//!     .add_plugins((DefaultPlugins, ManifoldPlugin::default(), TourPlugin))
+//!     // ManifoldPlugin brings the TourPlugin.
+//!     .add_plugins((DefaultPlugins, ManifoldPlugin::default()))
 //!     .add_systems(Startup, move |mut commands: Commands| {
 //!         let root = commands.spawn(ManifoldSpace::new(space.clone())).id();
 //!         commands.spawn((ChildOf(root), ManifoldCamera::default(), TourPlayer::new(tour.clone())));
@@ -105,8 +106,28 @@ impl TourPlayer {
 }
 
 /// Plays [`TourPlayer`]s: advance and place before the placement systems
-/// move and wrap, snap to the exact pose after the wrap.
-pub struct TourPlugin;
+/// move and wrap, snap to the exact pose after the wrap. Part of
+/// [`crate::ManifoldPlugin`], in its schedule.
+#[derive(Debug, Clone)]
+pub struct TourPlugin {
+    schedule: bevy::ecs::schedule::InternedScheduleLabel,
+}
+
+impl Default for TourPlugin {
+    fn default() -> Self {
+        Self::in_schedule(PostUpdate)
+    }
+}
+
+impl TourPlugin {
+    /// The plugin with its systems in `schedule` (the placement systems').
+    #[must_use]
+    pub fn in_schedule(schedule: impl bevy::ecs::schedule::ScheduleLabel) -> Self {
+        TourPlugin {
+            schedule: schedule.intern(),
+        }
+    }
+}
 
 /// The tour systems, around [`ManifoldSystems`].
 #[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -120,7 +141,7 @@ pub enum TourSystems {
 impl Plugin for TourPlugin {
     fn build(&self, app: &mut App) {
         app.configure_sets(
-            PostUpdate,
+            self.schedule,
             (
                 TourSystems::Advance.before(ManifoldSystems::Integrate),
                 TourSystems::Snap
@@ -129,14 +150,14 @@ impl Plugin for TourPlugin {
             ),
         )
         .add_systems(
-            PostUpdate,
+            self.schedule,
             (
                 advance_tours.in_set(TourSystems::Advance),
                 snap_to_tours.in_set(TourSystems::Snap),
             ),
         );
         #[cfg(feature = "render")]
-        app.add_systems(PostUpdate, apply_tour_settings.after(TourSystems::Snap));
+        app.add_systems(self.schedule, apply_tour_settings.after(TourSystems::Snap));
     }
 }
 

@@ -387,8 +387,115 @@ fn space_cell_reads_ten_thousand_words_in_one_process() {
     assert_eq!(v["exact"], true);
 }
 
+/// The repository's shipped tour `name`.
+fn shipped_tour(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../assets/tours/{name}.tour.json"))
+}
+
+/// `tour render`: frame k is the tour's camera at k / fps, traced; its
+/// colours and ids are those of a render of that pose made here.
+fn tour_render_frame_k_is_the_camera_at_k_over_fps() {
+    use bevy_manifold_core::tour::Tour;
+    use bevy_manifold_core::trace::{id_pixel, render, srgb8};
+    let tour_file = shipped_tour("seifert-weber");
+    let out = tmp("tour_frames");
+    let o = run(&[
+        "tour",
+        "render",
+        tour_file.to_str().unwrap(),
+        "--fps",
+        "2",
+        "--size",
+        "64x36",
+        "--out",
+        out.to_str().unwrap(),
+        "--frames",
+        "27..30",
+        "--ids",
+        "--cpu",
+        "--no-video",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("3 frames of 64x36"), "{}", stderr(&o));
+    let (space, tour) = Tour::load(&tour_file).expect("the shipped tour loads");
+    for k in 27..30u32 {
+        let (scene, settings) = tour.scene_at(&space, f64::from(k) / 2.0, 64, 36);
+        let want = render::<f64>(&space, &scene, &settings);
+        let got = image::open(out.join(format!("frame_{k:05}.png")))
+            .expect("frame")
+            .to_rgb8();
+        let ids = image::open(out.join(format!("ids_{k:05}.png")))
+            .expect("ids")
+            .to_rgba8();
+        for (n, p) in want.pixels.iter().enumerate() {
+            let (i, j) = (n as u32 % 64, n as u32 / 64);
+            assert_eq!(ids.get_pixel(i, j).0, id_pixel(p), "frame {k} pixel ({i}, {j}): ids");
+            let c = got.get_pixel(i, j).0;
+            for ch in 0..3 {
+                let d = (i16::from(c[ch]) - i16::from(srgb8(p.color[ch]))).abs();
+                assert!(d <= 1, "frame {k} pixel ({i}, {j}): colour {c:?} vs {:?}", p.color);
+            }
+        }
+    }
+    // Frames follow the camera: the first and the last differ.
+    let (a, b) = (
+        std::fs::read(out.join("ids_00027.png")).unwrap(),
+        std::fs::read(out.join("ids_00029.png")).unwrap(),
+    );
+    assert_ne!(a, b, "the camera moved");
+    let vtt = std::fs::read_to_string(out.join("captions.vtt")).expect("captions");
+    assert!(vtt.starts_with("WEBVTT") && vtt.contains("00:00:00.000 --> "), "{vtt}");
+}
+
+/// Every shipped tour checks, one to two minutes long; a broken one is
+/// named by file and field on the command line.
+fn tour_check_reads_the_shipped_tours_and_names_a_broken_field() {
+    for name in [
+        "torus",
+        "seifert-weber",
+        "poincare",
+        "mirrored-cube",
+        "mirrored-dodecahedron",
+    ] {
+        let o = run(&["tour", "check", shipped_tour(name).to_str().unwrap()]);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        let first = stdout(&o).lines().next().unwrap_or_default().to_owned();
+        let secs: f64 = first
+            .rsplit(", ")
+            .next()
+            .unwrap()
+            .trim_end_matches(" s")
+            .parse()
+            .unwrap();
+        assert!((50.0..=120.0).contains(&secs), "{name}: {secs} s");
+        assert!(stdout(&o).lines().count() > 5, "{name}: captions listed");
+    }
+    let broken = tmp("broken.tour.json");
+    std::fs::write(
+        &broken,
+        r#"{"space": "torus", "keyframes": [{"time": 0, "position": [0, 0, 0, 1]}, {"time": 1, "position": [0.7, 0, 0, 1]}]}"#,
+    )
+    .unwrap();
+    let o = run(&[
+        "tour",
+        "render",
+        broken.to_str().unwrap(),
+        "--out",
+        tmp("never").to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    assert!(
+        err.contains("broken.tour.json: keyframes[1].position: outside the fundamental domain"),
+        "{err}"
+    );
+    assert!(!tmp("never").exists(), "nothing rendered");
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [
+        tour_render_frame_k_is_the_camera_at_k_over_fps,
+        tour_check_reads_the_shipped_tours_and_names_a_broken_field,
         help_prints_usage,
         space_list_prints_one_name_per_line,
         gen_files_import_show_and_render,

@@ -230,9 +230,56 @@ fn a_light_on_the_hit_point_is_lit_head_on_on_the_gpu() {
     }
 }
 
+/// The WGSL panoramas (`view_ray`) against the CPU f64 reference's, in a
+/// flat, a hyperbolic and a spherical space, mono and stereo.
+fn gpu_panoramas_agree_with_the_cpu_reference() {
+    use bevy_manifold_core::trace::Projection;
+    let mut gpu = tracer();
+    for name in ["torus", "seifert-weber", "poincare"] {
+        let space = catalog::by_name(name).expect("catalog");
+        let scene = Scene::default_for(&space);
+        for projection in [
+            Projection::Equirect,
+            Projection::Ods {
+                eye_separation: 0.3 * space.inradius(),
+            },
+        ] {
+            let settings = TraceSettings {
+                width: 256,
+                height: 128,
+                levels: 6,
+                projection,
+                ..TraceSettings::default()
+            };
+            let g = gpu
+                .render(&space, &scene, &settings)
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
+            let c64 = render::<f64>(&space, &scene, &settings);
+            let (ids, colour) = agreement(&g, &c64);
+            eprintln!(
+                "{name:<14} {projection:?}: GPU vs CPU f64: ids {:.3}%, colour {:.3}%",
+                ids * 100.0,
+                colour * 100.0
+            );
+            assert!(ids >= 0.995, "{name} {projection:?}: ids agree on {:.3}%", ids * 100.0);
+            assert!(
+                colour >= 0.99,
+                "{name} {projection:?}: colours agree on {:.3}%",
+                colour * 100.0
+            );
+            let hit = c64.pixels.iter().filter(|p| p.object != 0).count();
+            assert!(
+                hit > c64.pixels.len() / 10,
+                "{name}: the panorama sees something ({hit})"
+            );
+        }
+    }
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [],
     gpu: [
+        gpu_panoramas_agree_with_the_cpu_reference,
         gpu_and_cpu_agree_in_every_space,
         gpu_and_cpu_agree_in_spaces_built_from_generators,
         a_ball_straddling_a_torus_face_is_seen_whole_from_either_side,
