@@ -272,7 +272,7 @@ fn legs_fly_and_turn_as_the_geometry_says() {
     )
     .unwrap();
     for k in 1..10 {
-        let t = 6.283185307179586 * f64::from(k) / 10.0;
+        let t = std::f64::consts::TAU * f64::from(k) / 10.0;
         let m = tour.path.relative(0.0, t);
         let d = g.distance::<f64>(DVec4::W, m * DVec4::W);
         let want = t.min(std::f64::consts::TAU - t);

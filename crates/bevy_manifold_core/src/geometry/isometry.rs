@@ -251,7 +251,7 @@ pub fn log_twist(g: Geometry, m: DMat4) -> Option<(DVec3, DVec3)> {
     for n in 1..=60 {
         let sign = if n % 2 == 1 { 1.0 } else { -1.0 };
         log += power * (sign / f64::from(n));
-        power = power * x;
+        power *= x;
     }
     let log = log * 2f64.powi(roots);
     // The Lie algebra of the form: W antisymmetric, the translation in the

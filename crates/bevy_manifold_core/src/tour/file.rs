@@ -583,10 +583,10 @@ impl TourDesc {
                     key_entry.push(i);
                     at = next;
                 }
-                if e.stop {
-                    if let Some(k) = keys.last_mut() {
-                        k.stop = true;
-                    }
+                if e.stop
+                    && let Some(k) = keys.last_mut()
+                {
+                    k.stop = true;
                 }
             }
             // Settings and captions start with the entry.
@@ -692,7 +692,7 @@ impl TourSettings {
             if f.color.iter().any(|c| !c.is_finite() || *c < 0.0) {
                 return Err(("fog.color", "must be three finite values >= 0".into()));
             }
-            self.fog = (f.density > 0.0).then(|| Fog {
+            self.fog = (f.density > 0.0).then_some(Fog {
                 density: f.density,
                 color: f.color,
             });
