@@ -21,16 +21,22 @@ fn max_abs(m: DMat4) -> f64 {
     m.to_cols_array().iter().fold(0.0f64, |a, x| a.max(x.abs()))
 }
 
-/// Plays `text` in `space` at 60 frames a second to its end; returns the
-/// faces crossed, the camera's cell and placement.
-fn play(space: &Space, text: &str) -> (Vec<usize>, DomainCell, Placement) {
-    let tour = TourDesc::parse(text, "t").unwrap().build(space, "t").unwrap();
-    let frames = (tour.duration() * 60.0).ceil() as usize + 3;
+/// A headless app at 60 frames a second that collects `FaceCrossed`.
+fn app() -> App {
     let mut app = App::new();
     app.add_plugins((MinimalPlugins, ManifoldPlugin::default()))
         .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)))
         .init_resource::<Crossings>()
         .add_systems(Last, collect);
+    app
+}
+
+/// Plays `text` in `space` at 60 frames a second to its end; returns the
+/// faces crossed, the camera's cell and placement.
+fn play(space: &Space, text: &str) -> (Vec<usize>, DomainCell, Placement) {
+    let tour = TourDesc::parse(text, "t").unwrap().build(space, "t").unwrap();
+    let frames = (tour.duration() * 60.0).ceil() as usize + 3;
+    let mut app = app();
     let root = app.world_mut().spawn(ManifoldSpace::new(space.clone())).id();
     let camera = app.world_mut().spawn((ChildOf(root), TourPlayer::new(tour))).id();
     for _ in 0..frames {
@@ -96,11 +102,7 @@ fn a_torus_flight_crosses_one_face_per_period_and_seeking_crosses_none() {
 
     // A seek places the entity directly: no faces on the way.
     let tour = TourDesc::parse(text, "t").unwrap().build(&torus, "t").unwrap();
-    let mut app = App::new();
-    app.add_plugins((MinimalPlugins, ManifoldPlugin::default()))
-        .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)))
-        .init_resource::<Crossings>()
-        .add_systems(Last, collect);
+    let mut app = app();
     let root = app.world_mut().spawn(ManifoldSpace::new(torus.clone())).id();
     let mut player = TourPlayer::new(tour);
     player.playing = false;
