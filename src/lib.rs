@@ -90,7 +90,7 @@ pub use plugin::ManifoldPlugin;
 pub mod prelude {
     pub use crate::ManifoldPlugin;
     #[cfg(feature = "fly_camera")]
-    pub use crate::camera_controller::{FlyCamera, FlyCameraPlugin};
+    pub use crate::camera_controller::{FlyCamera, FlyCameraPlugin, Vehicle};
     pub use crate::drawables::{
         DomainEdges, DrawablesPlugin, ManifoldLight, ManifoldMeshes, ManifoldScene, TracedBall,
     };

@@ -24,7 +24,10 @@ use crate::drawables::{DomainEdges, ManifoldLight};
 use crate::geometry::isometry;
 use crate::placement::Placement;
 use crate::space::Space;
-use crate::trace::{HAND_COLOR, PaperOptions, SUZANNE_COLOR, Scene, SuzanneMode, builtin, hand_offset, suzanne_offset};
+use crate::trace::{
+    HAND_COLOR, PaperOptions, SUZANNE_COLOR, Scene, SuzanneMode, VEHICLE_COLOR, builtin, hand_offset, suzanne_offset,
+    vehicle_offset,
+};
 use crate::traced_meshes::{CameraBody, bevy_mesh};
 use bevy::asset::RenderAssetUsages;
 use bevy::prelude::*;
@@ -41,6 +44,10 @@ pub struct PaperAssets {
     pub suzanne_material: Handle<StandardMaterial>,
     /// The hands' material.
     pub hand_material: Handle<StandardMaterial>,
+    /// The vehicle's mesh.
+    pub vehicle: Handle<Mesh>,
+    /// The vehicle's material.
+    pub vehicle_material: Handle<StandardMaterial>,
 }
 
 impl PaperAssets {
@@ -59,13 +66,16 @@ impl PaperAssets {
         let mut meshes = world.resource_mut::<Assets<Mesh>>();
         let suzanne = meshes.add(mesh(&builtin::suzanne()));
         let hands = [true, false].map(|left| meshes.add(mesh(&builtin::hand(left))));
+        let vehicle = meshes.add(mesh(&crate::mesh::vehicle::airplane()));
         let mut materials = world.resource_mut::<Assets<StandardMaterial>>();
         let mut color = |c: [f32; 3]| materials.add(StandardMaterial::from_color(Color::linear_rgb(c[0], c[1], c[2])));
         let assets = PaperAssets {
             suzanne_material: color(SUZANNE_COLOR),
             hand_material: color(HAND_COLOR),
+            vehicle_material: color(VEHICLE_COLOR),
             suzanne,
             hands,
+            vehicle,
         };
         world.insert_resource(assets.clone());
         assets
@@ -80,6 +90,9 @@ pub struct PaperEntities {
     pub suzanne: Option<Entity>,
     /// The left and right hands (children of the camera), when shown.
     pub hands: Option<[Entity; 2]>,
+    /// The vehicle (a child of the camera: the camera rides it), when
+    /// asked for.
+    pub vehicle: Option<Entity>,
     /// The light, where the camera starts.
     pub light: Entity,
 }
@@ -119,8 +132,9 @@ pub fn chart_transform(space: &Space, offset: DMat4, scale: f64) -> Transform {
 /// space under `root`, around `camera` (a placed entity under `root`,
 /// usually the [`crate::render::ManifoldCamera`]), which starts at
 /// `camera_at` (for the free Suzanne and the light): edges on the root,
-/// Suzanne (attached: a [`CameraBody`] child of the camera), the hands as
-/// children of the camera (they move with it), a light at the eye.
+/// Suzanne (attached: a [`CameraBody`] child of the camera), the hands and
+/// the vehicle as children of the camera (they move with it), a light at
+/// the eye.
 pub fn spawn_paper_scene(
     commands: &mut Commands,
     root: Entity,
@@ -173,7 +187,17 @@ pub fn spawn_paper_scene(
                 .id()
         })
     });
-    let (s, h) = (suzanne, hands);
+    let vehicle = options.vehicle.then(|| {
+        let (offset, scale) = vehicle_offset(space);
+        commands
+            .spawn((
+                Name::new("vehicle"),
+                ChildOf(camera),
+                chart_transform(space, offset, scale),
+            ))
+            .id()
+    });
+    let (s, h, v) = (suzanne, hands, vehicle);
     commands.queue(move |world: &mut World| {
         let assets = PaperAssets::get_or_add(world);
         if let Some(e) = s
@@ -189,10 +213,19 @@ pub fn spawn_paper_scene(
                 e.insert((Mesh3d(mesh.clone()), MeshMaterial3d(assets.hand_material.clone())));
             }
         }
+        if let Some(e) = v
+            && let Ok(mut e) = world.get_entity_mut(e)
+        {
+            e.insert((
+                Mesh3d(assets.vehicle.clone()),
+                MeshMaterial3d(assets.vehicle_material.clone()),
+            ));
+        }
     });
     PaperEntities {
         suzanne,
         hands,
+        vehicle,
         light: light_entity,
     }
 }

@@ -28,7 +28,7 @@
 
 pub use bevy_manifold_core::tour::*;
 
-use crate::placement::{DomainCell, InSpace, ManifoldSpace, ManifoldSystems, Placement, WrapOrigin};
+use crate::placement::{DomainCell, FaceCrossed, InSpace, ManifoldSpace, ManifoldSystems, Placement, WrapOrigin};
 use crate::space::cells::CellId;
 use bevy::prelude::*;
 use std::sync::Arc;
@@ -153,11 +153,60 @@ impl Plugin for TourPlugin {
             self.schedule,
             (
                 advance_tours.in_set(TourSystems::Advance),
-                snap_to_tours.in_set(TourSystems::Snap),
+                (track_face_words, snap_to_tours).chain().in_set(TourSystems::Snap),
             ),
         );
         #[cfg(feature = "render")]
         app.add_systems(self.schedule, apply_tour_settings.after(TourSystems::Snap));
+    }
+}
+
+/// The faces an entity crossed since it was in the origin copy, freely
+/// reduced (crossing a face and straight back through its partner cancels):
+/// the copy it is in as a tour names it (a keyframe's `cell`), so a
+/// recorder can write the entity's pose as a keyframe. Kept up to date
+/// from [`FaceCrossed`] and set by a [`TourPlayer`] when it places its
+/// entity; reset it with the entity's [`DomainCell`].
+///
+/// ```
+/// use bevy::prelude::*;
+/// use bevy_manifold::prelude::*;
+/// use bevy_manifold::tour::FaceWord;
+/// let mut world = World::new();
+/// world.spawn((Placement::default(), FaceWord::default()));
+/// ```
+#[derive(Component, Clone, Debug, Default, PartialEq, Eq)]
+pub struct FaceWord(pub Vec<usize>);
+
+impl FaceWord {
+    /// The word after crossing `face` (whose partner is `partner`).
+    pub fn cross(&mut self, face: usize, partner: usize) {
+        if self.0.last() == Some(&partner) {
+            self.0.pop();
+        } else {
+            self.0.push(face);
+        }
+    }
+}
+
+/// Appends each face crossed to the entity's [`FaceWord`].
+pub fn track_face_words(
+    mut crossed: MessageReader<FaceCrossed>,
+    spaces: Query<&ManifoldSpace>,
+    mut words: Query<(&mut FaceWord, &InSpace)>,
+) {
+    for c in crossed.read() {
+        let Ok((mut word, in_space)) = words.get_mut(c.entity) else {
+            continue;
+        };
+        let Some(face) = spaces
+            .get(in_space.space())
+            .ok()
+            .and_then(|ms| ms.space().faces().get(c.face))
+        else {
+            continue;
+        };
+        word.cross(c.face, face.partner);
     }
 }
 
@@ -173,10 +222,11 @@ pub fn advance_tours(
         &mut Placement,
         &mut DomainCell,
         &mut WrapOrigin,
+        Option<&mut FaceWord>,
     )>,
 ) {
     let dt = time.delta_secs_f64();
-    for (mut player, in_space, mut placement, mut cell, mut origin) in &mut players {
+    for (mut player, in_space, mut placement, mut cell, mut origin, word) in &mut players {
         let Ok(ms) = spaces.get(in_space.space()) else {
             continue;
         };
@@ -202,6 +252,9 @@ pub fn advance_tours(
                 *cell = DomainCell::new(space, space.cell_of_word(&frame.word));
                 *placement = Placement::from_isometry(frame.placement);
                 origin.0 = Some(frame.placement);
+                if let Some(mut word) = word {
+                    word.0 = frame.word;
+                }
             }
         }
         player.on_path = Some((t, cell.id));

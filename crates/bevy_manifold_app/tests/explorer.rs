@@ -1,16 +1,19 @@
 //! The explorer: its settings file (kept between runs, a broken one
 //! reported and replaced, never a crash), its headless fallback (no
 //! display: `explorer.png` and exit 0), and switching spaces through the
-//! code path the panel uses without leaking GPU buffers or pipelines.
+//! code path the panel uses without leaking GPU buffers or pipelines;
+//! tours played and recorded in it, and the vehicle it rides.
 
 use bevy::prelude::*;
 use bevy::render::renderer::RenderDevice;
 use bevy_manifold::prelude::*;
 use bevy_manifold::render::offscreen;
+use bevy_manifold::tour::FaceWord;
 use bevy_manifold::trace::SuzanneMode;
 use bevy_manifold_app::explorer::settings::{self, ExplorerSettings};
+use bevy_manifold_app::explorer::tour::ExplorerTour;
 use bevy_manifold_app::explorer::{CellMode, ExplorerPlugin, ExplorerStatus, ExplorerView, ExplorerWorld};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn tmp_dir(name: &str) -> PathBuf {
@@ -48,6 +51,7 @@ fn settings_round_trip_and_broken_files_are_replaced_not_lost() {
         edges: false,
         suzanne: SuzanneMode::Free,
         hands: false,
+        vehicle: true,
         render_scale: 0.5,
         panel: false,
     };
@@ -342,8 +346,220 @@ fn library_spaces_and_gen_files_open_in_the_explorer() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// The headless explorer at 60 frames a second of game time.
+fn timed_explorer() -> App {
+    let mut app = headless_explorer();
+    app.insert_resource(bevy::time::TimeUpdateStrategy::ManualDuration(
+        std::time::Duration::from_secs_f64(1.0 / 60.0),
+    ));
+    app.update();
+    app
+}
+
+fn shipped_tour(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../bevy_manifold_core/assets/tours/{name}.tour.json"))
+}
+
+/// The camera's placement, cell and face word.
+fn camera_state(app: &App) -> (glam::DMat4, DomainCell, Vec<usize>) {
+    let camera = app.world().resource::<ExplorerWorld>().camera;
+    let w = app.world();
+    (
+        w.get::<Placement>(camera).unwrap().isometry,
+        w.get::<DomainCell>(camera).unwrap().clone(),
+        w.get::<FaceWord>(camera).unwrap().0.clone(),
+    )
+}
+
+fn max_abs(m: glam::DMat4) -> f64 {
+    m.to_cols_array().iter().fold(0.0f64, |a, x| a.max(x.abs()))
+}
+
+/// Opening a shipped tour switches the explorer to its space and the
+/// camera flies it: after each stretch of play the camera is at the pose
+/// the tour file gives for the time played (loaded here on its own), in
+/// the copy it names, the face word the explorer tracked names that copy
+/// too, the panel shows the tour's levels and caption; a seek jumps.
+fn a_tour_opened_in_the_explorer_flies_the_camera_along_it() {
+    let mut app = timed_explorer();
+    let path = shipped_tour("seifert-weber");
+    let (space, tour) = Tour::load(&path).unwrap();
+    {
+        let w = app.world_mut();
+        let mut settings = w.resource::<ExplorerSettings>().clone();
+        w.resource_mut::<ExplorerTour>().open(&path, &mut settings).unwrap();
+        *w.resource_mut::<ExplorerSettings>() = settings;
+    }
+    let mut crossed_some = false;
+    for stretch in [90, 600, 900] {
+        for _ in 0..stretch {
+            app.update();
+        }
+        let t = app.world().resource::<ExplorerTour>().time;
+        assert_eq!(app.world().resource::<ExplorerWorld>().space.name(), space.name());
+        let (placement, cell, word) = camera_state(&app);
+        let frame = tour.frame(&space, t);
+        assert_eq!(cell.id, space.cell_id_of(&space.cell_of_word(&frame.word)), "t = {t}");
+        assert_eq!(
+            cell.id,
+            space.cell_id_of(&space.cell_of_word(&word)),
+            "the tracked word, t = {t}"
+        );
+        assert!(max_abs(placement - frame.placement) < 1e-9, "t = {t}");
+        crossed_some |= !word.is_empty();
+        let settings = app.world().resource::<ExplorerSettings>();
+        assert_eq!(settings.levels, tour.settings_at(t).levels, "t = {t}");
+        assert_eq!(app.world().resource::<ExplorerTour>().caption(), tour.caption_at(t));
+    }
+    let t = app.world().resource::<ExplorerTour>().time;
+    assert!((t - 1590.0 / 60.0).abs() < 0.05, "played 1590 frames at speed 1: {t}");
+    assert!(crossed_some, "the tour left the home copy");
+    app.world_mut().resource_mut::<ExplorerTour>().seek(5.0);
+    app.update();
+    let (placement, _, _) = camera_state(&app);
+    let t = app.world().resource::<ExplorerTour>().time;
+    assert!((t - 5.0).abs() < 0.02, "{t}");
+    assert!(max_abs(placement - tour.frame(&space, t).placement) < 1e-9);
+    // Following off: the fly camera is back, the tour player gone.
+    app.world_mut().resource_mut::<ExplorerTour>().follow = false;
+    app.update();
+    app.update();
+    let camera = app.world().resource::<ExplorerWorld>().camera;
+    assert!(app.world().get::<TourPlayer>(camera).is_none());
+    assert!(app.world().get::<FlyCamera>(camera).is_some());
+}
+
+/// Recording: fly the camera out through faces, add its view as a
+/// keyframe, fly on, add another, save; the saved file, opened again,
+/// puts the camera back at each recorded pose in the recorded copy.
+fn views_recorded_as_keyframes_are_where_the_saved_tour_goes() {
+    let mut app = timed_explorer();
+    app.world_mut().resource_mut::<ExplorerSettings>().space = "seifert-weber".into();
+    app.update();
+    let camera = app.world().resource::<ExplorerWorld>().camera;
+    app.world_mut().entity_mut(camera).remove::<FlyCamera>();
+    let settings = app.world().resource::<ExplorerSettings>().clone();
+    app.world_mut()
+        .resource_mut::<ExplorerTour>()
+        .start_new(&settings, 60.0);
+    let mut recorded = Vec::new();
+    for (k, (linear, angular)) in [
+        (glam::DVec3::ZERO, glam::DVec3::ZERO),
+        (glam::DVec3::new(0.2, 0.1, -1.0) * 0.6, glam::DVec3::new(0.0, 0.4, 0.1)),
+        (
+            glam::DVec3::new(-0.3, 0.5, -1.0) * 0.6,
+            glam::DVec3::new(0.3, 0.0, -0.2),
+        ),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        app.world_mut()
+            .entity_mut(camera)
+            .insert(GeodesicVelocity { linear, angular });
+        for _ in 0..120 {
+            app.update();
+        }
+        app.world_mut().entity_mut(camera).insert(GeodesicVelocity::default());
+        app.update();
+        let (placement, cell, word) = camera_state(&app);
+        let space = app.world().resource::<ExplorerWorld>().space.clone();
+        assert_eq!(
+            cell.id,
+            space.cell_id_of(&space.cell_of_word(&word)),
+            "the tracked word names the cell"
+        );
+        let time = 4.0 * k as f64;
+        let i = app
+            .world_mut()
+            .resource_mut::<ExplorerTour>()
+            .record(&space, time, &word, placement)
+            .unwrap();
+        assert_eq!(i, k);
+        recorded.push((time, placement, cell.id, word));
+    }
+    assert!(recorded.iter().any(|r| !r.3.is_empty()), "the flights crossed faces");
+    let dir = tmp_dir("recorded-tour");
+    let file = dir.join("mine.tour.json");
+    {
+        let mut tour = app.world_mut().resource_mut::<ExplorerTour>();
+        tour.path = file.display().to_string();
+        tour.save().unwrap();
+    }
+    // Played back from the file: each recorded view at its time.
+    let mut app = timed_explorer();
+    {
+        let w = app.world_mut();
+        let mut settings = w.resource::<ExplorerSettings>().clone();
+        w.resource_mut::<ExplorerTour>().open(&file, &mut settings).unwrap();
+        *w.resource_mut::<ExplorerSettings>() = settings;
+    }
+    app.update();
+    for (time, placement, id, _) in &recorded {
+        app.world_mut().resource_mut::<ExplorerTour>().playing = false;
+        app.world_mut().resource_mut::<ExplorerTour>().seek(*time);
+        app.update();
+        let (p, cell, _) = camera_state(&app);
+        assert_eq!(cell.id, *id, "t = {time}");
+        assert!(
+            max_abs(p - *placement) < 1e-9,
+            "t = {time}: {}",
+            max_abs(p - *placement)
+        );
+    }
+    // An edit that breaks the tour (times out of order) is refused by name.
+    let space = app.world().resource::<ExplorerWorld>().space.clone();
+    let mut tour = app.world_mut().resource_mut::<ExplorerTour>();
+    tour.desc.as_mut().unwrap().keyframes[2].time = Some(1.0);
+    let e = tour.rebuild(&space).unwrap_err();
+    assert!(e.contains("keyframes[2].time"), "{e}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The vehicle: on, the camera rides it (a child mesh spawned with the
+/// camera) and flies forward along its geodesic at the vehicle's speed.
+fn the_camera_rides_the_vehicle_forward_along_the_geodesic() {
+    use bevy_manifold::geometry::Geometry;
+    let mut app = timed_explorer();
+    app.world_mut().resource_mut::<ExplorerSettings>().space = "poincare".into();
+    app.update();
+    app.world_mut().resource_mut::<ExplorerSettings>().vehicle = true;
+    app.update();
+    app.update();
+    let camera = app.world().resource::<ExplorerWorld>().camera;
+    let speed = app
+        .world()
+        .get::<Vehicle>(camera)
+        .expect("the camera rides the vehicle")
+        .speed;
+    assert!(app.world().get::<FlyCamera>(camera).is_none());
+    let children = app.world().get::<Children>(camera).unwrap();
+    assert!(
+        children
+            .iter()
+            .any(|c| app.world().get::<Name>(c).is_some_and(|n| n.as_str() == "vehicle")
+                && app.world().get::<Mesh3d>(c).is_some()),
+        "the vehicle's mesh under the camera"
+    );
+    let (start, cell0, _) = camera_state(&app);
+    for _ in 0..30 {
+        app.update();
+    }
+    let (end, cell1, _) = camera_state(&app);
+    assert_eq!(cell0.id, cell1.id, "short enough to stay in the copy");
+    let g = Geometry::Spherical;
+    let travelled = g.distance::<f64>(start * glam::DVec4::W, end * glam::DVec4::W);
+    assert!((travelled - speed * 0.5).abs() < 1e-9, "{travelled} vs {}", speed * 0.5);
+    // Along the start frame's -z: the end point is exp of that direction.
+    let ahead = start * bevy_manifold::geometry::isometry::translation(g, glam::DVec3::NEG_Z * speed * 0.5);
+    assert!(max_abs(end - ahead) < 1e-9);
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [
+        a_tour_opened_in_the_explorer_flies_the_camera_along_it,
+        views_recorded_as_keyframes_are_where_the_saved_tour_goes,
+        the_camera_rides_the_vehicle_forward_along_the_geodesic,
         fuzzed_settings_files_load_in_range,
         library_spaces_and_gen_files_open_in_the_explorer,
         the_panels_cell_rules_reach_the_space,

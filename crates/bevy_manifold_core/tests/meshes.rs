@@ -1,5 +1,6 @@
 //! Triangle meshes on the CPU: the BVH against brute force, glTF loading
-//! and its failures, and mirror images in mirrored spaces. (The GPU
+//! and its failures, mirror images in mirrored spaces, and the vehicle
+//! against a plain ray caster. (The GPU
 //! tracer with meshes is `bevy_manifold_gpu`'s `tests/meshes.rs`.)
 
 use bevy_manifold_core::geometry::isometry;
@@ -328,4 +329,88 @@ fn a_gltf_that_crashed_the_gltf_crate_is_an_error_naming_the_file() {
         matches!(e, GltfError::Parse { .. }) && e.to_string().contains("no-accessors.glb"),
         "{e}"
     );
+}
+
+/// The nearest of `mesh`'s triangles (vertices scaled by `scale`, moved
+/// by `at`) the ray `o + s d` meets, by Möller–Trumbore over every
+/// triangle: a plain ray caster, no BVH, no charts.
+fn brute_force_hit(mesh: &TriMesh, scale: f64, at: DVec3, o: DVec3, d: DVec3) -> Option<f64> {
+    let p = |i: u32| DVec3::from(mesh.positions[i as usize].map(f64::from)) * scale + at;
+    mesh.triangles
+        .iter()
+        .filter_map(|t| {
+            let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
+            let (e1, e2) = (b - a, c - a);
+            let q = d.cross(e2);
+            let det = e1.dot(q);
+            if det.abs() < 1e-14 {
+                return None;
+            }
+            let s = o - a;
+            let u = s.dot(q) / det;
+            let r = s.cross(e1);
+            let v = d.dot(r) / det;
+            let t = e2.dot(r) / det;
+            (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0).then_some(t)
+        })
+        .min_by(f64::total_cmp)
+}
+
+#[test]
+fn the_vehicle_is_traced_where_a_plain_ray_caster_sees_it_and_in_the_other_copies() {
+    use bevy_manifold_core::mesh::vehicle;
+    use bevy_manifold_core::trace::{PaperOptions, SuzanneMode, vehicle_offset};
+    // In the 3-torus the camera's chart is Euclidean: the home copy of the
+    // vehicle must cover exactly the pixels whose rays a brute-force
+    // caster finds on its triangles, placed by the offset the scene says,
+    // at the same distances; its other copies are seen through the faces.
+    let space = catalog::torus(1.0);
+    let options = PaperOptions {
+        edges: false,
+        suzanne: SuzanneMode::Hidden,
+        hands: false,
+        vehicle: true,
+    };
+    let scene = Scene::paper(&space, &options);
+    assert_eq!(scene.meshes.len(), 1);
+    let (w, h) = (96u32, 64u32);
+    let settings = TraceSettings {
+        width: w,
+        height: h,
+        levels: 4,
+        ..TraceSettings::default()
+    };
+    let img = render::<f64>(&space, &scene, &settings);
+    let (offset, scale) = vehicle_offset(&space);
+    let at = (offset * glam::DVec4::W).truncate();
+    let plane = vehicle::airplane();
+    let tan = (scene.camera.fov_y_degrees.to_radians() / 2.0).tan();
+    let (mut both, mut only_traced, mut only_cast, mut far_off) = (0, 0, 0, 0.0f64);
+    for j in 0..h {
+        for i in 0..w {
+            let x = 2.0 * (f64::from(i) + 0.5) / f64::from(w) - 1.0;
+            let y = 1.0 - 2.0 * (f64::from(j) + 0.5) / f64::from(h);
+            let d = DVec3::new(x * tan * f64::from(w) / f64::from(h), y * tan, -1.0).normalize();
+            let cast = brute_force_hit(&plane.mesh, scale, at, DVec3::ZERO, d);
+            let p = &img.pixels[(j * w + i) as usize];
+            let traced = p.object == 1 && p.levels == 0;
+            match (traced, cast) {
+                (true, Some(s)) => {
+                    both += 1;
+                    far_off = far_off.max((f64::from(p.distance) - s).abs());
+                }
+                (true, None) => only_traced += 1,
+                (false, Some(_)) => only_cast += 1,
+                (false, None) => {}
+            }
+        }
+    }
+    let copies = img.pixels.iter().filter(|p| p.object == 1 && p.levels > 0).count();
+    eprintln!(
+        "vehicle pixels: {both} both, {only_traced} traced only, {only_cast} cast only; distance off by {far_off:.2e}; {copies} in other copies"
+    );
+    assert!(both > 150, "the vehicle fills part of the view below its centre");
+    assert_eq!(only_traced + only_cast, 0, "the same pixels");
+    assert!(far_off < 1e-4, "at the same distances");
+    assert!(copies > 20, "its images in the other copies");
 }

@@ -1,7 +1,9 @@
 //! The explorer (feature `app`): what `cargo run --release` opens. A window
 //! into the manifold with the paper's scene, the fly camera and an egui
 //! side panel for the space, the levels, fog, per-cell shading, the scene,
-//! the render scale, frame times, the adapter and the camera's cell.
+//! the render scale, frame times, the adapter and the camera's cell, and
+//! tours: played, scrubbed, recorded and saved ([`tour`]); the camera
+//! flies free or rides the vehicle.
 //! Settings persist between runs ([`settings`]). Without a display or a GPU
 //! adapter it says so in one line, renders the view to `explorer.png`
 //! instead ([`fallback`]) and exits 0.
@@ -25,6 +27,8 @@ pub mod fallback;
 pub mod panel;
 pub mod settings;
 pub mod soak;
+pub mod tour;
+pub mod tour_panel;
 pub mod view;
 
 pub use settings::{CellMode, ExplorerSettings};
@@ -66,6 +70,7 @@ impl Plugin for ExplorerPlugin {
         }
         app.init_resource::<ExplorerSettings>()
             .init_resource::<ExplorerStatus>()
+            .init_resource::<tour::ExplorerTour>()
             .insert_resource(SettingsFile {
                 path: self.settings_path.clone(),
                 saved: ExplorerSettings::default(),
@@ -77,12 +82,19 @@ impl Plugin for ExplorerPlugin {
                 Update,
                 (
                     keys,
+                    tour::tour_keys,
+                    tour::follow_tour_settings,
                     view::apply_settings,
+                    tour::drive_tour,
                     view::resize_view,
                     view::track,
                     save_settings,
                 )
                     .chain(),
+            )
+            .add_systems(
+                PostUpdate,
+                tour::read_tour_time.after(bevy_manifold::tour::TourSystems::Snap),
             )
             .add_systems(Last, save_on_exit);
     }
@@ -105,6 +117,8 @@ pub const KEYS: &[(&str, &str)] = &[
     ("P", "pin the camera's cell (highlight)"),
     ("G", "domain edges"),
     ("B", "Suzanne attached / free / hidden"),
+    ("V", "ride the vehicle / fly free"),
+    ("T", "play / pause the tour"),
     ("R", "back to the start"),
     ("Tab", "panel"),
     ("F12", "screenshot (PNG)"),
@@ -170,9 +184,16 @@ fn keys(
             SuzanneMode::Hidden => SuzanneMode::Attached,
         };
     }
+    if hit(KeyCode::KeyV) {
+        settings.vehicle = !settings.vehicle;
+    }
     if hit(KeyCode::KeyR) {
         let (placement, _) = bevy_manifold::paper_scene::paper_camera(&world.space);
-        commands.entity(world.camera).insert((placement, DomainCell::default()));
+        commands.entity(world.camera).insert((
+            placement,
+            DomainCell::default(),
+            bevy_manifold::tour::FaceWord::default(),
+        ));
     }
     if hit(KeyCode::Tab) {
         settings.panel = !settings.panel;

@@ -3,6 +3,8 @@
 //! traced view filling the rest of the window at the render scale.
 
 use super::settings::{CellMode, ExplorerSettings, MAX_LEVEL, MIN_SCALE};
+use super::tour::ExplorerTour;
+use super::tour_panel;
 use super::view::{ExplorerCamera, ExplorerStatus, ExplorerView, ExplorerWorld, describe_cell};
 use super::{ExplorerPlugin, KEYS};
 use bevy::prelude::*;
@@ -12,8 +14,9 @@ use bevy_egui::{
     EguiContexts, EguiGlobalSettings, EguiPlugin, EguiPrimaryContextPass, EguiTextureHandle, PrimaryEguiContext,
 };
 use bevy_manifold::geometry::Geometry;
-use bevy_manifold::placement::DomainCell;
+use bevy_manifold::placement::{DomainCell, Placement};
 use bevy_manifold::space::{catalog, library};
+use bevy_manifold::tour::FaceWord;
 use bevy_manifold::trace::SuzanneMode;
 
 /// The panel and the view in the primary window. Needs
@@ -63,8 +66,9 @@ fn panel(
     mut state: ResMut<PanelState>,
     mut status: ResMut<ExplorerStatus>,
     world: Res<ExplorerWorld>,
-    cells: Query<&DomainCell, With<ExplorerCamera>>,
+    cameras: Query<(&DomainCell, &Placement, &FaceWord), With<ExplorerCamera>>,
     adapter: Option<Res<RenderAdapterInfo>>,
+    mut tour: ResMut<ExplorerTour>,
 ) -> Result {
     // The view's texture in egui follows the image (replaced on resize).
     let texture = match state.texture {
@@ -95,7 +99,12 @@ fn panel(
             .default_size(300.0)
             .show(&mut root, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| {
-                    let cell = cells.get(world.camera).ok();
+                    let camera = cameras.get(world.camera).ok();
+                    let cell = camera.map(|c| c.0);
+                    egui::CollapsingHeader::new("Tour").default_open(true).show(ui, |ui| {
+                        let pose = camera.map(|(_, p, w)| (p.isometry, w.0.as_slice()));
+                        tour_panel::section(ui, &mut tour, &mut s, &mut status, &world, pose);
+                    });
                     contents(
                         ui,
                         &mut s,
@@ -119,6 +128,7 @@ fn panel(
         rect,
         egui::Image::new(egui::load::SizedTexture::new(texture, rect.size())).sense(egui::Sense::hover()),
     );
+    tour_panel::caption_overlay(&root, rect, &tour);
     if s != *settings {
         *settings = s;
     }
@@ -242,6 +252,7 @@ fn contents(
         ui.radio_value(&mut s.suzanne, SuzanneMode::Hidden, "hidden");
     });
     ui.checkbox(&mut s.hands, "hands");
+    ui.checkbox(&mut s.vehicle, "ride the vehicle (W/S throttle, arrows steer)");
     ui.separator();
     ui.add(egui::Slider::new(&mut s.render_scale, MIN_SCALE..=1.0).text("render scale"));
     ui.label(format!("{} x {} px traced", view.size.x, view.size.y));

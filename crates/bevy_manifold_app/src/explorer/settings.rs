@@ -101,6 +101,9 @@ pub struct ExplorerSettings {
     pub suzanne: SuzanneMode,
     /// The hands shown.
     pub hands: bool,
+    /// The camera rides the vehicle (the paper's airplane) instead of
+    /// flying freely.
+    pub vehicle: bool,
     /// Render resolution as a fraction of the view's pixels.
     pub render_scale: f32,
     /// The side panel shown.
@@ -131,6 +134,7 @@ impl Default for ExplorerSettings {
             edges: true,
             suzanne: SuzanneMode::Attached,
             hands: true,
+            vehicle: false,
             render_scale: 1.0,
             panel: true,
         }
@@ -202,6 +206,7 @@ impl ExplorerSettings {
             edges: self.edges,
             suzanne: self.suzanne,
             hands: self.hands,
+            vehicle: self.vehicle,
         }
     }
 

@@ -7,10 +7,11 @@
 use super::settings::ExplorerSettings;
 use bevy::camera::RenderTarget;
 use bevy::prelude::*;
-use bevy_manifold::camera_controller::FlyCamera;
+use bevy_manifold::camera_controller::{FlyCamera, Vehicle};
 use bevy_manifold::paper_scene::{paper_camera, spawn_paper_scene};
 use bevy_manifold::placement::{DomainCell, FaceCrossed, ManifoldSpace, Placement};
 use bevy_manifold::space::{Space, catalog};
+use bevy_manifold::tour::FaceWord;
 use bevy_manifold::view::ManifoldFog;
 use std::collections::VecDeque;
 
@@ -92,7 +93,7 @@ fn spawn_world(
     space: &Space,
     settings: &ExplorerSettings,
     target: &Handle<Image>,
-    keep: Option<(Placement, DomainCell)>,
+    keep: Option<(Placement, DomainCell, FaceWord)>,
 ) -> (Entity, Entity) {
     let root = commands
         .spawn((
@@ -106,17 +107,13 @@ fn spawn_world(
         ChildOf(root),
         ExplorerCamera,
         settings.camera(),
-        FlyCamera {
-            speed: 0.5 * space.inradius().max(0.2),
-            mouse_button: Some(MouseButton::Right),
-            ..default()
-        },
         projection,
         RenderTarget::Image(target.clone().into()),
     ));
+    insert_controller(&mut camera, space, settings.vehicle);
     match keep {
-        Some((p, cell)) => camera.insert((p, cell)),
-        None => camera.insert(placement),
+        Some((p, cell, word)) => camera.insert((p, cell, word)),
+        None => camera.insert((placement, FaceWord::default())),
     };
     if let Some(fog) = settings.fog() {
         camera.insert(fog);
@@ -124,6 +121,26 @@ fn spawn_world(
     let camera = camera.id();
     spawn_paper_scene(commands, root, camera, space, settings.paper());
     (root, camera)
+}
+
+/// The camera's controller: the vehicle it rides (`vehicle`) or the fly
+/// camera, at a speed for `space`'s size; the mouse steers while its right
+/// button is held.
+pub fn insert_controller(camera: &mut EntityCommands, space: &Space, vehicle: bool) {
+    let speed = 0.5 * space.inradius().max(0.2);
+    camera.remove::<(FlyCamera, Vehicle)>();
+    if vehicle {
+        camera.insert(Vehicle {
+            mouse_button: Some(MouseButton::Right),
+            ..Vehicle::cruising(0.6 * speed)
+        });
+    } else {
+        camera.insert(FlyCamera {
+            speed,
+            mouse_button: Some(MouseButton::Right),
+            ..default()
+        });
+    }
 }
 
 /// Spawns the first world (startup).
@@ -165,7 +182,7 @@ pub fn apply_settings(
     mut world: ResMut<ExplorerWorld>,
     view: Res<ExplorerView>,
     mut status: ResMut<ExplorerStatus>,
-    cameras: Query<(&Placement, &DomainCell), With<ExplorerCamera>>,
+    cameras: Query<(&Placement, &DomainCell, &FaceWord), With<ExplorerCamera>>,
     mut spaces: Query<&mut ManifoldSpace>,
 ) {
     if !settings.is_changed() || *settings == world.applied {
@@ -193,7 +210,10 @@ pub fn apply_settings(
         let keep = if space_changed {
             None
         } else {
-            cameras.get(world.camera).ok().map(|(p, c)| (*p, c.clone()))
+            cameras
+                .get(world.camera)
+                .ok()
+                .map(|(p, c, w)| (*p, c.clone(), w.clone()))
         };
         commands.entity(world.root).despawn();
         let (root, camera) = spawn_world(&mut commands, &space, &settings, &view.image, keep);

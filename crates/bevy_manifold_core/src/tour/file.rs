@@ -6,7 +6,7 @@
 //! {"space": "seifert-weber",            catalog or library name, or a space
 //!                                       file relative to the tour file
 //!  "fov_y_degrees": 60,                 optional (60)
-//!  "scene": {"edges": true, "hands": true, "suzanne": "Attached"},  optional
+//!  "scene": {"edges": true, "hands": true, "suzanne": "Attached", "vehicle": false},  optional
 //!  "keyframes": [
 //!    {"time": 0, "position": [0,0,0,1], "look": [0,0,-1], "up": [0,1,0],
 //!     "cell": [3, 7], "stop": true, "caption": "...", "levels": 8},
@@ -91,6 +91,8 @@ pub struct SceneDesc {
     pub hands: bool,
     /// Suzanne at the start (an entry's `suzanne` changes it).
     pub suzanne: SuzanneMode,
+    /// The camera rides the vehicle (the paper's airplane).
+    pub vehicle: bool,
 }
 
 impl Default for SceneDesc {
@@ -100,6 +102,7 @@ impl Default for SceneDesc {
             edges: p.edges,
             hands: p.hands,
             suzanne: p.suzanne,
+            vehicle: p.vehicle,
         }
     }
 }

@@ -29,7 +29,7 @@
 pub mod file;
 pub mod path;
 
-pub use file::{EntryDesc, TourDesc, TourError};
+pub use file::{EntryDesc, SceneDesc, TourDesc, TourError};
 pub use path::{PathFrame, PathKey, Segment, TourPath};
 
 use crate::space::Space;
@@ -162,6 +162,7 @@ impl Tour {
                 edges: self.scene.edges,
                 suzanne: s.suzanne,
                 hands: self.scene.hands,
+                vehicle: self.scene.vehicle,
             },
         );
         // The paper's meshes sit relative to its start camera: the body

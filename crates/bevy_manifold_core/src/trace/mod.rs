@@ -56,7 +56,7 @@ pub use render::{
 pub use scene::MeshPart;
 pub use scene::{
     Ball, Camera, Fog, HAND_COLOR, Light, MAX_LIGHTS, PaperOptions, SUZANNE_COLOR, Scene, SceneError, SceneMesh,
-    SuzanneMode, baked, hand_offset, max_radius, suzanne_offset,
+    SuzanneMode, VEHICLE_COLOR, baked, hand_offset, max_radius, suzanne_offset, vehicle_offset,
 };
 #[cfg(feature = "gltf")]
 pub use scene::{builtin, meshes_of};

@@ -14,7 +14,9 @@ pub use file::{MAX_LIGHTS, SceneError, max_radius};
 pub use mesh::{SceneMesh, baked};
 #[cfg(feature = "gltf")]
 pub use presets::builtin;
-pub use presets::{HAND_COLOR, PaperOptions, SUZANNE_COLOR, SuzanneMode, hand_offset, suzanne_offset};
+pub use presets::{
+    HAND_COLOR, PaperOptions, SUZANNE_COLOR, SuzanneMode, VEHICLE_COLOR, hand_offset, suzanne_offset, vehicle_offset,
+};
 
 use glam::{DMat4, DVec4};
 

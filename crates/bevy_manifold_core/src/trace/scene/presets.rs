@@ -13,17 +13,15 @@
 //! let free = Scene::paper(&space, &PaperOptions { suzanne: SuzanneMode::Free, ..PaperOptions::default() });
 //! assert_eq!(free.meshes.len(), 3);
 //! assert!(!free.meshes[0].attached);
-//! let bare = Scene::paper(&space, &PaperOptions { suzanne: SuzanneMode::Hidden, hands: false, edges: false });
+//! let bare = Scene::paper(&space, &PaperOptions { suzanne: SuzanneMode::Hidden, hands: false, edges: false, vehicle: false });
 //! assert!(bare.meshes.is_empty() && bare.edge_radius.is_none());
 //! ```
 
-#[cfg(feature = "gltf")]
 use super::mesh::SceneMesh;
 use super::{Ball, Camera, Light, Scene};
 use crate::geometry::isometry;
 #[cfg(feature = "gltf")]
 use crate::mesh::MeshData;
-#[cfg(feature = "gltf")]
 use crate::mesh::MeshMaterial;
 use crate::space::Space;
 use glam::{DMat4, DVec3, DVec4};
@@ -58,6 +56,10 @@ pub struct PaperOptions {
     pub suzanne: SuzanneMode,
     /// The two hands.
     pub hands: bool,
+    /// The vehicle ([`crate::mesh::vehicle`]) the camera rides, ahead and
+    /// below the eye, seen in the home copy and every other.
+    #[serde(default)]
+    pub vehicle: bool,
 }
 
 impl Default for PaperOptions {
@@ -66,6 +68,7 @@ impl Default for PaperOptions {
             edges: true,
             suzanne: SuzanneMode::Attached,
             hands: true,
+            vehicle: false,
         }
     }
 }
@@ -74,6 +77,21 @@ impl Default for PaperOptions {
 pub const SUZANNE_COLOR: [f32; 3] = [0.85, 0.62, 0.3];
 /// The hands' colour (linear RGB).
 pub const HAND_COLOR: [f32; 3] = [0.9, 0.75, 0.65];
+
+/// The vehicle's colour (linear RGB).
+pub const VEHICLE_COLOR: [f32; 3] = [0.8, 0.16, 0.1];
+
+/// The vehicle relative to the camera, and its scale, in `space`: its
+/// length 0.45 inradii, its middle 0.4 inradii ahead and 0.12 below the
+/// eye, so the rider looks over its back and tail along its nose.
+#[must_use]
+pub fn vehicle_offset(space: &Space) -> (DMat4, f64) {
+    let r = space.inradius();
+    (
+        isometry::translation(space.geometry(), DVec3::new(0.0, -0.12, -0.4) * r),
+        0.45 * r,
+    )
+}
 
 /// Suzanne relative to the camera, and her scale, in `space` (`None` when
 /// hidden). Suzanne is about 2.65 wide: a head 0.45 inradii across, turned
@@ -162,6 +180,18 @@ impl Scene {
         }
         #[cfg(feature = "gltf")]
         add_models(&mut scene, space, options);
+        if options.vehicle {
+            let (offset, scale) = vehicle_offset(space);
+            scene.meshes.push(SceneMesh::new(
+                crate::mesh::vehicle::airplane(),
+                MeshMaterial {
+                    base_color: VEHICLE_COLOR,
+                    texture: None,
+                },
+                scene.camera.isometry * offset,
+                scale,
+            ));
+        }
         scene
     }
 }
