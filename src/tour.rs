@@ -210,21 +210,20 @@ pub fn track_face_words(
     }
 }
 
+/// What [`advance_tours`] reads and moves on a player's entity.
+type PlayerParts = (
+    &'static mut TourPlayer,
+    &'static InSpace,
+    &'static mut Placement,
+    &'static mut DomainCell,
+    &'static mut WrapOrigin,
+    Option<&'static mut FaceWord>,
+);
+
 /// Advances each player's time and moves its entity by the path's motion
 /// since the last frame (the wrap system then crosses the faces), or
 /// places it on the path when it is not on it (a new player, a seek).
-pub fn advance_tours(
-    time: Res<Time>,
-    spaces: Query<&ManifoldSpace>,
-    mut players: Query<(
-        &mut TourPlayer,
-        &InSpace,
-        &mut Placement,
-        &mut DomainCell,
-        &mut WrapOrigin,
-        Option<&mut FaceWord>,
-    )>,
-) {
+pub fn advance_tours(time: Res<Time>, spaces: Query<&ManifoldSpace>, mut players: Query<PlayerParts>) {
     let dt = time.delta_secs_f64();
     for (mut player, in_space, mut placement, mut cell, mut origin, word) in &mut players {
         let Ok(ms) = spaces.get(in_space.space()) else {

@@ -152,13 +152,19 @@ pub fn prepare_manifold_scenes(views: Query<&ExtractedManifoldView>, mut packed:
                 o.centre = centre.clone();
             }
             if o.generation == generation {
+                // The scene is the same, but a camera-attached mesh's home
+                // (the copy not drawn) is the camera's new cell.
+                let objects = GpuObjects::pack(&flat_scene(space, &view.scene, &centre));
+                if *o.objects != objects {
+                    o.objects = Arc::new(objects);
+                }
                 continue;
             }
         } else if same_space && same_generation {
             continue;
         }
         let old = packed.scenes.get(&view.root);
-        let objects = GpuObjects::pack(&FlatScene::<f32>::new(space, view.scene.scene()));
+        let objects = GpuObjects::pack(&flat_scene(space, &view.scene, &centre));
         let (gpu_space, objects) = match old {
             Some(o) if same_space => (
                 o.gpu_space.clone(),
@@ -322,6 +328,15 @@ fn object_buffers(device: &RenderDevice, o: &GpuObjects, stats: &mut ManifoldUpl
         storage(device, "manifold_instances", bytemuck::cast_slice(&o.instances), stats),
         storage(device, "manifold_mesh_data", bytemuck::cast_slice(&o.mesh_data), stats),
     ]
+}
+
+/// The scene's objects seen from the camera's cell `cell`: the objects
+/// are copies in every cell, but a camera-attached mesh's home (its copy
+/// that is the camera's own body, not drawn) is the copy the camera is in.
+/// CPU twin: the scene a headless render packs (`FlatScene::new` with the
+/// camera's word).
+fn flat_scene(space: &Space, scene: &crate::drawables::ManifoldScene, cell: &CellElement) -> FlatScene<f32> {
+    FlatScene::<f32>::new(space, scene.scene()).in_cell(space, cell)
 }
 
 /// The per-frame view data of an extracted view.

@@ -381,6 +381,8 @@ fn max_abs(m: glam::DMat4) -> f64 {
 /// the copy it names, the face word the explorer tracked names that copy
 /// too, the panel shows the tour's levels and caption; a seek jumps.
 fn a_tour_opened_in_the_explorer_flies_the_camera_along_it() {
+    let shipped = bevy_manifold_app::explorer::tour::shipped_tours();
+    assert_eq!(shipped.len(), 6, "the panel lists the six shipped tours: {shipped:?}");
     let mut app = timed_explorer();
     let path = shipped_tour("seifert-weber");
     let (space, tour) = Tour::load(&path).unwrap();

@@ -37,6 +37,10 @@ enum Command {
         /// that frame, then quit.
         #[arg(long, requires = "frames")]
         screenshot: Option<PathBuf>,
+        /// Open this tour file and play it (a broken one is reported and
+        /// the explorer opens without it).
+        #[arg(long)]
+        tour: Option<PathBuf>,
     },
     /// The explorer left running on a script (every space, every setting,
     /// meshes loaded and dropped), recording memory and GPU objects: a
@@ -184,8 +188,12 @@ pub fn run() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         // The explorer: a window, or its headless fallback.
-        None => return explore(None, None),
-        Some(Command::Explore { frames, screenshot }) => return explore(frames, screenshot),
+        None => return explore(None, None, None),
+        Some(Command::Explore {
+            frames,
+            screenshot,
+            tour,
+        }) => return explore(frames, screenshot, tour),
         Some(Command::Soak(args)) => return soak(&args),
         Some(Command::Space(SpaceCommand::List)) => {
             for name in catalog::NAMES {
@@ -225,8 +233,8 @@ pub fn run() -> ExitCode {
     }
 }
 
-fn explore(frames: Option<u32>, screenshot: Option<PathBuf>) -> ExitCode {
-    match crate::explorer::run_for(frames, screenshot) {
+fn explore(frames: Option<u32>, screenshot: Option<PathBuf>, tour: Option<PathBuf>) -> ExitCode {
+    match crate::explorer::run_for(frames, screenshot, tour) {
         bevy::app::AppExit::Success => ExitCode::SUCCESS,
         bevy::app::AppExit::Error(_) => ExitCode::FAILURE,
     }

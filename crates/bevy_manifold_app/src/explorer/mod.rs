@@ -279,12 +279,14 @@ pub(crate) fn window_app(
 /// wrong with them), then opens the explorer window; or, without a display
 /// or a GPU adapter, says so and renders `explorer.png` instead.
 pub fn run() -> AppExit {
-    run_for(None, None)
+    run_for(None, None, None)
 }
 
-/// [`run`], quitting after `frames` frames when given (smoke tests), and
-/// then saving the whole window, panel included, to `screenshot`.
-pub fn run_for(frames: Option<u32>, screenshot: Option<PathBuf>) -> AppExit {
+/// [`run`], playing the tour file `tour` when given (a broken one is
+/// reported and the explorer opens without it), quitting after `frames`
+/// frames when given (smoke tests), and then saving the whole window,
+/// panel included, to `screenshot`.
+pub fn run_for(frames: Option<u32>, screenshot: Option<PathBuf>, tour: Option<PathBuf>) -> AppExit {
     let path = settings::settings_path();
     let first_run = path.as_ref().is_some_and(|p| !p.exists());
     let (mut settings, mut warnings) = match &path {
@@ -294,6 +296,12 @@ pub fn run_for(frames: Option<u32>, screenshot: Option<PathBuf>) -> AppExit {
             vec!["no config directory is known: settings are not saved".into()],
         ),
     };
+    let mut tour_state = tour::ExplorerTour::default();
+    if let Some(path) = &tour
+        && let Err(e) = tour_state.open(path, &mut settings)
+    {
+        warnings.push(format!("tour not opened: {e}"));
+    }
     for w in &warnings {
         eprintln!("warning: {w}");
     }
@@ -311,6 +319,7 @@ pub fn run_for(frames: Option<u32>, screenshot: Option<PathBuf>) -> AppExit {
         warnings.push(note.into());
     }
     let mut app = window_app(settings, path, None);
+    app.insert_resource(tour_state);
     if !warnings.is_empty() {
         app.world_mut().resource_mut::<ExplorerStatus>().message = Some((warnings.join("\n"), true));
     }
@@ -321,12 +330,17 @@ pub fn run_for(frames: Option<u32>, screenshot: Option<PathBuf>) -> AppExit {
                   mut count: Local<u32>,
                   mut exit: MessageWriter<AppExit>,
                   status: Res<ExplorerStatus>,
-                  view: Res<ExplorerView>| {
+                  view: Res<ExplorerView>,
+                  tour: Res<tour::ExplorerTour>| {
                 *count += 1;
                 if *count == n {
                     // What a smoke run measured, for its log.
+                    let played = match &tour.tour {
+                        Some(t) => format!("; tour {} at {:.2} s of {:.0}", tour.path, tour.time, t.duration()),
+                        None => String::new(),
+                    };
                     println!(
-                        "explorer: {n} frames, mean frame time over the last {:.0} s {:.1} ms, view {}x{} traced",
+                        "explorer: {n} frames, mean frame time over the last {:.0} s {:.1} ms, view {}x{} traced{played}",
                         ExplorerStatus::HISTORY_SECS,
                         status.mean_frame_ms().unwrap_or(f32::NAN),
                         view.size.x,
