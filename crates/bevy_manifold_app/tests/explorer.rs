@@ -415,6 +415,45 @@ fn a_tour_opened_in_the_explorer_flies_the_camera_along_it() {
     }
     let t = app.world().resource::<ExplorerTour>().time;
     assert!((t - 1590.0 / 60.0).abs() < 0.05, "played 1590 frames at speed 1: {t}");
+    // A tour that rides the vehicle: the scene has it, and the camera
+    // follows the tour, not the vehicle's controls.
+    {
+        let w = app.world_mut();
+        let mut settings = w.resource::<ExplorerSettings>().clone();
+        let mut flight = ExplorerTour::default();
+        flight.open(shipped_tour("torus-flight"), &mut settings).unwrap();
+        flight.follow = true;
+        *w.resource_mut::<ExplorerSettings>() = settings;
+        *w.resource_mut::<ExplorerTour>() = flight;
+    }
+    let (flight_space, flight) = Tour::load(shipped_tour("torus-flight")).unwrap();
+    for _ in 0..120 {
+        app.update();
+    }
+    let s = app.world().resource::<ExplorerSettings>();
+    assert!(s.vehicle && !s.hands, "the tour's scene");
+    let ft = app.world().resource::<ExplorerTour>().time;
+    let (placement, cell, _) = camera_state(&app);
+    let frame = flight.frame(&flight_space, ft);
+    assert_eq!(
+        cell.id,
+        flight_space.cell_id_of(&flight_space.cell_of_word(&frame.word))
+    );
+    assert!(max_abs(placement - frame.placement) < 1e-9, "on the flight at {ft}");
+    let camera = app.world().resource::<ExplorerWorld>().camera;
+    assert!(
+        app.world().get::<Vehicle>(camera).is_none(),
+        "no vehicle controls while on the tour"
+    );
+    // Back to the Seifert-Weber tour where it was.
+    {
+        let w = app.world_mut();
+        let mut settings = w.resource::<ExplorerSettings>().clone();
+        w.resource_mut::<ExplorerTour>().open(&path, &mut settings).unwrap();
+        *w.resource_mut::<ExplorerSettings>() = settings;
+    }
+    app.update();
+    app.update();
     assert!(crossed_some, "the tour left the home copy");
     app.world_mut().resource_mut::<ExplorerTour>().seek(5.0);
     app.update();

@@ -21,6 +21,7 @@
 use super::settings::{CellMode, ExplorerSettings};
 use super::view::{ExplorerCamera, ExplorerWorld, insert_controller};
 use bevy::prelude::*;
+use bevy_manifold::camera_controller::{FlyCamera, Vehicle};
 use bevy_manifold::placement::GeodesicVelocity;
 use bevy_manifold::space::Space;
 use bevy_manifold::tour::{Tour, TourDesc, TourPlayer};
@@ -263,6 +264,15 @@ impl ExplorerTour {
     }
 }
 
+/// What [`drive_tour`] reads on the camera: its player, its velocity,
+/// and whether a controller is on it.
+type OnTour = (
+    &'static mut TourPlayer,
+    &'static mut GeodesicVelocity,
+    Has<FlyCamera>,
+    Has<Vehicle>,
+);
+
 /// Keeps the camera on the tour while following (a [`TourPlayer`] on it,
 /// its controller taken off), gives it back its controller when not, and
 /// carries the panel's seeks, speed and play state to the player
@@ -272,13 +282,18 @@ pub fn drive_tour(
     mut tour: ResMut<ExplorerTour>,
     settings: Res<ExplorerSettings>,
     world: Res<ExplorerWorld>,
-    mut players: Query<(&mut TourPlayer, &mut GeodesicVelocity), With<ExplorerCamera>>,
+    mut players: Query<OnTour, With<ExplorerCamera>>,
 ) {
     let shown = world.applied.space == tour.space && settings.space == tour.space;
     let wanted = tour.follow && shown && tour.tour.is_some();
     let t = tour.tour.clone().filter(|_| wanted);
     match (players.get_mut(world.camera), t) {
-        (Ok((mut player, mut velocity)), Some(t)) => {
+        (Ok((mut player, mut velocity, fly, ride)), Some(t)) => {
+            // A controller put back by a respawn (the tour's scene
+            // changed) would steer against the tour.
+            if fly || ride {
+                commands.entity(world.camera).remove::<(FlyCamera, Vehicle)>();
+            }
             if !std::ptr::eq(player.tour(), t.as_ref()) {
                 *player = TourPlayer::shared(t);
                 tour.seek = true;
@@ -332,8 +347,9 @@ pub fn read_tour_time(
 }
 
 /// While a tour plays and [`ExplorerTour::apply_settings`] is on, the
-/// settings take the tour's: levels, fog, Suzanne, cell colours, the
-/// on/off rule and walls (what the panel then shows).
+/// settings take the tour's: its scene (edges, hands, the vehicle), levels,
+/// fog, Suzanne, cell colours, the on/off rule and walls (what the panel
+/// then shows).
 pub fn follow_tour_settings(tour: Res<ExplorerTour>, mut settings: ResMut<ExplorerSettings>) {
     let Some(t) = tour.tour.as_ref().filter(|_| tour.follow && tour.apply_settings) else {
         return;
@@ -343,6 +359,9 @@ pub fn follow_tour_settings(tour: Res<ExplorerTour>, mut settings: ResMut<Explor
     }
     let ts = t.settings_at(tour.time);
     let mut s = settings.clone();
+    s.edges = t.scene.edges;
+    s.hands = t.scene.hands;
+    s.vehicle = t.scene.vehicle;
     s.levels = ts.levels;
     s.fog = ts.fog.is_some();
     if let Some(f) = &ts.fog {
