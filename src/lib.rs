@@ -77,6 +77,8 @@ pub mod render;
 #[cfg(feature = "asset")]
 pub mod space_asset;
 pub mod tour;
+#[cfg(feature = "asset")]
+pub mod tour_asset;
 #[cfg(feature = "render")]
 pub mod traced_meshes;
 pub mod view;
@@ -103,6 +105,8 @@ pub mod prelude {
     #[cfg(feature = "asset")]
     pub use crate::space_asset::{ManifoldSpaceSource, SpaceAsset};
     pub use crate::tour::{Tour, TourPlayer};
+    #[cfg(feature = "asset")]
+    pub use crate::tour_asset::{TourAsset, TourSource};
     #[cfg(feature = "render")]
     pub use crate::traced_meshes::{CameraBody, Rasterized};
     pub use crate::view::{CellShading, ManifoldFog};

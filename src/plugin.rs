@@ -16,7 +16,9 @@ use bevy::prelude::*;
 /// - with the `asset` feature (on with `render`) and an asset server in the
 ///   app, [`crate::space_asset`]: space files (`.gen`, `.space.json`,
 ///   `.gens.json`) as assets, applied to roots with a
-///   [`crate::space_asset::ManifoldSpaceSource`];
+///   [`crate::space_asset::ManifoldSpaceSource`]; and tour files
+///   (`.tour.json`, [`crate::tour_asset`]) played by entities with a
+///   [`crate::tour_asset::TourSource`];
 /// - with the `render` feature and a renderer in the app,
 ///   [`crate::render::ManifoldRenderPlugin`]: every
 ///   [`crate::render::ManifoldCamera`] is ray-traced. Other cameras
@@ -73,11 +75,15 @@ impl Plugin for ManifoldPlugin {
         // once every plugin is built, whatever the plugin order.
         #[cfg(feature = "asset")]
         crate::space_asset::register(app);
+        #[cfg(feature = "asset")]
+        crate::tour_asset::register(app);
     }
 
     fn finish(&self, app: &mut App) {
         #[cfg(feature = "asset")]
         crate::space_asset::register(app);
+        #[cfg(feature = "asset")]
+        crate::tour_asset::register(app);
         #[cfg(not(feature = "asset"))]
         let _ = app;
     }

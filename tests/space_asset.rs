@@ -1,6 +1,7 @@
 //! Assets in a manifold: space files loaded by the asset server onto a
 //! root, swapped when the asset changes, failures reported as asset events
-//! while the root keeps its space; and meshes traced once they arrive.
+//! while the root keeps its space; tour files with their space files; and
+//! meshes traced once they arrive.
 
 use bevy::asset::AssetLoadFailedEvent;
 use bevy::prelude::*;
@@ -258,4 +259,70 @@ fn a_large_mesh_is_built_off_the_frame_and_appears_when_ready() {
             .is_some_and(|m| m.meshes.len() == 1)
     });
     assert_eq!(app.world().resource::<MeshBvhCache>().building(), 0);
+}
+
+#[derive(Resource, Default)]
+struct TourFailures(Vec<String>);
+
+fn collect_tours(mut failed: MessageReader<AssetLoadFailedEvent<TourAsset>>, mut all: ResMut<TourFailures>) {
+    all.0.extend(failed.read().map(|e| format!("{}: {}", e.path, e.error)));
+}
+
+#[test]
+fn a_tour_file_loads_as_an_asset_with_its_space_file_and_a_broken_one_is_named() {
+    let dir = folder();
+    // A tour in a space file next to it (read through the asset server),
+    // and one whose times go backwards.
+    std::fs::write(
+        dir.join("short.tour.json"),
+        r#"{"space": "torus.space.json", "keyframes": [
+            {"time": 0, "position": [0, 0, 0, 1]},
+            {"fly": {"seconds": 3, "speed": 0.5}, "caption": "ahead"}]}"#,
+    )
+    .expect("write");
+    std::fs::write(
+        dir.join("backwards.tour.json"),
+        r#"{"space": "torus", "keyframes": [
+            {"time": 2, "position": [0, 0, 0, 1]}, {"time": 1, "position": [0.1, 0, 0, 1]}]}"#,
+    )
+    .expect("write");
+    let mut app = app(&dir);
+    app.init_resource::<TourFailures>().add_systems(Last, collect_tours);
+    let assets = app.world().resource::<AssetServer>().clone();
+    let source = TourSource(assets.load("short.tour.json"));
+    let root = app.world_mut().spawn(source.clone()).id();
+    let camera = app.world_mut().spawn((ChildOf(root), source)).id();
+    let broken_root = app.world_mut().spawn(ManifoldSpace::new(catalog::torus(1.0))).id();
+    let broken = app
+        .world_mut()
+        .spawn((ChildOf(broken_root), TourSource(assets.load("backwards.tour.json"))))
+        .id();
+    update_until(&mut app, "the tour and the broken one", |app| {
+        app.world().get::<TourPlayer>(camera).is_some() && !app.world().resource::<TourFailures>().0.is_empty()
+    });
+    // The root took the tour's space; the camera plays the tour: 3 s
+    // flying ahead at 0.5, so at 2 s it is 1.0 along -z, wrapped once
+    // through the unit torus's face back to the start point.
+    let space = app
+        .world()
+        .get::<ManifoldSpace>(root)
+        .expect("the tour's space")
+        .space()
+        .clone();
+    assert_eq!(space.name(), catalog::torus(1.0).name());
+    let player = app.world().get::<TourPlayer>(camera).unwrap();
+    assert!((player.tour().duration() - 3.0).abs() < 1e-12);
+    assert_eq!(player.tour().caption_at(1.0), Some("ahead"));
+    let at = player.tour().frame(&space, 2.0).placement;
+    let want = isometry::translation(Geometry::Euclidean, DVec3::ZERO);
+    assert!(
+        (at - want).to_cols_array().iter().all(|x| x.abs() < 1e-9),
+        "one period ahead is the start: {at:?}"
+    );
+    let failures = &app.world().resource::<TourFailures>().0;
+    assert!(
+        failures[0].contains("backwards.tour.json") && failures[0].contains("keyframes[1].time"),
+        "{failures:?}"
+    );
+    assert!(app.world().get::<TourPlayer>(broken).is_none());
 }
