@@ -58,8 +58,6 @@ pub struct ExplorerTour {
     pub apply_settings: bool,
     /// Seconds between the last keyframe and one the recorder adds.
     pub gap: f64,
-    /// Changed since last saved.
-    pub dirty: bool,
     /// A jump asked for (the timeline was dragged).
     seek: bool,
 }
@@ -78,7 +76,6 @@ impl Default for ExplorerTour {
             looping: false,
             apply_settings: true,
             gap: 4.0,
-            dirty: false,
             seek: false,
         }
     }
@@ -167,7 +164,6 @@ impl ExplorerTour {
                 keyframes: Vec::new(),
             }),
             space: settings.space.clone(),
-            dirty: true,
             ..ExplorerTour::default()
         };
     }
@@ -186,6 +182,16 @@ impl ExplorerTour {
             0.0
         };
         self.seek = true;
+    }
+
+    /// Play or pause, the camera following; played from the start when
+    /// paused at the end.
+    pub fn toggle_play(&mut self) {
+        if !self.playing && self.time >= self.duration() {
+            self.seek(0.0);
+        }
+        self.playing = !self.playing;
+        self.follow = true;
     }
 
     /// The caption at the current time, while following.
@@ -235,7 +241,6 @@ impl ExplorerTour {
     /// What is wrong with the edited tour, naming the entry and field; the
     /// tour is then `None` until fixed.
     pub fn rebuild(&mut self, space: &Space) -> Result<(), String> {
-        self.dirty = true;
         self.tour = None;
         let Some(desc) = &self.desc else { return Ok(()) };
         if desc.keyframes.is_empty() {
@@ -258,9 +263,7 @@ impl ExplorerTour {
         if self.path.trim().is_empty() {
             return Err("give the file to save the tour to".into());
         }
-        desc.save(self.path.trim()).map_err(|e| e.to_string())?;
-        self.dirty = false;
-        Ok(())
+        desc.save(self.path.trim()).map_err(|e| e.to_string())
     }
 }
 
@@ -322,10 +325,7 @@ pub fn drive_tour(
             player.looping = tour.looping;
             tour.seek = false;
             let mut camera = commands.entity(world.camera);
-            camera.remove::<(
-                bevy_manifold::camera_controller::FlyCamera,
-                bevy_manifold::camera_controller::Vehicle,
-            )>();
+            camera.remove::<(FlyCamera, Vehicle)>();
             camera.insert(player);
         }
         (Err(_), None) => {}
@@ -393,10 +393,6 @@ pub fn follow_tour_settings(tour: Res<ExplorerTour>, mut settings: ResMut<Explor
 /// `T` plays or pauses the tour.
 pub fn tour_keys(keys: Option<Res<ButtonInput<KeyCode>>>, mut tour: ResMut<ExplorerTour>) {
     if keys.is_some_and(|k| k.just_pressed(KeyCode::KeyT)) && tour.tour.is_some() {
-        if !tour.playing && tour.time >= tour.duration() {
-            tour.seek(0.0);
-        }
-        tour.playing = !tour.playing;
-        tour.follow = true;
+        tour.toggle_play();
     }
 }

@@ -112,11 +112,7 @@ fn playback(ui: &mut Ui, tour: &mut ExplorerTour) {
     let duration = tour.duration();
     ui.horizontal(|ui| {
         if ui.button(if tour.playing { "Pause" } else { "Play" }).clicked() {
-            if !tour.playing && tour.time >= duration {
-                tour.seek(0.0);
-            }
-            tour.playing = !tour.playing;
-            tour.follow = true;
+            tour.toggle_play();
         }
         ui.checkbox(&mut tour.follow, "camera on the tour");
         ui.checkbox(&mut tour.looping, "loop");
