@@ -75,7 +75,16 @@ struct Params {
     // with the eyes eye_offset either side of the camera.
     projection: u32,
     eye_offset: f32,
-    pad: array<u32, 2>,
+    // FaceTables::near_scale * FlatScene::near_reach: the bound of
+    // near_faces' test (step.wgsl); infinite when nothing is culled.
+    near_reach: f32,
+    pad: array<u32, 1>,
+    // FlatScene::groups: groups[f] is where face f's group starts in the
+    // balls, tubes and instances (x, y, z); the entry after the last face
+    // (at most 32) holds their counts. Objects before groups[0] carry no
+    // face mask and are tested on every segment (render.wgsl's
+    // nearest_object).
+    groups: array<vec4<u32>, 33>,
 }
 
 // Rust twin: GpuFace in crates/bevy_manifold_gpu/src/layout.rs.
@@ -95,7 +104,10 @@ struct Ball {
     // cosh r (H3), cos r (S3), r^2 (E3)
     k: f32,
     id: u32,
-    pad: array<u32, 3>,
+    // The faces whose planes it lies near (FlatBall::faces): tested only
+    // on segments near all of them (step.wgsl's may_hit).
+    face_mask: u32,
+    pad: array<u32, 2>,
 }
 
 // Rust twin: GpuTube in crates/bevy_manifold_gpu/src/layout.rs (the
@@ -106,7 +118,9 @@ struct Tube {
     e: vec4<f32>,
     b: vec4<f32>,
     e_b: vec4<f32>,
-    color: vec4<f32>,
+    color: vec3<f32>,
+    // The two faces whose planes hold its edge (FlatTube::faces).
+    face_mask: u32,
 }
 
 // Rust twin: GpuInstance in crates/bevy_manifold_gpu/src/layout.rs. A mesh
@@ -129,7 +143,9 @@ struct Instance {
     node_count: u32,
     // 1: a copy of a mesh attached to the camera (see `home`).
     attached: u32,
-    pad: array<u32, 3>,
+    // The faces its bounding ball lies near (FlatInstance::faces).
+    face_mask: u32,
+    pad: array<u32, 2>,
     // With `attached`: the cell point g o from which this copy is the
     // camera's own body, never hit from there (FlatInstance::home in Rust).
     home: vec4<f32>,
@@ -173,10 +189,11 @@ struct Pixel {
 // Pixel::object of a domain edge (a tube). Rust twin: EDGE_ID in
 // crates/bevy_manifold_core/src/trace/flat.rs.
 const EDGE_ID: u32 = 255u;
-// Params::flags bits. Rust twins: FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE
-// in crates/bevy_manifold_gpu/src/layout.rs.
+// Params::flags bits. Rust twins: FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE,
+// FLAG_NO_CULL in crates/bevy_manifold_gpu/src/layout.rs.
 const FLAG_NO_EARLY_STOP: u32 = 1u;
 const FLAG_NO_RENORMALIZE: u32 = 2u;
+const FLAG_NO_CULL: u32 = 4u;
 // No face: a ray that entered by none, or leaves by none (S3, no face
 // within a quarter turn). Rust: None, or usize::MAX for Walker::entered.
 const NO_FACE: u32 = 0xffffffffu;

@@ -10,9 +10,9 @@
 // GEOMETRY_*, TRANSLATIONS_ONLY, CELLS_* through the imports.
 #define_import_path bevy_manifold::render
 
-#import bevy_manifold::bindings::{params, balls, tubes, lights, faces, Pixel, EDGE_ID, FLAG_NO_EARLY_STOP, FOG_CUT, LIGHT_AT_HIT, WALL_OBJECT}
+#import bevy_manifold::bindings::{params, balls, tubes, lights, faces, face_count, Pixel, EDGE_ID, FLAG_NO_EARLY_STOP, FOG_CUT, LIGHT_AT_HIT, WALL_OBJECT}
 #import bevy_manifold::geometry::{form, normalize_point, normalize_tangent, project_tangent, distance, chart_to_distance, sphere_area}
-#import bevy_manifold::step::{Ray, normal_from}
+#import bevy_manifold::step::{Ray, normal_from, near_faces, may_hit}
 #import bevy_manifold::cells::cell_id
 #import bevy_manifold::walk::{walker_new, max_passes, segment_end, walk_segment}
 #ifdef BALLS
@@ -112,7 +112,7 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
         }
 #endif
         let seg = segment_end(walk);
-        var hit = nearest_object(walk.ray, seg.t, walk.cell[3]);
+        var hit = nearest_object(walk.ray, seg.t, walk.cell[3], near_faces(walk.ray, seg.t));
 #ifdef CELL_RULES
         // Objects in an off cell are not there (Rust: CellRule::visible).
         if !cell_visible(cell_id(walk.cell, walk.index)) {
@@ -169,6 +169,13 @@ struct Hit {
     v: f32,
 }
 
+// The near faces that have groups: those of `near` below the face count
+// (at most 32).
+fn near_groups(near: u32) -> u32 {
+    let n = min(face_count(), 32u);
+    return select(near & ((1u << n) - 1u), near, n == 32u);
+}
+
 // True when two cell points g o name the same copy of the domain.
 // Rust twin: same_cell_point in crates/bevy_manifold_core/src/trace/flat.rs.
 fn same_cell_point(a: vec4<f32>, b: vec4<f32>) -> bool {
@@ -179,35 +186,83 @@ fn same_cell_point(a: vec4<f32>, b: vec4<f32>) -> bool {
 
 // The nearest object on the ray within [0, t_end], seen from the cell whose
 // element takes the origin to `cell_point` (the copy of a camera-attached
-// mesh that is the camera's own body from there is skipped).
-fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>) -> Hit {
+// mesh that is the camera's own body from there is skipped). Objects whose
+// faces the segment does not come near (`near`, from near_faces) are not
+// tested.
+fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit {
     var best = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
+    // The groups walked (Rust: FaceGroups::ranges): the unmasked objects,
+    // then the group of each near face, in order. Each kind's loop runs
+    // over the ranges; `rest_*` holds the near faces not yet walked.
+    let groups = near_groups(near);
 #ifdef BALLS
-    for (var i = 0u; i < params.ball_count; i++) {
-        let t = hit_ball(ray, balls[i].center, balls[i].k, 0.0);
-        if t >= 0.0 && t <= t_end && (best.kind == 0u || t < best.t) {
-            best = Hit(t, 1u, i, 0u, 0.0, 0.0);
+    var rest_balls = groups;
+    var from_ball = 0u;
+    var to_ball = params.groups[0].x;
+    loop {
+        for (var i = from_ball; i < to_ball; i++) {
+            if !may_hit(balls[i].face_mask, near) {
+                continue;
+            }
+            let t = hit_ball(ray, balls[i].center, balls[i].k, 0.0);
+            if t >= 0.0 && t <= t_end && (best.kind == 0u || t < best.t) {
+                best = Hit(t, 1u, i, 0u, 0.0, 0.0);
+            }
         }
+        if rest_balls == 0u {
+            break;
+        }
+        let f = firstTrailingBit(rest_balls);
+        rest_balls &= rest_balls - 1u;
+        from_ball = params.groups[f].x;
+        to_ball = params.groups[f + 1u].x;
     }
 #endif
 #ifdef TUBES
-    for (var i = 0u; i < params.tube_count; i++) {
-        let t = hit_tube(ray, tubes[i], params.tube_k, 0.0);
-        if t >= 0.0 && t <= t_end && (best.kind == 0u || t < best.t) {
-            best = Hit(t, 2u, i, 0u, 0.0, 0.0);
+    var rest_tubes = groups;
+    var from_tube = 0u;
+    var to_tube = params.groups[0].y;
+    loop {
+        for (var i = from_tube; i < to_tube; i++) {
+            if !may_hit(tubes[i].face_mask, near) {
+                continue;
+            }
+            let t = hit_tube(ray, tubes[i], params.tube_k, 0.0);
+            if t >= 0.0 && t <= t_end && (best.kind == 0u || t < best.t) {
+                best = Hit(t, 2u, i, 0u, 0.0, 0.0);
+            }
         }
+        if rest_tubes == 0u {
+            break;
+        }
+        let f = firstTrailingBit(rest_tubes);
+        rest_tubes &= rest_tubes - 1u;
+        from_tube = params.groups[f].y;
+        to_tube = params.groups[f + 1u].y;
     }
 #endif
 #ifdef MESHES
-    for (var i = 0u; i < params.instance_count; i++) {
-        if instances[i].attached != 0u && same_cell_point(instances[i].home, cell_point) {
-            continue;
+    var rest_meshes = groups;
+    var from_mesh = 0u;
+    var to_mesh = params.groups[0].z;
+    loop {
+        for (var i = from_mesh; i < to_mesh; i++) {
+            if !may_hit(instances[i].face_mask, near) || (instances[i].attached != 0u && same_cell_point(instances[i].home, cell_point)) {
+                continue;
+            }
+            let limit = select(t_end, best.t, best.kind != 0u);
+            let h = hit_instance(ray, instances[i], limit);
+            if h.t >= 0.0 && h.t <= limit {
+                best = Hit(h.t, 3u, i, h.hit.triangle, h.hit.u, h.hit.v);
+            }
         }
-        let limit = select(t_end, best.t, best.kind != 0u);
-        let h = hit_instance(ray, instances[i], limit);
-        if h.t >= 0.0 && h.t <= limit {
-            best = Hit(h.t, 3u, i, h.hit.triangle, h.hit.u, h.hit.v);
+        if rest_meshes == 0u {
+            break;
         }
+        let f = firstTrailingBit(rest_meshes);
+        rest_meshes &= rest_meshes - 1u;
+        from_mesh = params.groups[f].z;
+        to_mesh = params.groups[f + 1u].z;
     }
 #endif
     return best;
@@ -242,7 +297,7 @@ fn shade(ray: Ray, hit: Hit, dist: f32, cell: vec2<u32>) -> vec3<f32> {
     if hit.kind == 2u {
         let seg = tubes[hit.index];
         normal = normal_from(x, foot_on_line(x, seg));
-        albedo = seg.color.xyz;
+        albedo = seg.color;
     }
 #endif
 #ifdef MESHES

@@ -11,7 +11,7 @@
 // / GEOMETRY_EUCLIDEAN (the quadrics); MESHES through bindings.
 #define_import_path bevy_manifold::step
 
-#import bevy_manifold::bindings::{params, faces, Tube, NO_FACE, FLAG_NO_RENORMALIZE, face_count}
+#import bevy_manifold::bindings::{params, faces, Tube, NO_FACE, FLAG_NO_RENORMALIZE, FLAG_NO_CULL, face_count}
 #import bevy_manifold::geometry::{form, normalize_point, normalize_tangent}
 
 // Rust twin: Ray in crates/bevy_manifold_core/src/trace/step.rs.
@@ -29,23 +29,71 @@ struct Exit {
     t: f32,
 }
 
+// exit_face's n . o and n . d of faces 0 to 31 for the last ray it was
+// given, which near_faces reads instead of loading the planes again (on
+// lavapipe a storage load per face costs as much as the face's test).
+// WGSL only: Rust's near_faces takes the planes.
+var<private> face_at_origin: array<f32, 32>;
+var<private> face_along_dir: array<f32, 32>;
+
 // Where a ray crosses a face (see Exit); NO_FACE when it leaves by none.
 fn exit_face(ray: Ray, skip: u32) -> Exit {
     var best = Exit(NO_FACE, 0.0);
     for (var i = 0u; i < face_count(); i++) {
+        let n = faces[i].plane;
+        let no = dot(n, ray.origin);
+        let nd = dot(n, ray.dir);
+        if i < 32u {
+            face_at_origin[i] = no;
+            face_along_dir[i] = nd;
+        }
         if i == skip {
             continue;
         }
-        let n = faces[i].plane;
-        let nd = dot(n, ray.dir);
         if nd > 0.0 {
-            let t = max(-dot(n, ray.origin) / nd, 0.0);
+            let t = max(-no / nd, 0.0);
             if best.face == NO_FACE || t < best.t {
                 best = Exit(i, t);
             }
         }
     }
     return best;
+}
+
+// Every face bit. Rust twin: ALL_FACES.
+const ALL_FACES: u32 = 0xffffffffu;
+
+// The faces the segment o + t d, 0 <= t <= t_end, comes near (the ray
+// exit_face was last given): bit i set when some point of it may be
+// within params.near_reach of face i's plane (|n . p| / p_w is monotone along the segment, so its
+// ends decide, or a change of sign). Faces from 32 on are always near; a
+// segment with no finite end is near all. FLAG_NO_CULL: all near. Rust
+// twin: near_faces in crates/bevy_manifold_core/src/trace/step.rs (takes
+// the planes, scales and reach; here they are in faces and params).
+fn near_faces(ray: Ray, t_end: f32) -> u32 {
+    let within = params.near_reach;
+    if (params.flags & FLAG_NO_CULL) != 0u || !(t_end < 3.0e38) || !(within < 3.0e38) {
+        return ALL_FACES;
+    }
+    let wa = ray.origin.w;
+    let wb = (ray.origin + ray.dir * t_end).w;
+    var near = ALL_FACES;
+    for (var i = 0u; i < min(face_count(), 32u); i++) {
+        // exit_face's n . o and n . d for this ray; the end's value from them.
+        let sa = face_at_origin[i];
+        let sb = sa + t_end * face_along_dir[i];
+        let crosses = (sa < 0.0) != (sb < 0.0);
+        if !(crosses || abs(sa) <= within * wa || abs(sb) <= within * wb) {
+            near &= ~(1u << i);
+        }
+    }
+    return near;
+}
+
+// True when an object with face mask `mask` can be hit on a segment near
+// the faces `near`. Rust twin: may_hit.
+fn may_hit(mask: u32, near: u32) -> bool {
+    return (mask & ~near) == 0u;
 }
 
 fn advance(ray: Ray, t: f32) -> Ray {

@@ -81,8 +81,13 @@ pub struct GpuParams {
     pub projection: u32,
     /// ... and, for stereo, half the eye separation.
     pub eye_offset: f32,
+    /// `FaceTables::near_scale` times `FlatScene::near_reach`: the bound
+    /// of `near_faces`' test.
+    pub near_reach: f32,
     /// Padding to 16 bytes.
-    pub pad: [u32; 2],
+    pub pad: [u32; 1],
+    /// [`GpuObjects::groups`].
+    pub groups: [[u32; 4]; 33],
 }
 
 /// WGSL twin: `Face` in `shaders/bindings.wgsl`.
@@ -113,8 +118,10 @@ pub struct GpuBall {
     pub k: f32,
     /// Object id.
     pub id: u32,
+    /// `FlatBall::face_mask`.
+    pub face_mask: u32,
     /// Padding to 16 bytes.
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
 }
 
 /// WGSL twin: `Tube` in `shaders/bindings.wgsl`.
@@ -129,8 +136,10 @@ pub struct GpuTube {
     pub b: [f32; 4],
     /// Unit tangent at `b`, away from `a`.
     pub e_b: [f32; 4],
-    /// Albedo (rgb, 1).
-    pub color: [f32; 4],
+    /// Albedo.
+    pub color: [f32; 3],
+    /// `FlatTube::face_mask`.
+    pub face_mask: u32,
 }
 
 /// WGSL twin: `Instance` in `shaders/bindings.wgsl`: one placement of a mesh, with offsets into
@@ -164,8 +173,10 @@ pub struct GpuInstance {
     pub node_count: u32,
     /// 1 for a copy of a mesh attached to the camera (see `home`).
     pub attached: u32,
+    /// `FlatInstance::face_mask`.
+    pub face_mask: u32,
     /// Padding to 16 bytes.
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
     /// With `attached`: the cell point `g o` from which this copy is the
     /// camera's own body (`FlatInstance::home`).
     pub home: [f32; 4],
@@ -210,6 +221,8 @@ pub struct GpuSpace {
     pub cell_table: Vec<u32>,
     /// [`GpuParams::cell_scale`].
     pub cell_scale: [f32; 4],
+    /// `FaceTables::near_scale`.
+    pub near_scale: f32,
 }
 
 /// The scene's objects on the GPU: balls (ghost copies and the edge tubes'
@@ -232,6 +245,12 @@ pub struct GpuObjects {
     pub counts: [u32; 4],
     /// `k` of the edge tubes.
     pub tube_k: f32,
+    /// `FlatScene::near_reach`.
+    pub near_reach: f32,
+    /// `FlatScene::groups`: entry `f` holds where face `f`'s group starts
+    /// in the balls, tubes and instances (x, y, z); the entry after the
+    /// last face (at most 32) holds their counts, as do the ones after it.
+    pub groups: [[u32; 4]; 33],
 }
 
 /// The per-frame view: where the camera is and what the frame looks like.
@@ -271,6 +290,9 @@ pub const FLAG_NO_EARLY_STOP: u32 = 1;
 /// [`GpuParams::flags`]: no renormalisation (`TraceSettings::renormalize`
 /// off).
 pub const FLAG_NO_RENORMALIZE: u32 = 2;
+/// [`GpuParams::flags`]: every object tested on every segment
+/// (`TraceSettings::cull` off).
+pub const FLAG_NO_CULL: u32 = 4;
 
 /// The flags that say how `settings` differs from normal tracing.
 #[must_use]
@@ -281,6 +303,9 @@ pub fn settings_flags(settings: &TraceSettings) -> u32 {
     }
     if !settings.renormalize {
         flags |= FLAG_NO_RENORMALIZE;
+    }
+    if !settings.cull {
+        flags |= FLAG_NO_CULL;
     }
     flags
 }
@@ -372,6 +397,7 @@ impl GpuSpace {
             faces,
             cell_table: non_empty(cell_table),
             cell_scale,
+            near_scale: t.near_scale,
         }
     }
 }
@@ -442,7 +468,8 @@ impl GpuObjects {
                         color: b.color,
                         k: b.k,
                         id: b.id,
-                        pad: [0; 3],
+                        face_mask: b.face_mask,
+                        pad: [0; 2],
                     })
                     .collect(),
             ),
@@ -454,7 +481,8 @@ impl GpuObjects {
                         e: v(tb.segment.e),
                         b: v(tb.segment.b),
                         e_b: v(tb.segment.e_b),
-                        color: [tb.color[0], tb.color[1], tb.color[2], 1.0],
+                        color: tb.color,
+                        face_mask: tb.face_mask,
                     })
                     .collect(),
             ),
@@ -477,8 +505,25 @@ impl GpuObjects {
                 prep.instances.len() as u32,
             ],
             tube_k: prep.tube_k,
+            near_reach: prep.near_reach,
+            groups: pack_groups(prep),
         }
     }
+}
+
+/// [`GpuObjects::groups`] of a prepared scene.
+fn pack_groups(prep: &FlatScene<f32>) -> [[u32; 4]; 33] {
+    let g = &prep.groups;
+    let counts = [prep.balls.len(), prep.tubes.len(), prep.instances.len()].map(|n| n as u32);
+    let at = |starts: &[u32], f: usize, count: u32| starts.get(f).copied().unwrap_or(count);
+    core::array::from_fn(|f| {
+        [
+            at(&g.balls, f, counts[0]),
+            at(&g.tubes, f, counts[1]),
+            at(&g.instances, f, counts[2]),
+            0,
+        ]
+    })
 }
 
 fn bits(v: [f32; 3], w: u32) -> [u32; 4] {
@@ -539,7 +584,8 @@ fn pack_meshes(prep: &FlatScene<f32>) -> (Vec<GpuInstance>, Vec<[u32; 4]>) {
                 tex_height,
                 node_count,
                 attached: u32::from(inst.home.is_some()),
-                pad: [0; 3],
+                face_mask: inst.face_mask,
+                pad: [0; 2],
                 home: inst.home.map_or([0.0; 4], v),
             }
         })
@@ -586,7 +632,9 @@ impl GpuParams {
             rule_walls_seed: view.cell_rule[3],
             projection: view.projection.0,
             eye_offset: view.projection.1,
-            pad: [0; 2],
+            near_reach: packed.near_scale * objects.near_reach,
+            pad: [0; 1],
+            groups: objects.groups,
         }
     }
 }

@@ -39,8 +39,8 @@ mod probe;
 mod runner;
 
 pub use layout::{
-    FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE, GpuBall, GpuFace, GpuInstance, GpuLight, GpuObjects, GpuParams, GpuPixel,
-    GpuScene, GpuSpace, GpuTube, GpuView, settings_flags,
+    FLAG_NO_CULL, FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE, GpuBall, GpuFace, GpuInstance, GpuLight, GpuObjects,
+    GpuParams, GpuPixel, GpuScene, GpuSpace, GpuTube, GpuView, settings_flags,
 };
 pub use shader_defs::{CellScheme as GpuCellScheme, TraceDefs};
 

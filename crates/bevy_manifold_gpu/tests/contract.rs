@@ -8,12 +8,13 @@
 
 use bevy_manifold_core::geometry::Geometry;
 use bevy_manifold_core::mesh::bvh::MAX_DEPTH;
+use bevy_manifold_core::trace::step::ALL_FACES;
 use bevy_manifold_core::trace::{EDGE_ID, FOG_CUT, LIGHT_AT_HIT};
 use bevy_manifold_gpu::bindings::{BINDINGS, BindingKind};
 use bevy_manifold_gpu::layout::{GpuBall, GpuFace, GpuInstance, GpuLight, GpuParams, GpuPixel, GpuTube};
 use bevy_manifold_gpu::{
-    FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE, GpuCellScheme, GpuTracer, SHADER_IMPORTS, TRACE_WGSL, TraceDefs,
-    WgslModule, undecorated,
+    FLAG_NO_CULL, FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE, GpuCellScheme, GpuTracer, SHADER_IMPORTS, TRACE_WGSL,
+    TraceDefs, WgslModule, undecorated,
 };
 use naga::proc::Layouter;
 use std::mem::{offset_of, size_of};
@@ -42,14 +43,14 @@ fn rust_layouts() -> Vec<RustLayout> {
             camera, camera_cell, fog_color, width, height, levels, face_count, ball_count, tube_count,
             light_count, camera_cell_index, tan_half_fov, max_distance, fog_density, tube_k, origin_x,
             origin_y, near, flags, cell_scale, instance_count, cell_mode, cell_a, cell_b, rule_hidden, rule_hidden_seed, rule_walls, rule_walls_seed,
-            projection, eye_offset, pad,
+            projection, eye_offset, near_reach, pad, groups,
         }),
         rust_layout!(GpuFace => "Face" { plane, pairing, crossing, partner, pad }),
-        rust_layout!(GpuBall => "Ball" { center, color, k, id, pad }),
-        rust_layout!(GpuTube => "Tube" { a, e, b, e_b, color }),
+        rust_layout!(GpuBall => "Ball" { center, color, k, id, face_mask, pad }),
+        rust_layout!(GpuTube => "Tube" { a, e, b, e_b, color, face_mask }),
         rust_layout!(GpuInstance => "Instance" {
             to_local, center, color, k, nodes, vertices, triangles, id, texture, tex_width, tex_height,
-            node_count, attached, pad, home,
+            node_count, attached, face_mask, pad, home,
         }),
         rust_layout!(GpuLight => "Light" { position, color, intensity }),
         rust_layout!(GpuPixel => "Pixel" { color, object, levels, cell_lo, cell_hi }),
@@ -182,6 +183,8 @@ fn the_shared_constants_are_equal_on_both_sides() {
         constant(&module, "FLAG_NO_RENORMALIZE"),
         naga::Literal::U32(FLAG_NO_RENORMALIZE)
     );
+    assert_eq!(constant(&module, "FLAG_NO_CULL"), naga::Literal::U32(FLAG_NO_CULL));
+    assert_eq!(constant(&module, "ALL_FACES"), naga::Literal::U32(ALL_FACES));
     assert_eq!(constant(&module, "BVH_STACK"), naga::Literal::U32(MAX_DEPTH as u32));
     assert_eq!(constant(&module, "FOG_CUT"), naga::Literal::F32(FOG_CUT as f32));
     assert_eq!(FOG_CUT, 255f64.ln(), "FOG_CUT is ln 255");

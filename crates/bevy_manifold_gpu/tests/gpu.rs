@@ -109,6 +109,50 @@ fn agree(gpu: &mut bevy_manifold_gpu::GpuTracer, name: &str, space: &Space) {
     }
 }
 
+/// Culling on the GPU changes nothing: the same pixels with it on and off
+/// (`FLAG_NO_CULL`), in every catalog space and the 20-face Weeks
+/// manifold, with the default scene (edges and joints masked) and the
+/// paper's (Suzanne on the camera, the hands: masked mesh ghosts).
+fn gpu_culling_leaves_the_image_unchanged() {
+    let mut gpu = tracer();
+    let mut spaces: Vec<(String, Space)> = catalog::NAMES
+        .iter()
+        .map(|n| (n.to_string(), catalog::by_name(n).expect("catalog")))
+        .collect();
+    spaces.push(("weeks".into(), catalog::resolve("weeks").expect("library")));
+    for (name, space) in spaces {
+        for (what, scene) in [
+            ("default", Scene::default_for(&space)),
+            ("paper", Scene::paper_default(&space)),
+        ] {
+            let on = TraceSettings {
+                width: 128,
+                height: 96,
+                levels: 8,
+                ..TraceSettings::default()
+            };
+            let off = TraceSettings {
+                cull: false,
+                ..on.clone()
+            };
+            let a = gpu
+                .render(&space, &scene, &on)
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
+            let b = gpu
+                .render(&space, &scene, &off)
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
+            let differ = a.pixels.iter().zip(&b.pixels).filter(|(p, q)| p != q).count();
+            let hit = a.pixels.iter().filter(|p| p.object != 0).count();
+            eprintln!(
+                "{name:<22} {what:<8}: {differ} of {} pixels differ, {hit} see objects",
+                a.pixels.len()
+            );
+            assert_eq!(differ, 0, "{name} {what}: culling changed {differ} pixels");
+            assert!(hit > 100, "{name} {what}: the view sees objects ({hit})");
+        }
+    }
+}
+
 /// The pixel column that sees horizontal angle `deg` (left negative), in a
 /// square image of side `n` with vertical field of view `fov` degrees.
 fn column(deg: f64, n: u32, fov: f64) -> u32 {
@@ -281,6 +325,7 @@ bevy_manifold_test_support::test_main! {
     gpu: [
         gpu_panoramas_agree_with_the_cpu_reference,
         gpu_and_cpu_agree_in_every_space,
+        gpu_culling_leaves_the_image_unchanged,
         gpu_and_cpu_agree_in_spaces_built_from_generators,
         a_ball_straddling_a_torus_face_is_seen_whole_from_either_side,
         the_fragment_entry_draws_what_the_compute_entry_computes,

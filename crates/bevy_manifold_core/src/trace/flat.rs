@@ -2,6 +2,7 @@
 //! the CPU side of what the GPU pass uploads: face planes, pairings,
 //! balls with their ghost copies, edge tubes, lights.
 
+use super::cull::{FaceGroups, cull_distance, face_mask, near_reach, near_scale};
 use super::scene::Scene;
 use super::step::{Segment, radius_param};
 use crate::geometry::{Geometry, Real, isometry};
@@ -27,6 +28,11 @@ pub struct FlatBall<R: Real> {
     pub color: [f32; 3],
     /// Object id (1-based scene index, or [`EDGE_ID`]).
     pub id: u32,
+    /// The faces (bits 0 to 31) whose planes every point of the ball
+    /// inside the domain is within [`FlatScene::near_reach`] of: a
+    /// segment can hit it only if it comes near all of them
+    /// ([`super::step::near_faces`], [`super::step::may_hit`]).
+    pub face_mask: u32,
 }
 
 /// A tube along one edge of the domain.
@@ -36,6 +42,9 @@ pub struct FlatTube<R: Real> {
     pub segment: Segment<R>,
     /// Albedo (one colour per edge cycle).
     pub color: [f32; 3],
+    /// The faces it lies near, as [`FlatBall::face_mask`]: the two whose
+    /// planes hold its edge.
+    pub face_mask: u32,
 }
 
 /// A light in the tracer's precision.
@@ -74,6 +83,8 @@ pub struct FlatInstance<R: Real> {
     /// when `g h` is the camera's cell). The walk never hits it from there,
     /// at any level. `None` for other meshes.
     pub home: Option<R::V4>,
+    /// The faces its bounding ball lies near, as [`FlatBall::face_mask`].
+    pub face_mask: u32,
 }
 
 /// True when two cell points `g o` name the same copy of the domain:
@@ -101,6 +112,15 @@ pub struct FaceTables<R: Real> {
     /// What the ray's group element is right-multiplied by on crossing face
     /// `i`: `T_i^-1`.
     pub crossings: Vec<R::M4>,
+    /// The factor of [`super::step::near_faces`]'s test: a point `p` of
+    /// the domain within distance `r` of a face's plane `n` has
+    /// `|n . p| / p_w <= near_scale * s(r)` (`s` is `sinh`, `sin` or the
+    /// identity, [`near_reach`]; the planes are normalised, so `n . p` of
+    /// a normalised point is `s` of its signed distance). 1 in E3 and H3
+    /// (`p_w` is 1, or `cosh` of the distance from the origin); in S3 the
+    /// inverse of the least `p_w` of the domain, at a vertex; infinite (no
+    /// culling) where the domain reaches `w <= 0`.
+    pub near_scale: R,
 }
 
 impl<R: Real> FaceTables<R> {
@@ -114,6 +134,7 @@ impl<R: Real> FaceTables<R> {
             pairings: faces.iter().map(|f| R::m4_of(f.pairing)).collect(),
             partners: faces.iter().map(|f| f.partner).collect(),
             crossings: (0..faces.len()).map(|i| R::m4_of(space.crossing(i))).collect(),
+            near_scale: R::of(near_scale(space)),
         }
     }
 }
@@ -129,6 +150,13 @@ pub struct FlatScene<R: Real> {
     pub tubes: Vec<FlatTube<R>>,
     /// `k` of the edge tubes.
     pub tube_k: R,
+    /// `s(r)` ([`near_reach`]) of the distance `r` within which objects
+    /// carry face masks ([`FlatBall::face_mask`]): the edge radius (a hair
+    /// more), else twice the smallest ball or mesh radius.
+    pub near_reach: R,
+    /// Where each face's group starts in `balls`, `tubes` and `instances`
+    /// (sorted by [`FaceGroups`]): the lists `nearest_object` walks.
+    pub groups: FaceGroups,
     /// Lights.
     pub lights: Vec<FlatLight<R>>,
     /// Mesh instances, ghosts included.
@@ -176,6 +204,7 @@ impl<R: Real> FlatScene<R> {
     #[must_use]
     pub fn new(space: &Space, scene: &Scene) -> Self {
         let g = space.geometry();
+        let reach = cull_distance(g, scene);
         let mut balls = Vec::new();
         for (i, b) in scene.balls.iter().enumerate() {
             let k = R::of(radius_param(g, b.radius));
@@ -185,6 +214,7 @@ impl<R: Real> FlatScene<R> {
                     k,
                     color: b.color,
                     id: i as u32 + 1,
+                    face_mask: face_mask(space, &[center], b.radius, reach),
                 });
             }
         }
@@ -212,6 +242,7 @@ impl<R: Real> FlatScene<R> {
                         e_b: R::v4_of(eb),
                     },
                     color: PALETTE[cycle_of[e] % PALETTE.len()],
+                    face_mask: face_mask(space, &[a, b], r, reach),
                 });
             }
             for (i, v) in space.vertices().iter().enumerate() {
@@ -226,6 +257,7 @@ impl<R: Real> FlatScene<R> {
                     k: tube_k,
                     color,
                     id: EDGE_ID,
+                    face_mask: face_mask(space, &[v.point], r, reach),
                 });
             }
         }
@@ -239,12 +271,32 @@ impl<R: Real> FlatScene<R> {
             })
             .collect();
         let (camera, camera_cell) = space.wrap(scene.camera.isometry, 1000);
-        let (instances, meshes, textures) = flatten_meshes::<R>(space, scene, camera_cell);
+        let (mut instances, meshes, textures) = flatten_meshes::<R>(space, scene, camera_cell, reach);
+        let faces = space.faces().len();
+        let groups = FaceGroups {
+            balls: FaceGroups::sort(&mut balls, faces, |b| b.face_mask),
+            tubes: FaceGroups::sort(&mut tubes, faces, |t| t.face_mask),
+            instances: FaceGroups::sort(&mut instances, faces, |i| i.face_mask),
+        };
+        // With no object masked there is nothing to cull: an infinite reach
+        // tells near_faces so before it tests a face.
+        let masked = balls.iter().any(|b| b.face_mask != 0)
+            || tubes.iter().any(|t| t.face_mask != 0)
+            || instances.iter().any(|i| i.face_mask != 0);
         FlatScene {
             faces: FaceTables::new(space),
             balls,
             tubes,
             tube_k,
+            groups,
+            // A hundredth more than the masks were made for, so that no
+            // rounding of the endpoints' test (f32 on the GPU) can cull an
+            // object at the edge of its reach.
+            near_reach: R::of(if masked {
+                near_reach(g, reach * 1.01 + 1e-6)
+            } else {
+                f64::INFINITY
+            }),
             lights,
             instances,
             meshes,
@@ -295,7 +347,7 @@ type FlatMeshes<R> = (Vec<FlatInstance<R>>, Vec<Arc<MeshData>>, Vec<Arc<Texture>
 /// The scene's mesh instances with their ghosts, and the distinct meshes
 /// and textures they use. Meshes whose bounding ball does not fit the
 /// geometry's chart (reaching infinity in H3) are left out.
-fn flatten_meshes<R: Real>(space: &Space, scene: &Scene, camera_cell: DMat4) -> FlatMeshes<R> {
+fn flatten_meshes<R: Real>(space: &Space, scene: &Scene, camera_cell: DMat4, reach: f64) -> FlatMeshes<R> {
     let g = space.geometry();
     let mut instances = Vec::new();
     let mut meshes: Vec<Arc<MeshData>> = Vec::new();
@@ -325,18 +377,20 @@ fn flatten_meshes<R: Real>(space: &Space, scene: &Scene, camera_cell: DMat4) -> 
         let k = R::of(radius_param(g, radius));
         for h in ghost_elements(space, center, radius) {
             let placed = h * m.placement;
+            let ghost = g.normalize_point::<f64>(h * center);
             let home = m
                 .attached
                 .then(|| R::v4_of(g.normalize_point::<f64>((camera_cell * isometry::inverse(g, h)).w_axis)));
             instances.push(FlatInstance {
                 to_local: R::m4_of(m.local.inverse() * unscale * isometry::inverse(g, placed)),
-                center: R::v4_of(g.normalize_point::<f64>(h * center)),
+                center: R::v4_of(ghost),
                 k,
                 mesh,
                 color: m.material.base_color,
                 texture,
                 id: (scene.balls.len() + 1 + j) as u32,
                 home,
+                face_mask: face_mask(space, &[ghost], radius, reach),
             });
         }
     }

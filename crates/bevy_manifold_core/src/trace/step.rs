@@ -43,6 +43,56 @@ pub fn exit_face<R: Real>(planes: &[R::V4], ray: &Ray<R>, skip: usize) -> Option
     best
 }
 
+/// Every face bit: what [`near_faces`] answers when it cannot cull.
+pub const ALL_FACES: u32 = u32::MAX;
+
+/// The faces the segment `o + t d`, `0 <= t <= t_end`, of a ray inside the
+/// domain comes near: bit `i` (faces 0 to 31) is set when some point of it
+/// may be within the reach of face `i`'s plane, the reach given by
+/// `reach` (`sinh r`, `sin r` or `r` of the distance `r`, see
+/// `FlatScene::near_reach`) times the space's `near_scale`
+/// (`FaceTables::near_scale`). An object lying within that distance of
+/// the planes of its face mask can be hit on the segment only if all of
+/// its faces are near (`FlatBall::face_mask`), so the tracer tests no other.
+///
+/// Why the endpoints suffice: along the segment the ratio `n . p / p_w` of
+/// a face's covector to the chart's `w` is a Moebius function of `t`, so
+/// it is monotone where `p_w > 0` (all of the domain, see `near_scale`),
+/// and its least absolute value is at an end, or zero where it changes
+/// sign. Faces from 32 on are always near. A segment whose end is not
+/// finite is near every face.
+///
+/// WGSL twin: `near_faces` in `shaders/step.wgsl`.
+#[inline]
+#[must_use]
+pub fn near_faces<R: Real>(planes: &[R::V4], near_scale: R, reach: R, ray: &Ray<R>, t_end: R) -> u32 {
+    let within = near_scale * reach;
+    if !(t_end.is_finite() && within.is_finite()) {
+        return ALL_FACES;
+    }
+    let (wa, wb) = (R::xyzw(ray.origin)[3], R::xyzw(ray.origin + ray.dir * t_end)[3]);
+    let mut near = ALL_FACES;
+    for (i, n) in planes.iter().enumerate().take(32) {
+        // n . o and n . d, as exit_face has them; the end's value from them.
+        let (sa, sd) = (R::dot4(*n, ray.origin), R::dot4(*n, ray.dir));
+        let sb = sa + t_end * sd;
+        let crosses = (sa < R::of(0.0)) != (sb < R::of(0.0));
+        if !(crosses || sa.abs() <= within * wa || sb.abs() <= within * wb) {
+            near &= !(1u32 << i);
+        }
+    }
+    near
+}
+
+/// True when an object whose face mask is `mask` can be hit on a
+/// segment near the faces `near` (from [`near_faces`]).
+/// WGSL twin: `may_hit` in `shaders/step.wgsl`.
+#[inline]
+#[must_use]
+pub fn may_hit(mask: u32, near: u32) -> bool {
+    mask & !near == 0
+}
+
 /// The point of the ray at chart parameter `t`, normalised, and the unit
 /// tangent of the geodesic there (the ray's direction carried along).
 #[inline]

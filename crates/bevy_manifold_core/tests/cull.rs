@@ -1,0 +1,227 @@
+//! Culling (`TraceSettings::cull`): a segment tests only the objects near
+//! the faces it comes near. Checked against brute force: every object a
+//! segment really hits passes the test, and whole images are identical
+//! with culling on and off.
+
+use bevy_manifold_core::geometry::{Real, isometry};
+use bevy_manifold_core::prelude::*;
+use bevy_manifold_core::trace::step::{ALL_FACES, Ray, hit_ball, hit_tube, may_hit, near_faces};
+use bevy_manifold_core::trace::{FaceGroups, FlatScene, Walker};
+use bevy_manifold_test_support::Rng;
+use bevy_manifold_test_support::stress::face_middle;
+use glam::DVec4;
+use std::f64::consts::TAU;
+
+fn random_ray(space: &Space, rng: &mut Rng) -> Ray<f64> {
+    let g = space.geometry();
+    let place = isometry::translation(g, rng.unit() * rng.next_f64() * 0.95 * space.inradius())
+        * isometry::rotation(rng.unit(), rng.next_f64() * TAU);
+    let o = place * DVec4::W;
+    Ray {
+        origin: o,
+        dir: g.normalize_tangent::<f64>(o, place * DVec4::Z),
+    }
+}
+
+/// The spaces: the catalog, and generator spaces up to 20 faces.
+fn spaces() -> Vec<(String, Space)> {
+    let mut out: Vec<(String, Space)> = catalog::NAMES
+        .iter()
+        .map(|n| (n.to_string(), catalog::by_name(n).expect("catalog")))
+        .collect();
+    for name in ["weeks", "lens-5-2", "torus-bcc", "binary-octahedral"] {
+        out.push((name.to_string(), catalog::resolve(name).expect("library")));
+    }
+    out
+}
+
+/// The default scene (a ball, the edges, a light), and one without edges
+/// where small balls straddle faces (their ghosts carry masks).
+fn scenes(space: &Space) -> Vec<(&'static str, Scene)> {
+    let mut ghosts = Scene::default_for(space);
+    ghosts.edge_radius = None;
+    let r = space.inradius();
+    for f in 0..space.faces().len().min(6) {
+        ghosts.balls.push(Ball {
+            center: space
+                .geometry()
+                .normalize_point::<f64>(face_middle(space, f) * 0.97 + DVec4::W * 0.03),
+            radius: 0.08 * r,
+            color: [0.2, 0.8, 0.4],
+        });
+    }
+    vec![("default", Scene::default_for(space)), ("ghosts", ghosts)]
+}
+
+/// Counts over many segments: object tests made, culled, and hits on
+/// objects that carry a mask (so the check below is not vacuous).
+#[derive(Default)]
+struct Counts {
+    tests: usize,
+    culled: usize,
+    masked_hits: usize,
+}
+
+/// Walks random rays segment by segment; on each, every ball and tube the
+/// segment hits (tested by brute force) must pass `may_hit`.
+fn check_segments<R: Real>(name: &str, space: &Space, prep: &FlatScene<R>, rng: &mut Rng, counts: &mut Counts) {
+    let g = space.geometry();
+    let zero = R::of(0.0);
+    for _ in 0..800 {
+        let ray = random_ray(space, rng);
+        let ray = Ray {
+            origin: R::v4_of(ray.origin),
+            dir: R::v4_of(ray.dir),
+        };
+        let mut walk = Walker::new(ray, R::m4_of(glam::DMat4::IDENTITY));
+        for _ in 0..8 {
+            let (face, t_end) = walk.segment_end(&prep.faces);
+            let near = near_faces(
+                &prep.faces.planes,
+                prep.faces.near_scale,
+                prep.near_reach,
+                &walk.ray,
+                t_end,
+            );
+            let mut check = |mask: u32, hit: Option<R>, what: &str| {
+                counts.tests += 1;
+                let shown = may_hit(mask, near);
+                counts.culled += usize::from(!shown);
+                if let Some(t) = hit
+                    && t <= t_end
+                {
+                    counts.masked_hits += usize::from(mask != 0);
+                    assert!(
+                        shown,
+                        "{name}: {what} (mask {mask:#x}) hit at t {} but culled (near {near:#x})",
+                        t.f64()
+                    );
+                }
+            };
+            for b in &prep.balls {
+                check(b.face_mask, hit_ball(g, &walk.ray, b.center, b.k, zero), "a ball");
+            }
+            for tube in &prep.tubes {
+                check(
+                    tube.face_mask,
+                    hit_tube(g, &walk.ray, &tube.segment, prep.tube_k, zero),
+                    "a tube",
+                );
+            }
+            let Some(f) = face else { break };
+            let end = bevy_manifold_core::trace::step::advance(g, &walk.ray, t_end);
+            walk.step(&prep.faces, Some(f), end, true);
+        }
+    }
+}
+
+#[test]
+fn no_object_a_segment_hits_is_culled() {
+    let mut rng = Rng(19);
+    for (name, space) in spaces() {
+        for (what, scene) in scenes(&space) {
+            let mut c64 = Counts::default();
+            check_segments(
+                &name,
+                &space,
+                &FlatScene::<f64>::new(&space, &scene),
+                &mut rng,
+                &mut c64,
+            );
+            let mut c32 = Counts::default();
+            check_segments(
+                &name,
+                &space,
+                &FlatScene::<f32>::new(&space, &scene),
+                &mut rng,
+                &mut c32,
+            );
+            let culled = c64.culled as f64 / c64.tests as f64;
+            eprintln!(
+                "{name:<22} {what:<8} {} tests, {:.1}% culled (f32 {:.1}%), {} hits on masked objects",
+                c64.tests,
+                100.0 * culled,
+                100.0 * c32.culled as f64 / c32.tests as f64,
+                c64.masked_hits + c32.masked_hits
+            );
+            assert!(
+                c64.masked_hits > 10,
+                "{name} {what}: masked objects are hit ({})",
+                c64.masked_hits
+            );
+            // The default scene's objects are almost all edges and joints:
+            // a segment near one or two faces skips most of them.
+            if what == "default" {
+                assert!(culled > 0.6, "{name}: only {:.1}% of tests culled", 100.0 * culled);
+            }
+        }
+    }
+}
+
+#[test]
+fn images_are_the_same_with_culling_on_and_off() {
+    for (name, space) in spaces() {
+        let mut scenes = scenes(&space);
+        scenes.push(("paper", Scene::paper_default(&space)));
+        for (what, scene) in scenes {
+            let on = TraceSettings {
+                width: 96,
+                height: 64,
+                levels: 8,
+                ..TraceSettings::default()
+            };
+            let off = TraceSettings {
+                cull: false,
+                ..on.clone()
+            };
+            for (precision, a, b) in [
+                (
+                    "f64",
+                    render::<f64>(&space, &scene, &on),
+                    render::<f64>(&space, &scene, &off),
+                ),
+                (
+                    "f32",
+                    render::<f32>(&space, &scene, &on),
+                    render::<f32>(&space, &scene, &off),
+                ),
+            ] {
+                let differ = a.pixels.iter().zip(&b.pixels).filter(|(p, q)| p != q).count();
+                assert_eq!(
+                    differ, 0,
+                    "{name} {what} {precision}: {differ} pixels differ with culling"
+                );
+                let hit = a.pixels.iter().filter(|p| p.object != 0).count();
+                assert!(hit > 100, "{name} {what}: the view sees objects ({hit})");
+            }
+        }
+    }
+}
+
+#[test]
+fn groups_hold_every_object_once_and_a_segment_walks_the_near_ones() {
+    let space = catalog::seifert_weber();
+    let prep = FlatScene::<f64>::new(&space, &Scene::default_for(&space));
+    let g = &prep.groups;
+    // 12 faces: 13 starts, the last the count; non-decreasing.
+    assert_eq!(g.tubes.len(), 13);
+    assert_eq!(*g.tubes.last().unwrap() as usize, prep.tubes.len());
+    assert!(g.tubes.windows(2).all(|w| w[0] <= w[1]));
+    // Each edge of the dodecahedron lies on two faces: every tube masked.
+    assert_eq!(g.tubes[0], 0, "no tube is unmasked");
+    assert!(prep.tubes.iter().all(|t| t.face_mask.count_ones() == 2));
+    // Each vertex joint lies on three faces; the central ball on none.
+    let joints = prep.balls.iter().filter(|b| b.id == bevy_manifold_core::trace::EDGE_ID);
+    assert!(joints.clone().all(|b| b.face_mask.count_ones() == 3));
+    assert_eq!(joints.count(), 20);
+    assert_eq!(g.balls[0], 1, "the one unmasked ball comes first");
+    // All faces near: every object walked once.
+    let all: Vec<usize> = FaceGroups::ranges(&g.tubes, ALL_FACES).flatten().collect();
+    assert_eq!(all, (0..prep.tubes.len()).collect::<Vec<_>>());
+    // Near face 0 only: its group, each tube in it has face 0 as first face.
+    let near0: Vec<usize> = FaceGroups::ranges(&g.tubes, 1).flatten().collect();
+    assert!(!near0.is_empty());
+    assert!(near0.iter().all(|&i| prep.tubes[i].face_mask.trailing_zeros() == 0));
+    // The tubes along face 0's five edges are those with bit 0.
+    assert_eq!(prep.tubes.iter().filter(|t| t.face_mask & 1 != 0).count(), 5);
+}
