@@ -4,6 +4,7 @@
 
 mod accuracy;
 mod cells;
+mod cull;
 mod faces;
 mod frames;
 mod meshes;
@@ -101,6 +102,23 @@ pub enum BenchCommand {
         #[arg(long, default_value_t = 3)]
         runs: u32,
     },
+    /// What culling by near faces saves: GPU and CPU f32, each with
+    /// culling off and on, per catalog space at 8 and 16 levels, and issue
+    /// #19's Seifert-Weber view.
+    Cull {
+        /// Image width.
+        #[arg(long, default_value_t = 640)]
+        width: u32,
+        /// Image height.
+        #[arg(long, default_value_t = 360)]
+        height: u32,
+        /// Runs per setting; the best is reported.
+        #[arg(long, default_value_t = 3)]
+        runs: u32,
+        /// Only the cases whose label holds this.
+        #[arg(long, default_value = "")]
+        only: String,
+    },
 }
 
 /// Runs one benchmark, printing its table (and writing its files).
@@ -118,6 +136,12 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
         BenchCommand::Meshes { width, height, runs } => meshes::run(width.max(1), height.max(1), runs.max(1)),
         BenchCommand::Cells { width, height, runs } => cells::run(width.max(1), height.max(1), runs.max(1)),
         BenchCommand::Faces { width, height, runs } => faces::run(width.max(1), height.max(1), runs.max(1)),
+        BenchCommand::Cull {
+            width,
+            height,
+            runs,
+            ref only,
+        } => cull::run(width.max(1), height.max(1), runs.max(1), only),
     }
 }
 
