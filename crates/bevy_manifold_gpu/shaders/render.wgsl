@@ -176,6 +176,15 @@ fn near_groups(near: u32) -> u32 {
     return select(near & ((1u << n) - 1u), near, n == 32u);
 }
 
+// The index range of the group of the first face left in `rest`, which it
+// takes out: kind 0 balls, 1 tubes, 2 mesh instances (the x, y, z of
+// params.groups). Rust: the ranges after the first of FaceGroups::ranges.
+fn next_group(rest: ptr<function, u32>, kind: u32) -> vec2<u32> {
+    let f = firstTrailingBit(*rest);
+    *rest &= *rest - 1u;
+    return vec2<u32>(params.groups[f][kind], params.groups[f + 1u][kind]);
+}
+
 // True when two cell points g o name the same copy of the domain.
 // Rust twin: same_cell_point in crates/bevy_manifold_core/src/trace/flat.rs.
 fn same_cell_point(a: vec4<f32>, b: vec4<f32>) -> bool {
@@ -193,14 +202,14 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
     var best = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
     // The groups walked (Rust: FaceGroups::ranges): the unmasked objects,
     // then the group of each near face, in order. Each kind's loop runs
-    // over the ranges; `rest_*` holds the near faces not yet walked.
+    // over the ranges next_group hands out; `rest_*` holds the near faces
+    // not yet walked.
     let groups = near_groups(near);
 #ifdef BALLS
     var rest_balls = groups;
-    var from_ball = 0u;
-    var to_ball = params.groups[0].x;
+    var balls_range = vec2<u32>(0u, params.groups[0].x);
     loop {
-        for (var i = from_ball; i < to_ball; i++) {
+        for (var i = balls_range.x; i < balls_range.y; i++) {
             if !may_hit(balls[i].face_mask, near) {
                 continue;
             }
@@ -212,18 +221,14 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
         if rest_balls == 0u {
             break;
         }
-        let f = firstTrailingBit(rest_balls);
-        rest_balls &= rest_balls - 1u;
-        from_ball = params.groups[f].x;
-        to_ball = params.groups[f + 1u].x;
+        balls_range = next_group(&rest_balls, 0u);
     }
 #endif
 #ifdef TUBES
     var rest_tubes = groups;
-    var from_tube = 0u;
-    var to_tube = params.groups[0].y;
+    var tubes_range = vec2<u32>(0u, params.groups[0].y);
     loop {
-        for (var i = from_tube; i < to_tube; i++) {
+        for (var i = tubes_range.x; i < tubes_range.y; i++) {
             if !may_hit(tubes[i].face_mask, near) {
                 continue;
             }
@@ -235,18 +240,14 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
         if rest_tubes == 0u {
             break;
         }
-        let f = firstTrailingBit(rest_tubes);
-        rest_tubes &= rest_tubes - 1u;
-        from_tube = params.groups[f].y;
-        to_tube = params.groups[f + 1u].y;
+        tubes_range = next_group(&rest_tubes, 1u);
     }
 #endif
 #ifdef MESHES
     var rest_meshes = groups;
-    var from_mesh = 0u;
-    var to_mesh = params.groups[0].z;
+    var meshes_range = vec2<u32>(0u, params.groups[0].z);
     loop {
-        for (var i = from_mesh; i < to_mesh; i++) {
+        for (var i = meshes_range.x; i < meshes_range.y; i++) {
             if !may_hit(instances[i].face_mask, near) || (instances[i].attached != 0u && same_cell_point(instances[i].home, cell_point)) {
                 continue;
             }
@@ -259,10 +260,7 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
         if rest_meshes == 0u {
             break;
         }
-        let f = firstTrailingBit(rest_meshes);
-        rest_meshes &= rest_meshes - 1u;
-        from_mesh = params.groups[f].z;
-        to_mesh = params.groups[f + 1u].z;
+        meshes_range = next_group(&rest_meshes, 2u);
     }
 #endif
     return best;
