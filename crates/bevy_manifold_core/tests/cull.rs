@@ -3,25 +3,13 @@
 //! segment really hits passes the test, and whole images are identical
 //! with culling on and off.
 
-use bevy_manifold_core::geometry::{Real, isometry};
+use bevy_manifold_core::geometry::Real;
 use bevy_manifold_core::prelude::*;
 use bevy_manifold_core::trace::step::{ALL_FACES, Ray, hit_ball, hit_tube, may_hit, near_faces};
 use bevy_manifold_core::trace::{FaceGroups, FlatScene, Walker};
 use bevy_manifold_test_support::Rng;
 use bevy_manifold_test_support::stress::face_middle;
 use glam::DVec4;
-use std::f64::consts::TAU;
-
-fn random_ray(space: &Space, rng: &mut Rng) -> Ray<f64> {
-    let g = space.geometry();
-    let place = isometry::translation(g, rng.unit() * rng.next_f64() * 0.95 * space.inradius())
-        * isometry::rotation(rng.unit(), rng.next_f64() * TAU);
-    let o = place * DVec4::W;
-    Ray {
-        origin: o,
-        dir: g.normalize_tangent::<f64>(o, place * DVec4::Z),
-    }
-}
 
 /// The spaces: the catalog, and generator spaces up to 20 faces.
 fn spaces() -> Vec<(String, Space)> {
@@ -68,7 +56,7 @@ fn check_segments<R: Real>(name: &str, space: &Space, prep: &FlatScene<R>, rng: 
     let g = space.geometry();
     let zero = R::of(0.0);
     for _ in 0..800 {
-        let ray = random_ray(space, rng);
+        let ray = rng.ray_inside(space);
         let ray = Ray {
             origin: R::v4_of(ray.origin),
             dir: R::v4_of(ray.dir),

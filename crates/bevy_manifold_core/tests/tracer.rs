@@ -13,18 +13,6 @@ use std::f64::consts::{PI, TAU};
 
 use bevy_manifold_test_support::Rng;
 
-/// A random ray starting strictly inside the domain.
-fn random_ray(space: &Space, rng: &mut Rng) -> Ray<f64> {
-    let g = space.geometry();
-    let place = isometry::translation(g, rng.unit() * rng.next_f64() * 0.95 * space.inradius())
-        * isometry::rotation(rng.unit(), rng.next_f64() * TAU);
-    let o = place * DVec4::W;
-    Ray {
-        origin: o,
-        dir: g.normalize_tangent::<f64>(o, place * DVec4::Z),
-    }
-}
-
 fn empty(space: &Space) -> FlatScene<f64> {
     FlatScene::new(space, &Scene::empty())
 }
@@ -115,7 +103,7 @@ fn every_geodesic_of_the_poincare_space_closes_after_two_pi() {
     let minus_one = s.cell_id(&(-DMat4::IDENTITY));
     assert_ne!(minus_one.0, 0);
     for _ in 0..2000 {
-        let ray = random_ray(&s, &mut rng);
+        let ray = rng.ray_inside(&s);
         let full = flow(&prep, ray, TAU, 100);
         assert!(full.complete);
         assert!(
@@ -155,7 +143,7 @@ fn a_million_random_rays_stay_finite_inside_and_normalised() {
                 let mut rng = Rng(chunk as u64 * 7919 + 17);
                 let mut worst = [0.0f64; 3];
                 for _ in 0..1000 {
-                    let ray = random_ray(&s, &mut rng);
+                    let ray = rng.ray_inside(&s);
                     let mut check = |r: &Ray<f64>| {
                         assert!(r.origin.is_finite() && r.dir.is_finite(), "{name}: NaN");
                         let outside = s

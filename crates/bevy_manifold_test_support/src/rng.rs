@@ -43,4 +43,20 @@ impl Rng {
         let r = isometry::rotation(self.unit(), self.next_f64() * std::f64::consts::TAU);
         isometry::translation(g, self.unit() * self.next_f64() * reach) * r
     }
+
+    /// A random ray starting strictly inside the domain of `space` (within
+    /// 0.95 of its inradius of the centre), in a random direction.
+    pub fn ray_inside(
+        &mut self,
+        space: &bevy_manifold_core::space::Space,
+    ) -> bevy_manifold_core::trace::step::Ray<f64> {
+        let g = space.geometry();
+        let place = isometry::translation(g, self.unit() * self.next_f64() * 0.95 * space.inradius())
+            * isometry::rotation(self.unit(), self.next_f64() * std::f64::consts::TAU);
+        let o = place * glam::DVec4::W;
+        bevy_manifold_core::trace::step::Ray {
+            origin: o,
+            dir: g.normalize_tangent::<f64>(o, place * glam::DVec4::Z),
+        }
+    }
 }
