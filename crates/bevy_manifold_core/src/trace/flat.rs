@@ -144,9 +144,10 @@ impl<R: Real> FaceTables<R> {
 pub struct FlatScene<R: Real> {
     /// The faces' planes and pairings (and the geometry).
     pub faces: FaceTables<R>,
-    /// Balls, ghosts included, then the vertex joints of the edge tubes.
+    /// Balls, ghosts included, and the vertex joints of the edge tubes,
+    /// sorted into [`FaceGroups`] (unmasked first).
     pub balls: Vec<FlatBall<R>>,
-    /// Edge tubes.
+    /// Edge tubes, sorted into [`FaceGroups`].
     pub tubes: Vec<FlatTube<R>>,
     /// `k` of the edge tubes.
     pub tube_k: R,
@@ -159,7 +160,7 @@ pub struct FlatScene<R: Real> {
     pub groups: FaceGroups,
     /// Lights.
     pub lights: Vec<FlatLight<R>>,
-    /// Mesh instances, ghosts included.
+    /// Mesh instances, ghosts included, sorted into [`FaceGroups`].
     pub instances: Vec<FlatInstance<R>>,
     /// The meshes the instances show, each once.
     pub meshes: Vec<Arc<MeshData>>,
