@@ -48,13 +48,34 @@ pub struct TracedBall {
     pub radius: f64,
     /// Albedo.
     pub color: Color,
+    /// Light it gives off, in units of its albedo ([`crate::trace::Ball::glow`]):
+    /// 0 for a plain ball; a shot or a lamp glows at 1 or more.
+    pub glow: f32,
 }
 
 impl TracedBall {
     /// A ball of `radius` and albedo `color`.
     #[must_use]
     pub fn new(radius: f64, color: Color) -> Self {
-        TracedBall { radius, color }
+        TracedBall {
+            radius,
+            color,
+            glow: 0.0,
+        }
+    }
+
+    /// The same ball, glowing: it shows at least `color * glow` with no
+    /// light on it.
+    ///
+    /// ```
+    /// use bevy::prelude::*;
+    /// use bevy_manifold::prelude::*;
+    /// let shot = TracedBall::new(0.03, Color::srgb(1.0, 0.8, 0.3)).glowing(1.5);
+    /// assert_eq!(shot.glow, 1.5);
+    /// ```
+    #[must_use]
+    pub fn glowing(self, glow: f32) -> Self {
+        TracedBall { glow, ..self }
     }
 }
 
@@ -219,6 +240,11 @@ pub fn gather_scenes(
                         // overflows f32) the ball is drawn at that radius.
                         radius: b.radius.min(max_radius(ms.space().geometry())),
                         color: rgb(b.color),
+                        glow: if b.glow.is_finite() {
+                            b.glow.clamp(0.0, crate::trace::MAX_GLOW)
+                        } else {
+                            0.0
+                        },
                     },
                 )
             })

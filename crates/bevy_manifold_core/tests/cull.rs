@@ -36,6 +36,7 @@ fn scenes(space: &Space) -> Vec<(&'static str, Scene)> {
                 .normalize_point::<f64>(face_middle(space, f) * 0.97 + DVec4::W * 0.03),
             radius: 0.08 * r,
             color: [0.2, 0.8, 0.4],
+            glow: 0.0,
         });
     }
     vec![("default", Scene::default_for(space)), ("ghosts", ghosts)]

@@ -29,6 +29,7 @@ fn ball_scene(space: &Space) -> Scene {
         center: DVec4::W,
         radius: 0.4 * space.inradius(),
         color: [1.0; 3],
+        glow: 0.0,
     });
     scene
 }

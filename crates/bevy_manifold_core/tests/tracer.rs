@@ -195,6 +195,7 @@ fn torus_ball_copies_appear_where_the_lattice_predicts() {
             center: DVec4::W,
             radius,
             color: [1.0, 0.5, 0.2],
+            glow: 0.0,
         }],
         lights: vec![Light {
             position: eye.extend(1.0),
@@ -353,6 +354,7 @@ fn shading_uses_the_geometrys_light_falloff_and_fog() {
                 center: DVec4::W,
                 radius: ball,
                 color: albedo,
+                glow: 0.0,
             }],
             lights: vec![Light {
                 position: cam * DVec4::W,
@@ -480,6 +482,7 @@ fn a_ball_straddling_a_face_is_drawn_through_it() {
             center: c,
             radius: 0.1,
             color: [1.0; 3],
+            glow: 0.0,
         }],
         lights: vec![],
         meshes: Vec::new(),
@@ -534,6 +537,15 @@ fn scene_files_report_the_bad_field() {
         e.contains("balls[0].center") && e.contains("outside the fundamental domain"),
         "{e}"
     );
+    let e = with(&["balls", "0", "glow"], serde_json::json!(-0.5));
+    assert_eq!(
+        e,
+        "scene.json: balls[0].glow: glow must be finite, in [0, 1000], got -0.5"
+    );
+    // A glow is kept through the file.
+    let mut glowing = Scene::default_for(&s);
+    glowing.balls[0].glow = 1.5;
+    assert_eq!(parse(&glowing.to_json()).expect("parses").balls[0].glow, 1.5);
     let e = with(&["lights", "0", "intensity"], serde_json::json!(-2.0));
     assert!(e.contains("lights[0].intensity"), "{e}");
     let e = with(&["camera", "fov_y_degrees"], serde_json::json!(180.0));

@@ -107,7 +107,9 @@ struct Ball {
     // The faces whose planes it lies near (FlatBall::faces): tested only
     // on segments near all of them (step.wgsl's may_hit).
     face_mask: u32,
-    pad: array<u32, 2>,
+    // FlatBall::glow: shown at least albedo * glow, lit or not.
+    glow: f32,
+    pad: array<u32, 1>,
 }
 
 // Rust twin: GpuTube in crates/bevy_manifold_gpu/src/layout.rs (the

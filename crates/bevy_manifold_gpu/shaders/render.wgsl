@@ -285,10 +285,12 @@ fn shade(ray: Ray, hit: Hit, dist: f32, cell: vec2<u32>) -> vec3<f32> {
     let view = -normalize_tangent(x, ray.dir);
     var normal = vec4<f32>(0.0);
     var albedo = vec3<f32>(1.0);
+    var glow = 0.0;
 #ifdef BALLS
     if hit.kind == 1u {
         normal = normal_from(x, balls[hit.index].center);
         albedo = balls[hit.index].color;
+        glow = balls[hit.index].glow;
     }
 #endif
 #ifdef TUBES
@@ -309,7 +311,9 @@ fn shade(ray: Ray, hit: Hit, dist: f32, cell: vec2<u32>) -> vec3<f32> {
 #ifdef CELL_COLORS
     albedo *= cell_color(cell);
 #endif
-    var rgb = albedo * 0.08;
+    // Ambient light and the object's own glow. Rust twin: `shade` in
+    // bevy_manifold_core's trace/render.rs.
+    var rgb = albedo * (0.08 + glow);
 #ifdef LIGHTS
     for (var i = 0u; i < params.light_count; i++) {
         let l = lights[i];

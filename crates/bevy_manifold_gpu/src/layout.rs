@@ -120,8 +120,10 @@ pub struct GpuBall {
     pub id: u32,
     /// `FlatBall::face_mask`.
     pub face_mask: u32,
+    /// `FlatBall::glow`.
+    pub glow: f32,
     /// Padding to 16 bytes.
-    pub pad: [u32; 2],
+    pub pad: [u32; 1],
 }
 
 /// WGSL twin: `Tube` in `shaders/bindings.wgsl`.
@@ -469,7 +471,8 @@ impl GpuObjects {
                         k: b.k,
                         id: b.id,
                         face_mask: b.face_mask,
-                        pad: [0; 2],
+                        glow: b.glow,
+                        pad: [0; 1],
                     })
                     .collect(),
             ),

@@ -46,7 +46,7 @@ fn rust_layouts() -> Vec<RustLayout> {
             projection, eye_offset, near_reach, pad, groups,
         }),
         rust_layout!(GpuFace => "Face" { plane, pairing, crossing, partner, pad }),
-        rust_layout!(GpuBall => "Ball" { center, color, k, id, face_mask, pad }),
+        rust_layout!(GpuBall => "Ball" { center, color, k, id, face_mask, glow, pad }),
         rust_layout!(GpuTube => "Tube" { a, e, b, e_b, color, face_mask }),
         rust_layout!(GpuInstance => "Instance" {
             to_local, center, color, k, nodes, vertices, triangles, id, texture, tex_width, tex_height,

@@ -171,6 +171,7 @@ fn a_ball_straddling_a_torus_face_is_seen_whole_from_either_side() {
         center: DVec4::new(0.45, 0.0, 0.0, 1.0),
         radius: 0.1,
         color: [1.0; 3],
+        glow: 0.0,
     };
     // Each camera looks along -z from 0.4 in front of the face, 0.05 from
     // it. Probes: horizontal angle, and the levels a ray needs to reach the
@@ -274,6 +275,58 @@ fn a_light_on_the_hit_point_is_lit_head_on_on_the_gpu() {
     }
 }
 
+/// Glowing balls with no light in the scene, in a flat, a hyperbolic and
+/// a spherical space: what the shading rule predicts (unlit, a ball shows
+/// its albedo times ambient plus glow, at every distance), on the GPU as
+/// on the CPU, and the edges (no glow) stay dark.
+fn glowing_balls_show_their_glow_in_the_dark_on_the_gpu() {
+    let mut gpu = tracer();
+    for name in ["torus", "seifert-weber", "poincare"] {
+        let space = catalog::by_name(name).expect("catalog");
+        let mut scene = Scene::default_for(&space);
+        scene.lights.clear();
+        let albedo = [0.9f32, 0.6, 0.2];
+        let glow = 2.0f32;
+        for b in &mut scene.balls {
+            b.color = albedo;
+            b.glow = glow;
+        }
+        let settings = TraceSettings {
+            width: 96,
+            height: 96,
+            levels: 6,
+            ..TraceSettings::default()
+        };
+        let g = gpu
+            .render(&space, &scene, &settings)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let c = render::<f32>(&space, &scene, &settings);
+        let (ids, colour) = agreement(&g, &c);
+        assert!(ids >= 0.995 && colour >= 0.99, "{name}: ids {ids}, colour {colour}");
+        let mut balls = 0;
+        for p in g.pixels.iter().filter(|p| p.object == 1) {
+            balls += 1;
+            for k in 0..3 {
+                let want = albedo[k] * (0.08 + glow);
+                assert!(
+                    (p.color[k] - want).abs() <= 1e-5 * want,
+                    "{name}: channel {k} of a glowing ball is {}, not {want}",
+                    p.color[k]
+                );
+            }
+        }
+        assert!(balls > 50, "{name}: the ball is seen ({balls} pixels)");
+        let edge = g.pixels.iter().find(|p| p.object == bevy_manifold_core::trace::EDGE_ID);
+        if let Some(e) = edge {
+            assert!(
+                e.color.iter().all(|&x| x < 0.1),
+                "{name}: an unlit edge glows {:?}",
+                e.color
+            );
+        }
+    }
+}
+
 /// The WGSL panoramas (`view_ray`) against the CPU f64 reference's, in a
 /// flat, a hyperbolic and a spherical space, mono and stereo.
 fn gpu_panoramas_agree_with_the_cpu_reference() {
@@ -323,6 +376,7 @@ fn gpu_panoramas_agree_with_the_cpu_reference() {
 bevy_manifold_test_support::test_main! {
     cpu: [],
     gpu: [
+        glowing_balls_show_their_glow_in_the_dark_on_the_gpu,
         gpu_panoramas_agree_with_the_cpu_reference,
         gpu_and_cpu_agree_in_every_space,
         gpu_culling_leaves_the_image_unchanged,

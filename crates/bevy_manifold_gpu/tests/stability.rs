@@ -126,6 +126,7 @@ fn near_the_klein_boundary_f32_still_finds_every_hit() {
         center: near(space.vertices()[7].point, 0.9),
         radius: 0.05,
         color: [0.3, 0.9, 0.4],
+        glow: 0.0,
     });
     for (levels, max_distance) in [(8, 100.0), (64, 1e4)] {
         let settings = TraceSettings {

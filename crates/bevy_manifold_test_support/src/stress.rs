@@ -372,6 +372,7 @@ pub fn light_on_the_hit(z: f64) -> (Space, Scene) {
             center: DVec4::W,
             radius: 0.125,
             color: [0.5, 0.25, 1.0],
+            glow: 0.0,
         }],
         lights: vec![Light {
             position: DVec4::new(0.0, 0.0, z, 1.0),

@@ -26,6 +26,8 @@ pub struct FlatBall<R: Real> {
     pub k: R,
     /// Albedo.
     pub color: [f32; 3],
+    /// [`super::Ball::glow`] (0 for a vertex joint).
+    pub glow: f32,
     /// Object id (1-based scene index, or [`EDGE_ID`]).
     pub id: u32,
     /// The faces (bits 0 to 31) whose planes every point of the ball
@@ -214,6 +216,7 @@ impl<R: Real> FlatScene<R> {
                     center: R::v4_of(center),
                     k,
                     color: b.color,
+                    glow: b.glow,
                     id: i as u32 + 1,
                     face_mask: face_mask(space, &[center], b.radius, reach),
                 });
@@ -257,6 +260,7 @@ impl<R: Real> FlatScene<R> {
                     center: R::v4_of(v.point),
                     k: tube_k,
                     color,
+                    glow: 0.0,
                     id: EDGE_ID,
                     face_mask: face_mask(space, &[v.point], r, reach),
                 });

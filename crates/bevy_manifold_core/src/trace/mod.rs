@@ -57,8 +57,8 @@ pub use render::{
 };
 pub use scene::MeshPart;
 pub use scene::{
-    Ball, Camera, Fog, HAND_COLOR, Light, MAX_LIGHTS, PaperOptions, SUZANNE_COLOR, Scene, SceneError, SceneMesh,
-    SuzanneMode, VEHICLE_COLOR, baked, hand_offset, max_radius, suzanne_offset, vehicle_offset,
+    Ball, Camera, Fog, HAND_COLOR, Light, MAX_GLOW, MAX_LIGHTS, PaperOptions, SUZANNE_COLOR, Scene, SceneError,
+    SceneMesh, SuzanneMode, VEHICLE_COLOR, baked, hand_offset, max_radius, suzanne_offset, vehicle_offset,
 };
 #[cfg(feature = "gltf")]
 pub use scene::{builtin, meshes_of};

@@ -532,13 +532,18 @@ fn shade<R: Real>(
 ) -> [f32; 3] {
     let x = g.normalize_point::<R>(ray.origin + ray.dir * t);
     let view = -g.normalize_tangent::<R>(x, ray.dir);
-    let (normal, albedo) = match hit {
-        Hit::Ball(i) => (normal_from::<R>(g, x, prep.balls[i].center), prep.balls[i].color),
+    let (normal, albedo, glow) = match hit {
+        Hit::Ball(i) => (
+            normal_from::<R>(g, x, prep.balls[i].center),
+            prep.balls[i].color,
+            prep.balls[i].glow,
+        ),
         Hit::Tube(i) => {
             let seg = &prep.tubes[i].segment;
             (
                 normal_from::<R>(g, x, foot_on_line::<R>(g, x, seg)),
                 prep.tubes[i].color,
+                0.0,
             )
         }
         Hit::Mesh(i, h) => {
@@ -546,6 +551,7 @@ fn shade<R: Real>(
             (
                 mesh_normal(g, inst, &prep.meshes[inst.mesh], &h, x, view),
                 mesh_albedo(prep, inst, &h),
+                0.0,
             )
         }
     };
@@ -554,7 +560,9 @@ fn shade<R: Real>(
         let c = settings.cell_tint.tint(cell);
         albedo = [albedo[0] * c[0], albedo[1] * c[1], albedo[2] * c[2]];
     }
-    let ambient = 0.08f32;
+    // Ambient light and the object's own glow. WGSL twin: `shade` in
+    // render.wgsl.
+    let ambient = 0.08f32 + glow;
     let mut rgb = [albedo[0] * ambient, albedo[1] * ambient, albedo[2] * ambient];
     for l in &prep.lights {
         let d = g.distance::<R>(x, l.position);

@@ -3,7 +3,7 @@
 //!
 //! ```text
 //! {"camera": {"isometry": [[..4..],[..4..],[..4..],[..4..]], "fov_y_degrees": 60},
-//!  "balls":  [{"center": [x,y,z,w], "radius": r, "color": [r,g,b]}, ...],
+//!  "balls":  [{"center": [x,y,z,w], "radius": r, "color": [r,g,b], "glow": 0}, ...],
 //!  "lights": [{"position": [x,y,z,w], "intensity": i, "color": [r,g,b]}, ...],
 //!  "meshes": [{"file": "model.glb", "placement": [[..4..] x4], "scale": s,
 //!              "color": [r,g,b], "attached": false}, ...],
@@ -80,6 +80,13 @@ struct BallDesc {
     center: [f64; 4],
     radius: f64,
     color: [f32; 3],
+    #[serde(default, skip_serializing_if = "is_zero")]
+    glow: f32,
+}
+
+/// A plain ball's glow is left out of the JSON.
+fn is_zero(g: &f32) -> bool {
+    *g == 0.0
 }
 
 #[derive(Serialize, Deserialize)]
@@ -201,10 +208,12 @@ impl Scene {
             let center = point_field(space, b.center, &format!("balls[{i}].center")).map_err(|(f, m)| field(f, m))?;
             radius(g, b.radius, &format!("balls[{i}].radius")).map_err(|(f, m)| field(f, m))?;
             color(b.color, &format!("balls[{i}].color")).map_err(|(f, m)| field(f, m))?;
+            glow(b.glow, &format!("balls[{i}].glow")).map_err(|(f, m)| field(f, m))?;
             balls.push(Ball {
                 center,
                 radius: b.radius,
                 color: b.color,
+                glow: b.glow,
             });
         }
         if balls.len() > 254 {
@@ -300,6 +309,7 @@ impl Scene {
                     center: b.center.to_array(),
                     radius: b.radius,
                     color: b.color,
+                    glow: b.glow,
                 })
                 .collect(),
             lights: self
@@ -364,6 +374,17 @@ fn color(c: [f32; 3], name: &str) -> Result<(), (String, String)> {
             name.into(),
             format!("colour components must be finite and >= 0, got {c:?}"),
         ))
+    }
+}
+
+/// Most glow a ball may have (a lamp is a few; more only saturates).
+pub const MAX_GLOW: f32 = 1000.0;
+
+fn glow(g: f32, name: &str) -> Result<(), (String, String)> {
+    if g.is_finite() && (0.0..=MAX_GLOW).contains(&g) {
+        Ok(())
+    } else {
+        Err((name.into(), format!("glow must be finite, in [0, {MAX_GLOW}], got {g}")))
     }
 }
 

@@ -10,7 +10,7 @@ mod presets;
 pub use file::MeshPart;
 #[cfg(feature = "gltf")]
 pub use file::meshes_of;
-pub use file::{MAX_LIGHTS, SceneError, max_radius};
+pub use file::{MAX_GLOW, MAX_LIGHTS, SceneError, max_radius};
 pub use mesh::{SceneMesh, baked};
 #[cfg(feature = "gltf")]
 pub use presets::builtin;
@@ -43,6 +43,10 @@ pub struct Ball {
     pub radius: f64,
     /// Linear RGB albedo.
     pub color: [f32; 3],
+    /// Light it gives off, in units of its albedo: it shows at least
+    /// `color * glow` with no light on it (a shot, a lamp); 0 for a plain
+    /// ball. It lights nothing else.
+    pub glow: f32,
 }
 
 /// A point light.

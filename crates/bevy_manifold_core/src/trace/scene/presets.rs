@@ -144,6 +144,7 @@ impl Scene {
                 center: DVec4::W,
                 radius: ball_radius,
                 color: [0.95, 0.55, 0.2],
+                glow: 0.0,
             }],
             lights: vec![Light {
                 position: eye,
