@@ -306,12 +306,11 @@ fn glowing_balls_show_their_glow_in_the_dark_on_the_gpu() {
         let mut balls = 0;
         for p in g.pixels.iter().filter(|p| p.object == 1) {
             balls += 1;
-            for k in 0..3 {
-                let want = albedo[k] * (0.08 + glow);
+            for (k, (&got, &a)) in p.color.iter().zip(&albedo).enumerate() {
+                let want = a * (0.08 + glow);
                 assert!(
-                    (p.color[k] - want).abs() <= 1e-5 * want,
-                    "{name}: channel {k} of a glowing ball is {}, not {want}",
-                    p.color[k]
+                    (got - want).abs() <= 1e-5 * want,
+                    "{name}: channel {k} of a glowing ball is {got}, not {want}"
                 );
             }
         }

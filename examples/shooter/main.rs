@@ -1,0 +1,222 @@
+//! The shooter: a game in a closed universe, where your shots come back
+//! around. Hit the green targets (any image of a target counts, in every
+//! copy of the domain where the level's cell rule shows it); the violet
+//! enemies fly at you by the shortest route through the faces and fire
+//! back; and in a compact space your own shot returns from behind: in the
+//! 3-torus after one period, in Seifert-Weber along a closed geodesic
+//! turned by the gluing.
+//!
+//! ```text
+//! cargo run --release --example shooter [-- --space seifert-weber]
+//!     [--difficulty easy|normal|hard] [--seed N] [--levels N]
+//!     [--record FILE.json] [--play FILE.json [--headless]]
+//!     [--screenshot FILE.png [--size WxH]]
+//! ```
+//!
+//! The game's rules are `game.rs` (no rendering: the tests play it
+//! headless, `tests/shooter.rs`), its inputs and scripts `input.rs`, and
+//! the window, HUD, map and controls `view.rs`. `--record` writes the game
+//! played as a script; `--play` replays one (in the window, or with
+//! `--headless` as fast as it can, printing the score and the events).
+
+mod game;
+mod input;
+mod view;
+
+#[path = "../support/showcase.rs"]
+#[allow(dead_code, reason = "the shooter uses its screenshot part only")]
+mod showcase;
+
+use bevy::prelude::*;
+use bevy::time::TimeUpdateStrategy;
+use bevy_manifold::prelude::*;
+use bevy_manifold::render::{ManifoldCamera, offscreen};
+use game::{Difficulty, Game, GameConfig, GamePlugin};
+use glam::DVec3;
+use input::{InputSource, Script, ScriptEntry, TickInput};
+use std::path::PathBuf;
+use std::time::Duration;
+use view::{ViewPlugin, ViewSettings};
+
+fn main() -> AppExit {
+    match run() {
+        Ok(exit) => exit,
+        Err(e) => {
+            eprintln!("error: {e}");
+            AppExit::error()
+        }
+    }
+}
+
+fn run() -> Result<AppExit, String> {
+    let arg = showcase::arg;
+    let script = arg("--play").map(|p| Script::read(p.as_ref())).transpose()?;
+    let mut config = script.as_ref().map_or_else(GameConfig::default, Script::config);
+    if script.is_none() {
+        config.space = arg("--space").unwrap_or_else(|| "torus".into());
+        if catalog::by_name(&config.space).is_none() {
+            return Err(format!(
+                "--space: no catalog space {:?} (one of {})",
+                config.space,
+                catalog::NAMES.join(", ")
+            ));
+        }
+        if let Some(d) = arg("--difficulty") {
+            config.difficulty =
+                Difficulty::by_name(&d).ok_or(format!("--difficulty: easy, normal or hard, not {d:?}"))?;
+        }
+        if let Some(s) = arg("--seed") {
+            config.seed = s.parse().map_err(|_| format!("--seed: a whole number, not {s:?}"))?;
+        }
+    }
+    let levels = match arg("--levels") {
+        Some(l) => l
+            .parse::<u32>()
+            .ok()
+            .filter(|l| (1..=64).contains(l))
+            .ok_or(format!("--levels: 1 to 64, not {l:?}"))?,
+        None => 6,
+    };
+    if showcase::flag("--headless") {
+        let script = script.ok_or("--headless plays a script: give --play FILE.json")?;
+        return Ok(play_headless(config, script));
+    }
+    if let Some(path) = arg("--screenshot") {
+        return Ok(screenshot(config, levels, path.into()));
+    }
+    let record = arg("--record").map(PathBuf::from);
+    let menu = script.is_none();
+    let mut app = App::new();
+    app.add_plugins(DefaultPlugins.set(WindowPlugin {
+        primary_window: Some(Window {
+            title: "bevy_manifold shooter: your shots come back around".into(),
+            resolution: (960, 540).into(),
+            ..default()
+        }),
+        ..default()
+    }))
+    .add_plugins((
+        ManifoldPlugin::in_schedule(FixedPostUpdate),
+        GamePlugin { config },
+        ViewPlugin(ViewSettings {
+            levels,
+            target: None,
+            menu,
+        }),
+    ))
+    .insert_resource(InputSource { script, ..default() });
+    if let Some(path) = record {
+        app.add_systems(
+            Last,
+            move |exits: MessageReader<AppExit>,
+                  source: Res<InputSource>,
+                  config: Res<GameConfig>,
+                  game: Option<Res<Game>>| {
+                if !exits.is_empty() {
+                    let ticks = game.map_or(0, |g| g.tick);
+                    match std::fs::write(&path, source.recording(&config, ticks).to_json()) {
+                        Ok(()) => println!("recorded {ticks} ticks to {}", path.display()),
+                        Err(e) => eprintln!("error: --record {}: {e}", path.display()),
+                    }
+                }
+            },
+        );
+    }
+    Ok(app.run())
+}
+
+/// Plays a script with no window, as fast as it goes, and prints what
+/// happened.
+fn play_headless(config: GameConfig, script: Script) -> AppExit {
+    let ticks = script.ticks;
+    let mut app = input::headless_app(config, Some(script), Duration::from_secs_f64(1.0 / game::TICK_HZ));
+    while app.world().resource::<Game>().tick < ticks && app.world().resource::<Game>().phase == game::Phase::Playing {
+        app.update();
+    }
+    let game = app.world().resource::<Game>();
+    for (tick, e) in &game.log {
+        println!("{tick:>6} {e:?}");
+    }
+    println!(
+        "score {} level {} health {:.0} after {} ticks ({} events)",
+        game.score,
+        game.level,
+        game.health,
+        game.tick,
+        game.log.len()
+    );
+    AppExit::Success
+}
+
+/// The game in progress for the screenshot: fly a little, turn, and fire
+/// a stream of shots (2.5 s of play).
+fn demo_script(config: &GameConfig) -> Script {
+    let at = |at, thrust: DVec3, turn: DVec3, fire| ScriptEntry {
+        at,
+        input: TickInput { thrust, turn, fire },
+    };
+    Script {
+        space: config.space.clone(),
+        seed: config.seed,
+        difficulty: config.difficulty,
+        inputs: vec![
+            at(0, DVec3::new(0.0, 0.0, -0.5), DVec3::new(0.0, 0.25, 0.0), false),
+            at(40, DVec3::ZERO, DVec3::new(0.05, -0.3, 0.0), true),
+            at(130, DVec3::ZERO, DVec3::ZERO, false),
+        ],
+        ticks: 150,
+    }
+}
+
+/// Renders a frame of a game in progress offscreen and writes it: the demo
+/// script is played (150 ticks in one update), then the clock stops while
+/// the shaders compile, so the picture is always the same moment.
+fn screenshot(config: GameConfig, levels: u32, path: PathBuf) -> AppExit {
+    let (w, h) = showcase::arg("--size")
+        .as_deref()
+        .and_then(showcase::parse_size)
+        .unwrap_or((640, 360));
+    let script = demo_script(&config);
+    let ticks = script.ticks;
+    let mut app = App::new();
+    app.add_plugins(offscreen::plugins());
+    let mut settings = ViewSettings {
+        levels,
+        target: None,
+        menu: false,
+    };
+    app.add_plugins((
+        ManifoldPlugin::in_schedule(FixedPostUpdate),
+        GamePlugin { config },
+        ViewPlugin(settings.clone()),
+    ));
+    app.finish();
+    app.cleanup();
+    let target = offscreen::target(&mut app, w, h);
+    settings.target = Some(target.clone());
+    app.insert_resource(settings);
+    app.insert_resource(InputSource {
+        script: Some(script),
+        ..default()
+    });
+    app.insert_resource(showcase::ScreenshotMode { path, target });
+    // Every manifold camera draws into the target (the showcase's rule).
+    app.add_observer(
+        |add: On<Add, ManifoldCamera>, mode: Res<showcase::ScreenshotMode>, mut commands: Commands| {
+            commands
+                .entity(add.entity)
+                .insert(bevy::camera::RenderTarget::Image(mode.target.clone().into()));
+        },
+    );
+    let tick = Duration::from_secs_f64(1.0 / game::TICK_HZ);
+    app.world_mut()
+        .resource_mut::<Time<Virtual>>()
+        .set_max_delta(Duration::from_secs(60));
+    app.insert_resource(TimeUpdateStrategy::ManualDuration(tick));
+    app.update();
+    let played = app.world().resource::<Game>().tick;
+    app.insert_resource(TimeUpdateStrategy::ManualDuration(tick * (ticks - played) as u32));
+    app.update();
+    app.insert_resource(TimeUpdateStrategy::ManualDuration(Duration::ZERO));
+    showcase::run(app)
+}
