@@ -301,7 +301,9 @@ pub struct Target;
 /// An enemy: flies to the player's nearest image and fires along it.
 #[derive(Component, Debug)]
 pub struct Enemy {
-    /// The enemy may fire from this tick on.
+    /// It starts moving at this tick (a moment after it appears).
+    pub wake: u64,
+    /// It may fire from this tick on.
     pub next_fire: u64,
 }
 
@@ -407,12 +409,18 @@ pub fn start_game(mut commands: Commands, config: Res<GameConfig>, old: Option<R
         next_fire: 0,
         rng: SplitMix(config.seed),
     };
-    begin_level(&mut commands, &mut game, &space, &config, 1);
+    begin_level(&mut commands, &mut game, &space, &config, (1, DVec4::W));
     commands.insert_resource(game);
 }
 
 /// Sets the cell rule for `level` and spawns its targets and enemies.
-fn begin_level(commands: &mut Commands, game: &mut Game, space: &Space, config: &GameConfig, level: u32) {
+fn begin_level(
+    commands: &mut Commands,
+    game: &mut Game,
+    space: &Space,
+    config: &GameConfig,
+    (level, player_at): (u32, DVec4),
+) {
     game.level = level;
     game.hits = 0;
     game.event(GameEvent::Level(level));
@@ -433,22 +441,30 @@ fn begin_level(commands: &mut Commands, game: &mut Game, space: &Space, config: 
         return;
     }
     for _ in 0..3 {
-        let p = random_placement(&mut game.rng, space);
+        let p = random_placement(&mut game.rng, space, player_at);
         spawn_target(commands, game, p);
     }
     let enemies = (level - 1).min(5) + u32::from(config.difficulty == Difficulty::Hard);
     for _ in 0..enemies {
-        let p = random_placement(&mut game.rng, space);
+        let p = random_placement(&mut game.rng, space, player_at);
         spawn_enemy(commands, game, p, DomainCell::default());
     }
 }
 
-/// A placement inside the domain, away from the faces and from the origin
-/// (where the player starts).
-fn random_placement(rng: &mut SplitMix, space: &Space) -> Placement {
+/// A placement inside the domain, away from its faces: of eight random
+/// ones, the farthest from every image of the player at `player_at`.
+fn random_placement(rng: &mut SplitMix, space: &Space, player_at: DVec4) -> Placement {
     let r = space.inradius();
-    let d = r * (0.35 + 0.5 * rng.unit());
-    Placement::at(space, rng.direction() * d)
+    let mut best = (f64::NEG_INFINITY, Placement::default());
+    for _ in 0..8 {
+        let d = r * (0.2 + 0.65 * rng.unit());
+        let p = Placement::at(space, rng.direction() * d);
+        let away = nearest_image(space, p.position(), player_at).map_or(0.0, |(_, d)| d);
+        if away > best.0 {
+            best = (away, p);
+        }
+    }
+    best.1
 }
 
 /// Spawns a target at `placement`, in the origin cell.
@@ -478,7 +494,8 @@ pub fn spawn_enemy(commands: &mut Commands, game: &Game, placement: Placement, c
         .spawn((
             ChildOf(game.root),
             Enemy {
-                next_fire: game.tick + (2.0 * TICK_HZ) as u64,
+                wake: game.tick + (1.5 * TICK_HZ) as u64,
+                next_fire: game.tick + (2.5 * TICK_HZ) as u64,
             },
             Name::new("Enemy"),
             placement,
@@ -546,7 +563,7 @@ pub fn spawn_shot(
 }
 
 /// The tick's input moves and turns the player, and fires.
-fn control_player(
+pub fn control_player(
     mut commands: Commands,
     mut game: ResMut<Game>,
     mut source: ResMut<InputSource>,
@@ -584,11 +601,21 @@ fn control_player(
 /// that can be nearest ([`ghost_centres`]).
 #[must_use]
 pub fn nearest_image(space: &Space, from: DVec4, target: DVec4) -> Option<(DVec4, f64)> {
+    images_by_distance(space, from, target).into_iter().next()
+}
+
+/// Every image of `target` within the domain's diameter of the domain,
+/// seen from `from`: the unit tangent towards it and its distance,
+/// nearest first.
+#[must_use]
+pub fn images_by_distance(space: &Space, from: DVec4, target: DVec4) -> Vec<(DVec4, f64)> {
     let g = space.geometry();
-    ghost_centres(space, target, 2.0 * space.circumradius())
+    let mut images: Vec<_> = ghost_centres(space, target, 2.0 * space.circumradius())
         .into_iter()
         .filter_map(|q| g.log::<f64>(from, q))
-        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .collect();
+    images.sort_by(|a, b| a.1.total_cmp(&b.1));
+    images
 }
 
 /// A tangent at the entity's position, in its own frame.
@@ -629,7 +656,9 @@ fn enemies_fly_and_fire(
             continue;
         };
         *placement = facing(&placement, local_direction(g, &placement, toward));
-        velocity.linear = DVec3::NEG_Z * rules.enemy_speed;
+        if game.tick >= enemy.wake {
+            velocity.linear = DVec3::NEG_Z * rules.enemy_speed;
+        }
         if distance < rules.enemy_fire_range && game.tick >= enemy.next_fire {
             enemy.next_fire = game.tick + (rules.enemy_fire_interval * TICK_HZ).round() as u64;
             fired.push((entity, *placement, cell.clone()));
@@ -654,28 +683,46 @@ pub fn sweep_shots(
     mut shots: Query<(Entity, &mut Shot)>,
     kinds: Query<(Has<Target>, Has<Enemy>, Has<Player>)>,
     spaces: Query<&ManifoldSpace>,
+    players: Query<&Placement, With<Player>>,
+    owners: Query<(), (With<Placement>, Without<Shot>)>,
 ) {
     let dt = time.delta_secs_f64();
     let rules = game.rules;
     let step = rules.shot_speed * dt;
     let mut gone = Vec::new();
+    // What this tick's hits destroyed: not hit again by another shot.
+    let mut dead: Vec<Entity> = Vec::new();
     for (entity, mut shot) in &mut shots {
         let settings = RayCastSettings {
             max_distance: step,
             levels: 64,
             exclude: (shot.age < rules.grace || !shot.by_player).then_some(shot.owner),
         };
-        let hit = cast.cast(entity, DVec3::NEG_Z, &settings).into_iter().find(|h| {
+        // A shot's first step is cast from its shooter's centre, which it
+        // left this tick (not yet moved): so the way out to where it
+        // appeared is swept too, and a target touching the shooter is hit.
+        let first = shot.age == 0.0 && owners.contains(shot.owner);
+        let (from, reach, before) = if first {
+            (shot.owner, shot.flown + step, 0.0)
+        } else {
+            (entity, step, shot.flown)
+        };
+        let settings = RayCastSettings {
+            max_distance: reach,
+            ..settings
+        };
+        let hit = cast.cast(from, DVec3::NEG_Z, &settings).into_iter().find(|h| {
             let (target, enemy, player) = kinds.get(h.entity).unwrap_or_default();
-            if shot.by_player {
-                target || enemy || player
-            } else {
-                player
-            }
+            !dead.contains(&h.entity)
+                && if shot.by_player {
+                    target || enemy || player
+                } else {
+                    player
+                }
         });
         shot.age += dt;
         if let Some(h) = hit {
-            let distance = shot.flown + h.distance;
+            let distance = before + h.distance;
             let (target, enemy, _) = kinds.get(h.entity).unwrap_or_default();
             if target {
                 game.score += 100 * u64::from(game.level);
@@ -686,11 +733,13 @@ pub fn sweep_shots(
                     cell: h.cell,
                 });
                 commands.entity(h.entity).despawn();
+                dead.push(h.entity);
                 if let Some(space) = spaces.get(game.root).ok().map(|m| m.space().clone()) {
                     let needed = Game::targets_for(game.level);
                     // A new target while the level still needs them.
                     if game.hits + 2 < needed {
-                        let p = random_placement(&mut game.rng, &space);
+                        let player_at = players.get(game.player).map_or(DVec4::W, Placement::position);
+                        let p = random_placement(&mut game.rng, &space, player_at);
                         spawn_target(&mut commands, &game, p);
                     }
                 }
@@ -698,6 +747,7 @@ pub fn sweep_shots(
                 game.score += 50;
                 game.event(GameEvent::EnemyHit { distance });
                 commands.entity(h.entity).despawn();
+                dead.push(h.entity);
             } else {
                 game.health -= if shot.by_player { 20.0 } else { 15.0 };
                 game.event(GameEvent::PlayerHit {
@@ -731,7 +781,7 @@ fn enemies_ram(
     let touch = game.rules.enemy_radius + game.rules.player_radius;
     for (e, placement) in &enemies {
         if nearest_image(ms.space(), placement.position(), p.position()).is_none_or(|(_, d)| d <= touch) {
-            game.health -= 30.0;
+            game.health -= 20.0;
             game.event(GameEvent::Rammed);
             commands.entity(e).despawn();
         }
@@ -746,6 +796,7 @@ fn next_level(
     mut game: ResMut<Game>,
     config: Res<GameConfig>,
     spaces: Query<&ManifoldSpace>,
+    player: Query<&Placement, With<Player>>,
     leftovers: Query<Entity, Or<(With<Target>, With<Enemy>, With<Shot>)>>,
 ) {
     if game.health <= 0.0 {
@@ -766,7 +817,8 @@ fn next_level(
     let level = game.level + 1;
     game.score += 250 * u64::from(game.level);
     game.health = (game.health + 20.0).min(100.0);
-    begin_level(&mut commands, &mut game, &space, &config, level);
+    let player_at = player.get(game.player).map_or(DVec4::W, Placement::position);
+    begin_level(&mut commands, &mut game, &space, &config, (level, player_at));
 }
 
 fn count_tick(mut game: ResMut<Game>) {

@@ -19,6 +19,7 @@
 //! played as a script; `--play` replays one (in the window, or with
 //! `--headless` as fast as it can, printing the score and the events).
 
+mod bot;
 mod game;
 mod input;
 mod view;
@@ -77,8 +78,16 @@ fn run() -> Result<AppExit, String> {
             .ok_or(format!("--levels: 1 to 64, not {l:?}"))?,
         None => 6,
     };
+    let bot = showcase::flag("--bot");
     if showcase::flag("--headless") {
-        let script = script.ok_or("--headless plays a script: give --play FILE.json")?;
+        if bot {
+            let ticks = match arg("--ticks") {
+                Some(t) => t.parse().map_err(|_| format!("--ticks: a whole number, not {t:?}"))?,
+                None => 36_000,
+            };
+            return Ok(bot_headless(config, ticks.min(input::MAX_TICKS)));
+        }
+        let script = script.ok_or("--headless plays a script (--play FILE.json) or the bot (--bot)")?;
         return Ok(play_headless(config, script));
     }
     if let Some(path) = arg("--screenshot") {
@@ -105,6 +114,17 @@ fn run() -> Result<AppExit, String> {
         }),
     ))
     .insert_resource(InputSource { script, ..default() });
+    if bot {
+        with_bot(&mut app);
+    }
+    if let Some(n) = arg("--frames").and_then(|n| n.parse::<u32>().ok()) {
+        app.add_systems(Last, move |mut frames: Local<u32>, mut exit: MessageWriter<AppExit>| {
+            *frames += 1;
+            if *frames >= n {
+                exit.write(AppExit::Success);
+            }
+        });
+    }
     if let Some(path) = record {
         app.add_systems(
             Last,
@@ -146,6 +166,93 @@ fn play_headless(config: GameConfig, script: Script) -> AppExit {
         game.log.len()
     );
     AppExit::Success
+}
+
+/// Lets the autopilot play.
+fn with_bot(app: &mut App) {
+    app.insert_resource(bot::Autopilot).add_systems(
+        FixedUpdate,
+        bot::autopilot.before(game::control_player).run_if(game::playing),
+    );
+}
+
+/// The bot plays `ticks` ticks with no window, starting again after each
+/// game over, and prints how each level went: the play-test.
+fn bot_headless(config: GameConfig, ticks: u64) -> AppExit {
+    let mut app = input::headless_app(config, None, Duration::from_secs_f64(1.0 / game::TICK_HZ));
+    with_bot(&mut app);
+    let mut played = 0;
+    let mut games = 0;
+    let mut best = 0;
+    while played < ticks {
+        app.update();
+        let game = app.world().resource::<Game>();
+        if game.phase == game::Phase::Over || played + game.tick >= ticks {
+            played += game.tick;
+            games += 1;
+            best = best.max(game.score);
+            report(game);
+            // The next game: the next seed.
+            app.world_mut().resource_mut::<GameConfig>().seed += 1;
+            app.world_mut().run_system_cached(game::start_game).ok();
+            app.update();
+        }
+    }
+    println!(
+        "{games} games in {played} ticks ({:.1} min), best score {best}",
+        played as f64 / game::TICK_HZ / 60.0
+    );
+    AppExit::Success
+}
+
+/// One game's levels: how long each took and what happened in it.
+fn report(game: &Game) {
+    use game::GameEvent as E;
+    let mut level_start = 0;
+    let mut counts = [0u32; 6];
+    let line = |level: u32, from: u64, to: u64, c: &[u32; 6]| {
+        println!(
+            "  level {level}: {:>5.1} s, {} shots, {} targets, {} enemies hit; hit by own shots {}, enemy shots {}, rammed {}",
+            (to - from) as f64 / game::TICK_HZ,
+            c[0],
+            c[1],
+            c[2],
+            c[3],
+            c[4],
+            c[5]
+        );
+    };
+    let mut level = 1;
+    for (tick, e) in &game.log {
+        match e {
+            E::Level(l) if *l > 1 => {
+                line(level, level_start, *tick, &counts);
+                counts = [0; 6];
+                level = *l;
+                level_start = *tick;
+            }
+            E::Fired => counts[0] += 1,
+            E::TargetHit { .. } => counts[1] += 1,
+            E::EnemyHit { .. } => counts[2] += 1,
+            E::PlayerHit { own: true, .. } => counts[3] += 1,
+            E::PlayerHit { own: false, .. } => counts[4] += 1,
+            E::Rammed => counts[5] += 1,
+            _ => {}
+        }
+    }
+    line(level, level_start, game.tick, &counts);
+    println!(
+        "game: score {} at level {}, health {:.0}, {:.1} s{}",
+        game.score,
+        game.level,
+        game.health,
+        game.tick as f64 / game::TICK_HZ,
+        if game.phase == game::Phase::Over {
+            ", game over"
+        } else {
+            ""
+        }
+    );
 }
 
 /// The game in progress for the screenshot: fly a little, turn, and fire

@@ -270,9 +270,19 @@ fn menu_keys(
     }
 }
 
-/// Pause, restart, back to the menu.
-fn game_keys(mut commands: Commands, keys: Res<ButtonInput<KeyCode>>, game: Option<ResMut<Game>>) {
+/// Pause, restart (another game: the next seed), back to the menu.
+fn game_keys(
+    mut commands: Commands,
+    keys: Res<ButtonInput<KeyCode>>,
+    mut config: ResMut<GameConfig>,
+    game: Option<ResMut<Game>>,
+) {
     let Some(mut game) = game else { return };
+    let again = matches!(game.phase, Phase::Paused | Phase::Over)
+        && (keys.just_pressed(KeyCode::KeyR) || keys.just_pressed(KeyCode::KeyM));
+    if again {
+        config.seed = config.seed.wrapping_add(1);
+    }
     match game.phase {
         Phase::Playing if keys.just_pressed(KeyCode::KeyP) || keys.just_pressed(KeyCode::Escape) => {
             game.phase = Phase::Paused;
