@@ -20,6 +20,9 @@ const FIGURES: &[(&str, &[&str], &str)] = &[
         &["--no-edges"],
         "mirrored_dodecahedron_no_edges",
     ),
+    // A game in progress (150 ticks of its demo script).
+    ("shooter", &["--space", "torus"], "shooter_torus"),
+    ("shooter", &["--space", "seifert-weber"], "shooter_seifert_weber"),
 ];
 
 /// The example binaries cargo built next to this test's (`cargo test`
@@ -90,8 +93,59 @@ fn every_example_renders_its_figure_headlessly() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// The shooter's bad arguments and scripts end in one line naming what
+/// is wrong, exit 1, no panic; a script plays headless to its score.
+fn the_shooter_refuses_bad_input_and_plays_a_script_headless() {
+    let run = |args: &[&str]| {
+        let out = Command::new(example("shooter"))
+            .args(args)
+            .env_remove("DISPLAY")
+            .env_remove("WAYLAND_DISPLAY")
+            .output()
+            .expect("the shooter runs");
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    let (code, _, err) = run(&["--space", "klein-bottle"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("error: --space: no catalog space \"klein-bottle\""),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    let dir = std::env::temp_dir().join(format!("bevy_manifold_shooter_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let bad = dir.join("bad.json");
+    std::fs::write(&bad, r#"{"space": "torus", "seed": 1, "difficulty": "normal", "inputs": [{"at": 0, "turn": [0, 5, 0]}], "ticks": 10}"#).expect("writes");
+    let (code, _, err) = run(&["--play", bad.to_str().unwrap(), "--headless"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("bad.json: inputs[0].turn: each component in [-1, 1]"),
+        "{err}"
+    );
+    // Fire straight ahead in the torus (period 1, inradius 0.5) for 2 s:
+    // each shot comes back after one period less the player's radius
+    // (0.12 of the inradius), 20 health a hit, and the fifth ends it.
+    let good = dir.join("good.json");
+    std::fs::write(
+        &good,
+        r#"{"space": "torus", "seed": 1, "difficulty": "easy", "inputs": [{"at": 0, "fire": true}], "ticks": 120}"#,
+    )
+    .expect("writes");
+    let (code, out, err) = run(&["--play", good.to_str().unwrap(), "--headless"]);
+    assert_eq!(code, Some(0), "{err}");
+    let hits = out.matches("PlayerHit { own: true, distance: 0.9399999").count();
+    assert_eq!(hits, 5, "{out}");
+    assert!(out.contains("GameOver"), "{out}");
+    assert!(out.contains("score 0 level 1 health 0 after"), "{out}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 bevy_manifold_test_support::test_main! {
-    cpu: [],
+    cpu: [the_shooter_refuses_bad_input_and_plays_a_script_headless],
     gpu: [
         every_example_renders_its_figure_headlessly,
     ],

@@ -20,3 +20,7 @@ cargo build --release -p bevy_manifold_app
 # Walls and hidden cells (README "Exact cells").
 "${CARGO_TARGET_DIR:-target}/release/bevy_manifold" render --space seifert-weber --walls 0.3 --hidden 0.6 --cells \
     --rule-seed 2 --out "$out/maze.png"
+# The shooter, a game in progress in three spaces (README "The shooter").
+"$bin/shooter" --space torus --screenshot "$out/shooter_torus.png"
+"$bin/shooter" --space seifert-weber --screenshot "$out/shooter_seifert_weber.png"
+"$bin/shooter" --space poincare --screenshot "$out/shooter_poincare.png"

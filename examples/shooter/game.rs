@@ -675,6 +675,10 @@ fn enemies_fly_and_fire(
 /// the first thing it can hit along the whole step is hit, at any speed,
 /// through the faces, against every image (those in "off" cells are
 /// passed through, as the tracer passes them). Shots past their life go.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "a Bevy system: each parameter is one query or resource"
+)]
 pub fn sweep_shots(
     mut commands: Commands,
     mut game: ResMut<Game>,

@@ -118,12 +118,16 @@ fn run() -> Result<AppExit, String> {
         with_bot(&mut app);
     }
     if let Some(n) = arg("--frames").and_then(|n| n.parse::<u32>().ok()) {
-        app.add_systems(Last, move |mut frames: Local<u32>, mut exit: MessageWriter<AppExit>| {
-            *frames += 1;
-            if *frames >= n {
-                exit.write(AppExit::Success);
-            }
-        });
+        // In `PostUpdate`, so the recording below (in `Last`) sees the exit.
+        app.add_systems(
+            PostUpdate,
+            move |mut frames: Local<u32>, mut exit: MessageWriter<AppExit>| {
+                *frames += 1;
+                if *frames >= n {
+                    exit.write(AppExit::Success);
+                }
+            },
+        );
     }
     if let Some(path) = record {
         app.add_systems(

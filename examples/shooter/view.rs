@@ -166,7 +166,7 @@ fn spawn_hud(mut commands: Commands, mut gizmos: ResMut<GizmoConfigStore>) {
     commands.spawn((
         Text::new(""),
         HudText,
-        TextFont::from_font_size(16.0),
+        TextFont::from_font_size(14.0),
         Node {
             position_type: PositionType::Absolute,
             bottom: px(8.0),
@@ -314,7 +314,7 @@ fn show_hud(
         return;
     };
     hud.0 = format!(
-        "{}   score {}   level {}   targets {}/{}   health {:.0}   cells on {:.0}%",
+        "{}   score {}   level {}   targets {}/{}   health {:.0}   {:.0}% of cells on",
         config.space,
         game.score,
         game.level,
