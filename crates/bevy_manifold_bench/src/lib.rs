@@ -3,6 +3,7 @@
 //! ratios measured side by side in one run. Unpublished.
 
 mod accuracy;
+mod balls;
 mod cells;
 mod cull;
 mod faces;
@@ -119,6 +120,26 @@ pub enum BenchCommand {
         #[arg(long, default_value = "")]
         only: String,
     },
+    /// Frame time against the number of traced balls (1 to 254, a swarm
+    /// of small balls), GPU and CPU f32, culling off and on, in the torus,
+    /// Seifert-Weber and the Poincare sphere.
+    Balls {
+        /// Image width.
+        #[arg(long, default_value_t = 320)]
+        width: u32,
+        /// Image height.
+        #[arg(long, default_value_t = 180)]
+        height: u32,
+        /// Most transports per ray.
+        #[arg(long, default_value_t = 8)]
+        levels: u32,
+        /// Runs per setting; the best is reported.
+        #[arg(long, default_value_t = 3)]
+        runs: u32,
+        /// Only the spaces whose name holds this.
+        #[arg(long, default_value = "")]
+        only: String,
+    },
 }
 
 /// Runs one benchmark, printing its table (and writing its files).
@@ -142,6 +163,13 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
             runs,
             ref only,
         } => cull::run(width.max(1), height.max(1), runs.max(1), only),
+        BenchCommand::Balls {
+            width,
+            height,
+            levels,
+            runs,
+            ref only,
+        } => balls::run(width.max(1), height.max(1), levels.clamp(1, 64), runs.max(1), only),
     }
 }
 

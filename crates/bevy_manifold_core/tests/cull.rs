@@ -6,9 +6,9 @@
 use bevy_manifold_core::geometry::Real;
 use bevy_manifold_core::prelude::*;
 use bevy_manifold_core::trace::step::{ALL_FACES, Ray, hit_ball, hit_tube, may_hit, near_faces};
-use bevy_manifold_core::trace::{FaceGroups, FlatScene, Walker};
+use bevy_manifold_core::trace::{FaceGroups, FlatScene, Walker, chart_segment, tree_leaves};
 use bevy_manifold_test_support::Rng;
-use bevy_manifold_test_support::stress::face_middle;
+use bevy_manifold_test_support::stress::{self, face_middle};
 use glam::DVec4;
 
 /// The spaces: the catalog, and generator spaces up to 20 faces.
@@ -39,16 +39,24 @@ fn scenes(space: &Space) -> Vec<(&'static str, Scene)> {
             glow: 0.0,
         });
     }
-    vec![("default", Scene::default_for(space)), ("ghosts", ghosts)]
+    vec![
+        ("default", Scene::default_for(space)),
+        ("ghosts", ghosts),
+        ("swarm", stress::swarm(space, 120, 7)),
+    ]
 }
 
 /// Counts over many segments: object tests made, culled, and hits on
-/// objects that carry a mask (so the check below is not vacuous).
+/// objects that carry a mask (so the check below is not vacuous); balls
+/// with no mask, those the ball tree skips, and hits on them.
 #[derive(Default)]
 struct Counts {
     tests: usize,
     culled: usize,
     masked_hits: usize,
+    interior: usize,
+    interior_skipped: usize,
+    interior_hits: usize,
 }
 
 /// Walks random rays segment by segment; on each, every ball and tube the
@@ -90,6 +98,33 @@ fn check_segments<R: Real>(name: &str, space: &Space, prep: &FlatScene<R>, rng: 
             for b in &prep.balls {
                 check(b.face_mask, hit_ball(g, &walk.ray, b.center, b.k, zero), "a ball");
             }
+            // The ball tree: every ball with no mask that the segment
+            // hits is in a leaf the walk visits.
+            let interior = prep.groups.balls[0] as usize;
+            let mut visited = vec![false; interior];
+            match chart_segment(&walk.ray, t_end) {
+                Some((a, d)) => tree_leaves(&prep.ball_tree, a, d, |leaf| {
+                    for i in leaf {
+                        assert!(!visited[i], "{name}: ball {i} is in two leaves");
+                        visited[i] = true;
+                    }
+                }),
+                None => visited.fill(true),
+            }
+            for (i, b) in prep.balls[..interior].iter().enumerate() {
+                counts.interior += 1;
+                counts.interior_skipped += usize::from(!visited[i]);
+                if let Some(t) = hit_ball(g, &walk.ray, b.center, b.k, zero)
+                    && t <= t_end
+                {
+                    counts.interior_hits += 1;
+                    assert!(
+                        visited[i],
+                        "{name}: ball {i} hit at t {} but its leaf is skipped",
+                        t.f64()
+                    );
+                }
+            }
             for tube in &prep.tubes {
                 check(
                     tube.face_mask,
@@ -126,13 +161,32 @@ fn no_object_a_segment_hits_is_culled() {
                 &mut c32,
             );
             let culled = c64.culled as f64 / c64.tests as f64;
+            let skipped = c64.interior_skipped as f64 / c64.interior.max(1) as f64;
             eprintln!(
-                "{name:<22} {what:<8} {} tests, {:.1}% culled (f32 {:.1}%), {} hits on masked objects",
+                "{name:<22} {what:<8} {} tests, {:.1}% culled (f32 {:.1}%), {} hits on masked objects; \
+                 {:.1}% of {} interior ball tests skipped by the tree (f32 {:.1}%), {} hits on them",
                 c64.tests,
                 100.0 * culled,
                 100.0 * c32.culled as f64 / c32.tests as f64,
-                c64.masked_hits + c32.masked_hits
+                c64.masked_hits + c32.masked_hits,
+                100.0 * skipped,
+                c64.interior,
+                100.0 * c32.interior_skipped as f64 / c32.interior.max(1) as f64,
+                c64.interior_hits + c32.interior_hits,
             );
+            // A swarm of small balls: a segment meets few of their boxes.
+            if what == "swarm" {
+                assert!(
+                    c64.interior_hits > 100,
+                    "{name}: the swarm is hit ({})",
+                    c64.interior_hits
+                );
+                assert!(
+                    skipped > 0.6,
+                    "{name}: the tree skips only {:.1}% of the swarm",
+                    100.0 * skipped
+                );
+            }
             assert!(
                 c64.masked_hits > 10,
                 "{name} {what}: masked objects are hit ({})",
@@ -213,4 +267,55 @@ fn groups_hold_every_object_once_and_a_segment_walks_the_near_ones() {
     assert!(near0.iter().all(|&i| prep.tubes[i].face_mask.trailing_zeros() == 0));
     // The tubes along face 0's five edges are those with bit 0.
     assert_eq!(prep.tubes.iter().filter(|t| t.face_mask & 1 != 0).count(), 5);
+}
+
+/// A ball's chart box holds every point of the ball and is tight: points
+/// on its sphere, reached by the exponential map from its centre (an
+/// independent route to the ball), lie inside, and on each side some come
+/// within 1% of the box's width of it. In the three geometries, for balls
+/// of many sizes and places.
+#[test]
+fn a_balls_chart_box_holds_it_and_touches_it() {
+    let mut rng = Rng(23);
+    for name in ["torus", "seifert-weber", "poincare"] {
+        let space = catalog::by_name(name).expect("catalog");
+        let g = space.geometry();
+        for _ in 0..40 {
+            let c = rng.ray_inside(&space).origin;
+            let r = (0.02 + 0.6 * rng.next_f64()) * space.inradius();
+            let k = bevy_manifold_core::trace::step::radius_param(g, r);
+            let (lo, hi) = bevy_manifold_core::trace::ball_box(g, c, k);
+            let mut reach = [
+                f64::INFINITY,
+                f64::INFINITY,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::NEG_INFINITY,
+                f64::NEG_INFINITY,
+            ];
+            for _ in 0..4000 {
+                let v = rng.unit().extend(rng.next_f64() - 0.5);
+                let u = g.normalize_tangent::<f64>(c, v);
+                let q = g.exp::<f64>(c, u, r).0;
+                let x = q.truncate() / q.w;
+                for i in 0..3 {
+                    assert!(
+                        f64::from(lo[i]) <= x[i] && x[i] <= f64::from(hi[i]),
+                        "{name}: point {x:?} of the ball (r {r}) outside its box {lo:?}..{hi:?}"
+                    );
+                    reach[i] = reach[i].min(x[i]);
+                    reach[3 + i] = reach[3 + i].max(x[i]);
+                }
+            }
+            for i in 0..3 {
+                let width = f64::from(hi[i] - lo[i]);
+                assert!(
+                    reach[i] - f64::from(lo[i]) < 0.01 * width && f64::from(hi[i]) - reach[3 + i] < 0.01 * width,
+                    "{name}: box {lo:?}..{hi:?} is loose on axis {i} (points reach {} to {})",
+                    reach[i],
+                    reach[3 + i]
+                );
+            }
+        }
+    }
 }

@@ -7,7 +7,7 @@
 // `@binding`s below is built in crates/bevy_manifold_gpu (headless runner,
 // render pass).
 //
-// Shader defs read: MESHES (the mesh bindings 6 and 7); FACE_COUNT (a
+// Shader defs read: MESHES (the mesh instances, binding 6); FACE_COUNT (a
 // value, when set).
 //
 // Padding is `pad: array<u32, 3>` as in Rust (`pad: [u32; 3]`): the same
@@ -78,7 +78,12 @@ struct Params {
     // FaceTables::near_scale * FlatScene::near_reach: the bound of
     // near_faces' test (step.wgsl); infinite when nothing is culled.
     near_reach: f32,
-    pad: array<u32, 1>,
+    // FlatScene::ball_tree, in mesh_data: where its nodes start, and how
+    // many (0: no balls without a face mask). render.wgsl's
+    // interior_balls walks it.
+    ball_tree: u32,
+    ball_tree_nodes: u32,
+    pad: array<u32, 3>,
     // FlatScene::groups: groups[f] is where face f's group starts in the
     // balls, tubes and instances (x, y, z); the entry after the last face
     // (at most 32) holds their counts. Objects before groups[0] carry no
@@ -182,9 +187,10 @@ struct Pixel {
 @group(0) @binding(5) var<storage, read> cell_table: array<u32>;
 #ifdef MESHES
 @group(0) @binding(6) var<storage, read> instances: array<Instance>;
-// Per mesh: BVH nodes, vertices, triangles, texels (bvh.wgsl reads them).
-@group(0) @binding(7) var<storage, read> mesh_data: array<vec4<u32>>;
 #endif
+// Per mesh: BVH nodes, vertices, triangles, texels (bvh.wgsl reads them);
+// then the nodes of the ball tree (params.ball_tree).
+@group(0) @binding(7) var<storage, read> mesh_data: array<vec4<u32>>;
 // The compute entries' output.
 @group(0) @binding(8) var<storage, read_write> pixels: array<Pixel>;
 

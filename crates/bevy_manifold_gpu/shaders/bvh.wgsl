@@ -6,12 +6,15 @@
 // bindings.wgsl). The packing of mesh_data is GpuObjects::mesh_data in
 // crates/bevy_manifold_gpu/src/layout.rs.
 //
-// Shader defs read: MESHES (the whole module: compiled in only with
-// meshes; render.wgsl imports it only then).
+// Shader defs read: MESHES (the mesh part: compiled in only with meshes).
+// The slab test and its inverse serve the ball tree too (render.wgsl's
+// interior_balls).
 #define_import_path bevy_manifold::bvh
 
+#import bevy_manifold::bindings::mesh_data
 #ifdef MESHES
-#import bevy_manifold::bindings::{Instance, mesh_data, BVH_STACK}
+#import bevy_manifold::bindings::{Instance, BVH_STACK}
+#endif
 
 // mesh_data holds, per mesh: BVH nodes (two words each: min.xyz and
 // first, max.xyz and count; an inner node's left child is the next node,
@@ -22,6 +25,24 @@ fn data_vec3(i: u32) -> vec3<f32> {
     return bitcast<vec3<f32>>(mesh_data[i].xyz);
 }
 
+// Entering s of o + s d into the box within [0, s_max]; -1 for a miss.
+fn hit_box(o: vec3<f32>, inv_d: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>, s_max: f32) -> f32 {
+    let t0 = (lo - o) * inv_d;
+    let t1 = (hi - o) * inv_d;
+    let near = min(t0, t1);
+    let far = max(t0, t1);
+    let enter = max(max(near.x, near.y), max(near.z, 0.0));
+    let leave = min(min(far.x, far.y), min(far.z, s_max));
+    return select(-1.0, enter, enter <= leave);
+}
+
+// 1 / c, with |c| kept above 1e-20 so the slab test meets no infinity.
+fn safe_inverse(c: vec3<f32>) -> vec3<f32> {
+    let small = abs(c) < vec3<f32>(1.0e-20);
+    return 1.0 / select(c, select(vec3<f32>(1.0e-20), vec3<f32>(-1.0e-20), c < vec3<f32>(0.0)), small);
+}
+
+#ifdef MESHES
 // Rust twin: MeshHit in crates/bevy_manifold_core/src/mesh/bvh.rs.
 struct MeshHit {
     s: f32,
@@ -53,23 +74,6 @@ fn hit_triangle(o: vec3<f32>, d: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<
     }
     let s = dot(e2, r) * inv;
     return select(miss, vec3<f32>(s, u, v), s >= 0.0);
-}
-
-// Entering s of o + s d into the box within [0, s_max]; -1 for a miss.
-fn hit_box(o: vec3<f32>, inv_d: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>, s_max: f32) -> f32 {
-    let t0 = (lo - o) * inv_d;
-    let t1 = (hi - o) * inv_d;
-    let near = min(t0, t1);
-    let far = max(t0, t1);
-    let enter = max(max(near.x, near.y), max(near.z, 0.0));
-    let leave = min(min(far.x, far.y), min(far.z, s_max));
-    return select(-1.0, enter, enter <= leave);
-}
-
-// 1 / c, with |c| kept above 1e-20 so the slab test meets no infinity.
-fn safe_inverse(c: vec3<f32>) -> vec3<f32> {
-    let small = abs(c) < vec3<f32>(1.0e-20);
-    return 1.0 / select(c, select(vec3<f32>(1.0e-20), vec3<f32>(-1.0e-20), c < vec3<f32>(0.0)), small);
 }
 
 fn triangle_corner(inst: Instance, tri: vec4<u32>, k: u32) -> vec3<f32> {

@@ -17,6 +17,8 @@
 #import bevy_manifold::walk::{walker_new, max_passes, segment_end, walk_segment}
 #ifdef BALLS
 #import bevy_manifold::step::hit_ball
+#import bevy_manifold::bindings::{mesh_data, BVH_STACK, FLAG_NO_CULL}
+#import bevy_manifold::bvh::{hit_box, safe_inverse}
 #endif
 #ifdef TUBES
 #import bevy_manifold::step::{hit_tube, foot_on_line}
@@ -193,11 +195,73 @@ fn same_cell_point(a: vec4<f32>, b: vec4<f32>) -> bool {
     return dot(d, d) <= 1.0e-6 * size;
 }
 
+#ifdef BALLS
+// `best`, or ball i if it is hit on [0, t_end] nearer (ties to the lower
+// index, as in the array's order). Rust: try_ball in nearest_object.
+fn nearer_ball(ray: Ray, t_end: f32, near: u32, best: Hit, i: u32) -> Hit {
+    if !may_hit(balls[i].face_mask, near) {
+        return best;
+    }
+    let t = hit_ball(ray, balls[i].center, balls[i].k, 0.0);
+    if t >= 0.0 && t <= t_end && (best.kind == 0u || t < best.t || (t == best.t && i < best.index)) {
+        return Hit(t, 1u, i, 0u, 0.0, 0.0);
+    }
+    return best;
+}
+
+// The nearest of the balls with no face mask (0..params.groups[0].x): only
+// those in the leaves of the ball tree (params.ball_tree in mesh_data)
+// whose boxes the segment's chart image, from a = o/o_w to e/e_w, meets;
+// every one when culling is off or an end is at the chart's horizon.
+// Rust twin: chart_segment and tree_leaves in
+// crates/bevy_manifold_core/src/trace/cull.rs, as nearest_object calls them.
+fn interior_balls(ray: Ray, t_end: f32, near: u32) -> Hit {
+    var best = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
+    let o = ray.origin;
+    let e = ray.origin + ray.dir * t_end;
+    let a = o.xyz / o.w;
+    let d = e.xyz / e.w - a;
+    let finite = all(abs(a) < vec3<f32>(3.0e38)) && all(abs(d) < vec3<f32>(3.0e38));
+    if (params.flags & FLAG_NO_CULL) != 0u || params.ball_tree_nodes == 0u || !(t_end < 3.0e38) || !(o.w > 0.0) || !(e.w > 0.0) || !finite {
+        for (var i = 0u; i < params.groups[0].x; i++) {
+            best = nearer_ball(ray, t_end, near, best, i);
+        }
+        return best;
+    }
+    let inv_d = safe_inverse(d);
+    var stack: array<u32, BVH_STACK>;
+    var top = 1u;
+    stack[0] = 0u;
+    // Every node is visited at most once: a hard bound on the loop.
+    for (var guard = 0u; guard < params.ball_tree_nodes && top > 0u; guard++) {
+        top -= 1u;
+        let index = stack[top];
+        let w0 = mesh_data[params.ball_tree + 2u * index];
+        let w1 = mesh_data[params.ball_tree + 2u * index + 1u];
+        if hit_box(a, inv_d, bitcast<vec3<f32>>(w0.xyz), bitcast<vec3<f32>>(w1.xyz), 1.0) < 0.0 {
+            continue;
+        }
+        if w1.w > 0u {
+            for (var i = w0.w; i < w0.w + w1.w; i++) {
+                best = nearer_ball(ray, t_end, near, best, i);
+            }
+        } else if top + 2u <= BVH_STACK {
+            // The right child under the left, so the left is walked first.
+            stack[top] = w0.w;
+            stack[top + 1u] = index + 1u;
+            top += 2u;
+        }
+    }
+    return best;
+}
+#endif
+
 // The nearest object on the ray within [0, t_end], seen from the cell whose
 // element takes the origin to `cell_point` (the copy of a camera-attached
 // mesh that is the camera's own body from there is skipped). Objects whose
 // faces the segment does not come near (`near`, from near_faces) are not
-// tested.
+// tested, nor balls with no face mask in the leaves of the ball tree the
+// segment does not meet (interior_balls).
 fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit {
     var best = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
     // The groups walked (Rust: FaceGroups::ranges): the unmasked objects,
@@ -206,22 +270,16 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
     // not yet walked.
     let groups = near_groups(near);
 #ifdef BALLS
+    best = interior_balls(ray, t_end, near);
     var rest_balls = groups;
-    var balls_range = vec2<u32>(0u, params.groups[0].x);
     loop {
-        for (var i = balls_range.x; i < balls_range.y; i++) {
-            if !may_hit(balls[i].face_mask, near) {
-                continue;
-            }
-            let t = hit_ball(ray, balls[i].center, balls[i].k, 0.0);
-            if t >= 0.0 && t <= t_end && (best.kind == 0u || t < best.t) {
-                best = Hit(t, 1u, i, 0u, 0.0, 0.0);
-            }
-        }
         if rest_balls == 0u {
             break;
         }
-        balls_range = next_group(&rest_balls, 0u);
+        let balls_range = next_group(&rest_balls, 0u);
+        for (var i = balls_range.x; i < balls_range.y; i++) {
+            best = nearer_ball(ray, t_end, near, best, i);
+        }
     }
 #endif
 #ifdef TUBES

@@ -2,6 +2,7 @@
 //! `shaders/bindings.wgsl` (held to them by `tests/contract.rs`), packed from the same [`FlatScene`] scene the CPU
 //! tracer reads (in f32), so both trace identical inputs.
 
+use bevy_manifold_core::mesh::bvh::BvhNode;
 use bevy_manifold_core::space::Space;
 use bevy_manifold_core::space::ball::OUTSIDE;
 use bevy_manifold_core::space::cells::{CellId, CellScheme};
@@ -84,8 +85,13 @@ pub struct GpuParams {
     /// `FaceTables::near_scale` times `FlatScene::near_reach`: the bound
     /// of `near_faces`' test.
     pub near_reach: f32,
+    /// [`GpuObjects::ball_tree`]: where the ball tree's nodes start in
+    /// the mesh data...
+    pub ball_tree: u32,
+    /// ... and how many there are.
+    pub ball_tree_nodes: u32,
     /// Padding to 16 bytes.
-    pub pad: [u32; 1],
+    pub pad: [u32; 3],
     /// [`GpuObjects::groups`].
     pub groups: [[u32; 4]; 33],
 }
@@ -240,9 +246,13 @@ pub struct GpuObjects {
     pub lights: Vec<GpuLight>,
     /// Mesh instances, ghosts included (at least one element).
     pub instances: Vec<GpuInstance>,
-    /// The meshes' BVH nodes, vertices, triangles and texels, as words of
-    /// four `u32` (floats by their bits; at least one word).
+    /// The meshes' BVH nodes, vertices, triangles and texels, then the
+    /// nodes of `FlatScene::ball_tree`, as words of four `u32` (floats by
+    /// their bits; at least one word).
     pub mesh_data: Vec<[u32; 4]>,
+    /// Where the ball tree's nodes start in `mesh_data` (two words each,
+    /// as a mesh's BVH nodes), and how many there are.
+    pub ball_tree: [u32; 2],
     /// How many of each are real: balls, tubes, lights, instances.
     pub counts: [u32; 4],
     /// `k` of the edge tubes.
@@ -460,7 +470,9 @@ impl GpuObjects {
     /// Packs the objects of a prepared scene.
     #[must_use]
     pub fn pack(prep: &FlatScene<f32>) -> Self {
-        let (instances, mesh_data) = pack_meshes(prep);
+        let (instances, mut mesh_data) = pack_meshes(prep);
+        let ball_tree = [mesh_data.len() as u32, prep.ball_tree.len() as u32];
+        push_nodes(&mut mesh_data, &prep.ball_tree);
         GpuObjects {
             balls: non_empty(
                 prep.balls
@@ -501,6 +513,7 @@ impl GpuObjects {
             ),
             instances: non_empty(instances),
             mesh_data: non_empty(mesh_data),
+            ball_tree,
             counts: [
                 prep.balls.len() as u32,
                 prep.tubes.len() as u32,
@@ -533,6 +546,15 @@ fn bits(v: [f32; 3], w: u32) -> [u32; 4] {
     [v[0].to_bits(), v[1].to_bits(), v[2].to_bits(), w]
 }
 
+/// Appends hierarchy nodes as two words each: min and `first`, max and
+/// `count` (`shaders/bvh.wgsl` reads them so).
+fn push_nodes(data: &mut Vec<[u32; 4]>, nodes: &[BvhNode]) {
+    for n in nodes {
+        data.push(bits(n.min, n.first));
+        data.push(bits(n.max, n.count));
+    }
+}
+
 /// Packs the prepared meshes into mesh data words and the instances that
 /// point into it.
 fn pack_meshes(prep: &FlatScene<f32>) -> (Vec<GpuInstance>, Vec<[u32; 4]>) {
@@ -541,10 +563,7 @@ fn pack_meshes(prep: &FlatScene<f32>) -> (Vec<GpuInstance>, Vec<[u32; 4]>) {
     let mut offsets = Vec::new();
     for m in &prep.meshes {
         let nodes = data.len() as u32;
-        for n in &m.nodes {
-            data.push(bits(n.min, n.first));
-            data.push(bits(n.max, n.count));
-        }
+        push_nodes(&mut data, &m.nodes);
         let vertices = data.len() as u32;
         let mesh = &m.mesh;
         for i in 0..mesh.positions.len() {
@@ -636,7 +655,9 @@ impl GpuParams {
             projection: view.projection.0,
             eye_offset: view.projection.1,
             near_reach: packed.near_scale * objects.near_reach,
-            pad: [0; 1],
+            ball_tree: objects.ball_tree[0],
+            ball_tree_nodes: objects.ball_tree[1],
+            pad: [0; 3],
             groups: objects.groups,
         }
     }

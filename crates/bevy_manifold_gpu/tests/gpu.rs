@@ -111,8 +111,9 @@ fn agree(gpu: &mut bevy_manifold_gpu::GpuTracer, name: &str, space: &Space) {
 
 /// Culling on the GPU changes nothing: the same pixels with it on and off
 /// (`FLAG_NO_CULL`), in every catalog space and the 20-face Weeks
-/// manifold, with the default scene (edges and joints masked) and the
-/// paper's (Suzanne on the camera, the hands: masked mesh ghosts).
+/// manifold, with the default scene (edges and joints masked), the
+/// paper's (Suzanne on the camera, the hands: masked mesh ghosts) and a
+/// swarm of 120 small balls (most in the ball tree).
 fn gpu_culling_leaves_the_image_unchanged() {
     let mut gpu = tracer();
     let mut spaces: Vec<(String, Space)> = catalog::NAMES
@@ -124,6 +125,7 @@ fn gpu_culling_leaves_the_image_unchanged() {
         for (what, scene) in [
             ("default", Scene::default_for(&space)),
             ("paper", Scene::paper_default(&space)),
+            ("swarm", bevy_manifold_test_support::stress::swarm(&space, 120, 7)),
         ] {
             let on = TraceSettings {
                 width: 128,

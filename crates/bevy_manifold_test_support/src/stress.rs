@@ -383,3 +383,25 @@ pub fn light_on_the_hit(z: f64) -> (Space, Scene) {
     };
     (s, scene)
 }
+
+/// The default scene of `space` with `n` more balls (at most 254 in all,
+/// ids 1..254) of radius `0.05` of the inradius at random points inside
+/// the domain (within 0.95 of its inradius of the centre), glowing: a
+/// swarm of shots, as the shooter fills a space, for culling's tests and
+/// `bench balls`. The same `seed` gives the same swarm.
+#[must_use]
+pub fn swarm(space: &Space, n: usize, seed: u64) -> Scene {
+    let mut scene = Scene::default_for(space);
+    let mut rng = crate::Rng(seed);
+    let room = 254usize.saturating_sub(scene.balls.len());
+    for k in 0..n.min(room) {
+        let hue = k as f32 / n.max(1) as f32;
+        scene.balls.push(bevy_manifold_core::trace::Ball {
+            center: rng.ray_inside(space).origin,
+            radius: 0.05 * space.inradius(),
+            color: [1.0 - hue, 0.4 + 0.5 * hue, 0.3],
+            glow: 0.5,
+        });
+    }
+    scene
+}

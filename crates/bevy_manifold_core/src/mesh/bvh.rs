@@ -68,7 +68,7 @@ impl Aabb {
 /// the triangle order the leaves index into.
 #[must_use]
 pub fn build(mesh: &TriMesh) -> (Vec<BvhNode>, Vec<u32>) {
-    let boxes: Vec<Aabb> = mesh
+    let boxes: Vec<([f32; 3], [f32; 3])> = mesh
         .triangles
         .iter()
         .map(|t| {
@@ -76,15 +76,26 @@ pub fn build(mesh: &TriMesh) -> (Vec<BvhNode>, Vec<u32>) {
             for &i in t {
                 b.grow(mesh.positions[i as usize]);
             }
-            b
+            (b.min, b.max)
         })
         .collect();
+    build_over(&boxes)
+}
+
+/// Builds a hierarchy over any items given by their boxes (min, max):
+/// the flattened nodes (root first) and the item order the leaves index
+/// into. The mesh's triangles use it, and so do the balls inside the
+/// domain (`trace::cull::ball_box`, `FlatScene::ball_tree`).
+#[must_use]
+pub fn build_over(items: &[([f32; 3], [f32; 3])]) -> (Vec<BvhNode>, Vec<u32>) {
+    let boxes: Vec<Aabb> = items.iter().map(|&(min, max)| Aabb { min, max }).collect();
     let centres: Vec<[f32; 3]> = boxes
         .iter()
         .map(|b| [0, 1, 2].map(|k| 0.5 * (b.min[k] + b.max[k])))
         .collect();
-    let mut order: Vec<u32> = (0..mesh.triangles.len() as u32).collect();
+    let mut order: Vec<u32> = (0..items.len() as u32).collect();
     let mut nodes = Vec::new();
+    // No items: one empty root (min > max), which no ray meets.
     split(&boxes, &centres, &mut order, 0, &mut nodes, 0);
     (nodes, order)
 }

@@ -11,8 +11,11 @@
 //! `near_faces` and `may_hit` are in `shaders/step.wgsl`.
 
 use super::scene::Scene;
-use crate::geometry::Geometry;
+use super::step::Ray;
+use crate::geometry::{Geometry, Real};
+use crate::mesh::bvh::{BvhNode, MAX_DEPTH, hit_box, safe_inverse};
 use crate::space::Space;
+use core::ops::Range;
 use glam::DVec4;
 
 /// `s(r)` of [`super::FaceTables::near_scale`] for the distance `r`: `sinh r`,
@@ -123,5 +126,122 @@ impl FaceGroups {
                 .filter(move |&f| near & (1 << f) != 0)
                 .map(move |f| starts[f] as usize..starts[f + 1] as usize),
         )
+    }
+}
+
+/// Bigger than any chart coordinate of a domain: the box of a ball whose
+/// chart image is unbounded (in S3, one reaching the chart's horizon)
+/// spans the chart. Finite, so box areas and slab tests stay finite.
+pub const UNBOUNDED: f32 = 1e18;
+
+/// The box (least and greatest `x/w`, `y/w`, `z/w`) of the ball of centre
+/// `c` (a normalised point) and `k` (`cosh r`, `cos r` or `r^2`, as
+/// [`super::step::hit_ball`] takes it) in the chart where geodesics are
+/// straight: the ball's image there is the ellipsoid
+/// `X^T M X - 2 b.X + e <= 0` (`X` the chart point, `C` the centre's
+/// `xyz`, `c_w` its `w`), with `M = k^2 I + s C C^T`, `b = c_w C` and
+/// `e = s (c_w^2 - k^2)`: the squares of `(c_w - X.C)^2 <= k^2 (1 - |X|^2)`
+/// in H3 (`s = 1`) and `(c_w + X.C)^2 >= k^2 (1 + |X|^2)` in S3 (`s = -1`),
+/// and `|X - C|^2 <= k` in E3. Its box is centred on `M^-1 b`, with half-sides
+/// `sqrt((b^T M^-1 b - e) (M^-1)_ii)`; `M^-1` by Sherman-Morrison. Rounded
+/// outwards to `f32` and widened by a hair (`1e-5` of the size and of the
+/// distance from the chart's origin), so an `f32` ray's hit on the ball
+/// is never outside it. A ball whose image is not bounded gets
+/// [`UNBOUNDED`] sides.
+///
+/// WGSL: the GPU reads these boxes (`GpuObjects::mesh_data`); it computes
+/// none.
+#[must_use]
+pub fn ball_box(g: Geometry, c: DVec4, k: f64) -> ([f32; 3], [f32; 3]) {
+    let big = ([-UNBOUNDED; 3], [UNBOUNDED; 3]);
+    let cc = c.truncate();
+    let (centre, half) = match g {
+        Geometry::Euclidean => {
+            let r = k.max(0.0).sqrt();
+            (cc / c.w, glam::DVec3::splat(r))
+        }
+        Geometry::Hyperbolic | Geometry::Spherical => {
+            let s = if g == Geometry::Hyperbolic { 1.0 } else { -1.0 };
+            let k2 = k * k;
+            // M C = (k^2 + s |C|^2) C.
+            let along = k2 + s * cc.length_squared();
+            if !(along > 0.0 && k2 > 0.0) {
+                return big;
+            }
+            let centre = cc * (c.w / along);
+            let e = if s > 0.0 { c.w * c.w - k2 } else { k2 - c.w * c.w };
+            let level = (c.w * c.w * cc.length_squared() / along - e).max(0.0);
+            let inv_diag = (glam::DVec3::ONE - s * cc * cc / along) / k2;
+            (centre, (inv_diag.max(glam::DVec3::ZERO) * level).sqrt())
+        }
+    };
+    let (lo, hi) = (centre - half, centre + half);
+    if !(lo.is_finite() && hi.is_finite()) {
+        return big;
+    }
+    let hair = 1e-5 * (half.max_element() + centre.abs().max_element() + 1.0);
+    let down = |x: f64| {
+        let f = (x - hair) as f32;
+        if f64::from(f) > x - hair { f.next_down() } else { f }
+    };
+    let up = |x: f64| {
+        let f = (x + hair) as f32;
+        if f64::from(f) < x + hair { f.next_up() } else { f }
+    };
+    let clamp = |f: f32| f.clamp(-UNBOUNDED, UNBOUNDED);
+    (
+        [0, 1, 2].map(|i| clamp(down(lo[i]))),
+        [0, 1, 2].map(|i| clamp(up(hi[i]))),
+    )
+}
+
+/// The segment `o + t d`, `0 <= t <= t_end`, of a ray in the chart's
+/// coordinates `x/w`, where it is straight: its start `a` and the step
+/// `b - a` to its end, so its points are `a + s (b - a)`, `0 <= s <= 1`.
+/// `None` when an end is not finite or at or past the chart's horizon
+/// (`w <= 0`, S3 only): the caller then tests every ball.
+/// WGSL twin: the start of `interior_balls` in `shaders/render.wgsl`.
+#[inline]
+#[must_use]
+pub fn chart_segment<R: Real>(ray: &Ray<R>, t_end: R) -> Option<([R; 3], [R; 3])> {
+    let o = R::xyzw(ray.origin);
+    let e = R::xyzw(ray.origin + ray.dir * t_end);
+    let zero = R::of(0.0);
+    if !(t_end.is_finite() && o[3] > zero && e[3] > zero) {
+        return None;
+    }
+    let a = [o[0] / o[3], o[1] / o[3], o[2] / o[3]];
+    let b = [e[0] / e[3], e[1] / e[3], e[2] / e[3]];
+    let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    (a.iter().chain(&d).all(|x| x.is_finite())).then_some((a, d))
+}
+
+/// Calls `visit` with the ball range of every leaf of `tree` (a hierarchy
+/// over chart boxes, [`super::FlatScene::ball_tree`]) whose box, and its
+/// parents', the chart segment `a + s d`, `0 <= s <= 1`, meets (the slab
+/// test, `mesh::bvh::hit_box`). Depth first, left child first, with a
+/// bounded stack ([`MAX_DEPTH`], the builder's deepest level).
+/// WGSL twin: the walk of `interior_balls` in `shaders/render.wgsl`.
+pub fn tree_leaves<R: Real>(tree: &[BvhNode], a: [R; 3], d: [R; 3], mut visit: impl FnMut(Range<usize>)) {
+    if tree.is_empty() {
+        return;
+    }
+    let inv_d = safe_inverse(d);
+    let mut stack = [0u32; MAX_DEPTH];
+    let mut top = 1usize;
+    while top > 0 {
+        top -= 1;
+        let index = stack[top] as usize;
+        let node = &tree[index];
+        if hit_box(a, inv_d, node.min, node.max, R::of(1.0)).is_none() {
+            continue;
+        }
+        if node.count > 0 {
+            visit(node.first as usize..(node.first + node.count) as usize);
+        } else if top + 2 <= MAX_DEPTH {
+            stack[top] = node.first;
+            stack[top + 1] = index as u32 + 1;
+            top += 2;
+        }
     }
 }

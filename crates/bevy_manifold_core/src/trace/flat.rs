@@ -2,10 +2,11 @@
 //! the CPU side of what the GPU pass uploads: face planes, pairings,
 //! balls with their ghost copies, edge tubes, lights.
 
-use super::cull::{FaceGroups, cull_distance, face_mask, near_reach, near_scale};
+use super::cull::{FaceGroups, ball_box, cull_distance, face_mask, near_reach, near_scale};
 use super::scene::Scene;
 use super::step::{Segment, radius_param};
 use crate::geometry::{Geometry, Real, isometry};
+use crate::mesh::bvh::{BvhNode, build_over};
 use crate::mesh::{MeshData, Texture};
 use crate::space::Space;
 use crate::space::cells::CellId;
@@ -160,6 +161,12 @@ pub struct FlatScene<R: Real> {
     /// Where each face's group starts in `balls`, `tubes` and `instances`
     /// (sorted by [`FaceGroups`]): the lists `nearest_object` walks.
     pub groups: FaceGroups,
+    /// A hierarchy over the chart boxes ([`super::ball_box`]) of the
+    /// balls with no face mask, `balls[..groups.balls[0]]`, which are in
+    /// its leaves' order: a segment tests only the balls of the leaves
+    /// its chart image meets ([`super::tree_leaves`]). Empty when there
+    /// are no such balls.
+    pub ball_tree: Vec<BvhNode>,
     /// Lights.
     pub lights: Vec<FlatLight<R>>,
     /// Mesh instances, ghosts included, sorted into [`FaceGroups`].
@@ -283,6 +290,7 @@ impl<R: Real> FlatScene<R> {
             tubes: FaceGroups::sort(&mut tubes, faces, |t| t.face_mask),
             instances: FaceGroups::sort(&mut instances, faces, |i| i.face_mask),
         };
+        let ball_tree = tree_over_interior(g, &mut balls[..groups.balls[0] as usize]);
         // With no object masked there is nothing to cull: an infinite reach
         // tells near_faces so before it tests a face.
         let masked = balls.iter().any(|b| b.face_mask != 0)
@@ -294,6 +302,7 @@ impl<R: Real> FlatScene<R> {
             tubes,
             tube_k,
             groups,
+            ball_tree,
             // A hundredth more than the masks were made for, so that no
             // rounding of the endpoints' test (f32 on the GPU) can cull an
             // object at the edge of its reach.
@@ -318,6 +327,22 @@ impl<R: Real> FlatScene<R> {
         }
         .in_cell(space, &space.cell_of_word(&scene.camera.cell))
     }
+}
+
+/// The hierarchy of [`FlatScene::ball_tree`] over `balls` (those with no
+/// face mask), which it puts in its leaves' order; none for no balls.
+fn tree_over_interior<R: Real>(g: Geometry, balls: &mut [FlatBall<R>]) -> Vec<BvhNode> {
+    if balls.is_empty() {
+        return Vec::new();
+    }
+    let boxes: Vec<_> = balls
+        .iter()
+        .map(|b| ball_box(g, R::v4_f64(b.center), b.k.f64()))
+        .collect();
+    let (tree, order) = build_over(&boxes);
+    let sorted: Vec<FlatBall<R>> = order.iter().map(|&i| balls[i as usize]).collect();
+    balls.copy_from_slice(&sorted);
+    tree
 }
 
 impl<R: Real> FlatScene<R> {

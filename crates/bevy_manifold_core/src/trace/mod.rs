@@ -40,7 +40,7 @@ pub mod step;
 mod walk;
 
 pub use cast::{CastBall, CastHit, CastWall, cast_balls, cast_with_rule};
-pub use cull::{FaceGroups, near_reach};
+pub use cull::{FaceGroups, UNBOUNDED, ball_box, chart_segment, near_reach, tree_leaves};
 pub use drift::{RayDrift, ray_drift};
 pub use flat::{
     EDGE_ID, FaceTables, FlatBall, FlatInstance, FlatLight, FlatScene, FlatTube, ghost_centres, ghost_elements,

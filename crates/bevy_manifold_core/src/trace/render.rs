@@ -8,7 +8,7 @@
 /// WGSL twin: `FOG_CUT` in `shaders/bindings.wgsl`.
 pub const FOG_CUT: f64 = 5.541_263_545_158_426;
 
-use super::cull::FaceGroups;
+use super::cull::{FaceGroups, chart_segment, tree_leaves};
 use super::flat::{EDGE_ID, FlatScene, same_cell_point};
 use super::mesh_hit::{hit_instance, mesh_albedo, mesh_normal};
 use super::scene::Scene;
@@ -354,7 +354,9 @@ pub fn trace_ray<R: Real>(
         } else {
             ALL_FACES
         };
-        if let Some((t, hit)) = nearest_object(g, prep, &walk.ray, t_end, cell_point, near).filter(|_| shown) {
+        if let Some((t, hit)) =
+            nearest_object(g, prep, &walk.ray, t_end, cell_point, (near, settings.cull)).filter(|_| shown)
+        {
             let dist = travelled + g.chart_to_distance::<R>(t);
             let color = shade(g, prep, &walk.ray, t, hit, dist, cell_id(&walk, &exact), settings);
             return (
@@ -449,29 +451,50 @@ impl<R: Real> Hit<R> {
 /// The nearest object along the ray with chart parameter in `[0, t_end]`,
 /// seen from the cell whose element takes the origin to `cell_point` (the
 /// copy of a camera-attached mesh that is the camera's own body from
-/// there is skipped). Objects whose faces the segment does not come near
-/// (`near`, from [`near_faces`]) are not tested: only the unmasked
-/// objects and the groups of near faces are walked ([`FaceGroups`]).
+/// there is skipped). With `cull`, objects whose faces the segment does
+/// not come near (`near`, from [`near_faces`]) are not tested: only the
+/// groups of near faces are walked ([`FaceGroups`]); and of the balls
+/// with no face mask only those in the leaves of
+/// [`FlatScene::ball_tree`] the segment's chart image meets
+/// ([`tree_leaves`]). Ties between balls go to the lower index, so the
+/// order of the tests changes nothing.
 fn nearest_object<R: Real>(
     g: Geometry,
     prep: &FlatScene<R>,
     ray: &Ray<R>,
     t_end: R,
     cell_point: R::V4,
-    near: u32,
+    (near, cull): (u32, bool),
 ) -> Option<(R, Hit<R>)> {
     let zero = R::of(0.0);
     let mut best: Option<(R, Hit<R>)> = None;
     let groups = &prep.groups;
-    for i in FaceGroups::ranges(&groups.balls, near).flatten() {
+    let try_ball = |best: &mut Option<(R, Hit<R>)>, i: usize| {
         let b = &prep.balls[i];
         if may_hit(b.face_mask, near)
             && let Some(t) = hit_ball(g, ray, b.center, b.k, zero)
             && t <= t_end
-            && best.is_none_or(|(bt, _)| t < bt)
+            && best.is_none_or(|(bt, h)| t < bt || (t == bt && matches!(h, Hit::Ball(j) if i < j)))
         {
-            best = Some((t, Hit::Ball(i)));
+            *best = Some((t, Hit::Ball(i)));
         }
+    };
+    let mut ranges = FaceGroups::ranges(&groups.balls, near);
+    let interior = ranges.next().unwrap_or_default();
+    match chart_segment(ray, t_end).filter(|_| cull) {
+        Some((a, d)) => tree_leaves(&prep.ball_tree, a, d, |leaf| {
+            for i in leaf {
+                try_ball(&mut best, i);
+            }
+        }),
+        None => {
+            for i in interior {
+                try_ball(&mut best, i);
+            }
+        }
+    }
+    for i in ranges.flatten() {
+        try_ball(&mut best, i);
     }
     for i in FaceGroups::ranges(&groups.tubes, near).flatten() {
         let tube = &prep.tubes[i];

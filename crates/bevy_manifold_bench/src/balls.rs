@@ -1,0 +1,83 @@
+//! `bench balls`: frame time against the number of traced balls (a swarm
+//! of small glowing balls, as the shooter's shots, no edges), GPU headless
+//! and CPU f32 reference side by side in one run, each with culling off
+//! (every ball tested on every segment) and on (the ball tree:
+//! `FlatScene::ball_tree`, `tree_leaves` in the tracer's cull module). The
+//! images are the same either way (tests/cull.rs, the GPU tests); only the
+//! time differs. The last columns give each culled time over the one-ball
+//! culled time of the same space: the goal is 100 balls under 2x.
+
+use crate::best_ms;
+use bevy_manifold::prelude::*;
+use bevy_manifold_gpu::GpuTracer;
+use bevy_manifold_test_support::stress::swarm;
+
+/// Ball counts timed: 1 to 254 (the scene's ids stop at 254).
+const COUNTS: [usize; 9] = [1, 2, 4, 8, 16, 32, 64, 128, 254];
+
+/// The swarm of `n` balls in `space`: the default scene's light and
+/// camera, no edges, its one ball and `n - 1` more.
+fn scene(space: &Space, n: usize) -> Scene {
+    let mut scene = swarm(space, n.saturating_sub(1), 11);
+    scene.edge_radius = None;
+    scene
+}
+
+/// Prints, per space and ball count, GPU and CPU f32 frame times with
+/// culling off and on, best of `runs`, for the spaces whose name holds
+/// `only`.
+///
+/// # Errors
+/// No GPU adapter, or a space that does not build.
+pub fn run(width: u32, height: u32, levels: u32, runs: u32, only: &str) -> Result<(), String> {
+    let mut tracer = GpuTracer::new().map_err(|e| e.to_string())?;
+    println!(
+        "Frame time against traced balls, {width}x{height}, {levels} levels, best of {runs}; GPU on {}, CPU f32 reference on {} threads; ms",
+        tracer.adapter_name(),
+        rayon::current_num_threads()
+    );
+    println!(
+        "{:<16} {:>5} {:>9} {:>9} {:>9} {:>9} {:>10} {:>10}",
+        "space", "balls", "GPU all", "GPU cull", "CPU all", "CPU cull", "GPU cull/1", "CPU cull/1"
+    );
+    for name in ["torus", "seifert-weber", "poincare"]
+        .into_iter()
+        .filter(|n| n.contains(only))
+    {
+        let space = catalog::resolve(name)?;
+        let mut one = [0.0; 2];
+        for n in COUNTS {
+            let scene = scene(&space, n);
+            let mut gpu = [0.0; 2];
+            let mut cpu = [0.0; 2];
+            for (k, cull) in [false, true].into_iter().enumerate() {
+                let settings = TraceSettings {
+                    width,
+                    height,
+                    levels,
+                    cull,
+                    ..TraceSettings::default()
+                };
+                gpu[k] = best_ms(runs, || {
+                    tracer.render(&space, &scene, &settings).map_err(|e| e.to_string())
+                })?;
+                cpu[k] = best_ms(runs, || Ok(render::<f32>(&space, &scene, &settings)))?;
+            }
+            if n == 1 {
+                one = [gpu[1], cpu[1]];
+            }
+            println!(
+                "{:<16} {:>5} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.2}x {:>9.2}x",
+                name,
+                scene.balls.len(),
+                gpu[0],
+                gpu[1],
+                cpu[0],
+                cpu[1],
+                gpu[1] / one[0],
+                cpu[1] / one[1]
+            );
+        }
+    }
+    Ok(())
+}
