@@ -6,6 +6,12 @@
 //! images are the same either way (tests/cull.rs, the GPU tests); only the
 //! time differs. The last columns give each culled time over the one-ball
 //! culled time of the same space: the goal is 100 balls under 2x.
+//!
+//! More balls also stop more rays early (a ray ends on the first ball it
+//! hits), so a frame of many balls traces fewer segments. The `seg/ray`
+//! column is the mean number of segments per ray (face crossings plus one,
+//! from the CPU image) and the `/seg` columns divide that out: the cost of one segment
+//! against the one-ball scene's, which is what the ball tests add.
 
 use crate::best_ms;
 use bevy_manifold::prelude::*;
@@ -37,8 +43,19 @@ pub fn run(width: u32, height: u32, levels: u32, runs: u32, only: &str) -> Resul
         rayon::current_num_threads()
     );
     println!(
-        "{:<16} {:>5} {:>9} {:>9} {:>9} {:>9} {:>10} {:>10}",
-        "space", "balls", "GPU all", "GPU cull", "CPU all", "CPU cull", "GPU cull/1", "CPU cull/1"
+        "{:<16} {:>5} {:>9} {:>9} {:>9} {:>9} {:>10} {:>10} {:>7} {:>11} {:>11} {:>11}",
+        "space",
+        "balls",
+        "GPU all",
+        "GPU cull",
+        "CPU all",
+        "CPU cull",
+        "GPU cull/1",
+        "CPU cull/1",
+        "seg/ray",
+        "GPU all/seg",
+        "GPU cull/seg",
+        "CPU cull/seg"
     );
     for name in ["torus", "seifert-weber", "poincare"]
         .into_iter()
@@ -46,6 +63,8 @@ pub fn run(width: u32, height: u32, levels: u32, runs: u32, only: &str) -> Resul
     {
         let space = catalog::resolve(name)?;
         let mut one = [0.0; 2];
+        // Per segment: GPU all, GPU cull, CPU cull; of the one-ball scene.
+        let mut one_per_segment = [0.0; 3];
         for n in COUNTS {
             let scene = scene(&space, n);
             let mut gpu = [0.0; 2];
@@ -63,11 +82,22 @@ pub fn run(width: u32, height: u32, levels: u32, runs: u32, only: &str) -> Resul
                 })?;
                 cpu[k] = best_ms(runs, || Ok(render::<f32>(&space, &scene, &settings)))?;
             }
+            let settings = TraceSettings {
+                width,
+                height,
+                levels,
+                ..TraceSettings::default()
+            };
+            let image = render::<f32>(&space, &scene, &settings);
+            let seg =
+                image.pixels.iter().map(|p| f64::from(p.levels + 1)).sum::<f64>() / image.pixels.len().max(1) as f64;
+            let per_segment = [gpu[0] / seg, gpu[1] / seg, cpu[1] / seg];
             if n == 1 {
                 one = [gpu[1], cpu[1]];
+                one_per_segment = per_segment;
             }
             println!(
-                "{:<16} {:>5} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.2}x {:>9.2}x",
+                "{:<16} {:>5} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.2}x {:>9.2}x {:>7.2} {:>10.2}x {:>10.2}x {:>10.2}x",
                 name,
                 scene.balls.len(),
                 gpu[0],
@@ -75,7 +105,11 @@ pub fn run(width: u32, height: u32, levels: u32, runs: u32, only: &str) -> Resul
                 cpu[0],
                 cpu[1],
                 gpu[1] / one[0],
-                cpu[1] / one[1]
+                cpu[1] / one[1],
+                seg,
+                per_segment[0] / one_per_segment[1],
+                per_segment[1] / one_per_segment[1],
+                per_segment[2] / one_per_segment[2]
             );
         }
     }
