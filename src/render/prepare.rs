@@ -208,12 +208,12 @@ pub fn prepare_manifold_scenes(views: Query<&ExtractedManifoldView>, mut packed:
     packed.scenes.retain(|root, _| seen.contains(root));
 }
 
-/// One view's buffers and what they hold.
-struct ViewBuffers {
+/// One space's buffers (by the main-world root entity) and what they
+/// hold: shared by every view into that space, so a headset's two eyes
+/// upload the scene once, not once each.
+struct SceneBuffers {
     space: Arc<GpuSpace>,
     objects: Arc<GpuObjects>,
-    params: GpuParams,
-    params_buffer: Buffer,
     faces: Buffer,
     cell_table: Buffer,
     balls: Buffer,
@@ -221,14 +221,28 @@ struct ViewBuffers {
     lights: Buffer,
     instances: Buffer,
     mesh_data: Buffer,
+    /// Bumped whenever a buffer is made anew (the views' bind groups then
+    /// are made again).
+    made: u64,
+}
+
+/// One view's own buffer (its params) and its bind group.
+struct ViewBuffers {
+    /// The root whose [`SceneBuffers`] the bind group binds, and their
+    /// `made` then.
+    bound: Option<(Entity, u64)>,
+    params: GpuParams,
+    params_buffer: Buffer,
     bind_group: Option<BindGroup>,
 }
 
-/// Every manifold view's buffers, by render-world view entity; views that
-/// went away are dropped (with their buffers) the next frame.
+/// Every manifold view's buffers, by render-world view entity, and every
+/// space's, by root; views that went away are dropped (with their
+/// buffers) the next frame, and spaces no view looks into with them.
 #[derive(Resource, Default)]
 pub struct ManifoldBufferCache {
     views: HashMap<Entity, ViewBuffers>,
+    scenes: HashMap<Entity, SceneBuffers>,
     failed: HashSet<CachedRenderPipelineId>,
 }
 
@@ -244,6 +258,14 @@ impl ManifoldBufferCache {
     /// (`bench specialise` measures what change detection saves this way).
     pub fn invalidate(&mut self) {
         self.views.clear();
+        self.scenes.clear();
+    }
+
+    /// How many spaces' scenes are held on the GPU (one for any number of
+    /// views into a space).
+    #[must_use]
+    pub fn scenes(&self) -> usize {
+        self.scenes.len()
     }
 
     /// True when no view holds buffers.
@@ -339,6 +361,28 @@ fn flat_scene(space: &Space, scene: &crate::drawables::ManifoldScene, cell: &Cel
     FlatScene::<f32>::new(space, scene.scene()).in_cell(space, cell)
 }
 
+/// The off-centre frustum of a view's projection `p` (an OpenXR eye's),
+/// `None` for a symmetric one whose aspect is the viewport's (Bevy's
+/// perspective), which the tracer makes from `tan_half_fov` exactly as
+/// before. A direction `(x_v, y_v, -1)` lands at NDC
+/// `x = p.x_axis.x x_v - p.z_axis.x`, so `x_v = (x + p.z_axis.x) / p.x_axis.x`
+/// (likewise y).
+#[must_use]
+pub(crate) fn view_frustum(p: Mat4, width: u32, height: u32) -> Option<[f32; 4]> {
+    let aspect = width as f32 / height.max(1) as f32;
+    let symmetric =
+        p.z_axis.x == 0.0 && p.z_axis.y == 0.0 && (p.x_axis.x * aspect - p.y_axis.y).abs() <= 1e-5 * p.y_axis.y.abs();
+    if symmetric || p.x_axis.x == 0.0 || p.y_axis.y == 0.0 {
+        return None;
+    }
+    Some([
+        1.0 / p.x_axis.x,
+        1.0 / p.y_axis.y,
+        p.z_axis.x / p.x_axis.x,
+        p.z_axis.y / p.y_axis.y,
+    ])
+}
+
 /// The per-frame view data of an extracted view.
 fn gpu_view(view: &ExtractedManifoldView, extracted: &ExtractedView) -> GpuView {
     // Bevy's perspective projection: y_axis.y = 1 / tan(fov/2); the near
@@ -348,6 +392,7 @@ fn gpu_view(view: &ExtractedManifoldView, extracted: &ExtractedView) -> GpuView 
         camera: view.camera.as_mat4(),
         camera_cell: view.cell,
         tan_half_fov: 1.0 / p.y_axis.y,
+        frustum: view_frustum(p, extracted.viewport.z, extracted.viewport.w),
         fog: view.fog,
         size: [extracted.viewport.z, extracted.viewport.w],
         origin: [extracted.viewport.x, extracted.viewport.y],
@@ -411,9 +456,24 @@ pub fn prepare_manifold_views(
             let id = view.space.space().cell_id_of(&view.element);
             params.camera_cell_index = space.index_of(id).unwrap_or(OUTSIDE);
         }
-        let entry = cache.views.entry(entity).or_insert_with(|| {
+        let shared = cache.scenes.entry(view.root).or_insert_with(|| {
             let (faces, cell_table) = space_buffers(&device, space, stats);
             let [balls, tubes, lights, instances, mesh_data] = object_buffers(&device, objects, stats);
+            SceneBuffers {
+                space: space.clone(),
+                objects: objects.clone(),
+                faces,
+                cell_table,
+                balls,
+                tubes,
+                lights,
+                instances,
+                mesh_data,
+                made: 0,
+            }
+        });
+        update_scene_buffers(&device, &queue, shared, space, objects, stats);
+        let entry = cache.views.entry(entity).or_insert_with(|| {
             stats.params += 1;
             stats.bytes += std::mem::size_of::<GpuParams>() as u64;
             let params_buffer = device.create_buffer_with_data(&BufferInitDescriptor {
@@ -422,90 +482,15 @@ pub fn prepare_manifold_views(
                 usage: BufferUsages::STORAGE | BufferUsages::COPY_DST,
             });
             ViewBuffers {
-                space: space.clone(),
-                objects: objects.clone(),
+                bound: None,
                 params,
                 params_buffer,
-                faces,
-                cell_table,
-                balls,
-                tubes,
-                lights,
-                instances,
-                mesh_data,
                 bind_group: None,
             }
         });
-        if !Arc::ptr_eq(&entry.space, space) {
-            stats.space += 1;
-            let grew = write_or_grow(
-                &device,
-                &queue,
-                &mut entry.faces,
-                "manifold_faces",
-                bytemuck::cast_slice(&space.faces),
-                stats,
-            ) | write_or_grow(
-                &device,
-                &queue,
-                &mut entry.cell_table,
-                "manifold_cell_table",
-                bytemuck::cast_slice(&space.cell_table),
-                stats,
-            );
-            entry.space = space.clone();
-            if grew {
-                entry.bind_group = None;
-            }
-        }
-        if !Arc::ptr_eq(&entry.objects, objects) {
-            stats.objects += 1;
-            let o = &**objects;
-            let mut grew = write_or_grow(
-                &device,
-                &queue,
-                &mut entry.balls,
-                "manifold_balls",
-                bytemuck::cast_slice(&o.balls),
-                stats,
-            ) | write_or_grow(
-                &device,
-                &queue,
-                &mut entry.tubes,
-                "manifold_tubes",
-                bytemuck::cast_slice(&o.tubes),
-                stats,
-            ) | write_or_grow(
-                &device,
-                &queue,
-                &mut entry.lights,
-                "manifold_lights",
-                bytemuck::cast_slice(&o.lights),
-                stats,
-            ) | write_or_grow(
-                &device,
-                &queue,
-                &mut entry.instances,
-                "manifold_instances",
-                bytemuck::cast_slice(&o.instances),
-                stats,
-            );
-            // A moved instance changes its matrix, not its mesh: the BVHs
-            // stay uploaded.
-            if entry.objects.mesh_data != o.mesh_data {
-                grew |= write_or_grow(
-                    &device,
-                    &queue,
-                    &mut entry.mesh_data,
-                    "manifold_mesh_data",
-                    bytemuck::cast_slice(&o.mesh_data),
-                    stats,
-                );
-            }
-            entry.objects = objects.clone();
-            if grew {
-                entry.bind_group = None;
-            }
+        if entry.bound != Some((view.root, shared.made)) {
+            entry.bound = Some((view.root, shared.made));
+            entry.bind_group = None;
         }
         if bytemuck::bytes_of(&entry.params) != bytemuck::bytes_of(&params) {
             queue.write_buffer(&entry.params_buffer, 0, bytemuck::bytes_of(&params));
@@ -519,13 +504,13 @@ pub fn prepare_manifold_views(
                 &pipeline_cache.get_bind_group_layout(&pipeline.layout),
                 &BindGroupEntries::sequential((
                     entry.params_buffer.as_entire_binding(),
-                    entry.faces.as_entire_binding(),
-                    entry.balls.as_entire_binding(),
-                    entry.tubes.as_entire_binding(),
-                    entry.lights.as_entire_binding(),
-                    entry.cell_table.as_entire_binding(),
-                    entry.instances.as_entire_binding(),
-                    entry.mesh_data.as_entire_binding(),
+                    shared.faces.as_entire_binding(),
+                    shared.balls.as_entire_binding(),
+                    shared.tubes.as_entire_binding(),
+                    shared.lights.as_entire_binding(),
+                    shared.cell_table.as_entire_binding(),
+                    shared.instances.as_entire_binding(),
+                    shared.mesh_data.as_entire_binding(),
                 )),
             )
         });
@@ -535,4 +520,119 @@ pub fn prepare_manifold_views(
         });
     }
     cache.views.retain(|e, _| seen.contains(e));
+    let roots: HashSet<Entity> = views.iter().map(|(_, v, ..)| v.root).collect();
+    cache.scenes.retain(|root, _| roots.contains(root));
+}
+
+/// Brings a space's shared buffers up to `space` and `objects`, writing in
+/// place where the new data fits and growing (bumping `made`) where it
+/// does not; an unchanged `Arc` uploads nothing.
+fn update_scene_buffers(
+    device: &RenderDevice,
+    queue: &RenderQueue,
+    shared: &mut SceneBuffers,
+    space: &Arc<GpuSpace>,
+    objects: &Arc<GpuObjects>,
+    stats: &mut ManifoldUploads,
+) {
+    let mut grew = false;
+    if !Arc::ptr_eq(&shared.space, space) {
+        stats.space += 1;
+        grew |= write_or_grow(
+            device,
+            queue,
+            &mut shared.faces,
+            "manifold_faces",
+            bytemuck::cast_slice(&space.faces),
+            stats,
+        ) | write_or_grow(
+            device,
+            queue,
+            &mut shared.cell_table,
+            "manifold_cell_table",
+            bytemuck::cast_slice(&space.cell_table),
+            stats,
+        );
+        shared.space = space.clone();
+    }
+    if !Arc::ptr_eq(&shared.objects, objects) {
+        stats.objects += 1;
+        let o = &**objects;
+        grew |= write_or_grow(
+            device,
+            queue,
+            &mut shared.balls,
+            "manifold_balls",
+            bytemuck::cast_slice(&o.balls),
+            stats,
+        ) | write_or_grow(
+            device,
+            queue,
+            &mut shared.tubes,
+            "manifold_tubes",
+            bytemuck::cast_slice(&o.tubes),
+            stats,
+        ) | write_or_grow(
+            device,
+            queue,
+            &mut shared.lights,
+            "manifold_lights",
+            bytemuck::cast_slice(&o.lights),
+            stats,
+        ) | write_or_grow(
+            device,
+            queue,
+            &mut shared.instances,
+            "manifold_instances",
+            bytemuck::cast_slice(&o.instances),
+            stats,
+        );
+        // A moved instance changes its matrix, not its mesh: the BVHs
+        // stay uploaded.
+        if shared.objects.mesh_data != o.mesh_data {
+            grew |= write_or_grow(
+                device,
+                queue,
+                &mut shared.mesh_data,
+                "manifold_mesh_data",
+                bytemuck::cast_slice(&o.mesh_data),
+                stats,
+            );
+        }
+        shared.objects = objects.clone();
+    }
+    if grew {
+        shared.made += 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::view_frustum;
+    use bevy::camera::{CameraProjection, PerspectiveProjection};
+    use bevy::math::{Mat4, Vec4};
+
+    /// Bevy's own perspective keeps the symmetric path (the desktop image
+    /// is traced exactly as before); an OpenXR eye's `glFrustum`-style
+    /// matrix gives back its slopes.
+    #[test]
+    fn the_tracer_reads_off_centre_frusta_and_leaves_the_desktop_alone() {
+        for (w, h) in [(1280u32, 720u32), (640, 640), (333, 1000)] {
+            let mut p = PerspectiveProjection::default();
+            p.update(w as f32, h as f32);
+            assert_eq!(view_frustum(p.get_clip_from_view(), w, h), None, "{w}x{h}");
+        }
+        let (l, r, b, t) = ((-0.87f32).tan(), 0.70f32.tan(), (-0.84f32).tan(), 0.77f32.tan());
+        let m = Mat4::from_cols(
+            Vec4::new(2.0 / (r - l), 0.0, 0.0, 0.0),
+            Vec4::new(0.0, 2.0 / (t - b), 0.0, 0.0),
+            Vec4::new((r + l) / (r - l), (t + b) / (t - b), 0.0, -1.0),
+            Vec4::new(0.0, 0.0, 0.1, 0.0),
+        );
+        let f = view_frustum(m, 320, 240).expect("off-centre");
+        let want = [(r - l) / 2.0, (t - b) / 2.0, (r + l) / 2.0, (t + b) / 2.0];
+        for k in 0..4 {
+            assert!((f[k] - want[k]).abs() < 1e-6, "{f:?} vs {want:?}");
+        }
+    }
 }

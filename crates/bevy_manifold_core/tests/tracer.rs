@@ -189,6 +189,7 @@ fn torus_ball_copies_appear_where_the_lattice_predicts() {
         camera: bevy_manifold_core::trace::Camera {
             isometry: DMat4::from_translation(eye),
             fov_y_degrees: 90.0,
+            frustum: None,
             cell: Vec::new(),
         },
         balls: vec![Ball {
@@ -348,6 +349,7 @@ fn shading_uses_the_geometrys_light_falloff_and_fog() {
             camera: bevy_manifold_core::trace::Camera {
                 isometry: cam,
                 fov_y_degrees: 40.0,
+                frustum: None,
                 cell: Vec::new(),
             },
             balls: vec![Ball {
@@ -476,6 +478,7 @@ fn a_ball_straddling_a_face_is_drawn_through_it() {
             isometry: DMat4::from_translation(DVec3::new(-0.1, 0.0, 0.0))
                 * DMat4::from_rotation_y(std::f64::consts::FRAC_PI_2),
             fov_y_degrees: 30.0,
+            frustum: None,
             cell: Vec::new(),
         },
         balls: vec![Ball {

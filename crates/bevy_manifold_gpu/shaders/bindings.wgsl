@@ -84,6 +84,10 @@ struct Params {
     ball_tree: u32,
     ball_tree_nodes: u32,
     pad: array<u32, 3>,
+    // An off-centre frustum (Frustum::half_extent_and_centre): half width,
+    // half height, centre x, centre y, in slopes; all zero for the
+    // symmetric one of tan_half_fov and the image's aspect.
+    frustum: vec4<f32>,
     // FlatScene::groups: groups[f] is where face f's group starts in the
     // balls, tubes and instances (x, y, z); the entry after the last face
     // (at most 32) holds their counts. Objects before groups[0] carry no

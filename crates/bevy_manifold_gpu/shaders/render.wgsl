@@ -35,13 +35,24 @@
 #import bevy_manifold::mesh_hit::{hit_instance, mesh_normal, mesh_albedo}
 #endif
 
+// The view-space slopes of the direction through NDC (x, y): the
+// symmetric frustum of tan_half_fov and the image's aspect, or the
+// off-centre params.frustum (Rust: view_slopes).
+fn view_slopes(x: f32, y: f32, w: f32, h: f32) -> vec2<f32> {
+    if params.frustum.x == 0.0 {
+        return vec2<f32>(x * params.tan_half_fov * (w / h), y * params.tan_half_fov);
+    }
+    return vec2<f32>(x * params.frustum.x + params.frustum.z, y * params.frustum.y + params.frustum.w);
+}
+
 // The pixel's view direction in the camera's frame (unit, -z forward).
 fn view_direction(i: u32, j: u32) -> vec4<f32> {
     let w = f32(params.width);
     let h = f32(params.height);
     let x = 2.0 * (f32(i) + 0.5) / w - 1.0;
     let y = 1.0 - 2.0 * (f32(j) + 0.5) / h;
-    let d = vec4<f32>(x * params.tan_half_fov * (w / h), y * params.tan_half_fov, -1.0, 0.0);
+    let s = view_slopes(x, y, w, h);
+    let d = vec4<f32>(s.x, s.y, -1.0, 0.0);
     return d * (1.0 / sqrt(dot(d, d)));
 }
 

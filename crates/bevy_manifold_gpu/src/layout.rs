@@ -92,6 +92,10 @@ pub struct GpuParams {
     pub ball_tree_nodes: u32,
     /// Padding to 16 bytes.
     pub pad: [u32; 3],
+    /// An off-centre frustum, `[half width, half height, centre x, centre
+    /// y]` in slopes ([`bevy_manifold_core::trace::Frustum`]); all zero
+    /// for the symmetric frustum of `tan_half_fov` and the image's aspect.
+    pub frustum: [f32; 4],
     /// [`GpuObjects::groups`].
     pub groups: [[u32; 4]; 33],
 }
@@ -274,6 +278,8 @@ pub struct GpuView {
     pub camera_cell: glam::DMat4,
     /// `tan(fov_y / 2)`.
     pub tan_half_fov: f32,
+    /// An off-centre frustum in place of `tan_half_fov` ([`GpuParams::frustum`]).
+    pub frustum: Option<[f32; 4]>,
     /// Fog density and colour, when on.
     pub fog: Option<(f32, [f32; 3])>,
     /// Image (viewport) size in pixels.
@@ -658,6 +664,7 @@ impl GpuParams {
             ball_tree: objects.ball_tree[0],
             ball_tree_nodes: objects.ball_tree[1],
             pad: [0; 3],
+            frustum: view.frustum.unwrap_or([0.0; 4]),
             groups: objects.groups,
         }
     }
@@ -678,6 +685,7 @@ impl GpuScene {
             camera: prep.camera,
             camera_cell: prep.camera_cell,
             tan_half_fov: prep.tan_half_fov,
+            frustum: prep.frustum,
             fog: prep.fog,
             size: [settings.width, settings.height],
             origin: [0, 0],

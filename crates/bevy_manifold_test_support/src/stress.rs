@@ -233,6 +233,7 @@ pub fn empty_view(camera: DMat4) -> Scene {
         camera: Camera {
             isometry: camera,
             fov_y_degrees: 60.0,
+            frustum: None,
             cell: Vec::new(),
         },
         ..Scene::empty()
@@ -366,6 +367,7 @@ pub fn light_on_the_hit(z: f64) -> (Space, Scene) {
         camera: Camera {
             isometry: isometry::translation(s.geometry(), DVec3::Z * 0.375),
             fov_y_degrees: 40.0,
+            frustum: None,
             cell: Vec::new(),
         },
         balls: vec![Ball {

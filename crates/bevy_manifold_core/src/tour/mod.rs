@@ -176,6 +176,7 @@ impl Tour {
         scene.camera = Camera {
             isometry: frame.placement,
             fov_y_degrees: self.fov_y_degrees,
+            frustum: None,
             cell: frame.word,
         };
         scene.fog.clone_from(&s.fog);

@@ -186,6 +186,9 @@ pub struct FlatScene<R: Real> {
     pub camera_element: CellElement,
     /// `tan(fov_y / 2)`.
     pub tan_half_fov: R,
+    /// An off-centre frustum ([`crate::trace::Frustum::half_extent_and_centre`]),
+    /// in place of `tan_half_fov` and the image's aspect.
+    pub frustum: Option<[R; 4]>,
 }
 
 /// Edge-cycle colours: edges identified by the pairings share a colour.
@@ -324,6 +327,7 @@ impl<R: Real> FlatScene<R> {
             camera_element: space.cell_of_matrix(&camera_cell),
             camera_cell,
             tan_half_fov: R::of((scene.camera.fov_y_degrees.to_radians() / 2.0).tan()),
+            frustum: scene.camera.frustum.map(|f| f.half_extent_and_centre().map(R::of)),
         }
         .in_cell(space, &space.cell_of_word(&scene.camera.cell))
     }

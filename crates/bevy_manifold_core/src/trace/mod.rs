@@ -53,12 +53,12 @@ pub use output::{id_pixel, srgb8};
 pub use output::{write_ids_png, write_png};
 pub use render::{
     FOG_CUT, LIGHT_AT_HIT, MAX_LEVELS, MAX_PIXELS, PathStep, Projection, Stop, TraceImage, TracePixel, TraceSettings,
-    camera_ray, render, trace_ray, view_ray,
+    camera_ray, render, trace_ray, view_ray, view_slopes,
 };
 pub use scene::MeshPart;
 pub use scene::{
-    Ball, Camera, Fog, HAND_COLOR, Light, MAX_GLOW, MAX_LIGHTS, PaperOptions, SUZANNE_COLOR, Scene, SceneError,
-    SceneMesh, SuzanneMode, VEHICLE_COLOR, baked, hand_offset, max_radius, suzanne_offset, vehicle_offset,
+    Ball, Camera, Fog, Frustum, HAND_COLOR, Light, MAX_GLOW, MAX_LIGHTS, PaperOptions, SUZANNE_COLOR, Scene,
+    SceneError, SceneMesh, SuzanneMode, VEHICLE_COLOR, baked, hand_offset, max_radius, suzanne_offset, vehicle_offset,
 };
 #[cfg(feature = "gltf")]
 pub use scene::{builtin, meshes_of};

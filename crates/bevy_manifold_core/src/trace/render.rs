@@ -237,14 +237,31 @@ pub fn render<R: Real>(space: &Space, scene: &Scene, settings: &TraceSettings) -
     }
 }
 
+/// The view-space slopes `(x, y)` of the direction through normalised
+/// device coordinates `(x, y)` (the direction is `(x, y, -1)`): the
+/// symmetric frustum of `tan_half_fov` and the image's aspect, or the
+/// scene's off-centre [`crate::trace::Frustum`].
+///
+/// WGSL twin: `view_slopes` in `shaders/render.wgsl`.
+#[must_use]
+pub fn view_slopes<R: Real>(prep: &FlatScene<R>, x: R, y: R, w: u32, h: u32) -> (R, R) {
+    match prep.frustum {
+        None => {
+            let aspect = R::of(f64::from(w) / f64::from(h));
+            (x * prep.tan_half_fov * aspect, y * prep.tan_half_fov)
+        }
+        Some([hw, hh, cx, cy]) => (x * hw + cx, y * hh + cy),
+    }
+}
+
 /// The ray through the centre of pixel `(i, j)` of a `w` x `h` image.
 #[must_use]
 pub fn camera_ray<R: Real>(prep: &FlatScene<R>, i: u32, j: u32, w: u32, h: u32) -> Ray<R> {
     let one = R::of(1.0);
     let x = R::of(2.0 * (f64::from(i) + 0.5) / f64::from(w)) - one;
     let y = one - R::of(2.0 * (f64::from(j) + 0.5) / f64::from(h));
-    let aspect = R::of(f64::from(w) / f64::from(h));
-    let d = R::v4(x * prep.tan_half_fov * aspect, y * prep.tan_half_fov, -one, R::of(0.0));
+    let (sx, sy) = view_slopes(prep, x, y, w, h);
+    let d = R::v4(sx, sy, -one, R::of(0.0));
     let d = d * (one / R::dot4(d, d).sqrt());
     let g = prep.faces.geometry;
     let o = g.normalize_point::<R>(prep.camera * g.origin::<R>());

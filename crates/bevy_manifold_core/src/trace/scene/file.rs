@@ -2,7 +2,8 @@
 //! path in the file.
 //!
 //! ```text
-//! {"camera": {"isometry": [[..4..],[..4..],[..4..],[..4..]], "fov_y_degrees": 60},
+//! {"camera": {"isometry": [[..4..],[..4..],[..4..],[..4..]], "fov_y_degrees": 60,
+//!             "frustum": [left, right, down, up] (optional: an off-centre eye)},
 //!  "balls":  [{"center": [x,y,z,w], "radius": r, "color": [r,g,b], "glow": 0}, ...],
 //!  "lights": [{"position": [x,y,z,w], "intensity": i, "color": [r,g,b]}, ...],
 //!  "meshes": [{"file": "model.glb", "placement": [[..4..] x4], "scale": s,
@@ -17,7 +18,7 @@
 use super::mesh::SceneMesh;
 #[cfg(feature = "gltf")]
 use super::mesh::baked;
-use super::{Ball, Camera, Fog, Light, Scene};
+use super::{Ball, Camera, Fog, Frustum, Light, Scene};
 use crate::geometry::{Geometry, isometry};
 #[cfg(feature = "gltf")]
 use crate::mesh::gltf::GltfError;
@@ -69,6 +70,10 @@ pub const MAX_CAMERA_CELL_WORD: usize = 1 << 16;
 struct CameraDesc {
     isometry: [[f64; 4]; 4],
     fov_y_degrees: f64,
+    /// An off-centre frustum: the slopes of the left, right, bottom and
+    /// top edges (`Frustum`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    frustum: Option<[f64; 4]>,
     /// The faces crossed from the origin copy to the camera's copy.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     cell: Vec<usize>,
@@ -179,6 +184,21 @@ impl Scene {
                 format!("must be in (0, 180), got {fov}"),
             ));
         }
+        let frustum = desc
+            .camera
+            .frustum
+            .map(|[left, right, down, up]| Frustum { left, right, down, up });
+        if let Some(f) = frustum
+            && !f.is_valid()
+        {
+            return Err(field(
+                "camera.frustum".into(),
+                format!(
+                    "must be finite slopes [left, right, down, up] with left < right and down < up, got {:?}",
+                    [f.left, f.right, f.down, f.up]
+                ),
+            ));
+        }
         if desc.camera.cell.len() > MAX_CAMERA_CELL_WORD {
             return Err(field(
                 "camera.cell".into(),
@@ -200,6 +220,7 @@ impl Scene {
         let camera = Camera {
             isometry: isometry::orthonormalize(g, cam),
             fov_y_degrees: fov,
+            frustum,
             cell: desc.camera.cell.clone(),
         };
 
@@ -300,6 +321,7 @@ impl Scene {
             camera: CameraDesc {
                 isometry: to_rows(self.camera.isometry),
                 fov_y_degrees: self.camera.fov_y_degrees,
+                frustum: self.camera.frustum.map(|f| [f.left, f.right, f.down, f.up]),
                 cell: self.camera.cell.clone(),
             },
             balls: self

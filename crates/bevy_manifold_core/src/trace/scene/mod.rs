@@ -25,13 +25,82 @@ use glam::{DMat4, DVec4};
 pub struct Camera {
     /// Carries the origin to the eye, the origin's frame to the camera's.
     pub isometry: DMat4,
-    /// Vertical field of view in degrees.
+    /// Vertical field of view in degrees (of a symmetric frustum; unused
+    /// when `frustum` is set).
     pub fov_y_degrees: f64,
+    /// An off-centre frustum (a headset's eye), in place of the symmetric
+    /// one `fov_y_degrees` and the image's aspect make.
+    pub frustum: Option<Frustum>,
     /// The copy of the domain `isometry` is read in, as the faces crossed
     /// from the origin copy to reach it (crossing face `i` from cell `g`
     /// leads to `g T_i^-1`); empty for the origin copy. Exact at any
     /// length where the space's ids are ([`crate::space::exact`]).
     pub cell: Vec<usize>,
+}
+
+/// An off-centre view frustum, as OpenXR gives each eye: the slopes
+/// (tangents of the angles) of the image's left, right, bottom and top
+/// edges in the camera's frame, left and bottom negative. The ray of a
+/// pixel at normalised device coordinates `(x, y)` leaves the camera in
+/// the direction `(l + (x + 1)(r - l)/2, b + (y + 1)(t - b)/2, -1)`.
+///
+/// ```
+/// use bevy_manifold_core::trace::Frustum;
+/// // OpenXR's angles (radians), as `XrFovf` gives them.
+/// let f = Frustum::from_angles(-0.9, 0.8, -0.85, 0.75);
+/// assert!((f.left - (-0.9f64).tan()).abs() < 1e-15);
+/// // The centre of that image looks a little left of and below the axis.
+/// let [hw, hh, cx, cy] = f.half_extent_and_centre();
+/// assert!(hw > 0.0 && hh > 0.0 && cx < 0.0 && cy < 0.0);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frustum {
+    /// Slope of the left edge (negative left of the axis).
+    pub left: f64,
+    /// Slope of the right edge.
+    pub right: f64,
+    /// Slope of the bottom edge (negative below the axis).
+    pub down: f64,
+    /// Slope of the top edge.
+    pub up: f64,
+}
+
+impl Frustum {
+    /// From the four angles of an OpenXR field of view (radians, left and
+    /// down negative).
+    #[must_use]
+    pub fn from_angles(left: f64, right: f64, down: f64, up: f64) -> Self {
+        Frustum {
+            left: left.tan(),
+            right: right.tan(),
+            down: down.tan(),
+            up: up.tan(),
+        }
+    }
+
+    /// `[half width, half height, centre x, centre y]` in slopes: the view
+    /// direction of NDC `(x, y)` is `(x hw + cx, y hh + cy, -1)`. The
+    /// tracers read this form (GPU: `Params::frustum`).
+    #[must_use]
+    pub fn half_extent_and_centre(&self) -> [f64; 4] {
+        [
+            (self.right - self.left) / 2.0,
+            (self.up - self.down) / 2.0,
+            (self.right + self.left) / 2.0,
+            (self.up + self.down) / 2.0,
+        ]
+    }
+
+    /// Whether all four slopes are finite and the frustum has positive
+    /// width and height.
+    #[must_use]
+    pub fn is_valid(&self) -> bool {
+        [self.left, self.right, self.down, self.up]
+            .iter()
+            .all(|v| v.is_finite())
+            && self.right > self.left
+            && self.up > self.down
+    }
 }
 
 /// A ball (a metric ball of the space, drawn exactly).
@@ -106,6 +175,7 @@ impl Scene {
             camera: Camera {
                 isometry: DMat4::IDENTITY,
                 fov_y_degrees: 60.0,
+                frustum: None,
                 cell: Vec::new(),
             },
             balls: Vec::new(),

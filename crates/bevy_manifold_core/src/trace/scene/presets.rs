@@ -138,6 +138,7 @@ impl Scene {
             camera: Camera {
                 isometry: camera,
                 fov_y_degrees: 60.0,
+                frustum: None,
                 cell: Vec::new(),
             },
             balls: vec![Ball {
