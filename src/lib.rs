@@ -82,6 +82,8 @@ pub mod tour_asset;
 #[cfg(feature = "render")]
 pub mod traced_meshes;
 pub mod view;
+#[cfg(feature = "xr")]
+pub mod xr;
 
 pub use bevy_manifold_core;
 pub use bevy_manifold_core::{geometry, mesh, motion, space, trace};

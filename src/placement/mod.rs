@@ -32,6 +32,7 @@ mod components;
 mod membership;
 mod raycast;
 mod systems;
+pub mod tracked;
 
 pub use components::{
     DomainCell, FaceCrossed, GeodesicVelocity, ManifoldCollider, ManifoldSpace, Placement, WallHit, WrapOrigin,
@@ -39,6 +40,7 @@ pub use components::{
 pub use membership::{InSpace, SpaceMembers};
 pub use raycast::{ManifoldRayCast, RayCastSettings, RayHit};
 pub use systems::{MAX_CROSSINGS_PER_STEP, integrate_velocities, sync_transforms, wrap_placements};
+pub use tracked::TrackedPose;
 
 use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
 use bevy::prelude::*;
@@ -93,6 +95,7 @@ impl Plugin for PlacementPlugin {
             .register_type::<DomainCell>()
             .register_type::<GeodesicVelocity>()
             .register_type::<ManifoldCollider>()
+            .register_type::<TrackedPose>()
             .configure_sets(
                 self.schedule,
                 (ManifoldSystems::Integrate, ManifoldSystems::Wrap, ManifoldSystems::Sync)

@@ -168,11 +168,13 @@ fn apply_crossings(
 
 /// Writes each moved entity's chart position and orientation into its
 /// `Transform`, so Bevy code that reads `Transform` sees a sensible place.
-/// A mirrored entity gets a negative x scale (its size is kept).
+/// A mirrored entity gets a negative x scale (its size is kept). Entities
+/// whose `Transform` a tracker writes ([`super::TrackedPose`]) are left alone.
+#[expect(clippy::type_complexity, reason = "a system's query")]
 pub fn sync_transforms(
     spaces: Query<&ManifoldSpace>,
     members: Query<&InSpace>,
-    mut entities: Query<(Entity, &Placement, &mut Transform), Changed<Placement>>,
+    mut entities: Query<(Entity, &Placement, &mut Transform), (Changed<Placement>, Without<super::TrackedPose>)>,
 ) {
     for (entity, placement, mut transform) in &mut entities {
         let Some(ms) = space_of(entity, &members, &spaces) else {

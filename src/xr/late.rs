@@ -1,0 +1,134 @@
+//! Late latching: the render world locates the eyes again just before the
+//! frame is drawn (bevy_mod_openxr's `locate_views` in
+//! `XrRenderSystems::PreRender`); each eye's manifold view is placed again
+//! from that pose, so the traced image uses the same pose as the
+//! rasterised overlay and the compositor.
+
+use super::{XrBody, XrEye};
+use crate::placement::tracked;
+use crate::placement::{DomainCell, InSpace, Placement};
+use crate::render::extract::ExtractedManifoldView;
+use crate::render::prepare::ManifoldViewBinding;
+use bevy::prelude::*;
+use bevy::render::sync_world::RenderEntity;
+use bevy::render::{Extract, Render, RenderApp, RenderSystems};
+use bevy_mod_openxr::helper_traits::ToTransform;
+use bevy_mod_openxr::resources::OxrViews;
+use bevy_mod_xr::session::XrRenderSystems;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// An eye's body, copied to the eye's render entity: what the late pose is
+/// measured from.
+#[derive(Component, Clone, Debug)]
+pub struct ExtractedXrEye {
+    /// The view index (0 left, 1 right).
+    pub index: u32,
+    /// The body's placement and cell.
+    pub body: Placement,
+    /// The body's cell.
+    pub cell: DomainCell,
+    /// [`XrBody::world_scale`].
+    pub world_scale: f64,
+}
+
+/// Frames the render world traced for the headset: counted once per frame
+/// in which both eyes' views were bound to the tracer (shared by the main
+/// and render worlds).
+#[derive(Resource, Clone, Debug, Default)]
+pub struct XrFrameStats {
+    both_eyes: Arc<AtomicU64>,
+}
+
+impl XrFrameStats {
+    /// Frames with both eyes traced so far.
+    #[must_use]
+    pub fn both_eyes_traced(&self) -> u64 {
+        self.both_eyes.load(Ordering::Relaxed)
+    }
+}
+
+pub(super) fn build(app: &mut App) {
+    let stats = XrFrameStats::default();
+    app.insert_resource(stats.clone());
+    let Some(render_app) = app.get_sub_app_mut(RenderApp) else {
+        return;
+    };
+    render_app
+        .insert_resource(stats)
+        .add_systems(
+            Render,
+            count_traced_eyes
+                .after(RenderSystems::PrepareResourcesFlush)
+                .before(RenderSystems::Render),
+        )
+        .add_systems(
+            ExtractSchedule,
+            extract_eyes.after(crate::render::extract::extract_manifold_views),
+        )
+        .add_systems(
+            Render,
+            late_latch_eyes
+                .after(XrRenderSystems::PreRender)
+                .in_set(RenderSystems::PrepareResources)
+                .before(crate::render::prepare::prepare_manifold_views),
+        );
+}
+
+#[expect(clippy::type_complexity, reason = "a system's query")]
+fn extract_eyes(
+    mut commands: Commands,
+    bodies: Extract<Query<(&XrBody, &Placement, &DomainCell), With<InSpace>>>,
+    eyes: Extract<Query<(&XrEye, &RenderEntity)>>,
+) {
+    let Ok((body, placement, cell)) = bodies.single() else {
+        return;
+    };
+    for (eye, render_entity) in &eyes {
+        commands.entity(render_entity.id()).insert(ExtractedXrEye {
+            index: eye.0,
+            body: *placement,
+            cell: cell.clone(),
+            world_scale: body.world_scale,
+        });
+    }
+}
+
+/// Counts the frame when both eyes are bound to the tracer.
+fn count_traced_eyes(stats: Res<XrFrameStats>, eyes: Query<&ExtractedXrEye, With<ManifoldViewBinding>>) {
+    let mut seen = [false; 2];
+    for eye in &eyes {
+        if let Some(s) = seen.get_mut(eye.index as usize) {
+            *s = true;
+        }
+    }
+    if seen == [true, true] {
+        stats.both_eyes.fetch_add(1, Ordering::Relaxed);
+    }
+}
+
+/// Places each eye's view from the late-located poses.
+fn late_latch_eyes(views: Option<Res<OxrViews>>, mut eyes: Query<(&ExtractedXrEye, &mut ExtractedManifoldView)>) {
+    let Some(views) = views else { return };
+    if views.len() < 2 {
+        return;
+    }
+    let poses = [0, 1].map(|i| {
+        let t = views[i].pose.to_transform();
+        (t.translation, t.rotation)
+    });
+    for (eye, mut view) in &mut eyes {
+        let g = view.space.space().geometry();
+        let (_, placed) = tracked::head_and_eyes(g, eye.body.isometry, poses, eye.world_scale);
+        let Some(to) = placed.get(eye.index as usize) else {
+            continue;
+        };
+        if !to.is_finite() {
+            continue;
+        }
+        let (p, c) = tracked::tracked_placement(&view.space, &eye.body, &eye.cell, *to);
+        view.camera = p.isometry;
+        view.cell = c.element;
+        view.element = c.cell;
+    }
+}

@@ -1,0 +1,470 @@
+//! VR without a headset: the eyes, hands and locomotion of
+//! `bevy_manifold::xr` driven as bevy_mod_openxr drives them (one
+//! `XrCamera` per eye under the tracking root, with the off-centre
+//! `XrProjection` OpenXR gives, each eye's `Transform` its pose in the
+//! room), the eyes drawing into images that are read back. The
+//! predictions come from the geometry in closed form (right triangles in
+//! E3 and H3), not from the tracer. The real runtime is tested by the
+//! app's `tests/xr.rs` under Monado.
+
+use bevy::camera::RenderTarget;
+use bevy::prelude::*;
+use bevy::render::RenderApp;
+use bevy::time::TimeUpdateStrategy;
+use bevy_manifold::placement::{DomainCell, Placement};
+use bevy_manifold::prelude::*;
+use bevy_manifold::render::{ManifoldBufferCache, ManifoldUploads, offscreen};
+use bevy_manifold::space::Space;
+use bevy_manifold::xr::{
+    ManifoldXrPlugin, XrBody, XrControllers, XrEye, XrHand, XrHandSide, XrHead, XrLocomotion, XrTrigger,
+};
+use bevy_mod_xr::camera::{Fov, XrCamera, XrProjection, calculate_projection};
+use bevy_mod_xr::session::XrTrackingRoot;
+use glam::DVec3;
+use std::time::Duration;
+
+/// A left eye's field of view as a headset reports it (radians: left,
+/// right, down, up); the right eye's is its mirror image.
+const LEFT_FOV: [f32; 4] = [-0.87, 0.70, -0.84, 0.77];
+const W: u32 = 640;
+const H: u32 = 560;
+/// Half the distance between the eyes, in metres.
+const HALF_IPD: f32 = 0.032;
+
+fn fov(eye: usize) -> [f32; 4] {
+    let [l, r, d, u] = LEFT_FOV;
+    if eye == 0 { [l, r, d, u] } else { [-r, -l, d, u] }
+}
+
+/// `[half width, half height, centre x, centre y]` of an eye's frustum, in
+/// slopes.
+fn slopes(eye: usize) -> [f64; 4] {
+    let [l, r, d, u] = fov(eye).map(|a| f64::from(a).tan());
+    [(r - l) / 2.0, (u - d) / 2.0, (r + l) / 2.0, (u + d) / 2.0]
+}
+
+/// The slope of a pixel boundary (`i` from 0 to `W`) and of a row's centre.
+fn column_slope(eye: usize, i: f64) -> f64 {
+    let [hw, _, cx, _] = slopes(eye);
+    (2.0 * i / f64::from(W) - 1.0) * hw + cx
+}
+
+fn row_slope(eye: usize, j: u32) -> f64 {
+    let [_, hh, _, cy] = slopes(eye);
+    (1.0 - 2.0 * (f64::from(j) + 0.5) / f64::from(H)) * hh + cy
+}
+
+/// One slope in pixels.
+fn pixel(eye: usize) -> f64 {
+    2.0 * slopes(eye)[0] / f64::from(W)
+}
+
+/// An offscreen app with the XR plugin, a space, the body at the origin,
+/// and two eyes as bevy_mod_openxr makes them, drawing into images.
+struct Rig {
+    app: App,
+    root: Entity,
+    images: [Handle<Image>; 2],
+}
+
+fn rig(space: &Space, world_scale: f64) -> Rig {
+    let mut app = App::new();
+    app.add_plugins(offscreen::plugins().disable::<bevy::log::LogPlugin>())
+        .add_plugins((ManifoldPlugin::default(), ManifoldXrPlugin));
+    app.finish();
+    app.cleanup();
+    let images = [0, 1].map(|_| offscreen::target(&mut app, W, H));
+    let world = app.world_mut();
+    let root = world.spawn(ManifoldSpace::new(space.clone())).id();
+    world.spawn((ChildOf(root), XrBody { world_scale }, Placement::default()));
+    let tracking = world.spawn((XrTrackingRoot, Transform::default())).id();
+    for (i, image) in images.iter().enumerate() {
+        let [l, r, d, u] = fov(i);
+        let x = if i == 0 { -HALF_IPD } else { HALF_IPD };
+        world.spawn((
+            ChildOf(tracking),
+            XrCamera(i as u32),
+            RenderTarget::Image(image.clone().into()),
+            Projection::custom(XrProjection {
+                projection_matrix: calculate_projection(
+                    0.01,
+                    Fov {
+                        angle_left: l,
+                        angle_right: r,
+                        angle_down: d,
+                        angle_up: u,
+                    },
+                ),
+                near: 0.01,
+            }),
+            Transform::from_xyz(x, 0.0, 0.0),
+        ));
+    }
+    Rig { app, root, images }
+}
+
+impl Rig {
+    fn capture(&mut self) -> [Vec<u8>; 2] {
+        offscreen::wait_for_pipelines(&mut self.app).expect("pipelines");
+        let images = self.images.clone();
+        images.map(|image| offscreen::capture(&mut self.app, &image).expect("capture"))
+    }
+}
+
+/// The widest run of pixels in row `j` whose colour `is` picks: the first
+/// pixel and one past the last.
+fn widest_run(rgba: &[u8], j: u32, is: impl Fn(&[u8]) -> bool) -> Option<(u32, u32)> {
+    let mut best: Option<(u32, u32)> = None;
+    let mut start = None;
+    for i in 0..=W {
+        let on = i < W && is(&rgba[((j * W + i) * 4) as usize..][..4]);
+        match (on, start) {
+            (true, None) => start = Some(i),
+            (false, Some(s)) => {
+                if best.is_none_or(|(a, b)| i - s > b - a) {
+                    best = Some((s, i));
+                }
+                start = None;
+            }
+            _ => {}
+        }
+    }
+    best
+}
+
+/// The largest 4-connected set of pixels whose colour `is` picks (the
+/// nearest copy of an object; the others are smaller): its pixel count and
+/// the sums of its pixel centres' columns and rows.
+fn largest_blob(rgba: &[u8], is: impl Fn(&[u8]) -> bool) -> (f64, f64, f64) {
+    let at = |i: u32, j: u32| is(&rgba[((j * W + i) * 4) as usize..][..4]);
+    let mut seen = vec![false; (W * H) as usize];
+    let mut best = (0.0, 0.0, 0.0);
+    for start in 0..W * H {
+        if seen[start as usize] || !at(start % W, start / W) {
+            continue;
+        }
+        seen[start as usize] = true;
+        let mut stack = vec![start];
+        let mut blob = (0.0, 0.0, 0.0);
+        while let Some(k) = stack.pop() {
+            let (i, j) = (k % W, k / W);
+            blob.0 += 1.0;
+            blob.1 += f64::from(i) + 0.5;
+            blob.2 += f64::from(j) + 0.5;
+            let near = [
+                (i > 0).then(|| k - 1),
+                (i + 1 < W).then(|| k + 1),
+                (j > 0).then(|| k - W),
+                (j + 1 < H).then(|| k + W),
+            ];
+            for m in near.into_iter().flatten() {
+                if !seen[m as usize] && at(m % W, m / W) {
+                    seen[m as usize] = true;
+                    stack.push(m);
+                }
+            }
+        }
+        if blob.0 > best.0 {
+            best = blob;
+        }
+    }
+    best
+}
+
+fn red(p: &[u8]) -> bool {
+    p[0] > 150 && p[1] < 80 && p[2] < 80
+}
+
+fn green(p: &[u8]) -> bool {
+    p[1] > 150 && p[0] < 80 && p[2] < 80
+}
+
+/// Distances of a right triangle: `sinh`, `tanh`, `cosh` of H3 (curvature
+/// -1), or their flat limits.
+fn trig(hyperbolic: bool) -> (fn(f64) -> f64, fn(f64) -> f64, fn(f64) -> f64) {
+    if hyperbolic {
+        (f64::sinh, f64::tanh, f64::cosh)
+    } else {
+        (|x| x, |x| x, |_| 1.0)
+    }
+}
+
+/// Where a ball of radius `r` straight ahead of the head at distance `d`
+/// is seen by an eye `a` to the side of the head (left: `side` = -1), as
+/// the slopes of its left and right edges in the plane of the eyes. The
+/// head, the eye and the ball's centre make a right triangle at the
+/// head; at the eye, the angle between the head and the ball has
+/// `tan = tanh d / sinh a` (E3: `d / a`), so the ball is off the eye's
+/// forward axis by the slope `sinh a / tanh d`; the eye is at distance
+/// `cosh D = cosh a cosh d` (E3: Pythagoras) from the centre, where the
+/// ball subtends a half-angle with `sin = sinh r / sinh D`.
+fn predicted_edges(hyperbolic: bool, a: f64, d: f64, r: f64, side: f64) -> (f64, f64) {
+    let (sinh, tanh, cosh) = trig(hyperbolic);
+    let centre = (-side * sinh(a) / tanh(d)).atan();
+    let far = if hyperbolic {
+        (cosh(a) * cosh(d)).acosh()
+    } else {
+        a.hypot(d)
+    };
+    let half = (sinh(r) / sinh(far)).asin();
+    ((centre - half).tan(), (centre + half).tan())
+}
+
+/// The two eyes see a ball ahead at the slopes the geometry predicts, so
+/// their disparity is the geometry's: in Seifert-Weber (H3) larger than
+/// the flat formula by `tanh d / d`, a difference of many pixels the test
+/// tells apart. Both eyes bind one upload of the scene.
+fn the_eyes_see_a_ball_with_the_disparity_the_geometry_predicts() {
+    for (space, hyperbolic, d) in [
+        (catalog::torus(1.0), false, 0.35),
+        (catalog::seifert_weber(), true, 0.6),
+    ] {
+        let name = space.name().to_string();
+        // 64 mm between the eyes is 0.2 of the space apart.
+        let world_scale = f64::from(2.0 * HALF_IPD) / 0.2;
+        let a = 0.1;
+        let r = 0.05;
+        let mut rig = rig(&space, world_scale);
+        let root = rig.root;
+        rig.app.world_mut().spawn((
+            ChildOf(root),
+            TracedBall::new(r, Color::srgb(1.0, 0.0, 0.0)).glowing(2.0),
+            Placement::at(&space, DVec3::new(0.0, 0.0, -d)),
+        ));
+        let shots = rig.capture();
+        // Two eyes, one scene on the GPU: uploaded once, not once an eye.
+        let render = rig.app.sub_app(RenderApp).world();
+        let cache = render.resource::<ManifoldBufferCache>();
+        assert_eq!((cache.len(), cache.scenes()), (2, 1), "{name}: views and scenes held");
+        let uploads = render.resource::<ManifoldUploads>();
+        eprintln!("{name}: uploads with two eyes: {uploads:?}");
+        if !hyperbolic {
+            // (Seifert-Weber's table of exact ids is repacked once grown.)
+            assert_eq!((uploads.space, uploads.objects), (1, 1), "{name}: one upload of each");
+        }
+        let mut mids = [0.0; 2];
+        let mut flat_mids = [0.0; 2];
+        for eye in 0..2 {
+            let j = (0..H)
+                .min_by(|&p, &q| row_slope(eye, p).abs().total_cmp(&row_slope(eye, q).abs()))
+                .expect("rows");
+            let (i0, i1) = widest_run(&shots[eye], j, red).unwrap_or_else(|| panic!("{name}: eye {eye} sees no ball"));
+            let seen = (column_slope(eye, f64::from(i0)), column_slope(eye, f64::from(i1)));
+            let side = if eye == 0 { -1.0 } else { 1.0 };
+            let want = predicted_edges(hyperbolic, a, d, r, side);
+            let px = pixel(eye);
+            eprintln!(
+                "{name}: eye {eye}: edges at slopes ({:.4}, {:.4}), predicted ({:.4}, {:.4}): off by {:.2} and {:.2} px",
+                seen.0,
+                seen.1,
+                want.0,
+                want.1,
+                (seen.0 - want.0) / px,
+                (seen.1 - want.1) / px
+            );
+            assert!((seen.0 - want.0).abs() < 0.75 * px, "{name}: eye {eye}: left edge");
+            assert!((seen.1 - want.1).abs() < 0.75 * px, "{name}: eye {eye}: right edge");
+            mids[eye] = (seen.0 + seen.1) / 2.0;
+            let flat = predicted_edges(false, a, d, r, side);
+            flat_mids[eye] = (flat.0 + flat.1) / 2.0;
+        }
+        let px = pixel(0);
+        let disparity = (mids[0] - mids[1]) / px;
+        let flat = (flat_mids[0] - flat_mids[1]) / px;
+        eprintln!("{name}: disparity {disparity:.1} px; the flat formula says {flat:.1} px");
+        if hyperbolic {
+            assert!(disparity - flat > 8.0, "{name}: {disparity} vs the flat {flat}");
+        }
+    }
+}
+
+/// The pixel at the centre of the image of a ball of radius `r` whose
+/// centre, offset from the head by `h` (in the head's frame, in units of
+/// the space), an eye `a` to the side of the head sees. In E3 the eye
+/// sees the centre along `h` less the eye's offset; in H3 the centre is
+/// `exp(h)` on the hyperboloid, carried by the boost that takes the eye to
+/// the origin, where the projective chart shows true directions. The
+/// ball is a circular cone of half-angle `asin(sinh r / sinh D)` (E3:
+/// `asin(r / D)`) about that direction, cut by the image plane in an
+/// ellipse centred, along the radial line, halfway between
+/// `tan(theta - rho)` and `tan(theta + rho)`.
+fn predicted_pixel(hyperbolic: bool, eye: usize, a: f64, h: DVec3, r: f64) -> (f64, f64) {
+    let x = if eye == 0 { -a } else { a };
+    let (q, rho) = if hyperbolic {
+        let n = h.length();
+        let (p, w) = (h / n * n.sinh(), n.cosh());
+        let (c, s) = (x.cosh(), x.sinh());
+        let q = DVec3::new(c * p.x - s * w, p.y, p.z);
+        let far = (c * w - s * p.x).acosh();
+        (q, (r.sinh() / far.sinh()).asin())
+    } else {
+        let q = h - DVec3::X * x;
+        (q, (r / q.length()).asin())
+    };
+    let radial = q.truncate().length();
+    let theta = (radial / -q.z).atan();
+    let mid = ((theta + rho).tan() + (theta - rho).tan()) / 2.0;
+    let (sx, sy) = (q.x / radial * mid, q.y / radial * mid);
+    let [hw, hh, cx, cy] = slopes(eye);
+    let i = ((sx - cx) / hw + 1.0) / 2.0 * f64::from(W);
+    let j = (1.0 - (sy - cy) / hh) / 2.0 * f64::from(H);
+    (i, j)
+}
+
+/// A hand (a ball held in it) at a known controller pose appears, to each
+/// eye, at the pixel the geometry predicts (within half a pixel), in E3
+/// and H3; the nearest copy of it, as other copies of the torus show it
+/// too.
+fn a_hand_at_a_controller_pose_appears_where_the_geometry_predicts() {
+    for (space, hyperbolic) in [(catalog::torus(1.0), false), (catalog::seifert_weber(), true)] {
+        let name = space.name().to_string();
+        let world_scale = f64::from(2.0 * HALF_IPD) / 0.2;
+        let grip = Vec3::new(0.05, -0.03, -0.12);
+        let mut rig = rig(&space, world_scale);
+        let root = rig.root;
+        rig.app.world_mut().spawn((
+            ChildOf(root),
+            XrHand(XrHandSide::Right),
+            TracedBall::new(0.02, Color::srgb(0.0, 1.0, 0.0)).glowing(2.0),
+        ));
+        rig.app.world_mut().resource_mut::<XrControllers>().hands[1].grip = Some((grip, Quat::IDENTITY));
+        let shots = rig.capture();
+        let h = grip.as_dvec3() / world_scale;
+        for eye in 0..2 {
+            let (n, si, sj) = largest_blob(&shots[eye], green);
+            assert!(n > 20.0, "{name}: eye {eye}: {n} hand pixels");
+            let seen = (si / n, sj / n);
+            let want = predicted_pixel(hyperbolic, eye, 0.1, h, 0.02);
+            eprintln!(
+                "{name}: eye {eye}: hand at pixel ({:.2}, {:.2}), predicted ({:.2}, {:.2}), {n} pixels",
+                seen.0, seen.1, want.0, want.1
+            );
+            assert!(
+                (seen.0 - want.0).abs() < 0.5 && (seen.1 - want.1).abs() < 0.5,
+                "{name}: eye {eye}"
+            );
+        }
+    }
+}
+
+/// Every [`XrTrigger`] sent, in order.
+#[derive(Resource, Default)]
+struct TriggerLog(Vec<XrTrigger>);
+
+/// A plain app (no renderer) with the XR plugin and two eyes whose room
+/// poses a test sets, as bevy_mod_openxr's `update_views` does.
+fn body_app(space: &Space) -> (App, Entity) {
+    let mut app = App::new();
+    app.add_plugins((MinimalPlugins, ManifoldPlugin::default(), ManifoldXrPlugin))
+        .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_millis(100)))
+        .init_resource::<TriggerLog>()
+        .add_systems(
+            Last,
+            |mut sent: MessageReader<XrTrigger>, mut log: ResMut<TriggerLog>| {
+                log.0.extend(sent.read().copied());
+            },
+        );
+    let world = app.world_mut();
+    let root = world.spawn(ManifoldSpace::new(space.clone())).id();
+    let body = world.spawn((ChildOf(root), XrBody { world_scale: 1.0 })).id();
+    for i in 0..2u32 {
+        let x = if i == 0 { -HALF_IPD } else { HALF_IPD };
+        world.spawn((
+            ChildOf(root),
+            XrEye(i),
+            bevy_manifold::placement::TrackedPose,
+            Placement::default(),
+            Transform::from_xyz(x, 0.0, 0.0),
+        ));
+    }
+    app.update();
+    (app, body)
+}
+
+fn head(app: &App, body: Entity) -> XrHead {
+    app.world().get::<XrHead>(body).expect("a head").clone()
+}
+
+/// The left stick flies the head forward along its geodesic at the set
+/// speed, through the faces (the torus has period 1: 3 s at 0.3 units/s
+/// is 0.9, so the head comes back 0.1 short of where it started); the
+/// right stick snap-turns by 30 degrees about the head, once per push;
+/// the secondary button puts the room back at the start; the trigger is
+/// an action with two edges.
+fn the_sticks_fly_and_turn_the_room_and_the_trigger_is_an_action() {
+    let space = catalog::torus(1.0);
+    let (mut app, body) = body_app(&space);
+    let set = |app: &mut App, f: &dyn Fn(&mut XrControllers)| f(&mut app.world_mut().resource_mut::<XrControllers>());
+    set(&mut app, &|c| c.hands[0].stick = Vec2::Y);
+    for _ in 0..30 {
+        app.update();
+    }
+    set(&mut app, &|c| c.hands[0].stick = Vec2::ZERO);
+    app.update();
+    app.update();
+    let h = head(&app, body);
+    let z = h.placement.position().z / h.placement.position().w;
+    // 30 updates of 0.1 s, the first with no head yet... counted exactly:
+    // the stick moved the room on each update where the head existed.
+    assert!((z - 0.1).abs() < 0.031, "head at z {z}");
+    assert_ne!(h.cell.id, DomainCell::default().id, "the head crossed a face");
+    let speed = app.world().get::<XrLocomotion>(body).expect("locomotion").speed;
+    assert!((speed - 0.3).abs() < 1e-12);
+
+    // A snap turn: the head's forward turns 30 degrees to the right.
+    let before = head(&app, body).placement.forward();
+    set(&mut app, &|c| c.hands[1].stick = Vec2::X);
+    for _ in 0..5 {
+        app.update();
+    }
+    set(&mut app, &|c| c.hands[1].stick = Vec2::ZERO);
+    app.update();
+    app.update();
+    let after = head(&app, body).placement.forward();
+    let angle = before.truncate().angle_between(after.truncate()).to_degrees();
+    assert!((angle - 30.0).abs() < 1e-6, "one snap of {angle} degrees");
+    assert!(after.x > 0.0, "turned right: {after}");
+
+    // Reset: back at the start of the origin copy.
+    set(&mut app, &|c| c.hands[0].secondary = true);
+    app.update();
+    app.update();
+    let h = head(&app, body);
+    assert!(
+        h.placement.position().truncate().length() < 1e-9,
+        "{}",
+        h.placement.position()
+    );
+    assert_eq!(h.cell.id, DomainCell::default().id);
+
+    // The trigger: one pull and one release, however long it is held.
+    set(&mut app, &|c| c.hands[1].trigger = 0.9);
+    for _ in 0..3 {
+        app.update();
+    }
+    set(&mut app, &|c| c.hands[1].trigger = 0.5);
+    app.update();
+    set(&mut app, &|c| c.hands[1].trigger = 0.0);
+    app.update();
+    assert_eq!(
+        app.world().resource::<TriggerLog>().0,
+        [
+            XrTrigger {
+                hand: XrHandSide::Right,
+                pulled: true
+            },
+            XrTrigger {
+                hand: XrHandSide::Right,
+                pulled: false
+            }
+        ]
+    );
+}
+
+bevy_manifold_test_support::test_main! {
+    cpu: [the_sticks_fly_and_turn_the_room_and_the_trigger_is_an_action],
+    gpu: [
+        the_eyes_see_a_ball_with_the_disparity_the_geometry_predicts,
+        a_hand_at_a_controller_pose_appears_where_the_geometry_predicts,
+    ],
+}
