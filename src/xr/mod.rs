@@ -54,6 +54,7 @@
 //! ```
 
 mod body;
+mod capture;
 mod controls;
 mod late;
 
@@ -61,14 +62,17 @@ use crate::placement::tracked::{self, TrackedPose};
 use crate::placement::{DomainCell, InSpace, ManifoldSpace, ManifoldSystems, Placement, WrapOrigin};
 use crate::render::ManifoldCamera;
 use crate::view::{CellShading, ManifoldFog};
+use bevy::camera::CameraMainTextureUsages;
 use bevy::core_pipeline::tonemapping::Tonemapping;
 use bevy::prelude::*;
+use bevy::render::render_resource::TextureUsages;
 use bevy::render::view::Msaa;
 use bevy_mod_xr::camera::XrCamera;
 use bevy_mod_xr::session::XrTrackingRoot;
 
 pub use bevy_mod_xr::session::XrState;
 pub use body::{XrHand, XrLocomotion, rest_pose, room_move};
+pub use capture::{XrEyeCapture, XrEyeImage};
 pub use controls::actions::XrGrip;
 pub use controls::{TRIGGER_PULLED, TRIGGER_RELEASED, XrController, XrControllers, XrHandSide, XrTrigger};
 pub use late::{ExtractedXrEye, XrFrameStats};
@@ -142,6 +146,7 @@ impl Plugin for ManifoldXrPlugin {
                     .before(ManifoldSystems::Sync),
             );
         late::build(app);
+        capture::build(app);
         if app
             .world()
             .contains_resource::<bevy_mod_openxr::resources::OxrInstance>()
@@ -194,9 +199,15 @@ fn equip_eyes(
 ) {
     let settings = bodies.single().ok().flatten().copied().unwrap_or_default();
     for (entity, camera) in &eyes {
-        commands
-            .entity(entity)
-            .insert((settings, XrEye(camera.0), TrackedPose, Msaa::Off, Tonemapping::None));
+        commands.entity(entity).insert((
+            settings,
+            XrEye(camera.0),
+            TrackedPose,
+            Msaa::Off,
+            Tonemapping::None,
+            // The eye's view target can be read back (XrEyeCapture).
+            CameraMainTextureUsages::default().with(TextureUsages::COPY_SRC),
+        ));
     }
 }
 

@@ -41,6 +41,20 @@ enum Command {
         /// the explorer opens without it).
         #[arg(long)]
         tour: Option<PathBuf>,
+        /// In a headset, through OpenXR (SteamVR, Monado, ...): each eye
+        /// traced from where it is in the space. Without a runtime it says
+        /// so and stays on the desktop; without a display it runs for the
+        /// headset alone.
+        #[arg(long)]
+        xr: bool,
+        /// With --xr: metres of the room per unit of the space.
+        #[arg(long, default_value_t = 4.0, requires = "xr", value_parser = positive_scale)]
+        world_scale: f64,
+        /// With --xr and --frames: at the last frame, save each eye's
+        /// traced image (read back from its view target) as eye0.png and
+        /// eye1.png in this folder.
+        #[arg(long, value_name = "DIR", requires_all = ["xr", "frames"])]
+        xr_capture: Option<PathBuf>,
     },
     /// The explorer left running on a script (every space, every setting,
     /// meshes loaded and dropped), recording memory and GPU objects: a
@@ -188,12 +202,23 @@ pub fn run() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         // The explorer: a window, or its headless fallback.
-        None => return explore(None, None, None),
+        None => return explore(crate::explorer::ExploreOptions::default()),
         Some(Command::Explore {
             frames,
             screenshot,
             tour,
-        }) => return explore(frames, screenshot, tour),
+            xr,
+            world_scale,
+            xr_capture,
+        }) => {
+            return explore(crate::explorer::ExploreOptions {
+                frames,
+                screenshot,
+                tour,
+                xr: xr.then_some(world_scale),
+                xr_capture,
+            });
+        }
         Some(Command::Soak(args)) => return soak(&args),
         Some(Command::Space(SpaceCommand::List)) => {
             for name in catalog::NAMES {
@@ -233,8 +258,17 @@ pub fn run() -> ExitCode {
     }
 }
 
-fn explore(frames: Option<u32>, screenshot: Option<PathBuf>, tour: Option<PathBuf>) -> ExitCode {
-    match crate::explorer::run_for(frames, screenshot, tour) {
+/// `--world-scale`: a positive, finite number of metres per unit.
+fn positive_scale(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 && v <= 1e6 => Ok(v),
+        Ok(v) => Err(format!("must be positive and at most 1e6 metres per unit, got {v}")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+fn explore(options: crate::explorer::ExploreOptions) -> ExitCode {
+    match crate::explorer::run_with(options) {
         bevy::app::AppExit::Success => ExitCode::SUCCESS,
         bevy::app::AppExit::Error(_) => ExitCode::FAILURE,
     }

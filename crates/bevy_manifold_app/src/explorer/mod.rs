@@ -30,6 +30,8 @@ pub mod soak;
 pub mod tour;
 pub mod tour_panel;
 pub mod view;
+#[cfg(feature = "xr")]
+pub mod xr;
 
 pub use settings::{CellMode, ExplorerSettings};
 pub use view::{ExplorerCamera, ExplorerStatus, ExplorerView, ExplorerWorld};
@@ -253,12 +255,23 @@ pub(crate) fn window_app(
     settings_path: Option<PathBuf>,
     asset_root: Option<String>,
 ) -> App {
+    explorer_app(settings, settings_path, asset_root, None, true)
+}
+
+/// The explorer's app: with its window and panel (`window`), or for the
+/// headset alone; with OpenXR when `xr` gives the world scale.
+fn explorer_app(
+    settings: ExplorerSettings,
+    settings_path: Option<PathBuf>,
+    asset_root: Option<String>,
+    xr: Option<f64>,
+    window: bool,
+) -> App {
     let mut assets = AssetPlugin::default();
     if let Some(root) = asset_root {
         assets.file_path = root;
     }
-    let mut app = App::new();
-    app.add_plugins(
+    let plugins = if window {
         DefaultPlugins
             .set(WindowPlugin {
                 primary_window: Some(Window {
@@ -268,10 +281,31 @@ pub(crate) fn window_app(
                 }),
                 ..default()
             })
-            .set(assets),
-    )
-    .insert_resource(settings)
-    .add_plugins((ExplorerPlugin { settings_path }, panel::ExplorerPanelPlugin));
+            .set(assets)
+    } else {
+        // No winit: the schedule runner loops the app instead.
+        bevy_manifold::render::offscreen::plugins()
+            .set(assets)
+            .add(bevy::app::ScheduleRunnerPlugin::run_loop(Duration::ZERO))
+    };
+    let mut app = App::new();
+    match xr {
+        #[cfg(feature = "xr")]
+        Some(_) => app.add_plugins(xr::plugins(plugins)),
+        _ => app.add_plugins(plugins),
+    };
+    app.insert_resource(settings)
+        .add_plugins(ExplorerPlugin { settings_path });
+    if window {
+        app.add_plugins(panel::ExplorerPanelPlugin);
+    }
+    #[cfg(feature = "xr")]
+    if let Some(world_scale) = xr {
+        app.add_plugins(xr::ExplorerXrPlugin {
+            world_scale,
+            spectator: window,
+        });
+    }
     app
 }
 
@@ -279,7 +313,28 @@ pub(crate) fn window_app(
 /// wrong with them), then opens the explorer window; or, without a display
 /// or a GPU adapter, says so and renders `explorer.png` instead.
 pub fn run() -> AppExit {
-    run_for(None, None, None)
+    run_with(ExploreOptions::default())
+}
+
+/// How `explore` runs: see [`run_with`].
+#[derive(Clone, Debug, Default)]
+pub struct ExploreOptions {
+    /// Quit after this many frames (smoke tests); in a headset, after
+    /// this many frames with both eyes traced.
+    pub frames: Option<u32>,
+    /// With `frames`: save the whole window, panel included, to this PNG
+    /// at that frame.
+    pub screenshot: Option<PathBuf>,
+    /// Play this tour file (a broken one is reported and the explorer
+    /// opens without it).
+    pub tour: Option<PathBuf>,
+    /// In a headset through OpenXR (feature `xr`), at this many metres of
+    /// the room per unit of the space.
+    pub xr: Option<f64>,
+    /// With `xr` and `frames`: save each eye's traced image, read back from
+    /// its view target, as `eye0.png` and `eye1.png` in this folder at that
+    /// frame.
+    pub xr_capture: Option<PathBuf>,
 }
 
 /// [`run`], playing the tour file `tour` when given (a broken one is
@@ -287,6 +342,28 @@ pub fn run() -> AppExit {
 /// frames when given (smoke tests), and then saving the whole window,
 /// panel included, to `screenshot`.
 pub fn run_for(frames: Option<u32>, screenshot: Option<PathBuf>, tour: Option<PathBuf>) -> AppExit {
+    run_with(ExploreOptions {
+        frames,
+        screenshot,
+        tour,
+        ..ExploreOptions::default()
+    })
+}
+
+/// [`run_for`] with every option: in a headset too (`xr`), with the
+/// window when there is a display, for the headset alone when not.
+pub fn run_with(options: ExploreOptions) -> AppExit {
+    let ExploreOptions {
+        frames,
+        screenshot,
+        tour,
+        xr,
+        xr_capture,
+    } = options;
+    if xr.is_some() && !cfg!(feature = "xr") {
+        eprintln!("warning: --xr: this build has no OpenXR support (feature `xr`); the explorer runs on the desktop");
+    }
+    let xr = xr.filter(|_| cfg!(feature = "xr"));
     let path = settings::settings_path();
     let first_run = path.as_ref().is_some_and(|p| !p.exists());
     let (mut settings, mut warnings) = match &path {
@@ -305,64 +382,166 @@ pub fn run_for(frames: Option<u32>, screenshot: Option<PathBuf>, tour: Option<Pa
     for w in &warnings {
         eprintln!("warning: {w}");
     }
-    let adapter = match fallback::window_adapter() {
-        Ok(a) => a,
+    // A headset needs no display: without one the XR explorer runs for
+    // the headset alone (the runtime finds its own GPU adapter).
+    let window = match fallback::window_adapter() {
+        Ok(a) => {
+            // A first run on a software rasteriser (lavapipe, WARP,
+            // SwiftShader) starts at half resolution and four levels, or
+            // a frame takes seconds.
+            if first_run && a.device_type == wgpu::DeviceType::Cpu {
+                settings.render_scale = 0.5;
+                settings.levels = 4;
+                let note = "a software GPU adapter: starting at render scale 0.5 and 4 levels (the panel sets both)";
+                eprintln!("note: {note}");
+                warnings.push(note.into());
+            }
+            true
+        }
+        Err(why) if xr.is_some() => {
+            println!("xr: {why}; running for the headset alone");
+            false
+        }
         Err(why) => return fallback::render_instead(&why, &settings, std::path::Path::new("explorer.png")),
     };
-    // A first run on a software rasteriser (lavapipe, WARP, SwiftShader)
-    // starts at half resolution and four levels, or a frame takes seconds.
-    if first_run && adapter.device_type == wgpu::DeviceType::Cpu {
-        settings.render_scale = 0.5;
-        settings.levels = 4;
-        let note = "a software GPU adapter: starting at render scale 0.5 and 4 levels (the panel sets both)";
-        eprintln!("note: {note}");
-        warnings.push(note.into());
+    let fallback_settings = settings.clone();
+    let mut app = explorer_app(settings, path, None, xr, window);
+    if !window && !xr_frames_counted(app.world()) {
+        // No window and no headset after all: as plain `explore` does.
+        drop(app);
+        let why = "no display and no OpenXR runtime";
+        return fallback::render_instead(why, &fallback_settings, std::path::Path::new("explorer.png"));
     }
-    let mut app = window_app(settings, path, None);
     app.insert_resource(tour_state);
     if !warnings.is_empty() {
         app.world_mut().resource_mut::<ExplorerStatus>().message = Some((warnings.join("\n"), true));
     }
     if let Some(n) = frames {
+        let started = Instant::now();
         app.add_systems(
             Last,
-            move |mut commands: Commands,
-                  mut count: Local<u32>,
-                  mut exit: MessageWriter<AppExit>,
-                  status: Res<ExplorerStatus>,
-                  view: Res<ExplorerView>,
-                  tour: Res<tour::ExplorerTour>| {
+            move |world: &mut World, mut count: Local<u32>, mut done: Local<bool>| {
+                if *done {
+                    return;
+                }
                 *count += 1;
-                if *count == n {
-                    // What a smoke run measured, for its log.
-                    let played = match &tour.tour {
-                        Some(t) => format!("; tour {} at {:.2} s of {:.0}", tour.path, tour.time, t.duration()),
-                        None => String::new(),
-                    };
-                    println!(
-                        "explorer: {n} frames, mean frame time over the last {:.0} s {:.1} ms, view {}x{} traced{played}",
-                        ExplorerStatus::HISTORY_SECS,
-                        status.mean_frame_ms().unwrap_or(f32::NAN),
-                        view.size.x,
-                        view.size.y
+                // In a headset: frames with both eyes traced; on the
+                // desktop (or without a runtime): updates.
+                let (reached, waited) = if xr_frames_counted(world) {
+                    (xr_traced(world) >= u64::from(n), started.elapsed() > XR_FRAMES_TIMEOUT)
+                } else {
+                    (*count >= n, false)
+                };
+                if !(reached || waited) {
+                    return;
+                }
+                if reached
+                    && let Some(dir) = &xr_capture
+                    && xr_frames_counted(world)
+                {
+                    // The eyes' images first: asked for once, saved when
+                    // they come back.
+                    match xr_capture_step(world, dir) {
+                        Ok(false) => return,
+                        Ok(true) => {}
+                        Err(e) => {
+                            eprintln!("error: xr: {e}");
+                            *done = true;
+                            world.write_message(AppExit::error());
+                            return;
+                        }
+                    }
+                }
+                *done = true;
+                smoke_summary(world, n);
+                if waited && !reached {
+                    eprintln!(
+                        "error: xr: {} of {n} frames traced in {} s",
+                        xr_traced(world),
+                        XR_FRAMES_TIMEOUT.as_secs()
                     );
+                    world.write_message(AppExit::error());
+                    return;
                 }
                 match &screenshot {
-                    Some(path) if *count == n => {
-                        commands
+                    Some(path) if window => {
+                        world
                             .spawn(Screenshot::primary_window())
                             .observe(save_to_disk(path.clone()))
                             .observe(|_: On<ScreenshotCaptured>, mut exit: MessageWriter<AppExit>| {
                                 exit.write(AppExit::Success);
                             });
                     }
-                    None if *count >= n => {
-                        exit.write(AppExit::Success);
+                    _ => {
+                        world.write_message(AppExit::Success);
                     }
-                    _ => {}
                 }
             },
         );
     }
     app.run()
+}
+
+/// How long `--frames` waits for a headset's frames before giving up.
+const XR_FRAMES_TIMEOUT: Duration = Duration::from_secs(300);
+
+/// Whether `--frames` counts the headset's frames: an OpenXR runtime is
+/// there.
+fn xr_frames_counted(world: &World) -> bool {
+    #[cfg(feature = "xr")]
+    {
+        xr::available(world)
+    }
+    #[cfg(not(feature = "xr"))]
+    {
+        let _ = world;
+        false
+    }
+}
+
+/// One step of `--xr-capture`: asks for the eyes' images, then saves them
+/// when they are back (`Ok(true)`).
+fn xr_capture_step(world: &mut World, dir: &std::path::Path) -> Result<bool, String> {
+    #[cfg(feature = "xr")]
+    {
+        xr::capture_step(world, dir)
+    }
+    #[cfg(not(feature = "xr"))]
+    {
+        let _ = (world, dir);
+        Ok(true)
+    }
+}
+
+/// Frames with both eyes traced (0 without `xr`).
+fn xr_traced(world: &World) -> u64 {
+    #[cfg(feature = "xr")]
+    {
+        xr::frames_traced(world)
+    }
+    #[cfg(not(feature = "xr"))]
+    {
+        let _ = world;
+        0
+    }
+}
+
+/// What a smoke run measured, for its log.
+fn smoke_summary(world: &World, n: u32) {
+    let status = world.resource::<ExplorerStatus>();
+    let view = world.resource::<ExplorerView>();
+    let tour = world.resource::<tour::ExplorerTour>();
+    let played = match &tour.tour {
+        Some(t) => format!("; tour {} at {:.2} s of {:.0}", tour.path, tour.time, t.duration()),
+        None => String::new(),
+    };
+    println!(
+        "explorer: {n} frames, mean frame time over the last {:.0} s {:.1} ms, view {}x{} traced{played}",
+        ExplorerStatus::HISTORY_SECS,
+        status.mean_frame_ms().unwrap_or(f32::NAN),
+        view.size.x,
+        view.size.y
+    );
+    #[cfg(feature = "xr")]
+    xr::say_summary(world);
 }

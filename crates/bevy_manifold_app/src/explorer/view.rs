@@ -215,6 +215,9 @@ pub fn apply_settings(
                 .ok()
                 .map(|(p, c, w)| (*p, c.clone(), w.clone()))
         };
+        // The headset's tracking root hangs under the camera: keep it.
+        #[cfg(feature = "xr")]
+        bevy_manifold::xr::keep_tracking_root(&mut commands);
         commands.entity(world.root).despawn();
         let (root, camera) = spawn_world(&mut commands, &space, &settings, &view.image, keep);
         if space_changed {
