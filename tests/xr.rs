@@ -179,9 +179,12 @@ fn green(p: &[u8]) -> bool {
     p[1] > 150 && p[0] < 80 && p[2] < 80
 }
 
+/// A function of a distance.
+type OfDistance = fn(f64) -> f64;
+
 /// Distances of a right triangle: `sinh`, `tanh`, `cosh` of H3 (curvature
 /// -1), or their flat limits.
-fn trig(hyperbolic: bool) -> (fn(f64) -> f64, fn(f64) -> f64, fn(f64) -> f64) {
+fn trig(hyperbolic: bool) -> (OfDistance, OfDistance, OfDistance) {
     if hyperbolic {
         (f64::sinh, f64::tanh, f64::cosh)
     } else {
@@ -330,8 +333,8 @@ fn a_hand_at_a_controller_pose_appears_where_the_geometry_predicts() {
         rig.app.world_mut().resource_mut::<XrControllers>().hands[1].grip = Some((grip, Quat::IDENTITY));
         let shots = rig.capture();
         let h = grip.as_dvec3() / world_scale;
-        for eye in 0..2 {
-            let (n, si, sj) = largest_blob(&shots[eye], green);
+        for (eye, shot) in shots.iter().enumerate() {
+            let (n, si, sj) = largest_blob(shot, green);
             assert!(n > 20.0, "{name}: eye {eye}: {n} hand pixels");
             let seen = (si / n, sj / n);
             let want = predicted_pixel(hyperbolic, eye, 0.1, h, 0.02);
