@@ -13,6 +13,7 @@ mod pass;
 mod plot;
 mod specialise;
 mod stability;
+mod stereo;
 
 use bevy_manifold::prelude::*;
 use clap::Subcommand;
@@ -140,6 +141,21 @@ pub enum BenchCommand {
         #[arg(long, default_value = "")]
         only: String,
     },
+    /// Stereo, as a headset asks: two eyes with off-centre frusta, each
+    /// placed along a geodesic, at 2x1512x1680 times each render scale,
+    /// per catalog space (the paper's scene) at 1, 3 and 8 levels; the CPU
+    /// reference's rays/s beside it.
+    Stereo {
+        /// Per-eye render scales (1: 1512x1680 an eye).
+        #[arg(long, value_delimiter = ',', default_value = "1,0.5,0.25")]
+        scales: Vec<f64>,
+        /// Runs per setting; the best is reported.
+        #[arg(long, default_value_t = 1)]
+        runs: u32,
+        /// Only the spaces whose name holds this.
+        #[arg(long, default_value = "")]
+        only: String,
+    },
 }
 
 /// Runs one benchmark, printing its table (and writing its files).
@@ -170,6 +186,16 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
             runs,
             ref only,
         } => balls::run(width.max(1), height.max(1), levels.clamp(1, 64), runs.max(1), only),
+        BenchCommand::Stereo {
+            ref scales,
+            runs,
+            ref only,
+        } => {
+            if scales.is_empty() || scales.iter().any(|s| !(s.is_finite() && *s > 0.0 && *s <= 2.0)) {
+                return Err(format!("--scales: each must be in (0, 2], got {scales:?}"));
+            }
+            stereo::run(scales, runs.max(1), only)
+        }
     }
 }
 
