@@ -11,6 +11,9 @@ mod game;
 #[path = "../examples/shooter/input.rs"]
 #[allow(dead_code, reason = "the tests use part of the input")]
 mod input;
+#[cfg(feature = "xr")]
+#[path = "../examples/shooter/xr.rs"]
+mod xr;
 
 use bevy::ecs::system::RunSystemOnce;
 use bevy::prelude::*;
@@ -513,4 +516,36 @@ fn bad_scripts_are_refused_naming_the_field() {
     let e = Script::parse("{\"space\": \"torus\"").unwrap_err();
     assert!(e.contains("EOF"), "{e}");
     let _ = (Player, Target);
+}
+
+/// In a headset the controllers are the game's input, through the same
+/// per-tick input a script records: the left stick pushed forward is
+/// thrust along the player's -z, the right trigger (the XR plugin's
+/// trigger action) fires; the player carries the room (`XrBody`) and the
+/// game, not the sticks' own flight, moves it.
+#[cfg(feature = "xr")]
+#[test]
+fn in_a_headset_the_left_stick_flies_and_the_trigger_fires() {
+    use bevy_manifold::xr::{XrBody, XrControllers, XrLocomotion};
+    let mut app = headless_app(config("torus"), None, Duration::from_secs_f64(TICK));
+    app.add_plugins(xr::ShooterXrPlugin { world_scale: 4.0 });
+    no_player_collider(&mut app);
+    {
+        let mut c = app.world_mut().resource_mut::<XrControllers>();
+        c.hands[0].stick = Vec2::Y;
+        c.hands[1].trigger = 1.0;
+    }
+    play_until(&mut app, 20, |g| g.tick >= 10);
+    assert!(events(&app).contains(&GameEvent::Fired), "{:?}", events(&app));
+    let recorded = &app.world().resource::<input::InputSource>().recorded;
+    assert!(
+        recorded
+            .iter()
+            .any(|e| e.input.fire && e.input.thrust == DVec3::NEG_Z && e.input.turn == DVec3::ZERO),
+        "{recorded:?}"
+    );
+    let player = game(&app).player;
+    let body = app.world().entity(player);
+    assert!(body.contains::<XrBody>());
+    assert!(!body.get::<XrLocomotion>().expect("locomotion").enabled);
 }

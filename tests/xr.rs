@@ -67,6 +67,11 @@ struct Rig {
     images: [Handle<Image>; 2],
 }
 
+/// One offscreen render app at a time in this process: the GPU tests
+/// here hold it while their app lives (a lavapipe device per app; two
+/// made and torn down side by side once left the heap corrupt at exit).
+static ONE_RENDER_APP: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 fn rig(space: &Space, world_scale: f64) -> Rig {
     let mut app = App::new();
     app.add_plugins(offscreen::plugins().disable::<bevy::log::LogPlugin>())
@@ -218,6 +223,7 @@ fn predicted_edges(hyperbolic: bool, a: f64, d: f64, r: f64, side: f64) -> (f64,
 /// the flat formula by `tanh d / d`, a difference of many pixels the test
 /// tells apart. Both eyes bind one upload of the scene.
 fn the_eyes_see_a_ball_with_the_disparity_the_geometry_predicts() {
+    let _one = ONE_RENDER_APP.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
     for (space, hyperbolic, d) in [
         (catalog::torus(1.0), false, 0.35),
         (catalog::seifert_weber(), true, 0.6),
@@ -319,6 +325,7 @@ fn predicted_pixel(hyperbolic: bool, eye: usize, a: f64, h: DVec3, r: f64) -> (f
 /// and H3; the nearest copy of it, as other copies of the torus show it
 /// too.
 fn a_hand_at_a_controller_pose_appears_where_the_geometry_predicts() {
+    let _one = ONE_RENDER_APP.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
     for (space, hyperbolic) in [(catalog::torus(1.0), false), (catalog::seifert_weber(), true)] {
         let name = space.name().to_string();
         let world_scale = f64::from(2.0 * HALF_IPD) / 0.2;

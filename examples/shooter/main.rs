@@ -11,6 +11,7 @@
 //!     [--difficulty easy|normal|hard] [--seed N] [--levels N]
 //!     [--record FILE.json] [--play FILE.json [--headless]]
 //!     [--screenshot FILE.png [--size WxH]]
+//! cargo run --release --features xr --example shooter -- --xr [--world-scale M]
 //! ```
 //!
 //! The game's rules are `game.rs` (no rendering: the tests play it
@@ -18,11 +19,15 @@
 //! the window, HUD, map and controls `view.rs`. `--record` writes the game
 //! played as a script; `--play` replays one (in the window, or with
 //! `--headless` as fast as it can, printing the score and the events).
+//! `--xr` plays in a headset (`xr.rs`); without an OpenXR runtime it says
+//! so and plays on the desktop.
 
 mod bot;
 mod game;
 mod input;
 mod view;
+#[cfg(feature = "xr")]
+mod xr;
 
 #[path = "../support/showcase.rs"]
 #[allow(dead_code, reason = "the shooter uses its screenshot part only")]
@@ -96,15 +101,41 @@ fn run() -> Result<AppExit, String> {
     let record = arg("--record").map(PathBuf::from);
     let menu = script.is_none();
     let mut app = App::new();
-    app.add_plugins(DefaultPlugins.set(WindowPlugin {
+    let plugins = DefaultPlugins.set(WindowPlugin {
         primary_window: Some(Window {
             title: "bevy_manifold shooter: your shots come back around".into(),
             resolution: (960, 540).into(),
             ..default()
         }),
         ..default()
-    }))
-    .add_plugins((
+    });
+    let xr = showcase::flag("--xr");
+    let world_scale = match arg("--world-scale") {
+        Some(s) => s
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite() && *v > 0.0 && *v <= 1e6)
+            .ok_or(format!(
+                "--world-scale: a positive number of metres per unit, not {s:?}"
+            ))?,
+        None => 4.0,
+    };
+    #[cfg(feature = "xr")]
+    if xr {
+        app.add_plugins(bevy_mod_openxr::add_xr_plugins(plugins))
+            .add_plugins(xr::ShooterXrPlugin { world_scale });
+    } else {
+        app.add_plugins(plugins);
+    }
+    #[cfg(not(feature = "xr"))]
+    {
+        if xr {
+            eprintln!("warning: --xr: built without the `xr` feature (add --features xr); playing on the desktop");
+        }
+        let _ = world_scale;
+        app.add_plugins(plugins);
+    }
+    app.add_plugins((
         ManifoldPlugin::in_schedule(FixedPostUpdate),
         GamePlugin { config },
         ViewPlugin(ViewSettings {
