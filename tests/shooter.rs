@@ -528,7 +528,10 @@ fn bad_scripts_are_refused_naming_the_field() {
 fn in_a_headset_the_left_stick_flies_and_the_trigger_fires() {
     use bevy_manifold::xr::{XrBody, XrControllers, XrLocomotion};
     let mut app = headless_app(config("torus"), None, Duration::from_secs_f64(TICK));
-    app.add_plugins(xr::ShooterXrPlugin { world_scale: 4.0 });
+    app.add_plugins(xr::ShooterXrPlugin {
+        world_scale: 4.0,
+        capture: None,
+    });
     no_player_collider(&mut app);
     {
         let mut c = app.world_mut().resource_mut::<XrControllers>();
@@ -548,4 +551,62 @@ fn in_a_headset_the_left_stick_flies_and_the_trigger_fires() {
     let body = app.world().entity(player);
     assert!(body.contains::<XrBody>());
     assert!(!body.get::<XrLocomotion>().expect("locomotion").enabled);
+}
+
+/// In a headset each eye draws its own crosshair where it sees the point
+/// one inradius ahead on the shots' geodesic, so the two converge there:
+/// with eyes `a` to either side of the head, that point is off each eye's
+/// axis by the slope `sinh a / tanh d` in H3 (`a / d` in E3), the right
+/// triangle at the head, and level with it. Checked through the eyes' own
+/// off-centre projection (bevy_mod_xr's), to a thousandth of a pixel.
+#[cfg(feature = "xr")]
+#[test]
+fn in_a_headset_the_eyes_crosshairs_converge_where_the_geometry_says() {
+    use bevy_manifold::placement::tracked;
+    use bevy_mod_xr::camera::{Fov, calculate_projection};
+    let fov = |eye: usize| {
+        let [l, r, d, u] = [-0.87f32, 0.70, -0.84, 0.77];
+        if eye == 0 { [l, r, d, u] } else { [-r, -l, d, u] }
+    };
+    let size = Vec2::new(1512.0, 1680.0);
+    for (space, hyperbolic) in [(catalog::torus(1.0), false), (catalog::seifert_weber(), true)] {
+        let g = space.geometry();
+        let ahead = space.inradius();
+        // 64 mm at 0.32 m per unit: each eye 0.1 from the head.
+        let room = [
+            (Vec3::new(-0.032, 0.0, 0.0), Quat::IDENTITY),
+            (Vec3::new(0.032, 0.0, 0.0), Quat::IDENTITY),
+        ];
+        let (_, eyes) = tracked::head_and_eyes(g, DMat4::IDENTITY, room, 0.32);
+        let a = f64::from(0.032f32) / 0.32;
+        let off = if hyperbolic { a.sinh() / ahead.tanh() } else { a / ahead };
+        for (k, eye) in eyes.iter().enumerate() {
+            let [l, r, d, u] = fov(k);
+            let p = calculate_projection(
+                0.01,
+                Fov {
+                    angle_left: l,
+                    angle_right: r,
+                    angle_down: d,
+                    angle_up: u,
+                },
+            );
+            let at = xr::crosshair_pixel(g, *eye, p, size, ahead).expect("in front");
+            let [l, r, d, u] = [l, r, d, u].map(|x| f64::from(x).tan());
+            let slope = if k == 0 { off } else { -off };
+            let want = (
+                ((slope - (r + l) / 2.0) / ((r - l) / 2.0) + 1.0) / 2.0 * f64::from(size.x),
+                (1.0 - (0.0 - (u + d) / 2.0) / ((u - d) / 2.0)) / 2.0 * f64::from(size.y),
+            );
+            eprintln!(
+                "{}: eye {k}: crosshair at ({:.3}, {:.3}), predicted ({:.3}, {:.3})",
+                space.name(),
+                at.x,
+                at.y,
+                want.0,
+                want.1
+            );
+            assert!((f64::from(at.x) - want.0).abs() < 1e-3 && (f64::from(at.y) - want.1).abs() < 1e-3);
+        }
+    }
 }

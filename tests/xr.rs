@@ -16,11 +16,11 @@ use bevy_manifold::prelude::*;
 use bevy_manifold::render::{ManifoldBufferCache, ManifoldUploads, offscreen};
 use bevy_manifold::space::Space;
 use bevy_manifold::xr::{
-    ManifoldXrPlugin, XrBody, XrControllers, XrEye, XrHand, XrHandSide, XrHead, XrLocomotion, XrTrigger,
+    ManifoldXrPlugin, XrBody, XrControllers, XrEye, XrHand, XrHandSide, XrHead, XrLocomotion, XrRecentre, XrTrigger,
 };
 use bevy_mod_xr::camera::{Fov, XrCamera, XrProjection, calculate_projection};
 use bevy_mod_xr::session::XrTrackingRoot;
-use glam::DVec3;
+use glam::{DVec3, DVec4};
 use std::time::Duration;
 
 /// A left eye's field of view as a headset reports it (radians: left,
@@ -471,8 +471,57 @@ fn the_sticks_fly_and_turn_the_room_and_the_trigger_is_an_action() {
     );
 }
 
+/// With `XrRecentre` the head, where it was first tracked (standing, 1.6 m
+/// up and 0.2 m forward of the room's centre), is the body's origin; a
+/// step of 0.1 m to the right then moves it 0.1 / scale from there, and a
+/// grip 0.3 m in front of the head puts the hand 0.3 / scale ahead of the
+/// body. `XrHead::eyes` are the eyes from the body: 32 mm / scale to
+/// either side.
+fn recentring_puts_the_first_head_pose_at_the_body() {
+    let space = catalog::seifert_weber();
+    let (mut app, body) = body_app(&space);
+    let g = space.geometry();
+    app.world_mut().entity_mut(body).insert(XrRecentre::default());
+    let root = app.world().get::<ChildOf>(body).expect("root").parent();
+    let hand = app.world_mut().spawn((ChildOf(root), XrHand(XrHandSide::Right))).id();
+    let place = |app: &mut App, shift: Vec3| {
+        let mut q = app.world_mut().query::<(&XrEye, &mut Transform)>();
+        for (eye, mut t) in q.iter_mut(app.world_mut()) {
+            let x = if eye.0 == 0 { -HALF_IPD } else { HALF_IPD };
+            t.translation = Vec3::new(x, 1.6, -0.2) + shift;
+        }
+    };
+    place(&mut app, Vec3::ZERO);
+    app.world_mut().resource_mut::<XrControllers>().hands[1].grip = Some((Vec3::new(0.0, 1.6, -0.5), Quat::IDENTITY));
+    app.update();
+    app.update();
+    let h = head(&app, body);
+    let d = |p: DVec4| g.distance::<f64>(p, DVec4::W);
+    assert!(d(h.placement.position()) < 1e-9, "head {}", h.placement.position());
+    assert!(
+        (h.recentred - Vec3::new(0.0, 1.6, -0.2)).length() < 1e-6,
+        "{}",
+        h.recentred
+    );
+    let half = f64::from(HALF_IPD);
+    for e in h.eyes {
+        assert!((d(e.w_axis) - half).abs() < 1e-9, "eye {}", e.w_axis);
+    }
+    let hand_at = app.world().get::<Placement>(hand).expect("hand").position();
+    assert!((d(hand_at) - f64::from(0.3f32)).abs() < 1e-6, "hand {hand_at}");
+    assert!(hand_at.z < 0.0, "ahead: {hand_at}");
+    place(&mut app, Vec3::X * 0.1);
+    app.update();
+    app.update();
+    let moved = d(head(&app, body).placement.position());
+    assert!((moved - f64::from(0.1f32)).abs() < 1e-6, "moved {moved}");
+}
+
 bevy_manifold_test_support::test_main! {
-    cpu: [the_sticks_fly_and_turn_the_room_and_the_trigger_is_an_action],
+    cpu: [
+        the_sticks_fly_and_turn_the_room_and_the_trigger_is_an_action,
+        recentring_puts_the_first_head_pose_at_the_body,
+    ],
     gpu: [
         the_eyes_see_a_ball_with_the_disparity_the_geometry_predicts,
         a_hand_at_a_controller_pose_appears_where_the_geometry_predicts,

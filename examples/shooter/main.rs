@@ -12,6 +12,7 @@
 //!     [--record FILE.json] [--play FILE.json [--headless]]
 //!     [--screenshot FILE.png [--size WxH]]
 //! cargo run --release --features xr --example shooter -- --xr [--world-scale M]
+//!     [--frames N --xr-capture DIR]
 //! ```
 //!
 //! The game's rules are `game.rs` (no rendering: the tests play it
@@ -122,8 +123,11 @@ fn run() -> Result<AppExit, String> {
     };
     #[cfg(feature = "xr")]
     if xr {
+        // With --frames N: both eyes read back at frame N - 30.
+        let frames = arg("--frames").and_then(|n| n.parse::<u32>().ok());
+        let capture = arg("--xr-capture").map(|d| (frames.unwrap_or(0).saturating_sub(30).max(1), PathBuf::from(d)));
         app.add_plugins(bevy_mod_openxr::add_xr_plugins(plugins))
-            .add_plugins(xr::ShooterXrPlugin { world_scale });
+            .add_plugins(xr::ShooterXrPlugin { world_scale, capture });
     } else {
         app.add_plugins(plugins);
     }

@@ -6,18 +6,31 @@
 //! player's own axes, as W A S D do), the right stick turns (yaw and
 //! pitch), either trigger fires (the plugin's trigger action). The
 //! controllers feed the same per-tick input as the keyboard, so a game
-//! played in the headset records and replays like any other.
+//! played in the headset records and replays like any other. The room is
+//! recentred on the head (`XrRecentre`), so the player entity, its
+//! collider and its shots are where the eyes are; each eye draws its own
+//! crosshair where it sees the point one inradius ahead on the shots'
+//! geodesic, so the two converge there.
 
 use crate::game::{Game, Player};
 use crate::input::InputSource;
 use bevy::prelude::*;
-use bevy_manifold::xr::{ManifoldXrPlugin, TRIGGER_PULLED, XrBody, XrControllers, XrHandSide, XrLocomotion, XrState};
-use glam::DVec3;
+use bevy::ui::UiTargetCamera;
+use bevy_manifold::geometry::{Geometry, isometry};
+use bevy_manifold::prelude::*;
+use bevy_manifold::xr::{
+    ManifoldXrPlugin, TRIGGER_PULLED, XrBody, XrControllers, XrEye, XrEyeCapture, XrHandSide, XrHead, XrLocomotion,
+    XrRecentre, XrState,
+};
+use glam::{DMat4, DVec3, DVec4};
 
 /// Adds the headset to the game (after `bevy_mod_openxr::add_xr_plugins`).
 pub struct ShooterXrPlugin {
     /// Metres of the room per unit of the space.
     pub world_scale: f64,
+    /// `--xr-capture`: at this frame, read both eyes back and save them as
+    /// `eye0.png` and `eye1.png` in this folder.
+    pub capture: Option<(u32, std::path::PathBuf)>,
 }
 
 #[derive(Resource, Clone, Copy)]
@@ -25,13 +38,38 @@ struct WorldScale(f64);
 
 impl Plugin for ShooterXrPlugin {
     fn build(&self, app: &mut App) {
+        if let Some((at, dir)) = self.capture.clone() {
+            app.add_systems(Last, move |frame: Local<u32>, capture: Res<XrEyeCapture>| {
+                save_eyes(frame, &capture, at, &dir);
+            });
+        }
         app.insert_resource(WorldScale(self.world_scale))
             .add_plugins(ManifoldXrPlugin)
             .add_systems(Startup, say_if_unavailable)
-            .add_systems(Update, body_on_player)
+            .add_systems(Update, (body_on_player, eye_crosshairs))
             // After the keyboard's `read_devices` (in `Update`); the game
             // reads the sum at its next tick.
             .add_systems(PostUpdate, controllers_as_input);
+    }
+}
+
+/// Asks for the eyes' images at frame `at`, and saves them when back.
+fn save_eyes(mut frame: Local<u32>, capture: &XrEyeCapture, at: u32, dir: &std::path::Path) {
+    *frame += 1;
+    if *frame == at {
+        capture.request();
+    }
+    let Some(images) = capture.take() else { return };
+    if let Err(e) = std::fs::create_dir_all(dir) {
+        eprintln!("error: --xr-capture {}: {e}", dir.display());
+        return;
+    }
+    for (i, eye) in images.iter().enumerate() {
+        let path = dir.join(format!("eye{i}.png"));
+        match image::save_buffer(&path, &eye.rgba, eye.width, eye.height, image::ExtendedColorType::Rgba8) {
+            Ok(()) => println!("xr: eye {i} ({}x{}) saved to {}", eye.width, eye.height, path.display()),
+            Err(e) => eprintln!("error: --xr-capture {}: {e}", path.display()),
+        }
     }
 }
 
@@ -56,6 +94,7 @@ fn body_on_player(
                 enabled: false,
                 ..default()
             },
+            XrRecentre::default(),
         ));
     }
 }
@@ -73,4 +112,96 @@ fn controllers_as_input(controllers: Res<XrControllers>, mut source: ResMut<Inpu
     live.thrust = live.thrust.clamp(DVec3::splat(-1.0), DVec3::splat(1.0));
     live.turn = live.turn.clamp(DVec3::splat(-1.0), DVec3::splat(1.0));
     live.fire |= left.trigger >= TRIGGER_PULLED || right.trigger >= TRIGGER_PULLED;
+}
+
+/// The pixel (from the image's top left) where an eye, whose isometry in
+/// the body's frame is `eye`, sees the point `distance` ahead of the body
+/// on its forward geodesic, in an image of `size` pixels drawn with
+/// `clip_from_view`; `None` when the point is not in front of the eye.
+/// In the eye's frame, after carrying the point there, the projective
+/// chart shows true directions, so the point's chart coordinates are its
+/// direction.
+#[must_use]
+pub fn crosshair_pixel(g: Geometry, eye: DMat4, clip_from_view: Mat4, size: Vec2, distance: f64) -> Option<Vec2> {
+    let p = isometry::inverse(g, eye) * isometry::translation(g, DVec3::NEG_Z * distance) * DVec4::W;
+    let d = p.truncate();
+    if d.z.is_nan() || d.z >= 0.0 {
+        return None;
+    }
+    let slope = (d / -d.z).as_vec3();
+    let clip = clip_from_view * Vec4::new(slope.x, slope.y, -1.0, 1.0);
+    let ndc = Vec2::new(clip.x, clip.y) / clip.w;
+    ndc.is_finite()
+        .then(|| Vec2::new((ndc.x + 1.0) / 2.0 * size.x, (1.0 - ndc.y) / 2.0 * size.y))
+}
+
+/// An eye's crosshair: a UI node drawn on that eye's camera only.
+#[derive(Component)]
+struct EyeCrosshair(Entity);
+
+/// Half the crosshair's box, in pixels.
+const HALF_CROSSHAIR: f32 = 14.0;
+
+/// One crosshair per eye, moved each frame to where that eye sees the
+/// point one inradius ahead on the shots' geodesic.
+fn eye_crosshairs(
+    mut commands: Commands,
+    game: Option<Res<Game>>,
+    spaces: Query<&ManifoldSpace>,
+    heads: Query<&XrHead, With<Player>>,
+    eyes: Query<(Entity, &XrEye, &Projection, &Camera)>,
+    mut crosshairs: Query<(Entity, &EyeCrosshair, &mut Node, &mut Visibility)>,
+) {
+    let Some(game) = game else { return };
+    let (Ok(head), Ok(ms)) = (heads.get(game.player), spaces.get(game.root)) else {
+        return;
+    };
+    let space = ms.space();
+    let mut drawn = Vec::new();
+    for (entity, owner, mut node, mut visibility) in &mut crosshairs {
+        let Ok((_, eye, projection, camera)) = eyes.get(owner.0) else {
+            commands.entity(entity).despawn();
+            continue;
+        };
+        drawn.push(owner.0);
+        let at = camera.logical_viewport_size().and_then(|size| {
+            let from_body = *head.eyes.get(eye.0 as usize)?;
+            crosshair_pixel(
+                space.geometry(),
+                from_body,
+                projection.get_clip_from_view(),
+                size,
+                space.inradius(),
+            )
+        });
+        match at {
+            Some(p) => {
+                node.left = px(p.x - HALF_CROSSHAIR);
+                node.top = px(p.y - HALF_CROSSHAIR);
+                visibility.set_if_neq(Visibility::Inherited);
+            }
+            None => {
+                visibility.set_if_neq(Visibility::Hidden);
+            }
+        }
+    }
+    for (entity, ..) in &eyes {
+        if !drawn.contains(&entity) {
+            commands.spawn((
+                EyeCrosshair(entity),
+                UiTargetCamera(entity),
+                Text::new("+"),
+                TextFont::from_font_size(2.0 * HALF_CROSSHAIR),
+                TextColor(Color::srgba(1.0, 1.0, 1.0, 0.8)),
+                TextLayout::justify(Justify::Center),
+                Node {
+                    position_type: PositionType::Absolute,
+                    width: px(2.0 * HALF_CROSSHAIR),
+                    height: px(2.0 * HALF_CROSSHAIR),
+                    ..default()
+                },
+                Visibility::Hidden,
+            ));
+        }
+    }
 }

@@ -180,10 +180,10 @@ pub(super) fn place_hands(
     let g = ms.space().geometry();
     let head_iso = tracked::pose_isometry(g, placement.isometry, head.room.0, head.room.1, body.world_scale);
     for (hand, mut p, mut c, mut origin) in &mut hands {
-        let grip = controllers
-            .hand(hand.0)
-            .grip
-            .unwrap_or_else(|| rest_pose(head.room, hand.0));
+        let grip = match controllers.hand(hand.0).grip {
+            Some((t, q)) => (t - head.recentred, q),
+            None => rest_pose(head.room, hand.0),
+        };
         let to = tracked::from_head(g, head_iso, head.room, grip, body.world_scale);
         if !to.is_finite() {
             continue;

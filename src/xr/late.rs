@@ -30,6 +30,8 @@ pub struct ExtractedXrEye {
     pub cell: DomainCell,
     /// [`XrBody::world_scale`].
     pub world_scale: f64,
+    /// [`super::XrHead::recentred`].
+    pub recentred: Vec3,
 }
 
 /// Frames the render world traced for the headset: counted once per frame
@@ -78,10 +80,10 @@ pub(super) fn build(app: &mut App) {
 #[expect(clippy::type_complexity, reason = "a system's query")]
 fn extract_eyes(
     mut commands: Commands,
-    bodies: Extract<Query<(&XrBody, &Placement, &DomainCell), With<InSpace>>>,
+    bodies: Extract<Query<(&XrBody, &Placement, &DomainCell, Option<&super::XrHead>), With<InSpace>>>,
     eyes: Extract<Query<(&XrEye, &RenderEntity)>>,
 ) {
-    let Ok((body, placement, cell)) = bodies.single() else {
+    let Ok((body, placement, cell, head)) = bodies.single() else {
         return;
     };
     for (eye, render_entity) in &eyes {
@@ -90,6 +92,7 @@ fn extract_eyes(
             body: *placement,
             cell: cell.clone(),
             world_scale: body.world_scale,
+            recentred: head.map_or(Vec3::ZERO, |h| h.recentred),
         });
     }
 }
@@ -118,6 +121,7 @@ fn late_latch_eyes(views: Option<Res<OxrViews>>, mut eyes: Query<(&ExtractedXrEy
         (t.translation, t.rotation)
     });
     for (eye, mut view) in &mut eyes {
+        let poses = poses.map(|(t, q)| (t - eye.recentred, q));
         let g = view.space.space().geometry();
         let (_, placed) = tracked::head_and_eyes(g, eye.body.isometry, poses, eye.world_scale);
         let Some(to) = placed.get(eye.index as usize) else {

@@ -109,8 +109,28 @@ pub struct XrHead {
     pub placement: Placement,
     /// The copy of the domain it is in.
     pub cell: DomainCell,
-    /// The head's pose in the room (metres), as the tracker measured it.
+    /// The head's pose in the room (metres), as the tracker measured it
+    /// less [`XrHead::recentred`].
     pub room: (glam::DVec3, glam::DQuat),
+    /// What was taken off every tracked position ([`XrRecentre`]; zero
+    /// without it).
+    pub recentred: Vec3,
+    /// Each eye's isometry in the body's frame (left, right): what the
+    /// eyes see of something placed relative to the body.
+    pub eyes: [glam::DMat4; 2],
+}
+
+/// On the [`XrBody`]: the room is shifted so that the head, where it was
+/// when first tracked (or when `offset` is set to `None` again), is at the
+/// body's origin. For seated and flying games whose player entity is the
+/// head (its collider, where its shots leave), rather than a room whose
+/// floor the player stands on.
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq, Reflect)]
+#[reflect(Component, Debug, Default)]
+pub struct XrRecentre {
+    /// The room position (metres) taken off every tracked position; set
+    /// from the head on the first tracked frame when `None`.
+    pub offset: Option<Vec3>,
 }
 
 /// One eye of the headset, as a manifold camera: `XrCamera`'s view index
@@ -126,6 +146,7 @@ pub struct ManifoldXrPlugin;
 impl Plugin for ManifoldXrPlugin {
     fn build(&self, app: &mut App) {
         app.register_type::<XrBody>()
+            .register_type::<XrRecentre>()
             .register_type::<XrHand>()
             .register_type::<XrLocomotion>()
             .init_resource::<XrControllers>()
@@ -247,13 +268,24 @@ fn copy_view_settings(
 
 /// Places the head and the eyes from the body along geodesics, each
 /// wrapped into the domain, from the eyes' tracked `Transform`s.
+#[expect(clippy::type_complexity, reason = "a system's queries")]
 fn place_eyes(
     mut commands: Commands,
-    bodies: Query<(Entity, &XrBody, &Placement, &DomainCell, &InSpace), Without<XrEye>>,
+    mut bodies: Query<
+        (
+            Entity,
+            &XrBody,
+            &Placement,
+            &DomainCell,
+            &InSpace,
+            Option<&mut XrRecentre>,
+        ),
+        Without<XrEye>,
+    >,
     spaces: Query<&ManifoldSpace>,
     mut eyes: Query<(&XrEye, &Transform, &mut Placement, &mut DomainCell, &mut WrapOrigin), Without<XrBody>>,
 ) {
-    let Ok((entity, body, placement, cell, in_space)) = bodies.single() else {
+    let Ok((entity, body, placement, cell, in_space, recentre)) = bodies.single_mut() else {
         return;
     };
     let Ok(ms) = spaces.get(in_space.space()) else { return };
@@ -268,8 +300,16 @@ fn place_eyes(
     if seen < 2 {
         return;
     }
+    let recentred = match recentre {
+        Some(mut r) => *r.offset.get_or_insert((poses[0].0 + poses[1].0) / 2.0),
+        None => Vec3::ZERO,
+    };
+    for p in &mut poses {
+        p.0 -= recentred;
+    }
     let g = ms.space().geometry();
     let (head, placed) = tracked::head_and_eyes(g, placement.isometry, poses, body.world_scale);
+    let (_, from_body) = tracked::head_and_eyes(g, glam::DMat4::IDENTITY, poses, body.world_scale);
     let room = tracked::head_in_room(poses);
     if !head.is_finite() {
         return;
@@ -286,5 +326,7 @@ fn place_eyes(
         placement: head_placement,
         cell: head_cell,
         room,
+        recentred,
+        eyes: from_body,
     });
 }
