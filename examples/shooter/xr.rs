@@ -40,7 +40,7 @@ impl Plugin for ShooterXrPlugin {
     fn build(&self, app: &mut App) {
         if let Some((at, dir)) = self.capture.clone() {
             app.add_systems(Last, move |frame: Local<u32>, capture: Res<XrEyeCapture>| {
-                save_eyes(frame, &capture, at, &dir);
+                capture_eyes(frame, &capture, at, &dir);
             });
         }
         app.insert_resource(WorldScale(self.world_scale))
@@ -54,22 +54,19 @@ impl Plugin for ShooterXrPlugin {
 }
 
 /// Asks for the eyes' images at frame `at`, and saves them when back.
-fn save_eyes(mut frame: Local<u32>, capture: &XrEyeCapture, at: u32, dir: &std::path::Path) {
+fn capture_eyes(mut frame: Local<u32>, capture: &XrEyeCapture, at: u32, dir: &std::path::Path) {
     *frame += 1;
     if *frame == at {
         capture.request();
     }
     let Some(images) = capture.take() else { return };
-    if let Err(e) = std::fs::create_dir_all(dir) {
-        eprintln!("error: --xr-capture {}: {e}", dir.display());
-        return;
-    }
-    for (i, eye) in images.iter().enumerate() {
-        let path = dir.join(format!("eye{i}.png"));
-        match image::save_buffer(&path, &eye.rgba, eye.width, eye.height, image::ExtendedColorType::Rgba8) {
-            Ok(()) => println!("xr: eye {i} ({}x{}) saved to {}", eye.width, eye.height, path.display()),
-            Err(e) => eprintln!("error: --xr-capture {}: {e}", path.display()),
+    match bevy_manifold::xr::save_eyes(&images, dir) {
+        Ok(paths) => {
+            for (eye, path) in images.iter().zip(&paths) {
+                println!("xr: eye ({}x{}) saved to {}", eye.width, eye.height, path.display());
+            }
         }
+        Err(e) => eprintln!("error: --xr-capture {e}"),
     }
 }
 

@@ -13,6 +13,7 @@ use bevy::render::render_resource::{
 use bevy::render::renderer::{RenderDevice, RenderQueue};
 use bevy::render::view::ViewTarget;
 use bevy::render::{Render, RenderApp, RenderSystems};
+use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 /// One eye's image: sRGB RGBA bytes, rows top to bottom.
@@ -56,6 +57,21 @@ impl XrEyeCapture {
         }
         None
     }
+}
+
+/// Saves both eyes' images as `eye0.png` and `eye1.png` in `dir` (made if
+/// missing); returns their paths.
+///
+/// # Errors
+/// The folder or a file cannot be written, naming it.
+pub fn save_eyes(images: &[XrEyeImage; 2], dir: &Path) -> Result<[PathBuf; 2], String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let paths = [0, 1].map(|i| dir.join(format!("eye{i}.png")));
+    for (eye, path) in images.iter().zip(&paths) {
+        crate::trace::write_rgba_png(path, eye.width, eye.height, &eye.rgba)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    Ok(paths)
 }
 
 pub(super) fn build(app: &mut App) {

@@ -24,7 +24,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 pub struct ExtractedXrEye {
     /// The view index (0 left, 1 right).
     pub index: u32,
-    /// The body's placement and cell.
+    /// The body's placement.
     pub body: Placement,
     /// The body's cell.
     pub cell: DomainCell,

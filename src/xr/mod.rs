@@ -17,8 +17,7 @@
 //! - each frame places the head and the eyes from the body along
 //!   geodesics ([`XrHead`] on the body), and again in the render world
 //!   from the late-located views, so the traced image and anything
-//!   rasterised over it use the same pose.
-//!
+//!   rasterised over it use the same pose;
 //! - puts each [`XrHand`] on its controller's grip, measured from the head
 //!   like the eyes, so a hand reaching through a face appears where the
 //!   eyes expect it; reads the controllers into [`XrControllers`] (grips,
@@ -72,7 +71,7 @@ use bevy_mod_xr::session::XrTrackingRoot;
 
 pub use bevy_mod_xr::session::XrState;
 pub use body::{XrHand, XrLocomotion, rest_pose, room_move};
-pub use capture::{XrEyeCapture, XrEyeImage};
+pub use capture::{XrEyeCapture, XrEyeImage, save_eyes};
 pub use controls::actions::XrGrip;
 pub use controls::{TRIGGER_PULLED, TRIGGER_RELEASED, XrController, XrControllers, XrHandSide, XrTrigger};
 pub use late::{ExtractedXrEye, XrFrameStats};
@@ -101,8 +100,8 @@ impl Default for XrBody {
 }
 
 /// Where the head is this frame (the midpoint of the eyes, facing as the
-/// left eye), written on the [`XrBody`]'s entity: what rides on the head
-/// (Suzanne) and gameplay rays start there.
+/// left eye), written on the [`XrBody`]'s entity: where gameplay rays from
+/// the head start, and what the hands are measured from.
 #[derive(Component, Clone, Debug, PartialEq)]
 pub struct XrHead {
     /// The head's placement, inside the domain.
@@ -308,8 +307,10 @@ fn place_eyes(
         p.0 -= recentred;
     }
     let g = ms.space().geometry();
-    let (head, placed) = tracked::head_and_eyes(g, placement.isometry, poses, body.world_scale);
-    let (_, from_body) = tracked::head_and_eyes(g, glam::DMat4::IDENTITY, poses, body.world_scale);
+    // In the body's frame, then carried by the body's placement.
+    let (head_from_body, from_body) = tracked::head_and_eyes(g, glam::DMat4::IDENTITY, poses, body.world_scale);
+    let head = placement.isometry * head_from_body;
+    let placed = from_body.map(|e| placement.isometry * e);
     let room = tracked::head_in_room(poses);
     if !head.is_finite() {
         return;

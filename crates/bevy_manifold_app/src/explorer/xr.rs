@@ -26,7 +26,7 @@ use bevy_manifold::xr::{
 use bevy_mod_openxr::init::OxrInitPlugin;
 use bevy_mod_openxr::poll_events::{OxrEventHandlerExt, OxrEventIn};
 use bevy_mod_openxr::types::AppInfo;
-use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Instant;
 
 /// Metres of the room per unit of the space, for the explorer's body.
@@ -36,11 +36,8 @@ pub struct ExplorerXr {
     pub world_scale: f64,
 }
 
-/// Whether OpenXR reported the FOCUSED state during this run.
-static FOCUSED: AtomicBool = AtomicBool::new(false);
-
-/// When the session became FOCUSED, and how many frames were traced by
-/// then (the frame rate is measured from there).
+/// When the session first became FOCUSED during this run (the frame rate
+/// is measured from there).
 static FOCUSED_AT: std::sync::Mutex<Option<Instant>> = std::sync::Mutex::new(None);
 
 /// Frames `--xr-capture` has waited for the eyes' images.
@@ -96,11 +93,10 @@ fn say_if_unavailable(state: Option<Res<XrState>>) {
 fn print_session_state(event: OxrEventIn) {
     if let openxr::Event::SessionStateChanged(s) = *event {
         let state = s.state();
-        if state == openxr::SessionState::FOCUSED {
-            FOCUSED.store(true, Ordering::Relaxed);
-            if let Ok(mut at) = FOCUSED_AT.lock() {
-                at.get_or_insert_with(Instant::now);
-            }
+        if state == openxr::SessionState::FOCUSED
+            && let Ok(mut at) = FOCUSED_AT.lock()
+        {
+            at.get_or_insert_with(Instant::now);
         }
         println!("xr: session state {state:?}");
     }
@@ -195,12 +191,6 @@ fn no_spectator(mut cameras: Query<&mut Camera, (With<ExplorerCamera>, With<XrBo
     }
 }
 
-/// Whether the headset's session is running (frames are being submitted).
-#[must_use]
-pub fn running(world: &World) -> bool {
-    world.get_resource::<XrState>().is_some_and(|s| *s == XrState::Running)
-}
-
 /// Whether OpenXR is there at all (`false`: the desktop fallback).
 #[must_use]
 pub fn available(world: &World) -> bool {
@@ -227,11 +217,8 @@ pub fn capture_step(world: &mut World, dir: &std::path::Path) -> Result<bool, St
         capture.request();
     }
     if let Some(images) = capture.take() {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        for (i, eye) in images.iter().enumerate() {
-            let path = dir.join(format!("eye{i}.png"));
-            image::save_buffer(&path, &eye.rgba, eye.width, eye.height, image::ExtendedColorType::Rgba8)
-                .map_err(|e| format!("{}: {e}", path.display()))?;
+        let paths = bevy_manifold::xr::save_eyes(&images, dir)?;
+        for (i, (eye, path)) in images.iter().zip(&paths).enumerate() {
             println!("xr: eye {i} ({}x{}) saved to {}", eye.width, eye.height, path.display());
         }
         return Ok(true);
@@ -258,7 +245,7 @@ pub fn say_summary(world: &World) {
         });
         println!(
             "xr: focused {}, {} frames with both eyes traced{rate}",
-            FOCUSED.load(Ordering::Relaxed),
+            since.is_some(),
             frames_traced(world)
         );
     }

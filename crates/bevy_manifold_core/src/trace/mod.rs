@@ -50,7 +50,7 @@ pub use flow::{Flowed, flow};
 pub use mesh_hit::{InstanceHit, hit_instance, meets_ball, mesh_albedo, mesh_normal};
 pub use output::{id_pixel, srgb8};
 #[cfg(feature = "png")]
-pub use output::{write_ids_png, write_png};
+pub use output::{write_ids_png, write_png, write_rgba_png};
 pub use render::{
     FOG_CUT, LIGHT_AT_HIT, MAX_LEVELS, MAX_PIXELS, PathStep, Projection, Stop, TraceImage, TracePixel, TraceSettings,
     camera_ray, render, trace_ray, view_ray, view_slopes,

@@ -41,7 +41,16 @@ pub fn write_png(img: &TraceImage, path: &Path) -> image::ImageResult<()> {
         .iter()
         .flat_map(|p| [srgb8(p.color[0]), srgb8(p.color[1]), srgb8(p.color[2]), 255])
         .collect();
-    image::save_buffer(path, &buf, img.width, img.height, image::ExtendedColorType::Rgba8)
+    write_rgba_png(path, img.width, img.height, &buf)
+}
+
+/// Writes `width` x `height` RGBA8 bytes (rows top to bottom) as a PNG.
+///
+/// # Errors
+/// When the file cannot be written, or `rgba` is not that many pixels.
+#[cfg(feature = "png")]
+pub fn write_rgba_png(path: &Path, width: u32, height: u32, rgba: &[u8]) -> image::ImageResult<()> {
+    image::save_buffer(path, rgba, width, height, image::ExtendedColorType::Rgba8)
 }
 
 /// Writes the id buffer as an RGBA8 PNG.
@@ -51,5 +60,5 @@ pub fn write_png(img: &TraceImage, path: &Path) -> image::ImageResult<()> {
 #[cfg(feature = "png")]
 pub fn write_ids_png(img: &TraceImage, path: &Path) -> image::ImageResult<()> {
     let buf: Vec<u8> = img.pixels.iter().flat_map(id_pixel).collect();
-    image::save_buffer(path, &buf, img.width, img.height, image::ExtendedColorType::Rgba8)
+    write_rgba_png(path, img.width, img.height, &buf)
 }
