@@ -289,6 +289,132 @@ fn a_viewport_shows_the_same_trace_as_a_whole_target() {
     );
 }
 
+/// Linear colours of a trace, row-major.
+fn colors(img: &bevy_manifold::trace::TraceImage) -> Vec<[f32; 3]> {
+    img.pixels
+        .iter()
+        .map(|p| [p.color[0], p.color[1], p.color[2]])
+        .collect()
+}
+
+/// The fraction of `shown` (RGBA8, sRGB) within `tol` of linear `colors`.
+fn close_to(shown: &[u8], colors: &[[f32; 3]], tol: u8) -> f64 {
+    let close = shown
+        .chunks_exact(4)
+        .zip(colors)
+        .filter(|(px, c)| (0..3).all(|k| px[k].abs_diff(bevy_manifold::trace::srgb8(c[k])) <= tol))
+        .count();
+    close as f64 / colors.len() as f64
+}
+
+fn a_view_at_half_scale_is_the_half_size_trace_upscaled_bilinearly() {
+    let mut app = headless_app(true);
+    let image = target(&mut app, W, H);
+    for name in ["seifert-weber", "torus"] {
+        let space = catalog::by_name(name).expect("catalog");
+        let (root, camera) = spawn_view(&mut app, &space, &image, false, false);
+        app.world_mut().entity_mut(camera).insert(ManifoldRenderScale(0.5));
+        wait_for_pipelines(&mut app);
+        let shown = capture(&mut app, &image);
+        let scene = gathered_scene(&app, &space, root, false);
+        let at = |width, height| {
+            let settings = TraceSettings {
+                width,
+                height,
+                levels: 8,
+                ..TraceSettings::default()
+            };
+            render::<f64>(&space, &scene, &settings)
+        };
+        let half = at(W / 2, H / 2);
+        // Independent expectations: the CPU reference at half size
+        // upscaled bilinearly (what a GPU sampler does), the same upscaled
+        // by nearest pixel (a wrong filter), and the full-size trace (no
+        // scaling at all).
+        let bilinear = bevy_manifold::trace::upscale(&colors(&half), (W / 2, H / 2), (W, H));
+        let nearest: Vec<[f32; 3]> = (0..W * H)
+            .map(|k| colors(&half)[((k / W / 2) * (W / 2) + (k % W) / 2) as usize])
+            .collect();
+        let full = colors(&at(W, H));
+        let (b, n, f) = (
+            close_to(&shown, &bilinear, 3),
+            close_to(&shown, &nearest, 3),
+            close_to(&shown, &full, 3),
+        );
+        eprintln!(
+            "{name}: half scale within 3/255 of: bilinear upscale of the half-size CPU trace {:.2}%, nearest {:.2}%, full-size trace {:.2}%",
+            b * 100.0,
+            n * 100.0,
+            f * 100.0
+        );
+        assert!(
+            b >= 0.97,
+            "{name}: the upscaled view is not the half-size trace upscaled ({b})"
+        );
+        assert!(b > n + 0.03, "{name}: bilinear {b} vs nearest {n}");
+        assert!(b > f + 0.03, "{name}: bilinear {b} vs full size {f}");
+        // Back to full scale: the view is the full-size trace again.
+        app.world_mut().entity_mut(camera).insert(ManifoldRenderScale(1.0));
+        app.update();
+        let back = capture(&mut app, &image);
+        assert!(close_to(&back, &full, 2) >= 0.99, "{name}: full scale again");
+        app.world_mut().entity_mut(root).despawn();
+        app.update();
+    }
+}
+
+fn an_adaptive_scale_lowers_the_pixels_traced_when_frames_are_slow() {
+    let mut app = headless_app(true);
+    let image = target(&mut app, W, H);
+    let space = catalog::poincare();
+    let (root, camera) = spawn_view(&mut app, &space, &image, false, false);
+    // No machine draws this in 1 ms: the scale must fall to its least.
+    app.world_mut()
+        .entity_mut(camera)
+        .insert(AdaptiveRenderScale::new(1.0).with_range(0.25, 1.0));
+    wait_for_pipelines(&mut app);
+    let mut seen = Vec::new();
+    for _ in 0..40 {
+        app.update();
+        let s = app.world().get::<ManifoldRenderScale>(camera).map(|s| s.0);
+        seen.push(s);
+        if s == Some(0.25) {
+            break;
+        }
+    }
+    eprintln!("adaptive scales: {seen:?}");
+    assert_eq!(seen.last().copied().flatten(), Some(0.25), "{seen:?}");
+    let values: Vec<f32> = seen.iter().flatten().copied().collect();
+    assert!(
+        values.windows(2).all(|w| w[1] <= w[0]),
+        "the scale only falls: {values:?}"
+    );
+    app.update();
+    let shown = capture(&mut app, &image);
+    let lit = shown
+        .chunks_exact(4)
+        .filter(|p| p[0] > 8 || p[1] > 8 || p[2] > 8)
+        .count();
+    assert!(lit > (W * H / 4) as usize, "the view still shows the space ({lit} lit)");
+    // A quarter of the pixels along each side: the quarter-size CPU
+    // trace, upscaled.
+    let scene = gathered_scene(&app, &space, root, false);
+    let settings = TraceSettings {
+        width: W / 4,
+        height: H / 4,
+        levels: 8,
+        ..TraceSettings::default()
+    };
+    let quarter = render::<f64>(&space, &scene, &settings);
+    let expected = bevy_manifold::trace::upscale(&colors(&quarter), (W / 4, H / 4), (W, H));
+    let close = close_to(&shown, &expected, 3);
+    eprintln!(
+        "at scale 0.25: {:.2}% within 3/255 of the quarter-size trace upscaled",
+        close * 100.0
+    );
+    assert!(close >= 0.97, "{close}");
+}
+
 /// A plain Bevy scene: a lit cube seen by an ordinary `Camera3d`.
 fn plain_scene(app: &mut App, image: &Handle<Image>) {
     let world = app.world_mut();
@@ -719,5 +845,7 @@ bevy_manifold_test_support::test_main! {
         gltf_scene_roots_in_a_manifold_are_traced,
         the_papers_scene_as_entities_matches_the_tracers,
         cell_tints_agree_between_the_pass_and_the_cpu,
+        a_view_at_half_scale_is_the_half_size_trace_upscaled_bilinearly,
+        an_adaptive_scale_lowers_the_pixels_traced_when_frames_are_slow,
     ],
 }

@@ -6,6 +6,7 @@
 
 use super::camera::ManifoldCamera;
 use super::prepare::ManifoldViewBinding;
+use super::scale::ManifoldRenderScale;
 use crate::drawables::ManifoldScene;
 use crate::placement::{DomainCell, InSpace, ManifoldSpace, Placement};
 use crate::space::element::CellElement;
@@ -42,6 +43,8 @@ pub struct ExtractedManifoldView {
     pub defs: TraceDefs,
     /// Per-cell shading words ([`crate::space::cells::CellTint::words`]).
     pub cell_tint: [u32; 3],
+    /// The render scale ([`ManifoldRenderScale::get`]; 1 without one).
+    pub scale: f32,
 }
 
 /// Main-world data of one manifold camera.
@@ -55,6 +58,7 @@ type CameraData<'a> = (
     Option<&'a InSpace>,
     Option<&'a ManifoldFog>,
     Option<&'a CellShading>,
+    Option<&'a ManifoldRenderScale>,
 );
 
 /// Copies every active [`ManifoldCamera`]'s view to its render entity, and
@@ -69,7 +73,7 @@ pub fn extract_manifold_views(
     mut warned: Local<HashSet<Entity>>,
 ) {
     let mut now = HashSet::new();
-    for (entity, render_entity, camera, mc, placement, cell, in_space, fog, shading) in &cameras {
+    for (entity, render_entity, camera, mc, placement, cell, in_space, fog, shading, scale) in &cameras {
         if !camera.is_active {
             continue;
         }
@@ -103,6 +107,7 @@ pub fn extract_manifold_views(
             max_distance: if mc.max_distance > 0.0 { mc.max_distance } else { 100.0 },
             defs,
             cell_tint: tint.unwrap_or_default().words(),
+            scale: scale.map_or(1.0, |s| s.get()),
         });
         now.insert(render_entity.id());
     }

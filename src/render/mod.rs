@@ -12,7 +12,9 @@
 //! - the pass ([`node`]): a `Core3d` system in the main-pass set, before
 //!   Bevy's opaque pass, that draws the tracer's `fragment` entry (`bevy_manifold_gpu`'s
 //!   `shaders/trace.wgsl`)
-//!   over the viewport.
+//!   over the viewport; or, for a camera traced at a render scale below 1
+//!   ([`scale`]), into smaller textures that [`upscale`] then draws over
+//!   the viewport.
 //!
 //! The fragment path was chosen over compute by measurement on lavapipe
 //! (see BENCHMARKS.md): it writes the view target and its depth directly,
@@ -26,17 +28,21 @@ pub mod node;
 pub mod offscreen;
 pub mod pipeline;
 pub mod prepare;
+pub mod scale;
+pub mod upscale;
 
 pub use camera::ManifoldCamera;
 pub use prepare::{ManifoldBufferCache, ManifoldUploads};
+pub use scale::{AdaptiveRenderScale, MIN_RENDER_SCALE, ManifoldRenderScale};
 
 use bevy::core_pipeline::core_3d::main_opaque_pass_3d;
 use bevy::core_pipeline::{Core3d, Core3dSystems, FullscreenShader};
 use bevy::prelude::*;
 use bevy::render::render_resource::SpecializedRenderPipelines;
+use bevy::render::renderer::RenderDevice;
 use bevy::render::{ExtractSchedule, Render, RenderApp, RenderStartup, RenderSystems};
 use bevy::shader::Shader;
-use bevy_manifold_gpu::{SHADER_IMPORTS, TRACE_WGSL};
+use bevy_manifold_gpu::{SHADER_IMPORTS, TRACE_WGSL, UPSCALE_WGSL};
 
 /// The render pass. Added by [`crate::ManifoldPlugin`] when the app has a
 /// renderer; on its own it does nothing without the ECS layer.
@@ -45,12 +51,16 @@ pub struct ManifoldRenderPlugin;
 
 impl Plugin for ManifoldRenderPlugin {
     fn build(&self, app: &mut App) {
-        app.register_type::<ManifoldCamera>();
+        app.register_type::<ManifoldCamera>()
+            .register_type::<ManifoldRenderScale>()
+            .register_type::<AdaptiveRenderScale>()
+            .add_systems(PostUpdate, scale::adapt_render_scale);
         let Some(render_app) = app.get_sub_app_mut(RenderApp) else {
             return;
         };
         render_app
             .init_resource::<SpecializedRenderPipelines<pipeline::TracePipeline>>()
+            .init_resource::<SpecializedRenderPipelines<upscale::UpscalePipeline>>()
             .init_resource::<ManifoldBufferCache>()
             .init_resource::<ManifoldUploads>()
             .init_resource::<prepare::ManifoldPackedScenes>()
@@ -81,8 +91,13 @@ impl Plugin for ManifoldRenderPlugin {
             .map(|m| shaders.add(Shader::from_wgsl(m.source, m.path)))
             .collect();
         let entry = shaders.add(Shader::from_wgsl(TRACE_WGSL.source, TRACE_WGSL.path));
+        let upscale = shaders.add(Shader::from_wgsl(UPSCALE_WGSL.source, UPSCALE_WGSL.path));
         if let Some(render_app) = app.get_sub_app_mut(RenderApp) {
-            render_app.insert_resource(pipeline::TraceShader { entry, imports });
+            render_app.insert_resource(pipeline::TraceShader {
+                entry,
+                imports,
+                upscale,
+            });
         }
     }
 }
@@ -91,6 +106,7 @@ fn init_trace_pipeline(
     mut commands: Commands,
     shader: Option<Res<pipeline::TraceShader>>,
     fullscreen: Res<FullscreenShader>,
+    device: Res<RenderDevice>,
 ) {
     let Some(shader) = shader else {
         error!(
@@ -99,4 +115,9 @@ fn init_trace_pipeline(
         return;
     };
     commands.insert_resource(pipeline::TracePipeline::new(shader.entry.clone(), fullscreen.clone()));
+    commands.insert_resource(upscale::UpscalePipeline::new(
+        &device,
+        shader.upscale.clone(),
+        fullscreen.clone(),
+    ));
 }

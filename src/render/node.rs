@@ -6,13 +6,18 @@
 use super::prepare::ManifoldViewBinding;
 use bevy::prelude::*;
 use bevy::render::camera::ExtractedCamera;
-use bevy::render::render_resource::{PipelineCache, RenderPassDescriptor, StoreOp};
+use bevy::render::render_resource::{
+    LoadOp, Operations, PipelineCache, RenderPassColorAttachment, RenderPassDepthStencilAttachment,
+    RenderPassDescriptor, StoreOp,
+};
 use bevy::render::renderer::{RenderContext, ViewQuery};
 use bevy::render::view::{ViewDepthTexture, ViewTarget};
 
 /// Draws the full-screen trace of one manifold view. The colour target is
 /// taken with Bevy's clear-on-first-use, so the opaque pass that follows
-/// draws ordinary meshes over the trace, depth-tested against it.
+/// draws ordinary meshes over the trace, depth-tested against it. A view
+/// traced below full scale is traced into its own smaller textures, then
+/// upscaled over the viewport (`upscale.wgsl`).
 pub fn trace_pass(
     view: ViewQuery<(&ExtractedCamera, &ViewTarget, &ViewDepthTexture, &ManifoldViewBinding)>,
     pipeline_cache: Res<PipelineCache>,
@@ -23,6 +28,42 @@ pub fn trace_pass(
     // its clear colour this frame.
     let Some(pipeline) = pipeline_cache.get_render_pipeline(binding.pipeline) else {
         return;
+    };
+    let (pipeline, bind_group) = match &binding.scaled {
+        None => (pipeline, &binding.bind_group),
+        Some(scaled) => {
+            let Some(upscale) = pipeline_cache.get_render_pipeline(scaled.pipeline) else {
+                return;
+            };
+            let color = [Some(RenderPassColorAttachment {
+                view: &scaled.color,
+                depth_slice: None,
+                resolve_target: None,
+                ops: Operations {
+                    load: LoadOp::Clear(Default::default()),
+                    store: StoreOp::Store,
+                },
+            })];
+            let mut pass = ctx.begin_tracked_render_pass(RenderPassDescriptor {
+                label: Some("manifold_trace_scaled"),
+                color_attachments: &color,
+                depth_stencil_attachment: Some(RenderPassDepthStencilAttachment {
+                    view: &scaled.depth,
+                    depth_ops: Some(Operations {
+                        load: LoadOp::Clear(0.0),
+                        store: StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_render_pipeline(pipeline);
+            pass.set_bind_group(0, &binding.bind_group, &[]);
+            pass.draw(0..3, 0..1);
+            (upscale, &scaled.bind_group)
+        }
     };
     let color = [Some(target.get_color_attachment())];
     let mut pass = ctx.begin_tracked_render_pass(RenderPassDescriptor {
@@ -37,6 +78,6 @@ pub fn trace_pass(
         pass.set_camera_viewport(viewport);
     }
     pass.set_render_pipeline(pipeline);
-    pass.set_bind_group(0, &binding.bind_group, &[]);
+    pass.set_bind_group(0, bind_group, &[]);
     pass.draw(0..3, 0..1);
 }

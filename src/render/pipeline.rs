@@ -25,6 +25,8 @@ pub struct TraceShader {
     pub entry: Handle<Shader>,
     /// The modules it imports, kept alive.
     pub imports: Vec<Handle<Shader>>,
+    /// `upscale.wgsl`, for views traced below full scale.
+    pub upscale: Handle<Shader>,
 }
 
 /// What the tracer pipeline is specialised on.

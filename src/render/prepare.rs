@@ -9,6 +9,8 @@
 
 use super::extract::ExtractedManifoldView;
 use super::pipeline::{TracePipeline, TracePipelineKey};
+use super::scale::ManifoldRenderScale;
+use super::upscale::{TracedTextures, UpscaleKey, UpscalePipeline};
 use crate::space::Space;
 use crate::space::ball::OUTSIDE;
 use crate::space::element::CellElement;
@@ -19,7 +21,7 @@ use bevy::prelude::*;
 use bevy::render::camera::ExtractedCamera;
 use bevy::render::render_resource::{
     BindGroup, BindGroupEntries, Buffer, BufferInitDescriptor, BufferUsages, CachedPipelineState,
-    CachedRenderPipelineId, PipelineCache, SpecializedRenderPipelines,
+    CachedRenderPipelineId, PipelineCache, SpecializedRenderPipelines, TextureView,
 };
 use bevy::render::renderer::{RenderDevice, RenderQueue};
 use bevy::render::view::{ExtractedView, Msaa};
@@ -34,6 +36,22 @@ pub struct ManifoldViewBinding {
     /// The specialised pipeline.
     pub pipeline: CachedRenderPipelineId,
     /// Group 0.
+    pub bind_group: BindGroup,
+    /// For a view traced below full scale: where the trace goes and how
+    /// it is upscaled.
+    pub scaled: Option<ScaledBinding>,
+}
+
+/// A view traced below full scale: its traced textures and the upscale.
+#[derive(Clone)]
+pub struct ScaledBinding {
+    /// The upscale pipeline for the view target.
+    pub pipeline: CachedRenderPipelineId,
+    /// The traced colour the trace draws into.
+    pub color: TextureView,
+    /// The traced depth.
+    pub depth: TextureView,
+    /// Group 0 of the upscale.
     pub bind_group: BindGroup,
 }
 
@@ -234,6 +252,8 @@ struct ViewBuffers {
     params: GpuParams,
     params_buffer: Buffer,
     bind_group: Option<BindGroup>,
+    /// The traced textures of a view below full scale.
+    traced: Option<TracedTextures>,
 }
 
 /// Every manifold view's buffers, by render-world view entity, and every
@@ -383,19 +403,37 @@ pub(crate) fn view_frustum(p: Mat4, width: u32, height: u32) -> Option<[f32; 4]>
     ])
 }
 
-/// The per-frame view data of an extracted view.
-fn gpu_view(view: &ExtractedManifoldView, extracted: &ExtractedView) -> GpuView {
+/// The per-frame view data of an extracted view, traced at `traced`
+/// pixels into textures of its own when given (a render scale below 1),
+/// else into its viewport.
+fn gpu_view(view: &ExtractedManifoldView, extracted: &ExtractedView, traced: Option<UVec2>) -> GpuView {
     // Bevy's perspective projection: y_axis.y = 1 / tan(fov/2); the near
     // plane sits in w_axis.z (infinite reverse z).
     let p = extracted.clip_from_view;
+    let frustum = view_frustum(p, extracted.viewport.z, extracted.viewport.w);
+    let (size, origin, frustum) = match traced {
+        // The traced size rounds the viewport's, so its aspect is not
+        // quite the viewport's: the frustum is given whole, so the view
+        // covers what the full-size view covers.
+        Some(t) => (
+            [t.x, t.y],
+            [0, 0],
+            frustum.or(Some([1.0 / p.x_axis.x, 1.0 / p.y_axis.y, 0.0, 0.0])),
+        ),
+        None => (
+            [extracted.viewport.z, extracted.viewport.w],
+            [extracted.viewport.x, extracted.viewport.y],
+            frustum,
+        ),
+    };
     GpuView {
         camera: view.camera.as_mat4(),
         camera_cell: view.cell,
         tan_half_fov: 1.0 / p.y_axis.y,
-        frustum: view_frustum(p, extracted.viewport.z, extracted.viewport.w),
+        frustum,
         fog: view.fog,
-        size: [extracted.viewport.z, extracted.viewport.w],
-        origin: [extracted.viewport.x, extracted.viewport.y],
+        size,
+        origin,
         near: p.w_axis.z,
         levels: view.levels,
         max_distance: view.max_distance,
@@ -420,6 +458,8 @@ pub fn prepare_manifold_views(
     )>,
     pipeline: Option<Res<TracePipeline>>,
     mut pipelines: ResMut<SpecializedRenderPipelines<TracePipeline>>,
+    upscale: Option<Res<UpscalePipeline>>,
+    mut upscales: ResMut<SpecializedRenderPipelines<UpscalePipeline>>,
     pipeline_cache: Res<PipelineCache>,
     device: Res<RenderDevice>,
     queue: Res<RenderQueue>,
@@ -427,16 +467,23 @@ pub fn prepare_manifold_views(
     mut stats: ResMut<ManifoldUploads>,
     packed: Res<ManifoldPackedScenes>,
 ) {
-    let Some(pipeline) = pipeline else { return };
+    let (Some(pipeline), Some(upscale)) = (pipeline, upscale) else {
+        return;
+    };
     let cache = &mut *cache;
     let stats = &mut *stats;
     let mut seen = HashSet::new();
     for (entity, view, extracted, camera, msaa) in &views {
         seen.insert(entity);
+        let viewport = UVec2::new(extracted.viewport.z, extracted.viewport.w);
+        let traced = Some(ManifoldRenderScale(view.scale).traced_size(viewport)).filter(|t| *t != viewport);
+        let samples = msaa.map_or(1, Msaa::samples);
         let key = TracePipelineKey {
             defs: view.defs,
             format: extracted.target_format,
-            samples: msaa.map_or(1, Msaa::samples),
+            // The traced textures have one sample; the upscale writes the
+            // view target's.
+            samples: if traced.is_some() { 1 } else { samples },
             encode_srgb: camera.compositing_space == Some(CompositingSpace::Srgb),
         };
         let id = pipelines.specialize(&pipeline_cache, &pipeline, key);
@@ -448,7 +495,7 @@ pub fn prepare_manifold_views(
         let Some((space, objects)) = packed.get(view.root) else {
             continue;
         };
-        let mut params = GpuParams::new(view.space.space(), space, objects, &gpu_view(view, extracted));
+        let mut params = GpuParams::new(view.space.space(), space, objects, &gpu_view(view, extracted, traced));
         if matches!(view.element, CellElement::Exact(_)) && packed.centre(view.root) != Some(&view.element) {
             // The table is centred on another cell (another camera's, or
             // this one's before a crossing while it is recentred): the
@@ -486,6 +533,7 @@ pub fn prepare_manifold_views(
                 params,
                 params_buffer,
                 bind_group: None,
+                traced: None,
             }
         });
         if entry.bound != Some((view.root, shared.made)) {
@@ -514,9 +562,28 @@ pub fn prepare_manifold_views(
                 )),
             )
         });
+        let bind_group = bind_group.clone();
+        let scaled = traced.map(|size| {
+            let format = extracted.target_format;
+            let textures = match entry.traced.take() {
+                Some(t) if t.size == size && t.format == format => t,
+                _ => TracedTextures::new(&device, &pipeline_cache, &upscale, size, format),
+            };
+            let textures = entry.traced.insert(textures);
+            ScaledBinding {
+                pipeline: upscales.specialize(&pipeline_cache, &upscale, UpscaleKey { format, samples }),
+                color: textures.color.clone(),
+                depth: textures.depth.clone(),
+                bind_group: textures.bind_group.clone(),
+            }
+        });
+        if scaled.is_none() {
+            entry.traced = None;
+        }
         commands.entity(entity).insert(ManifoldViewBinding {
             pipeline: id,
-            bind_group: bind_group.clone(),
+            bind_group,
+            scaled,
         });
     }
     cache.views.retain(|e, _| seen.contains(e));

@@ -105,3 +105,8 @@ pub fn undecorated(name: &str) -> &str {
 /// The tracer's entry module: `trace` and `drift` (compute, the headless
 /// runner) and `fragment` (the render pass).
 pub const TRACE_WGSL: WgslModule = wgsl!("trace");
+
+/// The render pass's upscale of a view traced at a render scale below 1:
+/// `upscale` (fragment; bilinear colour, nearest depth). It stands alone
+/// (no imports); its Rust twin is `bevy_manifold_core::trace::upscale`.
+pub const UPSCALE_WGSL: WgslModule = wgsl!("upscale");

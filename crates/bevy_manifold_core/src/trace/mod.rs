@@ -48,7 +48,7 @@ pub use flat::{
 };
 pub use flow::{Flowed, flow};
 pub use mesh_hit::{InstanceHit, hit_instance, meets_ball, mesh_albedo, mesh_normal};
-pub use output::{id_pixel, srgb8};
+pub use output::{id_pixel, srgb8, upscale};
 #[cfg(feature = "png")]
 pub use output::{write_ids_png, write_png, write_rgba_png};
 pub use render::{

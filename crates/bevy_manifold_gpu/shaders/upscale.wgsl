@@ -1,0 +1,31 @@
+// The render pass's upscale: a view traced at a render scale below 1
+// (src/render/scale.rs, ManifoldRenderScale) is drawn over the whole
+// viewport from the smaller traced texture, colour filtered bilinearly
+// (the sampler's linear filter, on linear colour: an sRGB texture is
+// decoded before filtering) and depth taken from the nearest traced pixel,
+// so ordinary meshes drawn after the trace still sort against it.
+//
+// Rust twin: upscale in crates/bevy_manifold_core/src/trace/output.rs (the
+// same bilinear filter on the CPU, texel centres at half-integers, edges
+// clamped), which the pass's test compares this against. Caller:
+// src/render/upscale.rs, after the trace in src/render/node.rs.
+//
+// The vertex stage is Bevy's full-screen triangle, whose `uv` runs over
+// [0, 1] across the viewport.
+
+@group(0) @binding(0) var traced: texture_2d<f32>;
+@group(0) @binding(1) var bilinear: sampler;
+@group(0) @binding(2) var traced_depth: texture_depth_2d;
+
+struct UpscaleOutput {
+    @location(0) color: vec4<f32>,
+    @builtin(frag_depth) depth: f32,
+}
+
+@fragment
+fn upscale(@location(0) uv: vec2<f32>) -> UpscaleOutput {
+    let color = textureSampleLevel(traced, bilinear, uv, 0.0);
+    let size = textureDimensions(traced_depth);
+    let texel = min(vec2<u32>(uv * vec2<f32>(size)), size - vec2<u32>(1u));
+    return UpscaleOutput(color, textureLoad(traced_depth, texel, 0));
+}
