@@ -59,7 +59,7 @@ mod late;
 
 use crate::placement::tracked::{self, TrackedPose};
 use crate::placement::{DomainCell, InSpace, ManifoldSpace, ManifoldSystems, Placement, WrapOrigin};
-use crate::render::ManifoldCamera;
+use crate::render::{AdaptiveRenderScale, ManifoldCamera, ManifoldRenderScale};
 use crate::view::{CellShading, ManifoldFog};
 use bevy::camera::CameraMainTextureUsages;
 use bevy::core_pipeline::tonemapping::Tonemapping;
@@ -231,20 +231,49 @@ fn equip_eyes(
     }
 }
 
-/// The body's levels, distance, fog and cell shading on every eye.
+/// The body's levels, distance, fog, cell shading and render scale on
+/// every eye. A body holding a frame rate ([`crate::render::AdaptiveRenderScale`])
+/// chooses one scale from the whole frame's time, both eyes included,
+/// and both eyes trace at it; an eye with a controller of its own keeps
+/// its own.
 #[expect(clippy::type_complexity, reason = "a system's queries")]
 fn copy_view_settings(
     mut commands: Commands,
-    bodies: Query<(Option<&ManifoldCamera>, Option<&ManifoldFog>, Option<&CellShading>), With<XrBody>>,
+    bodies: Query<
+        (
+            Option<&ManifoldCamera>,
+            Option<&ManifoldFog>,
+            Option<&CellShading>,
+            Option<&ManifoldRenderScale>,
+        ),
+        With<XrBody>,
+    >,
     mut eyes: Query<
-        (Entity, &mut ManifoldCamera, Option<&ManifoldFog>, Option<&CellShading>),
+        (
+            Entity,
+            &mut ManifoldCamera,
+            Option<&ManifoldFog>,
+            Option<&CellShading>,
+            Option<&ManifoldRenderScale>,
+            Has<AdaptiveRenderScale>,
+        ),
         (With<XrEye>, Without<XrBody>),
     >,
 ) {
-    let Ok((camera, fog, shading)) = bodies.single() else {
+    let Ok((camera, fog, shading, scale)) = bodies.single() else {
         return;
     };
-    for (entity, mut eye, eye_fog, eye_shading) in &mut eyes {
+    for (entity, mut eye, eye_fog, eye_shading, eye_scale, own_controller) in &mut eyes {
+        match (scale, eye_scale) {
+            _ if own_controller => {}
+            (Some(s), e) if e != Some(s) => {
+                commands.entity(entity).insert(*s);
+            }
+            (None, Some(_)) => {
+                commands.entity(entity).remove::<ManifoldRenderScale>();
+            }
+            _ => {}
+        }
         if let Some(c) = camera {
             eye.set_if_neq(*c);
         }

@@ -53,6 +53,8 @@ fn settings_round_trip_and_broken_files_are_replaced_not_lost() {
         hands: false,
         vehicle: true,
         render_scale: 0.5,
+        hold_frame_rate: true,
+        target_fps: 90.0,
         panel: false,
     };
     mine.save(&path).expect("saved");
@@ -76,11 +78,12 @@ fn settings_round_trip_and_broken_files_are_replaced_not_lost() {
     // fields take their defaults.
     std::fs::write(
         &path,
-        r#"{"space": "nowhere", "levels": 1000, "fog_density": -1.0, "render_scale": 0.0, "pattern_on": 2.0, "edges": false}"#,
+        r#"{"space": "nowhere", "levels": 1000, "fog_density": -1.0, "render_scale": 0.0, "pattern_on": 2.0, "edges": false, "target_fps": 1000}"#,
     )
     .unwrap();
     let (s, warnings) = settings::load(&path);
-    assert_eq!(warnings.len(), 5, "{warnings:?}");
+    assert_eq!(warnings.len(), 6, "{warnings:?}");
+    assert_eq!(s.target_fps, 144.0);
     assert_eq!(s.space, "torus");
     assert_eq!(s.levels, settings::MAX_LEVEL);
     assert_eq!(s.fog_density, ExplorerSettings::default().fog_density);
@@ -292,6 +295,42 @@ fn a_space_that_cannot_be_loaded_is_reported_and_the_view_stays() {
         catalog::torus(1.0).name()
     );
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The panel's "hold a frame rate" puts a controller on the camera that
+/// moves its render scale: frames here take 1/60 s of (manual) time
+/// whatever the scale, so 144 fps drives it to its least and 30 fps back
+/// to full; off takes both away.
+fn holding_a_frame_rate_moves_the_cameras_render_scale() {
+    let mut app = timed_explorer();
+    let camera = app.world().resource::<ExplorerWorld>().camera;
+    let scale = |app: &App| app.world().get::<ManifoldRenderScale>(camera).map(|s| s.0);
+    assert_eq!(scale(&app), None);
+    {
+        let mut s = app.world_mut().resource_mut::<ExplorerSettings>();
+        s.hold_frame_rate = true;
+        s.target_fps = 144.0;
+    }
+    let mut seen = Vec::new();
+    for _ in 0..60 {
+        app.update();
+        seen.push(scale(&app));
+    }
+    let adaptive = app.world().get::<AdaptiveRenderScale>(camera).expect("a controller");
+    assert!((adaptive.target_frame_ms - 1000.0 / 144.0).abs() < 1e-4);
+    assert_eq!(seen.last().copied().flatten(), Some(settings::MIN_SCALE), "{seen:?}");
+    // The first change is the square root of 6.94 / 16.67 ms, on the grid.
+    assert!(seen.contains(&Some(0.64)), "{seen:?}");
+    app.world_mut().resource_mut::<ExplorerSettings>().target_fps = 30.0;
+    for _ in 0..200 {
+        app.update();
+    }
+    assert_eq!(scale(&app), Some(1.0));
+    app.world_mut().resource_mut::<ExplorerSettings>().hold_frame_rate = false;
+    app.update();
+    app.update();
+    assert_eq!(scale(&app), None);
+    assert!(app.world().get::<AdaptiveRenderScale>(camera).is_none());
 }
 
 /// The panel's cell rules reach the space the world shows (what the render
@@ -614,6 +653,7 @@ bevy_manifold_test_support::test_main! {
         fuzzed_settings_files_load_in_range,
         library_spaces_and_gen_files_open_in_the_explorer,
         the_panels_cell_rules_reach_the_space,
+        holding_a_frame_rate_moves_the_cameras_render_scale,
         settings_round_trip_and_broken_files_are_replaced_not_lost,
         without_a_display_the_explorer_renders_explorer_png_and_exits_0,
         a_space_that_cannot_be_loaded_is_reported_and_the_view_stays,

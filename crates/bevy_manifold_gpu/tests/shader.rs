@@ -168,3 +168,42 @@ fn the_generic_shader_is_the_largest() {
         }
     }
 }
+
+#[test]
+fn the_upscale_shader_validates_and_binds_what_the_pass_binds() {
+    let module = naga::front::wgsl::parse_str(bevy_manifold_gpu::UPSCALE_WGSL.source).expect("parses");
+    validate(&module).expect("validates");
+    let entry = module
+        .entry_points
+        .iter()
+        .find(|e| e.name == "upscale")
+        .expect("upscale");
+    assert_eq!(entry.stage, naga::ShaderStage::Fragment);
+    // Group 0: colour texture, sampler, depth texture (src/render/upscale.rs).
+    let mut bound: Vec<(u32, String)> = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, g)| {
+            let b = g.binding.as_ref()?;
+            assert_eq!(b.group, 0);
+            let kind = match &module.types[g.ty].inner {
+                naga::TypeInner::Image { class, .. } => match class {
+                    naga::ImageClass::Depth { .. } => "depth",
+                    _ => "color",
+                },
+                naga::TypeInner::Sampler { comparison: false } => "sampler",
+                other => panic!("unexpected binding {other:?}"),
+            };
+            Some((b.binding, kind.to_string()))
+        })
+        .collect();
+    bound.sort();
+    assert_eq!(
+        bound,
+        [
+            (0, "color".to_string()),
+            (1, "sampler".to_string()),
+            (2, "depth".to_string())
+        ]
+    );
+}

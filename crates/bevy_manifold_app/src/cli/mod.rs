@@ -55,6 +55,10 @@ enum Command {
         /// eye1.png in this folder.
         #[arg(long, value_name = "DIR", requires_all = ["xr", "frames"])]
         xr_capture: Option<PathBuf>,
+        /// Hold this frame rate (5 to 144) by tracing fewer pixels when
+        /// frames are slow; the panel shows the scale chosen.
+        #[arg(long, value_name = "FPS")]
+        hold_fps: Option<f32>,
     },
     /// The explorer left running on a script (every space, every setting,
     /// meshes loaded and dropped), recording memory and GPU objects: a
@@ -210,6 +214,7 @@ pub fn run() -> ExitCode {
             xr,
             world_scale,
             xr_capture,
+            hold_fps,
         }) => {
             return explore(crate::explorer::ExploreOptions {
                 frames,
@@ -217,6 +222,7 @@ pub fn run() -> ExitCode {
                 tour,
                 xr: xr.then_some(world_scale),
                 xr_capture,
+                hold_fps,
             });
         }
         Some(Command::Soak(args)) => return soak(&args),

@@ -335,6 +335,9 @@ pub struct ExploreOptions {
     /// its view target, as `eye0.png` and `eye1.png` in this folder at that
     /// frame.
     pub xr_capture: Option<PathBuf>,
+    /// Hold this frame rate by tracing fewer pixels when frames are slow
+    /// (the panel's "hold a frame rate"; in a headset both eyes follow).
+    pub hold_fps: Option<f32>,
 }
 
 /// [`run`], playing the tour file `tour` when given (a broken one is
@@ -359,6 +362,7 @@ pub fn run_with(options: ExploreOptions) -> AppExit {
         tour,
         xr,
         xr_capture,
+        hold_fps,
     } = options;
     if xr.is_some() && !cfg!(feature = "xr") {
         eprintln!("warning: --xr: this build has no OpenXR support (feature `xr`); the explorer runs on the desktop");
@@ -373,6 +377,11 @@ pub fn run_with(options: ExploreOptions) -> AppExit {
             vec!["no config directory is known: settings are not saved".into()],
         ),
     };
+    if let Some(fps) = hold_fps {
+        settings.hold_frame_rate = true;
+        settings.target_fps = fps;
+        warnings.extend(settings.sanitize());
+    }
     let mut tour_state = tour::ExplorerTour::default();
     if let Some(path) = &tour
         && let Err(e) = tour_state.open(path, &mut settings)

@@ -2,7 +2,7 @@
 //! setting, the frame times, the adapter and the camera's cell, and the
 //! traced view filling the rest of the window at the render scale.
 
-use super::settings::{CellMode, ExplorerSettings, MAX_LEVEL, MIN_SCALE};
+use super::settings::{CellMode, ExplorerSettings, MAX_LEVEL, MIN_SCALE, TARGET_FPS};
 use super::tour::ExplorerTour;
 use super::tour_panel;
 use super::view::{ExplorerCamera, ExplorerStatus, ExplorerView, ExplorerWorld, describe_cell};
@@ -15,6 +15,7 @@ use bevy_egui::{
 };
 use bevy_manifold::geometry::Geometry;
 use bevy_manifold::placement::{DomainCell, Placement};
+use bevy_manifold::render::{AdaptiveRenderScale, ManifoldRenderScale};
 use bevy_manifold::space::{catalog, library};
 use bevy_manifold::tour::FaceWord;
 use bevy_manifold::trace::SuzanneMode;
@@ -67,6 +68,7 @@ fn panel(
     mut status: ResMut<ExplorerStatus>,
     world: Res<ExplorerWorld>,
     cameras: Query<(&DomainCell, &Placement, &FaceWord), With<ExplorerCamera>>,
+    scales: Query<(Option<&ManifoldRenderScale>, Option<&AdaptiveRenderScale>), With<ExplorerCamera>>,
     adapter: Option<Res<RenderAdapterInfo>>,
     mut tour: ResMut<ExplorerTour>,
 ) -> Result {
@@ -101,6 +103,7 @@ fn panel(
                 egui::ScrollArea::vertical().show(ui, |ui| {
                     let camera = cameras.get(world.camera).ok();
                     let cell = camera.map(|c| c.0);
+                    let scale = scales.get(world.camera).ok();
                     egui::CollapsingHeader::new("Tour").default_open(true).show(ui, |ui| {
                         let pose = camera.map(|(_, p, w)| (p.isometry, w.0.as_slice()));
                         tour_panel::section(ui, &mut tour, &mut s, &mut status, &world, pose);
@@ -114,6 +117,7 @@ fn panel(
                         cell,
                         adapter.as_deref(),
                         &view,
+                        scale,
                     );
                 });
             });
@@ -135,6 +139,28 @@ fn panel(
     Ok(())
 }
 
+/// What the panel says of the pixels traced: the image's size, and under
+/// a held frame rate the scale chosen and the smoothed frame time.
+fn scale_line(size: UVec2, scale: Option<(Option<&ManifoldRenderScale>, Option<&AdaptiveRenderScale>)>) -> String {
+    let (chosen, adaptive) = scale.unwrap_or((None, None));
+    let chosen = chosen.copied().unwrap_or_default();
+    let traced = chosen.traced_size(size);
+    match adaptive {
+        Some(a) => format!(
+            "scale chosen {:.2}: {} x {} px traced of {} x {}{}",
+            chosen.get(),
+            traced.x,
+            traced.y,
+            size.x,
+            size.y,
+            a.smoothed_ms()
+                .map(|ms| format!(", frames {ms:.1} ms (target {:.1})", a.target_frame_ms))
+                .unwrap_or_default()
+        ),
+        None => format!("{} x {} px traced", traced.x, traced.y),
+    }
+}
+
 #[expect(clippy::too_many_arguments, reason = "a system's parameters")]
 fn contents(
     ui: &mut Ui,
@@ -145,6 +171,7 @@ fn contents(
     cell: Option<&DomainCell>,
     adapter: Option<&RenderAdapterInfo>,
     view: &ExplorerView,
+    scale: Option<(Option<&ManifoldRenderScale>, Option<&AdaptiveRenderScale>)>,
 ) {
     ui.heading("bevy_manifold");
     ui.label("Space");
@@ -255,7 +282,16 @@ fn contents(
     ui.checkbox(&mut s.vehicle, "ride the vehicle (W/S throttle, arrows steer)");
     ui.separator();
     ui.add(egui::Slider::new(&mut s.render_scale, MIN_SCALE..=1.0).text("render scale"));
-    ui.label(format!("{} x {} px traced", view.size.x, view.size.y));
+    ui.checkbox(&mut s.hold_frame_rate, "hold a frame rate (trace fewer pixels)");
+    let ms = 1000.0 / s.target_fps;
+    ui.add_enabled_ui(s.hold_frame_rate, |ui| {
+        ui.add(
+            egui::Slider::new(&mut s.target_fps, TARGET_FPS)
+                .logarithmic(true)
+                .text(format!("fps target ({ms:.1} ms)")),
+        );
+    });
+    ui.label(scale_line(view.size, scale));
     if let Some(ms) = status.mean_frame_ms() {
         ui.label(format!("frame {ms:.1} ms ({:.1} fps)", 1000.0 / ms.max(0.001)));
     }

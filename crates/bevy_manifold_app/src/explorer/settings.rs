@@ -23,7 +23,7 @@
 //! ```
 
 use bevy::prelude::*;
-use bevy_manifold::render::ManifoldCamera;
+use bevy_manifold::render::{AdaptiveRenderScale, ManifoldCamera};
 use bevy_manifold::space::rule::{CellRule, OnOff, Walls};
 use bevy_manifold::space::{catalog, library};
 use bevy_manifold::trace::{PaperOptions, SuzanneMode};
@@ -106,6 +106,11 @@ pub struct ExplorerSettings {
     pub vehicle: bool,
     /// Render resolution as a fraction of the view's pixels.
     pub render_scale: f32,
+    /// Hold `target_fps` by tracing fewer pixels than `render_scale` asks
+    /// when frames are slow ([`AdaptiveRenderScale`]).
+    pub hold_frame_rate: bool,
+    /// The frame rate held, in frames per second.
+    pub target_fps: f32,
     /// The side panel shown.
     pub panel: bool,
 }
@@ -136,6 +141,8 @@ impl Default for ExplorerSettings {
             hands: true,
             vehicle: false,
             render_scale: 1.0,
+            hold_frame_rate: false,
+            target_fps: 30.0,
             panel: true,
         }
     }
@@ -145,6 +152,8 @@ impl Default for ExplorerSettings {
 pub const MAX_LEVEL: u32 = 32;
 /// The smallest render scale.
 pub const MIN_SCALE: f32 = 0.1;
+/// The frame rates the panel offers to hold.
+pub const TARGET_FPS: std::ops::RangeInclusive<f32> = 5.0..=144.0;
 
 impl ExplorerSettings {
     /// The camera these settings ask for, with its cell shading.
@@ -157,6 +166,13 @@ impl ExplorerSettings {
             },
             self.cell_shading(),
         )
+    }
+
+    /// The controller that holds the frame rate, when asked for.
+    #[must_use]
+    pub fn adaptive_scale(&self) -> Option<AdaptiveRenderScale> {
+        self.hold_frame_rate
+            .then(|| AdaptiveRenderScale::new(1000.0 / self.target_fps).with_range(MIN_SCALE, 1.0))
     }
 
     /// The per-cell shading these settings ask for.
@@ -269,6 +285,15 @@ impl ExplorerSettings {
             };
             fix("render_scale", self.render_scale.to_string(), v.to_string());
             self.render_scale = v;
+        }
+        if !TARGET_FPS.contains(&self.target_fps) {
+            let v = if self.target_fps.is_nan() {
+                d.target_fps
+            } else {
+                self.target_fps.clamp(*TARGET_FPS.start(), *TARGET_FPS.end())
+            };
+            fix("target_fps", self.target_fps.to_string(), v.to_string());
+            self.target_fps = v;
         }
         let known = catalog::by_name(&self.space).is_some() || library::by_name(&self.space).is_some();
         if !known && !Path::new(&self.space).exists() {

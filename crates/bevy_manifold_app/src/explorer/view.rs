@@ -10,6 +10,7 @@ use bevy::prelude::*;
 use bevy_manifold::camera_controller::{FlyCamera, Vehicle};
 use bevy_manifold::paper_scene::{paper_camera, spawn_paper_scene};
 use bevy_manifold::placement::{DomainCell, FaceCrossed, ManifoldSpace, Placement};
+use bevy_manifold::render::{AdaptiveRenderScale, ManifoldRenderScale};
 use bevy_manifold::space::{Space, catalog};
 use bevy_manifold::tour::FaceWord;
 use bevy_manifold::view::ManifoldFog;
@@ -111,6 +112,7 @@ fn spawn_world(
         RenderTarget::Image(target.clone().into()),
     ));
     insert_controller(&mut camera, space, settings.vehicle);
+    insert_scale(&mut camera, settings);
     match keep {
         Some((p, cell, word)) => camera.insert((p, cell, word)),
         None => camera.insert((placement, FaceWord::default())),
@@ -121,6 +123,16 @@ fn spawn_world(
     let camera = camera.id();
     spawn_paper_scene(commands, root, camera, space, settings.paper());
     (root, camera)
+}
+
+/// The camera's render scale: held by an [`AdaptiveRenderScale`] when
+/// the settings hold a frame rate (starting from the scale it has), else
+/// full (the image's size is the render scale).
+pub fn insert_scale(camera: &mut EntityCommands, settings: &ExplorerSettings) {
+    match settings.adaptive_scale() {
+        Some(adaptive) => camera.insert(adaptive),
+        None => camera.remove::<(AdaptiveRenderScale, ManifoldRenderScale)>(),
+    };
 }
 
 /// The camera's controller: the vehicle it rides (`vehicle`) or the fly
@@ -235,6 +247,9 @@ pub fn apply_settings(
     }
     let mut camera = commands.entity(world.camera);
     camera.insert(settings.camera());
+    if settings.adaptive_scale() != world.applied.adaptive_scale() {
+        insert_scale(&mut camera, &settings);
+    }
     match settings.fog() {
         Some(fog) => camera.insert(fog),
         None => camera.remove::<ManifoldFog>(),
