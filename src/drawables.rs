@@ -120,7 +120,9 @@ impl Default for DomainEdges {
 /// On a [`ManifoldSpace`] root: the space's traced meshes and the entity
 /// each belongs to, as [`gather_scenes`] reads them. Kept by the mesh
 /// gathering (feature `render`, see `crate::traced_meshes`), replaced only
-/// when a mesh, material or placement changed; or inserted by hand.
+/// when a mesh, material or placement changed; or inserted by hand, which
+/// lasts only until the gathering runs again (any placed entity moving,
+/// a mesh added): with the `render` feature, give meshes entities.
 #[derive(Component, Clone, Debug, Default, PartialEq)]
 pub struct ManifoldMeshes {
     /// The entity of each mesh.

@@ -9,7 +9,7 @@ use bevy_manifold::prelude::*;
 use bevy_manifold_gpu::GpuTracer;
 
 /// The spaces, by geometry and face count.
-const SPACES: [&str; 13] = [
+pub(crate) const SPACES: [&str; 13] = [
     "lens-5-2",
     "quaternionic",
     "binary-tetrahedral",

@@ -5,6 +5,7 @@
 mod accuracy;
 mod balls;
 mod cells;
+mod compare;
 mod cull;
 mod faces;
 mod frames;
@@ -141,6 +142,10 @@ pub enum BenchCommand {
         #[arg(long, default_value = "")]
         only: String,
     },
+    /// The CPU reference, the GPU headless and the pass in a headless Bevy
+    /// app, interleaved on the same scenes: frame time against levels,
+    /// faces, balls and triangles, with ratios; CSV and PNG.
+    Compare(compare::CompareArgs),
     /// Stereo, as a headset asks: two eyes with off-centre frusta, each
     /// placed along a geodesic, at 2x1512x1680 times each render scale,
     /// per catalog space (the paper's scene) at 1, 3 and 8 levels; the CPU
@@ -186,6 +191,7 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
             runs,
             ref only,
         } => balls::run(width.max(1), height.max(1), levels.clamp(1, 64), runs.max(1), only),
+        BenchCommand::Compare(ref args) => compare::run(args),
         BenchCommand::Stereo {
             ref scales,
             runs,
