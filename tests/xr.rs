@@ -287,6 +287,77 @@ fn the_eyes_see_a_ball_with_the_disparity_the_geometry_predicts() {
     }
 }
 
+/// A body that holds a render scale hands it to both eyes, and each eye,
+/// traced at half its pixels and upscaled, still shows the ball's edges
+/// where the geometry puts them through its own off-centre frustum
+/// (within 1.5 pixels: half the resolution, then a bilinear edge).
+/// A frustum taken as symmetric would move them by tens of pixels.
+fn both_eyes_trace_at_the_bodys_render_scale_through_their_own_frusta() {
+    let _one = ONE_RENDER_APP.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let space = catalog::torus(1.0);
+    let (a, r, d) = (0.1, 0.05, 0.35);
+    let mut rig = rig(&space, f64::from(2.0 * HALF_IPD) / 0.2);
+    let root = rig.root;
+    let world = rig.app.world_mut();
+    let body = world
+        .query_filtered::<Entity, With<XrBody>>()
+        .single(world)
+        .expect("a body");
+    world.entity_mut(body).insert(ManifoldRenderScale(0.5));
+    world.spawn((
+        ChildOf(root),
+        TracedBall::new(r, Color::srgb(1.0, 0.0, 0.0)).glowing(2.0),
+        Placement::at(&space, DVec3::new(0.0, 0.0, -d)),
+    ));
+    let shots = rig.capture();
+    let world = rig.app.world_mut();
+    let scales: Vec<f32> = world
+        .query_filtered::<&ManifoldRenderScale, With<XrEye>>()
+        .iter(world)
+        .map(|s| s.0)
+        .collect();
+    assert_eq!(scales, [0.5, 0.5], "both eyes take the body's scale");
+    for eye in 0..2 {
+        // The column through the ellipse's centre, and the ball's top and
+        // bottom there: the cone of half-angle asin(r / D) about the
+        // direction to the ball (E3), cut by the image plane: at column
+        // x, (axis . (x, y, -1))^2 = cos^2(half) (x^2 + y^2 + 1). (Along
+        // the row the blur of half resolution joins the ball to a small
+        // copy beside it, so the edges are taken up and down.)
+        let side = if eye == 0 { -1.0 } else { 1.0 };
+        let centre = (-side * a / d).atan();
+        let half = (r / a.hypot(d)).asin();
+        let x = ((centre - half).tan() + (centre + half).tan()) / 2.0;
+        let along = x * centre.sin() + centre.cos();
+        let y = (along * along / (half.cos() * half.cos()) - x * x - 1.0).sqrt();
+        let px = pixel(eye);
+        let i = (0..W)
+            .min_by(|&p, &q| {
+                let at = |i: u32| (column_slope(eye, f64::from(i) + 0.5) - x).abs();
+                at(p).total_cmp(&at(q))
+            })
+            .expect("columns");
+        let j = (0..H)
+            .min_by(|&p, &q| row_slope(eye, p).abs().total_cmp(&row_slope(eye, q).abs()))
+            .expect("rows");
+        let at = |j: u32| red(&shots[eye][((j * W + i) * 4) as usize..][..4]);
+        assert!(at(j), "eye {eye}: no ball at its predicted centre");
+        let top = (0..=j).rev().take_while(|&j| at(j)).last().expect("a run");
+        let bottom = (j..H).take_while(|&j| at(j)).last().expect("a run") + 1;
+        // Slopes of the rows' outer edges.
+        let [_, hh, _, cy] = slopes(eye);
+        let edge = |j: u32| (1.0 - 2.0 * f64::from(j) / f64::from(H)) * hh + cy;
+        let seen = (edge(top), edge(bottom));
+        eprintln!(
+            "half scale: eye {eye}: top and bottom off by {:.2} and {:.2} px",
+            (seen.0 - y) / px,
+            (seen.1 + y) / px
+        );
+        assert!((seen.0 - y).abs() < 1.5 * px, "eye {eye}: top edge");
+        assert!((seen.1 + y).abs() < 1.5 * px, "eye {eye}: bottom edge");
+    }
+}
+
 /// The pixel at the centre of the image of a ball of radius `r` whose
 /// centre, offset from the head by `h` (in the head's frame, in units of
 /// the space), an eye `a` to the side of the head sees. In E3 the eye
@@ -525,5 +596,6 @@ bevy_manifold_test_support::test_main! {
     gpu: [
         the_eyes_see_a_ball_with_the_disparity_the_geometry_predicts,
         a_hand_at_a_controller_pose_appears_where_the_geometry_predicts,
+        both_eyes_trace_at_the_bodys_render_scale_through_their_own_frusta,
     ],
 }
