@@ -317,7 +317,7 @@ fn both_eyes_trace_at_the_bodys_render_scale_through_their_own_frusta() {
         .map(|s| s.0)
         .collect();
     assert_eq!(scales, [0.5, 0.5], "both eyes take the body's scale");
-    for eye in 0..2 {
+    for (eye, shot) in shots.iter().enumerate() {
         // The column through the ellipse's centre, and the ball's top and
         // bottom there: the cone of half-angle asin(r / D) about the
         // direction to the ball (E3), cut by the image plane: at column
@@ -340,7 +340,7 @@ fn both_eyes_trace_at_the_bodys_render_scale_through_their_own_frusta() {
         let j = (0..H)
             .min_by(|&p, &q| row_slope(eye, p).abs().total_cmp(&row_slope(eye, q).abs()))
             .expect("rows");
-        let at = |j: u32| red(&shots[eye][((j * W + i) * 4) as usize..][..4]);
+        let at = |j: u32| red(&shot[((j * W + i) * 4) as usize..][..4]);
         assert!(at(j), "eye {eye}: no ball at its predicted centre");
         let top = (0..=j).rev().take_while(|&j| at(j)).last().expect("a run");
         let bottom = (j..H).take_while(|&j| at(j)).last().expect("a run") + 1;
