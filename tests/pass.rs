@@ -415,6 +415,151 @@ fn an_adaptive_scale_lowers_the_pixels_traced_when_frames_are_slow() {
     assert!(close >= 0.97, "{close}");
 }
 
+/// PSNR (dB) of an RGBA8 sRGB image against linear reference colours,
+/// both compared as sRGB bytes.
+fn psnr(shown: &[u8], reference: &[[f32; 3]]) -> f64 {
+    let mut sq = 0.0;
+    for (px, c) in shown.chunks_exact(4).zip(reference) {
+        for k in 0..3 {
+            let d = f64::from(px[k]) - f64::from(bevy_manifold::trace::srgb8(c[k]));
+            sq += d * d;
+        }
+    }
+    let rmse = (sq / (3 * reference.len()) as f64).sqrt() / 255.0;
+    -20.0 * rmse.log10()
+}
+
+/// A 16-samples-per-pixel reference: the CPU f64 trace at 4x the size,
+/// each pixel the mean of its 4x4 block (a box filter over the pixel).
+fn supersampled(space: &Space, scene: &Scene, levels: u32) -> Vec<[f32; 3]> {
+    let settings = TraceSettings {
+        width: W * 4,
+        height: H * 4,
+        levels,
+        ..TraceSettings::default()
+    };
+    let big = render::<f64>(space, scene, &settings);
+    (0..W * H)
+        .map(|k| {
+            let (i, j) = (k % W, k / W);
+            let mut sum = [0.0f32; 3];
+            for dy in 0..4 {
+                for dx in 0..4 {
+                    let p = &big.pixels[((j * 4 + dy) * W * 4 + i * 4 + dx) as usize];
+                    for c in 0..3 {
+                        sum[c] += p.color[c] / 16.0;
+                    }
+                }
+            }
+            sum
+        })
+        .collect()
+}
+
+fn a_still_view_accumulates_jittered_samples_then_stops_tracing() {
+    use bevy_manifold::render::prepare::ManifoldViewBinding;
+    let tracing = |app: &mut App| {
+        let world = app.sub_app_mut(RenderApp).world_mut();
+        let mut q = world.query::<&ManifoldViewBinding>();
+        q.iter(world)
+            .map(|b| b.scaled.as_ref().map(|s| s.trace))
+            .collect::<Vec<_>>()
+    };
+    let mut gpu = GpuTracer::new().expect("adapter");
+    // In the flat torus a trace hardly depends on the last bit of the
+    // frustum; in Seifert-Weber at 8 levels sub-pixel copies do (about 1%
+    // of pixels a trace between two f32 tracers, as between f32 and f64),
+    // and eight samples spread that over more pixels.
+    for (space, bound) in [(catalog::torus(1.0), 0.99), (catalog::seifert_weber(), 0.95)] {
+        let name = space.name().to_string();
+        let mut app = headless_app(true);
+        let image = target(&mut app, W, H);
+        let (root, camera) = spawn_view(&mut app, &space, &image, false, false);
+        app.world_mut()
+            .entity_mut(camera)
+            .insert(ManifoldAccumulation { samples: 8 });
+        wait_for_pipelines(&mut app);
+        for _ in 0..10 {
+            app.update();
+        }
+        let shown = capture(&mut app, &image);
+        // All samples in: the pass no longer traces.
+        assert_eq!(tracing(&mut app), [Some(false)], "{name}");
+        let scene = gathered_scene(&app, &space, root, false);
+        let settings = TraceSettings {
+            width: W,
+            height: H,
+            levels: 8,
+            ..TraceSettings::default()
+        };
+        // The same 8 jittered traces by the headless GPU tracer (the
+        // compute entry, each jitter an off-centre frustum made on the
+        // CPU, Frustum::jittered), averaged; and by the CPU f64 reference
+        // (its twin, trace::accumulate).
+        let base = bevy_manifold::trace::Frustum::symmetric(scene.camera.fov_y_degrees, f64::from(W) / f64::from(H));
+        let mut gpu_mean = vec![[0.0f32; 3]; (W * H) as usize];
+        for k in 0..8 {
+            let mut jittered = scene.clone();
+            jittered.camera.frustum = Some(base.jittered(bevy_manifold::trace::sample_offset(k), W, H));
+            let img = gpu.render(&space, &jittered, &settings).expect("headless trace");
+            for (m, p) in gpu_mean.iter_mut().zip(&img.pixels) {
+                for c in 0..3 {
+                    m[c] += p.color[c] / 8.0;
+                }
+            }
+        }
+        let cpu_mean = bevy_manifold::trace::accumulate::<f64>(&space, &scene, &settings, 8);
+        let plain = colors(&render::<f64>(&space, &scene, &settings));
+        let reference = supersampled(&space, &scene, 8);
+        let (to_gpu, to_cpu, to_plain) = (
+            close_to(&shown, &gpu_mean, 2),
+            close_to(&shown, &cpu_mean, 2),
+            close_to(&shown, &plain, 2),
+        );
+        let (p_shown, p_plain) = (psnr(&shown, &reference), psnr(&plain_bytes(&plain), &reference));
+        eprintln!(
+            "{name}: 8 samples accumulated, within 2/255 of: the headless GPU's mean of the same jittered traces {:.2}%, the CPU f64's {:.2}%, the plain trace {:.2}%; PSNR against 16 spp {p_shown:.2} dB (plain trace {p_plain:.2} dB)",
+            to_gpu * 100.0,
+            to_cpu * 100.0,
+            to_plain * 100.0
+        );
+        assert!(to_gpu >= bound, "{name}: {to_gpu}");
+        assert!(to_cpu >= bound, "{name}: {to_cpu}");
+        assert!(to_gpu > to_plain + 0.03, "{name}: {to_gpu} vs {to_plain}");
+        assert!(p_shown > p_plain + 2.0, "{name}: {p_shown} vs {p_plain}");
+        // The camera moves: the pass traces again from the first sample,
+        // and settles on the mean at the new pose.
+        let moved = glam::DMat4::from_translation(glam::DVec3::new(0.0, 0.0, -0.02)) * scene.camera.isometry;
+        app.world_mut().get_mut::<Placement>(camera).unwrap().isometry = moved;
+        app.update();
+        assert_eq!(tracing(&mut app), [Some(true)], "{name}");
+        for _ in 0..12 {
+            app.update();
+        }
+        let after = capture(&mut app, &image);
+        let mut scene_moved = scene.clone();
+        scene_moved.camera.isometry = app.world().get::<Placement>(camera).unwrap().isometry;
+        let mean_moved = bevy_manifold::trace::accumulate::<f64>(&space, &scene_moved, &settings, 8);
+        let agree = close_to(&after, &mean_moved, 2);
+        eprintln!(
+            "{name}: after a move: {:.2}% within 2/255 of the CPU mean there",
+            agree * 100.0
+        );
+        assert!(agree >= bound, "{name}: {agree}");
+    }
+}
+
+/// Linear colours as the RGBA8 sRGB bytes a target stores.
+fn plain_bytes(colors: &[[f32; 3]]) -> Vec<u8> {
+    colors
+        .iter()
+        .flat_map(|c| {
+            let [r, g, b] = c.map(bevy_manifold::trace::srgb8);
+            [r, g, b, 255]
+        })
+        .collect()
+}
+
 /// A plain Bevy scene: a lit cube seen by an ordinary `Camera3d`.
 fn plain_scene(app: &mut App, image: &Handle<Image>) {
     let world = app.world_mut();
@@ -847,5 +992,6 @@ bevy_manifold_test_support::test_main! {
         cell_tints_agree_between_the_pass_and_the_cpu,
         a_view_at_half_scale_is_the_half_size_trace_upscaled_bilinearly,
         an_adaptive_scale_lowers_the_pixels_traced_when_frames_are_slow,
+        a_still_view_accumulates_jittered_samples_then_stops_tracing,
     ],
 }

@@ -4,6 +4,7 @@
 //! [`crate::drawables::gather_scenes`]); only the camera is new data. The
 //! prepare stage packs them for the GPU when they changed.
 
+use super::accumulate::ManifoldAccumulation;
 use super::camera::ManifoldCamera;
 use super::prepare::ManifoldViewBinding;
 use super::scale::ManifoldRenderScale;
@@ -45,6 +46,8 @@ pub struct ExtractedManifoldView {
     pub cell_tint: [u32; 3],
     /// The render scale ([`ManifoldRenderScale::get`]; 1 without one).
     pub scale: f32,
+    /// Samples accumulated while still ([`ManifoldAccumulation`]; 1: off).
+    pub samples: u32,
 }
 
 /// Main-world data of one manifold camera.
@@ -59,6 +62,7 @@ type CameraData<'a> = (
     Option<&'a ManifoldFog>,
     Option<&'a CellShading>,
     Option<&'a ManifoldRenderScale>,
+    Option<&'a ManifoldAccumulation>,
 );
 
 /// Copies every active [`ManifoldCamera`]'s view to its render entity, and
@@ -73,7 +77,7 @@ pub fn extract_manifold_views(
     mut warned: Local<HashSet<Entity>>,
 ) {
     let mut now = HashSet::new();
-    for (entity, render_entity, camera, mc, placement, cell, in_space, fog, shading, scale) in &cameras {
+    for (entity, render_entity, camera, mc, placement, cell, in_space, fog, shading, scale, accumulation) in &cameras {
         if !camera.is_active {
             continue;
         }
@@ -108,6 +112,7 @@ pub fn extract_manifold_views(
             defs,
             cell_tint: tint.unwrap_or_default().words(),
             scale: scale.map_or(1.0, |s| s.get()),
+            samples: accumulation.map_or(1, |a| a.samples.clamp(1, ManifoldAccumulation::MAX_SAMPLES)),
         });
         now.insert(render_entity.id());
     }

@@ -21,6 +21,7 @@
 //! where compute needs a storage texture and a copy (and Bevy's sRGB view
 //! targets are not storage formats).
 
+pub mod accumulate;
 pub mod camera;
 pub mod extract;
 pub mod node;
@@ -31,6 +32,7 @@ pub mod prepare;
 pub mod scale;
 pub mod upscale;
 
+pub use accumulate::ManifoldAccumulation;
 pub use camera::ManifoldCamera;
 pub use prepare::{ManifoldBufferCache, ManifoldUploads};
 pub use scale::{AdaptiveRenderScale, MIN_RENDER_SCALE, ManifoldRenderScale};
@@ -54,6 +56,7 @@ impl Plugin for ManifoldRenderPlugin {
         app.register_type::<ManifoldCamera>()
             .register_type::<ManifoldRenderScale>()
             .register_type::<AdaptiveRenderScale>()
+            .register_type::<ManifoldAccumulation>()
             .add_systems(PostUpdate, scale::adapt_render_scale);
         let Some(render_app) = app.get_sub_app_mut(RenderApp) else {
             return;

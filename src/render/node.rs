@@ -16,8 +16,10 @@ use bevy::render::view::{ViewDepthTexture, ViewTarget};
 /// Draws the full-screen trace of one manifold view. The colour target is
 /// taken with Bevy's clear-on-first-use, so the opaque pass that follows
 /// draws ordinary meshes over the trace, depth-tested against it. A view
-/// traced below full scale is traced into its own smaller textures, then
-/// upscaled over the viewport (`upscale.wgsl`).
+/// traced below full scale, or accumulating samples while still, is
+/// traced into textures of its own (blended into its history when
+/// accumulating, and not traced at all once a still view has all its
+/// samples), then drawn over the viewport (`upscale.wgsl`).
 pub fn trace_pass(
     view: ViewQuery<(&ExtractedCamera, &ViewTarget, &ViewDepthTexture, &ManifoldViewBinding)>,
     pipeline_cache: Res<PipelineCache>,
@@ -35,33 +37,70 @@ pub fn trace_pass(
             let Some(upscale) = pipeline_cache.get_render_pipeline(scaled.pipeline) else {
                 return;
             };
-            let color = [Some(RenderPassColorAttachment {
-                view: &scaled.color,
-                depth_slice: None,
-                resolve_target: None,
-                ops: Operations {
-                    load: LoadOp::Clear(Default::default()),
-                    store: StoreOp::Store,
+            let blend = match &scaled.blend {
+                Some(b) => match pipeline_cache.get_render_pipeline(b.pipeline) {
+                    Some(p) => Some((p, b)),
+                    None => return,
                 },
-            })];
-            let mut pass = ctx.begin_tracked_render_pass(RenderPassDescriptor {
-                label: Some("manifold_trace_scaled"),
-                color_attachments: &color,
-                depth_stencil_attachment: Some(RenderPassDepthStencilAttachment {
-                    view: &scaled.depth,
-                    depth_ops: Some(Operations {
-                        load: LoadOp::Clear(0.0),
+                None => None,
+            };
+            if scaled.trace {
+                let color = [Some(RenderPassColorAttachment {
+                    view: &scaled.color,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: Operations {
+                        load: LoadOp::Clear(Default::default()),
                         store: StoreOp::Store,
+                    },
+                })];
+                let mut pass = ctx.begin_tracked_render_pass(RenderPassDescriptor {
+                    label: Some("manifold_trace_own"),
+                    color_attachments: &color,
+                    depth_stencil_attachment: Some(RenderPassDepthStencilAttachment {
+                        view: &scaled.depth,
+                        depth_ops: Some(Operations {
+                            load: LoadOp::Clear(0.0),
+                            store: StoreOp::Store,
+                        }),
+                        stencil_ops: None,
                     }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_render_pipeline(pipeline);
-            pass.set_bind_group(0, &binding.bind_group, &[]);
-            pass.draw(0..3, 0..1);
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_render_pipeline(pipeline);
+                pass.set_bind_group(0, &binding.bind_group, &[]);
+                pass.draw(0..3, 0..1);
+            }
+            if let Some((blend_in, b)) = blend {
+                // The history is the samples' sum (their count in alpha);
+                // the first sample starts it from zero.
+                let color = [Some(RenderPassColorAttachment {
+                    view: &b.history,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: Operations {
+                        load: if b.first {
+                            LoadOp::Clear(Default::default())
+                        } else {
+                            LoadOp::Load
+                        },
+                        store: StoreOp::Store,
+                    },
+                })];
+                let mut pass = ctx.begin_tracked_render_pass(RenderPassDescriptor {
+                    label: Some("manifold_blend_in"),
+                    color_attachments: &color,
+                    depth_stencil_attachment: None,
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_render_pipeline(blend_in);
+                pass.set_bind_group(0, &b.source, &[]);
+                pass.draw(0..3, 0..1);
+            }
             (upscale, &scaled.bind_group)
         }
     };

@@ -10,7 +10,7 @@
 use super::extract::ExtractedManifoldView;
 use super::pipeline::{TracePipeline, TracePipelineKey};
 use super::scale::ManifoldRenderScale;
-use super::upscale::{TracedTextures, UpscaleKey, UpscalePipeline};
+use super::upscale::{HISTORY_FORMAT, TracedTextures, UpscaleKey, UpscalePipeline};
 use crate::space::Space;
 use crate::space::ball::OUTSIDE;
 use crate::space::element::CellElement;
@@ -42,7 +42,9 @@ pub struct ManifoldViewBinding {
     pub scaled: Option<ScaledBinding>,
 }
 
-/// A view traced below full scale: its traced textures and the upscale.
+/// A view traced into textures of its own (below full scale, or
+/// accumulating): the traced textures, the blend into the history, the
+/// upscale.
 #[derive(Clone)]
 pub struct ScaledBinding {
     /// The upscale pipeline for the view target.
@@ -51,8 +53,25 @@ pub struct ScaledBinding {
     pub color: TextureView,
     /// The traced depth.
     pub depth: TextureView,
-    /// Group 0 of the upscale.
+    /// Group 0 of the upscale (the history when accumulating).
     pub bind_group: BindGroup,
+    /// Trace this frame (false once a still view has all its samples).
+    pub trace: bool,
+    /// The blend of this frame's trace into the history.
+    pub blend: Option<BlendIn>,
+}
+
+/// The blend of a trace into a view's accumulation history.
+#[derive(Clone)]
+pub struct BlendIn {
+    /// The `blend_in` pipeline.
+    pub pipeline: CachedRenderPipelineId,
+    /// The history drawn into.
+    pub history: TextureView,
+    /// Group 0: the trace.
+    pub source: BindGroup,
+    /// The first sample: the history is cleared before it is added.
+    pub first: bool,
 }
 
 /// Running totals of what the pass uploaded (render world). Uploads happen
@@ -252,8 +271,17 @@ struct ViewBuffers {
     params: GpuParams,
     params_buffer: Buffer,
     bind_group: Option<BindGroup>,
-    /// The traced textures of a view below full scale.
+    /// The traced textures of a view below full scale or accumulating.
     traced: Option<TracedTextures>,
+    /// The params before any jitter last frame, the space and objects
+    /// they were packed from, and the samples wanted: a still view has
+    /// all four unchanged.
+    still: Option<(GpuParams, usize, usize, u32)>,
+    /// Samples accumulated in the history so far.
+    samples: u32,
+    /// How the view was last drawn: into textures of its own, and the
+    /// trace pipeline.
+    drawn: Option<(bool, CachedRenderPipelineId)>,
 }
 
 /// Every manifold view's buffers, by render-world view entity, and every
@@ -476,21 +504,45 @@ pub fn prepare_manifold_views(
     for (entity, view, extracted, camera, msaa) in &views {
         seen.insert(entity);
         let viewport = UVec2::new(extracted.viewport.z, extracted.viewport.w);
-        let traced = Some(ManifoldRenderScale(view.scale).traced_size(viewport)).filter(|t| *t != viewport);
+        let accumulate = view.samples > 1;
+        let traced =
+            Some(ManifoldRenderScale(view.scale).traced_size(viewport)).filter(|t| *t != viewport || accumulate);
         let samples = msaa.map_or(1, Msaa::samples);
-        let key = TracePipelineKey {
-            defs: view.defs,
-            format: extracted.target_format,
-            // The traced textures have one sample; the upscale writes the
-            // view target's.
-            samples: if traced.is_some() { 1 } else { samples },
-            encode_srgb: camera.compositing_space == Some(CompositingSpace::Srgb),
+        let encode_srgb = camera.compositing_space == Some(CompositingSpace::Srgb);
+        // Traced into textures of its own: linear colour, one sample; the
+        // upscale encodes and writes the view target's samples.
+        let key = match traced {
+            Some(_) => TracePipelineKey {
+                defs: view.defs,
+                format: HISTORY_FORMAT,
+                samples: 1,
+                encode_srgb: false,
+            },
+            None => TracePipelineKey {
+                defs: view.defs,
+                format: extracted.target_format,
+                samples,
+                encode_srgb,
+            },
         };
-        let id = pipelines.specialize(&pipeline_cache, &pipeline, key);
+        let mut id = pipelines.specialize(&pipeline_cache, &pipeline, key);
         if let CachedPipelineState::Err(e) = pipeline_cache.get_render_pipeline_state(id)
             && cache.failed.insert(id)
         {
             error!("the manifold tracer pipeline for {:?} failed: {e}", key.defs.names());
+        }
+        // Switching between drawing straight into the target and into
+        // textures of its own (a render scale crossing 1) needs the other
+        // pipeline: until it is compiled the view is drawn the way it was
+        // last drawn, if that pipeline is ready, rather than not at all.
+        let mut traced = traced;
+        if pipeline_cache.get_render_pipeline(id).is_none()
+            && let Some((own, last)) = cache.views.get(&entity).and_then(|e| e.drawn)
+            && own != traced.is_some()
+            && pipeline_cache.get_render_pipeline(last).is_some()
+        {
+            id = last;
+            traced = own.then_some(viewport);
         }
         let Some((space, objects)) = packed.get(view.root) else {
             continue;
@@ -534,8 +586,64 @@ pub fn prepare_manifold_views(
                 params_buffer,
                 bind_group: None,
                 traced: None,
+                still: None,
+                samples: 0,
+                drawn: None,
             }
         });
+        if pipeline_cache.get_render_pipeline(id).is_some() {
+            entry.drawn = Some((traced.is_some(), id));
+        }
+        // Accumulation: the same view as last frame (params, space and
+        // objects, textures) adds a sample, jittered; anything else starts
+        // again from the plain trace.
+        let format = HISTORY_FORMAT;
+        let scene_key = (Arc::as_ptr(space) as usize, Arc::as_ptr(objects) as usize);
+        let textures_fit = entry
+            .traced
+            .as_ref()
+            .is_some_and(|t| Some(t.size) == traced && t.format == format && t.history.is_some() == accumulate);
+        // A sample counts only if this frame draws it: every pipeline the
+        // frame needs must be compiled.
+        let ready = |id| pipeline_cache.get_render_pipeline(id).is_some();
+        let blend_key = UpscaleKey {
+            format: extracted.target_format,
+            samples,
+            encode_srgb,
+            blend: true,
+        };
+        let pipelines_ready = ready(id)
+            && ready(upscales.specialize(
+                &pipeline_cache,
+                &upscale,
+                UpscaleKey {
+                    blend: false,
+                    ..blend_key
+                },
+            ))
+            && ready(upscales.specialize(&pipeline_cache, &upscale, blend_key));
+        let still = accumulate
+            && pipelines_ready
+            && textures_fit
+            && entry.still.as_ref().is_some_and(|(p, a, b, n)| {
+                bytemuck::bytes_of(p) == bytemuck::bytes_of(&params)
+                    && (*a, *b, *n) == (scene_key.0, scene_key.1, view.samples)
+            });
+        entry.samples = if still {
+            (entry.samples + 1).min(view.samples)
+        } else {
+            0
+        };
+        entry.still = (accumulate && pipelines_ready).then_some((params, scene_key.0, scene_key.1, view.samples));
+        let sample = entry.samples;
+        let trace = sample < view.samples;
+        if accumulate && trace && sample > 0 {
+            let [ox, oy] = crate::trace::sample_offset(sample);
+            let size = traced.unwrap_or(viewport).as_dvec2();
+            let [hw, hh, cx, cy] = params.frustum.map(f64::from);
+            params.frustum[2] = (cx + 2.0 * hw / size.x * ox) as f32;
+            params.frustum[3] = (cy - 2.0 * hh / size.y * oy) as f32;
+        }
         if entry.bound != Some((view.root, shared.made)) {
             entry.bound = Some((view.root, shared.made));
             entry.bind_group = None;
@@ -564,17 +672,33 @@ pub fn prepare_manifold_views(
         });
         let bind_group = bind_group.clone();
         let scaled = traced.map(|size| {
-            let format = extracted.target_format;
             let textures = match entry.traced.take() {
-                Some(t) if t.size == size && t.format == format => t,
-                _ => TracedTextures::new(&device, &pipeline_cache, &upscale, size, format),
+                Some(t) if textures_fit => t,
+                _ => TracedTextures::new(&device, &pipeline_cache, &upscale, size, format, accumulate),
             };
             let textures = entry.traced.insert(textures);
+            let key = UpscaleKey {
+                format: extracted.target_format,
+                samples,
+                encode_srgb,
+                blend: false,
+            };
+            let blend = textures.history.as_ref().map(|history| BlendIn {
+                pipeline: upscales.specialize(&pipeline_cache, &upscale, UpscaleKey { blend: true, ..key }),
+                history: history.view.clone(),
+                source: textures.bind_group.clone(),
+                first: sample == 0,
+            });
             ScaledBinding {
-                pipeline: upscales.specialize(&pipeline_cache, &upscale, UpscaleKey { format, samples }),
+                pipeline: upscales.specialize(&pipeline_cache, &upscale, key),
                 color: textures.color.clone(),
                 depth: textures.depth.clone(),
-                bind_group: textures.bind_group.clone(),
+                bind_group: textures
+                    .history
+                    .as_ref()
+                    .map_or_else(|| textures.bind_group.clone(), |h| h.bind_group.clone()),
+                trace,
+                blend: blend.filter(|_| trace),
             }
         });
         if scaled.is_none() {

@@ -1,20 +1,22 @@
-//! The upscale of a view traced at a render scale below 1
-//! ([`super::scale::ManifoldRenderScale`]): the trace goes into a smaller
-//! colour and depth texture of the view's own ([`TracedTextures`]), then
-//! `bevy_manifold_gpu`'s `shaders/upscale.wgsl` draws them over the whole
-//! viewport, colour bilinear and depth nearest. Its Rust twin is
-//! [`crate::trace::upscale`].
+//! A view traced into textures of its own ([`TracedTextures`]) rather
+//! than straight into its view target: at a render scale below 1
+//! ([`super::scale::ManifoldRenderScale`]) the trace is smaller, and
+//! `bevy_manifold_gpu`'s `shaders/upscale.wgsl` draws it over the whole
+//! viewport, colour bilinear and depth nearest (Rust twin:
+//! [`crate::trace::upscale`]); with [`super::ManifoldAccumulation`] each
+//! trace is first blended into a history (`blend_in`, Rust twin
+//! [`crate::trace::accumulate`]) and the history is drawn.
 
 use bevy::core_pipeline::FullscreenShader;
 use bevy::core_pipeline::core_3d::CORE_3D_DEPTH_FORMAT;
 use bevy::prelude::*;
 use bevy::render::render_resource::binding_types::{sampler, texture_2d, texture_depth_2d};
 use bevy::render::render_resource::{
-    BindGroup, BindGroupEntries, BindGroupLayoutDescriptor, BindGroupLayoutEntries, ColorTargetState, ColorWrites,
-    CompareFunction, DepthStencilState, Extent3d, FilterMode, FragmentState, MultisampleState, PipelineCache,
-    RenderPipelineDescriptor, Sampler, SamplerBindingType, SamplerDescriptor, ShaderStages, SpecializedRenderPipeline,
-    Texture, TextureDescriptor, TextureDimension, TextureFormat, TextureSampleType, TextureUsages, TextureView,
-    TextureViewDescriptor,
+    BindGroup, BindGroupEntries, BindGroupLayoutDescriptor, BindGroupLayoutEntries, BlendComponent, BlendFactor,
+    BlendOperation, BlendState, ColorTargetState, ColorWrites, CompareFunction, DepthStencilState, Extent3d,
+    FilterMode, FragmentState, MultisampleState, PipelineCache, RenderPipelineDescriptor, Sampler, SamplerBindingType,
+    SamplerDescriptor, ShaderStages, SpecializedRenderPipeline, Texture, TextureDescriptor, TextureDimension,
+    TextureFormat, TextureSampleType, TextureUsages, TextureView, TextureViewDescriptor,
 };
 use bevy::render::renderer::RenderDevice;
 use bevy::shader::Shader;
@@ -29,14 +31,27 @@ pub struct UpscalePipeline {
     fullscreen: FullscreenShader,
 }
 
-/// What the upscale pipeline is specialised on: the view target's.
+/// What the upscale pipeline is specialised on: the view target's, or
+/// the blend into a history.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct UpscaleKey {
     /// The view target's format (the traced texture has the same).
     pub format: TextureFormat,
     /// The view target's sample count.
     pub samples: u32,
+    /// The target stores sRGB-encoded values without encoding them: the
+    /// upscale encodes (`ENCODE_SRGB`).
+    pub encode_srgb: bool,
+    /// The `blend_in` pipeline (added into a [`HISTORY_FORMAT`] history,
+    /// no depth); `format`, `samples` and `encode_srgb` are then unused.
+    pub blend: bool,
 }
+
+/// The format of the traced colour and of an accumulation history:
+/// linear 16-bit float, so filtering and averaging happen on linear
+/// colour; a history holds the sum of its samples, alpha their count
+/// (exact to 2048).
+pub const HISTORY_FORMAT: TextureFormat = TextureFormat::Rgba16Float;
 
 impl UpscalePipeline {
     /// The pipeline for `shader` (`upscale.wgsl`).
@@ -72,6 +87,35 @@ impl SpecializedRenderPipeline for UpscalePipeline {
     type Key = UpscaleKey;
 
     fn specialize(&self, key: Self::Key) -> RenderPipelineDescriptor {
+        if key.blend {
+            // history += trace: alpha (1 per trace) counts the samples,
+            // and the upscale divides by it. Sums are exact where a
+            // weighted blend would round its weight.
+            let weighted = BlendComponent {
+                src_factor: BlendFactor::One,
+                dst_factor: BlendFactor::One,
+                operation: BlendOperation::Add,
+            };
+            return RenderPipelineDescriptor {
+                label: Some("manifold_blend_in".into()),
+                layout: vec![self.layout.clone()],
+                vertex: self.fullscreen.to_vertex_state(),
+                fragment: Some(FragmentState {
+                    shader: self.shader.clone(),
+                    entry_point: Some("blend_in".into()),
+                    targets: vec![Some(ColorTargetState {
+                        format: HISTORY_FORMAT,
+                        blend: Some(BlendState {
+                            color: weighted,
+                            alpha: weighted,
+                        }),
+                        write_mask: ColorWrites::ALL,
+                    })],
+                    ..default()
+                }),
+                ..default()
+            };
+        }
         RenderPipelineDescriptor {
             label: Some("manifold_upscale".into()),
             layout: vec![self.layout.clone()],
@@ -79,6 +123,11 @@ impl SpecializedRenderPipeline for UpscalePipeline {
             fragment: Some(FragmentState {
                 shader: self.shader.clone(),
                 entry_point: Some("upscale".into()),
+                shader_defs: if key.encode_srgb {
+                    vec!["ENCODE_SRGB".into()]
+                } else {
+                    Vec::new()
+                },
                 targets: vec![Some(ColorTargetState {
                     format: key.format,
                     blend: None,
@@ -102,8 +151,18 @@ impl SpecializedRenderPipeline for UpscalePipeline {
     }
 }
 
+/// A view's accumulation history and the bind group that draws it.
+pub struct History {
+    /// The samples' sum, their count in alpha ([`HISTORY_FORMAT`]).
+    pub view: TextureView,
+    /// Group 0 of the upscale, drawing the history (and the trace's
+    /// depth).
+    pub bind_group: BindGroup,
+    _texture: Texture,
+}
+
 /// A view's traced textures at its render scale, and the bind group that
-/// upscales them.
+/// upscales them (the trace's group also feeds `blend_in`).
 pub struct TracedTextures {
     /// Their size in pixels.
     pub size: UVec2,
@@ -115,11 +174,14 @@ pub struct TracedTextures {
     pub depth: TextureView,
     /// Group 0 of the upscale.
     pub bind_group: BindGroup,
+    /// The accumulation history, when the view accumulates.
+    pub history: Option<History>,
     _textures: [Texture; 2],
 }
 
 impl TracedTextures {
-    /// Textures of `size` in `format`, bound for the upscale.
+    /// Textures of `size` (the colour in `format`), bound for the upscale,
+    /// with a history when `accumulate`.
     #[must_use]
     pub fn new(
         device: &RenderDevice,
@@ -127,6 +189,7 @@ impl TracedTextures {
         pipeline: &UpscalePipeline,
         size: UVec2,
         format: TextureFormat,
+        accumulate: bool,
     ) -> Self {
         let texture = |label: &'static str, format: TextureFormat| {
             device.create_texture(&TextureDescriptor {
@@ -148,17 +211,33 @@ impl TracedTextures {
         let depth_texture = texture("manifold_traced_depth", CORE_3D_DEPTH_FORMAT);
         let color = color_texture.create_view(&TextureViewDescriptor::default());
         let depth = depth_texture.create_view(&TextureViewDescriptor::default());
+        let layout = pipeline_cache.get_bind_group_layout(&pipeline.layout);
         let bind_group = device.create_bind_group(
             "manifold_upscale",
-            &pipeline_cache.get_bind_group_layout(&pipeline.layout),
+            &layout,
             &BindGroupEntries::sequential((&color, &pipeline.sampler, &depth)),
         );
+        let history = accumulate.then(|| {
+            let texture = texture("manifold_history", HISTORY_FORMAT);
+            let view = texture.create_view(&TextureViewDescriptor::default());
+            let bind_group = device.create_bind_group(
+                "manifold_upscale_history",
+                &layout,
+                &BindGroupEntries::sequential((&view, &pipeline.sampler, &depth)),
+            );
+            History {
+                view,
+                bind_group,
+                _texture: texture,
+            }
+        });
         TracedTextures {
             size,
             format,
             color,
             depth,
             bind_group,
+            history,
             _textures: [color_texture, depth_texture],
         }
     }

@@ -14,6 +14,7 @@
 //   walk      crates/bevy_manifold_core/src/trace/walk.rs   the ray walk loop
 //   render    crates/bevy_manifold_core/src/trace/render.rs
 //   drift     crates/bevy_manifold_core/src/trace/drift.rs
+//   output    crates/bevy_manifold_core/src/trace/output.rs
 //
 // Rust twins of this file: the callers in crates/bevy_manifold_gpu (the
 // headless runner dispatches `trace` and `drift`, the render pass draws
@@ -47,6 +48,9 @@
 #import bevy_manifold::bindings::{params, pixels}
 #import bevy_manifold::render::{camera_ray, trace_pixel, view_direction}
 #import bevy_manifold::drift::ray_drift
+#ifdef ENCODE_SRGB
+#import bevy_manifold::output::encode_srgb
+#endif
 
 @compute @workgroup_size(8, 8, 1)
 fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -64,15 +68,6 @@ fn drift(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     pixels[id.y * params.width + id.x] = ray_drift(camera_ray(id.x, id.y));
 }
-
-#ifdef ENCODE_SRGB
-// Rust twin: srgb8 in crates/bevy_manifold_core/src/trace/output.rs (before
-// its rounding to a byte).
-fn encode_srgb(c: vec3<f32>) -> vec3<f32> {
-    let x = clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));
-    return select(1.055 * pow(x, vec3<f32>(1.0 / 2.4)) - 0.055, 12.92 * x, x <= vec3<f32>(0.0031308));
-}
-#endif
 
 struct FragmentOutput {
     @location(0) color: vec4<f32>,

@@ -74,9 +74,10 @@ macro_rules! wgsl {
 /// order naga_oil's composer needs; Bevy resolves them by their
 /// `#define_import_path`, `bevy_manifold::<name>`). Each is the WGSL twin
 /// of a Rust file: `bindings` of [`layout`], `geometry`, `step`, `cells`,
-/// `rules` (of the core's `space/rule.rs`), `bvh`, `mesh_hit`, `walk`, `render` and `drift` of the core's files of
+/// `rules` (of the core's `space/rule.rs`), `bvh`, `mesh_hit`, `walk`, `render`, `drift` and `output` of the core's files of
 /// the same names.
-pub const SHADER_IMPORTS: [WgslModule; 10] = [
+pub const SHADER_IMPORTS: [WgslModule; 11] = [
+    wgsl!("output"),
     wgsl!("bindings"),
     wgsl!("geometry"),
     wgsl!("step"),
@@ -106,7 +107,9 @@ pub fn undecorated(name: &str) -> &str {
 /// runner) and `fragment` (the render pass).
 pub const TRACE_WGSL: WgslModule = wgsl!("trace");
 
-/// The render pass's upscale of a view traced at a render scale below 1:
-/// `upscale` (fragment; bilinear colour, nearest depth). It stands alone
-/// (no imports); its Rust twin is `bevy_manifold_core::trace::upscale`.
+/// The render pass's drawing of a view traced into textures of its own:
+/// `upscale` (fragment; bilinear colour, nearest depth; Rust twin
+/// `bevy_manifold_core::trace::upscale`) and `blend_in` (a trace into an
+/// accumulation history; Rust twin `bevy_manifold_core::trace::accumulate`).
+/// It imports `output` under `ENCODE_SRGB`.
 pub const UPSCALE_WGSL: WgslModule = wgsl!("upscale");

@@ -171,14 +171,19 @@ fn the_generic_shader_is_the_largest() {
 
 #[test]
 fn the_upscale_shader_validates_and_binds_what_the_pass_binds() {
-    let module = naga::front::wgsl::parse_str(bevy_manifold_gpu::UPSCALE_WGSL.source).expect("parses");
-    validate(&module).expect("validates");
-    let entry = module
-        .entry_points
-        .iter()
-        .find(|e| e.name == "upscale")
-        .expect("upscale");
-    assert_eq!(entry.stage, naga::ShaderStage::Fragment);
+    use bevy_manifold_gpu::{SHADER_IMPORTS, UPSCALE_WGSL};
+    // With and without the encoding, composed as Bevy composes it.
+    let plain = GpuTracer::compose_modules(&SHADER_IMPORTS, UPSCALE_WGSL, &[], &[]).expect("composes");
+    validate(&plain).expect("validates");
+    assert!(!functions(&plain).iter().any(|f| f == "encode_srgb"));
+    let module =
+        GpuTracer::compose_modules(&SHADER_IMPORTS, UPSCALE_WGSL, &["ENCODE_SRGB"], &[]).expect("composes encoding");
+    validate(&module).expect("validates encoding");
+    assert!(functions(&module).iter().any(|f| f == "encode_srgb"));
+    for name in ["upscale", "blend_in"] {
+        let entry = module.entry_points.iter().find(|e| e.name == name).expect(name);
+        assert_eq!(entry.stage, naga::ShaderStage::Fragment);
+    }
     // Group 0: colour texture, sampler, depth texture (src/render/upscale.rs).
     let mut bound: Vec<(u32, String)> = module
         .global_variables

@@ -27,6 +27,7 @@
 //! assert!(img.pixels.iter().all(|p| p.color.iter().all(|c| c.is_finite())));
 //! ```
 
+mod accumulate;
 mod cast;
 mod cull;
 mod drift;
@@ -39,6 +40,7 @@ pub mod scene;
 pub mod step;
 mod walk;
 
+pub use accumulate::{accumulate, sample_offset};
 pub use cast::{CastBall, CastHit, CastWall, cast_balls, cast_with_rule};
 pub use cull::{FaceGroups, UNBOUNDED, ball_box, chart_segment, near_reach, tree_leaves};
 pub use drift::{RayDrift, ray_drift};
