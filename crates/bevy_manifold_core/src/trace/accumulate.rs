@@ -85,8 +85,8 @@ pub fn accumulate<R: Real>(space: &Space, scene: &Scene, settings: &TraceSetting
         moved.camera.frustum = Some(base.jittered(sample_offset(k), settings.width, settings.height));
         let img = render::<R>(space, &moved, settings);
         for (s, p) in sum.iter_mut().zip(&img.pixels) {
-            for c in 0..3 {
-                s[c] += f64::from(p.color[c]);
+            for (s, c) in s.iter_mut().zip(p.color) {
+                *s += f64::from(c);
             }
         }
     }
