@@ -133,7 +133,6 @@ impl SpecializedRenderPipeline for UpscalePipeline {
                     blend: None,
                     write_mask: ColorWrites::ALL,
                 })],
-                ..default()
             }),
             depth_stencil: Some(DepthStencilState {
                 format: CORE_3D_DEPTH_FORMAT,
