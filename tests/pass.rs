@@ -446,8 +446,8 @@ fn supersampled(space: &Space, scene: &Scene, levels: u32) -> Vec<[f32; 3]> {
             for dy in 0..4 {
                 for dx in 0..4 {
                     let p = &big.pixels[((j * 4 + dy) * W * 4 + i * 4 + dx) as usize];
-                    for c in 0..3 {
-                        sum[c] += p.color[c] / 16.0;
+                    for (s, c) in sum.iter_mut().zip(p.color) {
+                        *s += c / 16.0;
                     }
                 }
             }
@@ -503,8 +503,8 @@ fn a_still_view_accumulates_jittered_samples_then_stops_tracing() {
             jittered.camera.frustum = Some(base.jittered(bevy_manifold::trace::sample_offset(k), W, H));
             let img = gpu.render(&space, &jittered, &settings).expect("headless trace");
             for (m, p) in gpu_mean.iter_mut().zip(&img.pixels) {
-                for c in 0..3 {
-                    m[c] += p.color[c] / 8.0;
+                for (m, c) in m.iter_mut().zip(p.color) {
+                    *m += c / 8.0;
                 }
             }
         }
