@@ -55,6 +55,8 @@ fn settings_round_trip_and_broken_files_are_replaced_not_lost() {
         render_scale: 0.5,
         hold_frame_rate: true,
         target_fps: 90.0,
+        refine_still: false,
+        still_samples: 64,
         panel: false,
     };
     mine.save(&path).expect("saved");
@@ -78,12 +80,13 @@ fn settings_round_trip_and_broken_files_are_replaced_not_lost() {
     // fields take their defaults.
     std::fs::write(
         &path,
-        r#"{"space": "nowhere", "levels": 1000, "fog_density": -1.0, "render_scale": 0.0, "pattern_on": 2.0, "edges": false, "target_fps": 1000}"#,
+        r#"{"space": "nowhere", "levels": 1000, "fog_density": -1.0, "render_scale": 0.0, "pattern_on": 2.0, "edges": false, "target_fps": 1000, "still_samples": 0}"#,
     )
     .unwrap();
     let (s, warnings) = settings::load(&path);
-    assert_eq!(warnings.len(), 6, "{warnings:?}");
+    assert_eq!(warnings.len(), 7, "{warnings:?}");
     assert_eq!(s.target_fps, 144.0);
+    assert_eq!(s.still_samples, 2);
     assert_eq!(s.space, "torus");
     assert_eq!(s.levels, settings::MAX_LEVEL);
     assert_eq!(s.fog_density, ExplorerSettings::default().fog_density);
@@ -331,6 +334,20 @@ fn holding_a_frame_rate_moves_the_cameras_render_scale() {
     app.update();
     assert_eq!(scale(&app), None);
     assert!(app.world().get::<AdaptiveRenderScale>(camera).is_none());
+    // Refining a still view: on by default at 16 samples, off and back at
+    // another count.
+    let refine = |app: &App| app.world().get::<ManifoldAccumulation>(camera).copied();
+    assert_eq!(refine(&app), Some(ManifoldAccumulation { samples: 16 }));
+    app.world_mut().resource_mut::<ExplorerSettings>().refine_still = false;
+    app.update();
+    assert_eq!(refine(&app), None);
+    {
+        let mut s = app.world_mut().resource_mut::<ExplorerSettings>();
+        s.refine_still = true;
+        s.still_samples = 32;
+    }
+    app.update();
+    assert_eq!(refine(&app), Some(ManifoldAccumulation { samples: 32 }));
 }
 
 /// The panel's cell rules reach the space the world shows (what the render

@@ -2,6 +2,7 @@
 //! (`cargo run --release -- bench gpu`): measurements anyone can rerun,
 //! ratios measured side by side in one run. Unpublished.
 
+mod aa;
 mod accuracy;
 mod balls;
 mod cells;
@@ -142,6 +143,20 @@ pub enum BenchCommand {
         #[arg(long, default_value = "")]
         only: String,
     },
+    /// Anti-aliasing by accumulation: PSNR of 1, 4, 8, 16 accumulated
+    /// samples against a 16-samples-per-pixel reference per space at 8
+    /// and 16 levels, and frame-to-frame flicker moving slowly (CPU f64).
+    Aa {
+        /// Image width.
+        #[arg(long, default_value_t = 160)]
+        width: u32,
+        /// Image height.
+        #[arg(long, default_value_t = 90)]
+        height: u32,
+        /// Frames of slow motion for the flicker.
+        #[arg(long, default_value_t = 8)]
+        frames: u32,
+    },
     /// The CPU reference, the GPU headless and the pass in a headless Bevy
     /// app, interleaved on the same scenes: frame time against levels,
     /// faces, balls and triangles, with ratios; CSV and PNG.
@@ -192,6 +207,7 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
             ref only,
         } => balls::run(width.max(1), height.max(1), levels.clamp(1, 64), runs.max(1), only),
         BenchCommand::Compare(ref args) => compare::run(args),
+        BenchCommand::Aa { width, height, frames } => aa::run(width.max(1), height.max(1), frames.max(1)),
         BenchCommand::Stereo {
             ref scales,
             runs,

@@ -15,7 +15,7 @@ use bevy_egui::{
 };
 use bevy_manifold::geometry::Geometry;
 use bevy_manifold::placement::{DomainCell, Placement};
-use bevy_manifold::render::{AdaptiveRenderScale, ManifoldRenderScale};
+use bevy_manifold::render::{AdaptiveRenderScale, ManifoldAccumulation, ManifoldRenderScale};
 use bevy_manifold::space::{catalog, library};
 use bevy_manifold::tour::FaceWord;
 use bevy_manifold::trace::SuzanneMode;
@@ -292,6 +292,14 @@ fn contents(
         );
     });
     ui.label(scale_line(view.size, scale));
+    ui.checkbox(&mut s.refine_still, "refine while still (anti-aliasing)");
+    ui.add_enabled_ui(s.refine_still, |ui| {
+        ui.add(
+            egui::Slider::new(&mut s.still_samples, 2..=ManifoldAccumulation::MAX_SAMPLES)
+                .logarithmic(true)
+                .text("samples per pixel"),
+        );
+    });
     if let Some(ms) = status.mean_frame_ms() {
         ui.label(format!("frame {ms:.1} ms ({:.1} fps)", 1000.0 / ms.max(0.001)));
     }

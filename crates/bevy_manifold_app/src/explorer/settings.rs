@@ -23,7 +23,7 @@
 //! ```
 
 use bevy::prelude::*;
-use bevy_manifold::render::{AdaptiveRenderScale, ManifoldCamera};
+use bevy_manifold::render::{AdaptiveRenderScale, ManifoldAccumulation, ManifoldCamera};
 use bevy_manifold::space::rule::{CellRule, OnOff, Walls};
 use bevy_manifold::space::{catalog, library};
 use bevy_manifold::trace::{PaperOptions, SuzanneMode};
@@ -111,6 +111,13 @@ pub struct ExplorerSettings {
     pub hold_frame_rate: bool,
     /// The frame rate held, in frames per second.
     pub target_fps: f32,
+    /// While the view is still, refine it: accumulate `still_samples`
+    /// jittered traces per pixel ([`ManifoldAccumulation`]), then stop
+    /// tracing.
+    pub refine_still: bool,
+    /// Samples per pixel a still view is refined to (2 to
+    /// [`ManifoldAccumulation::MAX_SAMPLES`]).
+    pub still_samples: u32,
     /// The side panel shown.
     pub panel: bool,
 }
@@ -143,6 +150,8 @@ impl Default for ExplorerSettings {
             render_scale: 1.0,
             hold_frame_rate: false,
             target_fps: 30.0,
+            refine_still: true,
+            still_samples: 16,
             panel: true,
         }
     }
@@ -173,6 +182,14 @@ impl ExplorerSettings {
     pub fn adaptive_scale(&self) -> Option<AdaptiveRenderScale> {
         self.hold_frame_rate
             .then(|| AdaptiveRenderScale::new(1000.0 / self.target_fps).with_range(MIN_SCALE, 1.0))
+    }
+
+    /// The refinement of a still view, when asked for.
+    #[must_use]
+    pub fn accumulation(&self) -> Option<ManifoldAccumulation> {
+        self.refine_still.then_some(ManifoldAccumulation {
+            samples: self.still_samples,
+        })
     }
 
     /// The per-cell shading these settings ask for.
@@ -285,6 +302,11 @@ impl ExplorerSettings {
             };
             fix("render_scale", self.render_scale.to_string(), v.to_string());
             self.render_scale = v;
+        }
+        if !(2..=ManifoldAccumulation::MAX_SAMPLES).contains(&self.still_samples) {
+            let v = self.still_samples.clamp(2, ManifoldAccumulation::MAX_SAMPLES);
+            fix("still_samples", self.still_samples.to_string(), v.to_string());
+            self.still_samples = v;
         }
         if !TARGET_FPS.contains(&self.target_fps) {
             let v = if self.target_fps.is_nan() {

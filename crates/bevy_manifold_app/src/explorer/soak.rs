@@ -206,6 +206,10 @@ pub fn step_settings(base: &ExplorerSettings, spaces: &[String], k: u64) -> Expl
     s.edges = k % 4 != 2;
     s.suzanne = [SuzanneMode::Attached, SuzanneMode::Free, SuzanneMode::Hidden][pick(3)];
     s.render_scale = [0.25, 0.35, 0.5][pick(3)];
+    s.hold_frame_rate = k % 4 == 3;
+    s.target_fps = [10.0, 30.0, 90.0][pick(3)];
+    s.refine_still = k % 3 != 1;
+    s.still_samples = [4, 16, 64][pick(3)];
     s.panel = k % 5 != 4;
     s
 }
