@@ -8,7 +8,9 @@
 //! what the plain trace adds over the reference is aliasing. All on the
 //! CPU f64 reference (the pass's accumulation matches it: tests/pass.rs).
 
+use crate::pass::frame_ms;
 use bevy_manifold::prelude::*;
+use bevy_manifold::render::offscreen;
 use bevy_manifold::trace::{accumulate, srgb8};
 
 /// Linear colours of a trace.
@@ -74,6 +76,39 @@ fn change(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
     sum / (3 * a.len()) as f64
 }
 
+/// What accumulation costs in the pass (a headless Bevy app, 320x180,
+/// the default scene, 8 levels, ms a frame, best of `runs`): the plain
+/// pass; accumulating (256 samples wanted, so every frame traces, blends
+/// and copies: what a moving view pays); and converged (2 samples, long
+/// in: no trace, one copy).
+fn pass_cost(runs: u32) -> Result<(), String> {
+    println!("\nthe pass, 320x180, default scene, 8 levels, ms a frame (best of {runs}):");
+    println!(
+        "{:<22} {:>8} {:>13} {:>10}",
+        "space", "plain", "accumulating", "converged"
+    );
+    for name in ["torus", "seifert-weber"] {
+        let space = catalog::resolve(name)?;
+        let scene = Scene::default_for(&space);
+        let mut ms = [0.0; 3];
+        for (slot, samples) in [None, Some(256), Some(2)].into_iter().enumerate() {
+            let mut app = offscreen::app(true);
+            let image = offscreen::target(&mut app, 320, 180);
+            let camera = ManifoldCamera {
+                levels: 8,
+                ..ManifoldCamera::default()
+            };
+            let (_, id) = offscreen::spawn_view(&mut app, &space, &scene, &image, camera);
+            if let Some(samples) = samples {
+                app.world_mut().entity_mut(id).insert(ManifoldAccumulation { samples });
+            }
+            ms[slot] = frame_ms(&mut app, &image, runs)?;
+        }
+        println!("{name:<22} {:>8.1} {:>13.1} {:>10.1}", ms[0], ms[1], ms[2]);
+    }
+    Ok(())
+}
+
 /// Prints the PSNR and flicker table for every catalog space.
 ///
 /// # Errors
@@ -124,5 +159,5 @@ pub fn run(width: u32, height: u32, frames: u32) -> Result<(), String> {
             );
         }
     }
-    Ok(())
+    pass_cost(3)
 }
