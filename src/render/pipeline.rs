@@ -103,32 +103,54 @@ impl SpecializedRenderPipeline for TracePipeline {
     type Key = TracePipelineKey;
 
     fn specialize(&self, key: Self::Key) -> RenderPipelineDescriptor {
-        RenderPipelineDescriptor {
-            label: Some("manifold_trace".into()),
-            layout: vec![self.layout.clone()],
-            vertex: self.fullscreen.to_vertex_state(),
-            fragment: Some(FragmentState {
-                shader: self.shader.clone(),
-                shader_defs: key.shader_defs(),
-                entry_point: Some("fragment".into()),
-                targets: vec![Some(ColorTargetState {
-                    format: key.format,
-                    blend: None,
-                    write_mask: ColorWrites::ALL,
-                })],
-            }),
-            depth_stencil: Some(DepthStencilState {
-                format: CORE_3D_DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(CompareFunction::Always),
-                stencil: default(),
-                bias: default(),
-            }),
-            multisample: MultisampleState {
-                count: key.samples,
-                ..default()
-            },
+        fullscreen_with_depth(
+            "manifold_trace",
+            &self.layout,
+            &self.fullscreen,
+            (&self.shader, "fragment", key.shader_defs()),
+            key.format,
+            key.samples,
+        )
+    }
+}
+
+/// A pipeline drawing Bevy's full-screen triangle with the fragment
+/// entry `entry` of `shader` (with `defs`) into a colour target of
+/// `format` and `samples`, writing the depth it outputs (any, always):
+/// the trace's and the upscale's.
+pub(crate) fn fullscreen_with_depth(
+    label: &'static str,
+    layout: &BindGroupLayoutDescriptor,
+    fullscreen: &FullscreenShader,
+    (shader, entry, defs): (&Handle<Shader>, &'static str, Vec<ShaderDefVal>),
+    format: TextureFormat,
+    samples: u32,
+) -> RenderPipelineDescriptor {
+    RenderPipelineDescriptor {
+        label: Some(label.into()),
+        layout: vec![layout.clone()],
+        vertex: fullscreen.to_vertex_state(),
+        fragment: Some(FragmentState {
+            shader: shader.clone(),
+            shader_defs: defs,
+            entry_point: Some(entry.into()),
+            targets: vec![Some(ColorTargetState {
+                format,
+                blend: None,
+                write_mask: ColorWrites::ALL,
+            })],
+        }),
+        depth_stencil: Some(DepthStencilState {
+            format: CORE_3D_DEPTH_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(CompareFunction::Always),
+            stencil: default(),
+            bias: default(),
+        }),
+        multisample: MultisampleState {
+            count: samples,
             ..default()
-        }
+        },
+        ..default()
     }
 }

@@ -13,10 +13,10 @@ use bevy::prelude::*;
 use bevy::render::render_resource::binding_types::{sampler, texture_2d, texture_depth_2d};
 use bevy::render::render_resource::{
     BindGroup, BindGroupEntries, BindGroupLayoutDescriptor, BindGroupLayoutEntries, BlendComponent, BlendFactor,
-    BlendOperation, BlendState, ColorTargetState, ColorWrites, CompareFunction, DepthStencilState, Extent3d,
-    FilterMode, FragmentState, MultisampleState, PipelineCache, RenderPipelineDescriptor, Sampler, SamplerBindingType,
-    SamplerDescriptor, ShaderStages, SpecializedRenderPipeline, Texture, TextureDescriptor, TextureDimension,
-    TextureFormat, TextureSampleType, TextureUsages, TextureView, TextureViewDescriptor,
+    BlendOperation, BlendState, ColorTargetState, ColorWrites, Extent3d, FilterMode, FragmentState, PipelineCache,
+    RenderPipelineDescriptor, Sampler, SamplerBindingType, SamplerDescriptor, ShaderStages, SpecializedRenderPipeline,
+    Texture, TextureDescriptor, TextureDimension, TextureFormat, TextureSampleType, TextureUsages, TextureView,
+    TextureViewDescriptor,
 };
 use bevy::render::renderer::RenderDevice;
 use bevy::shader::Shader;
@@ -116,37 +116,19 @@ impl SpecializedRenderPipeline for UpscalePipeline {
                 ..default()
             };
         }
-        RenderPipelineDescriptor {
-            label: Some("manifold_upscale".into()),
-            layout: vec![self.layout.clone()],
-            vertex: self.fullscreen.to_vertex_state(),
-            fragment: Some(FragmentState {
-                shader: self.shader.clone(),
-                entry_point: Some("upscale".into()),
-                shader_defs: if key.encode_srgb {
-                    vec!["ENCODE_SRGB".into()]
-                } else {
-                    Vec::new()
-                },
-                targets: vec![Some(ColorTargetState {
-                    format: key.format,
-                    blend: None,
-                    write_mask: ColorWrites::ALL,
-                })],
-            }),
-            depth_stencil: Some(DepthStencilState {
-                format: CORE_3D_DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(CompareFunction::Always),
-                stencil: default(),
-                bias: default(),
-            }),
-            multisample: MultisampleState {
-                count: key.samples,
-                ..default()
-            },
-            ..default()
-        }
+        let defs = if key.encode_srgb {
+            vec!["ENCODE_SRGB".into()]
+        } else {
+            Vec::new()
+        };
+        super::pipeline::fullscreen_with_depth(
+            "manifold_upscale",
+            &self.layout,
+            &self.fullscreen,
+            (&self.shader, "upscale", defs),
+            key.format,
+            key.samples,
+        )
     }
 }
 
