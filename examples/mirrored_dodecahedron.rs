@@ -26,9 +26,13 @@ fn main() -> AppExit {
 fn setup(mut commands: Commands) {
     let space = catalog::mirrored_dodecahedron();
     let root = commands.spawn(ManifoldSpace::new(space.clone())).id();
-    // Four levels: beyond them the copies shrink below a pixel and alias
-    // into noise (the paper measured up to three bounces).
-    let camera = ManifoldCamera { levels: 4, ..default() };
+    // Eight levels: beyond four the copies shrink below a pixel and alias
+    // into noise while the camera moves; once it stops, 16 jittered
+    // samples a pixel settle them to their average colour.
+    let camera = (
+        ManifoldCamera { levels: 8, ..default() },
+        ManifoldAccumulation::default(),
+    );
     // Turned around, towards the nearer mirrors and their reflections.
     let (mut placement, projection) = paper_camera(&space);
     placement.isometry *= isometry::rotation(glam::DVec3::Y, std::f64::consts::PI);

@@ -27,9 +27,13 @@ fn main() -> AppExit {
 fn setup(mut commands: Commands) {
     let space = catalog::seifert_weber();
     let root = commands.spawn(ManifoldSpace::new(space.clone())).id();
-    // Four levels: beyond them the copies shrink below a pixel and alias
-    // into noise (the paper measured up to three bounces).
-    let camera = ManifoldCamera { levels: 4, ..default() };
+    // Eight levels: beyond four the copies shrink below a pixel and alias
+    // into noise while the camera moves; once it stops, 16 jittered
+    // samples a pixel settle them to their average colour.
+    let camera = (
+        ManifoldCamera { levels: 8, ..default() },
+        ManifoldAccumulation::default(),
+    );
     let eye = commands
         .spawn((ChildOf(root), camera, FlyCamera::default(), paper_camera(&space)))
         .id();

@@ -291,7 +291,10 @@ fn the_eyes_see_a_ball_with_the_disparity_the_geometry_predicts() {
 /// traced at half its pixels and upscaled, still shows the ball's edges
 /// where the geometry puts them through its own off-centre frustum
 /// (within 1.5 pixels: half the resolution, then a bilinear edge).
-/// A frustum taken as symmetric would move them by tens of pixels.
+/// A frustum taken as symmetric would move them by tens of pixels. The
+/// ball glows at exactly 1: the traced texture keeps linear colour
+/// unclamped, and a brighter ball would bleed over the edge when the
+/// upscale interpolates it.
 fn both_eyes_trace_at_the_bodys_render_scale_through_their_own_frusta() {
     let _one = ONE_RENDER_APP.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
     let space = catalog::torus(1.0);
@@ -306,7 +309,7 @@ fn both_eyes_trace_at_the_bodys_render_scale_through_their_own_frusta() {
     world.entity_mut(body).insert(ManifoldRenderScale(0.5));
     world.spawn((
         ChildOf(root),
-        TracedBall::new(r, Color::srgb(1.0, 0.0, 0.0)).glowing(2.0),
+        TracedBall::new(r, Color::srgb(1.0, 0.0, 0.0)).glowing(1.0),
         Placement::at(&space, DVec3::new(0.0, 0.0, -d)),
     ));
     let shots = rig.capture();

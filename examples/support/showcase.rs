@@ -148,6 +148,17 @@ pub fn run(mut app: App) -> AppExit {
 
 fn screenshot(app: &mut App, mode: &ScreenshotMode) -> Result<(u32, u32), String> {
     offscreen::wait_for_pipelines(app)?;
+    // A camera refining its still view: let its samples in first.
+    let world = app.world_mut();
+    let samples = world
+        .query::<&bevy_manifold::render::ManifoldAccumulation>()
+        .iter(world)
+        .map(|a| a.samples)
+        .max()
+        .unwrap_or(0);
+    for _ in 0..samples + 2 {
+        app.update();
+    }
     let rgba = offscreen::capture(app, &mode.target)?;
     let size = app
         .world()
