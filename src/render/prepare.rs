@@ -604,7 +604,8 @@ pub fn prepare_manifold_views(
             .as_ref()
             .is_some_and(|t| Some(t.size) == traced && t.format == format && t.history.is_some() == accumulate);
         // A sample counts only if this frame draws it: every pipeline the
-        // frame needs must be compiled.
+        // frame needs must be compiled. (Asked only of accumulating views,
+        // so a plain view never compiles the upscale and blend pipelines.)
         let ready = |id| pipeline_cache.get_render_pipeline(id).is_some();
         let blend_key = UpscaleKey {
             format: extracted.target_format,
@@ -612,7 +613,8 @@ pub fn prepare_manifold_views(
             encode_srgb,
             blend: true,
         };
-        let pipelines_ready = ready(id)
+        let pipelines_ready = accumulate
+            && ready(id)
             && ready(upscales.specialize(
                 &pipeline_cache,
                 &upscale,
@@ -622,8 +624,7 @@ pub fn prepare_manifold_views(
                 },
             ))
             && ready(upscales.specialize(&pipeline_cache, &upscale, blend_key));
-        let still = accumulate
-            && pipelines_ready
+        let still = pipelines_ready
             && textures_fit
             && entry.still.as_ref().is_some_and(|(p, a, b, n)| {
                 bytemuck::bytes_of(p) == bytemuck::bytes_of(&params)
@@ -634,7 +635,7 @@ pub fn prepare_manifold_views(
         } else {
             0
         };
-        entry.still = (accumulate && pipelines_ready).then_some((params, scene_key.0, scene_key.1, view.samples));
+        entry.still = pipelines_ready.then_some((params, scene_key.0, scene_key.1, view.samples));
         let sample = entry.samples;
         let trace = sample < view.samples;
         if accumulate && trace && sample > 0 {
