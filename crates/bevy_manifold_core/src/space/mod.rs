@@ -36,7 +36,7 @@ pub use error::{DisplayPath, SpaceError, SpaceFileError, SpaceFileErrorKind};
 pub use file::{FaceDesc, SpaceDesc};
 pub use generators::{GeneratorError, Generators, GeneratorsDesc};
 pub use polyhedron::{Edge, Polyhedron, Vertex, dihedral_angle};
-pub use volume::gauss_legendre;
+pub use volume::{gauss_legendre, polyhedron_area};
 
 use crate::geometry::{Geometry, isometry, plane};
 use cells::{CellId, CellScheme};
@@ -361,6 +361,19 @@ impl Space {
     #[must_use]
     pub fn circumradius(&self) -> f64 {
         self.circumradius
+    }
+
+    /// Area of the fundamental polyhedron's boundary (its faces).
+    ///
+    /// ```
+    /// use bevy_manifold_core::prelude::*;
+    /// // The cube of edge 2: six faces of area 4.
+    /// assert!((catalog::torus(2.0).surface_area() - 24.0).abs() < 1e-9);
+    /// ```
+    #[must_use]
+    pub fn surface_area(&self) -> f64 {
+        let points: Vec<_> = self.poly.vertices.iter().map(|v| v.point).collect();
+        polyhedron_area(self.geometry, &points, &self.poly.face_vertices)
     }
 
     /// Volume of the fundamental polyhedron (so of the space).

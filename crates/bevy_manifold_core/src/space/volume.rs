@@ -14,6 +14,48 @@
 use crate::geometry::Geometry;
 use glam::{DVec3, DVec4};
 
+/// Area of the boundary of the polyhedron whose face `f` has the
+/// vertices `face_vertices[f]` (cyclic, normalised points) among
+/// `vertices`: each face a geodesic polygon, of area `(n - 2) pi - sum
+/// of its angles` in H3, `sum - (n - 2) pi` in S3 (Gauss-Bonnet), its
+/// fan of triangles in E3.
+#[must_use]
+pub fn polyhedron_area(g: Geometry, vertices: &[DVec4], face_vertices: &[Vec<usize>]) -> f64 {
+    let mut total = 0.0;
+    for ring in face_vertices {
+        let n = ring.len();
+        if n < 3 {
+            continue;
+        }
+        let p = |i: usize| vertices[ring[i % n]];
+        if g == Geometry::Euclidean {
+            let c = (p(0) / p(0).w).truncate();
+            total += (1..n - 1)
+                .map(|i| {
+                    let (a, b) = ((p(i) / p(i).w).truncate(), (p(i + 1) / p(i + 1).w).truncate());
+                    0.5 * (a - c).cross(b - c).length()
+                })
+                .sum::<f64>();
+            continue;
+        }
+        let angles: f64 = (0..n)
+            .map(|i| {
+                let v = p(i + n);
+                let a = g.normalize_tangent::<f64>(v, p(i + n - 1));
+                let b = g.normalize_tangent::<f64>(v, p(i + 1));
+                g.form::<f64>(a, b).clamp(-1.0, 1.0).acos()
+            })
+            .sum();
+        let flat = (n as f64 - 2.0) * core::f64::consts::PI;
+        total += if g == Geometry::Hyperbolic {
+            flat - angles
+        } else {
+            angles - flat
+        };
+    }
+    total
+}
+
 /// Quadrature order per direction on each sub-triangle.
 const ORDER: usize = 12;
 /// Levels of 4-way triangle subdivision (64 sub-triangles per fan triangle).

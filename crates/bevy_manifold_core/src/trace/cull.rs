@@ -218,11 +218,12 @@ pub fn chart_segment<R: Real>(ray: &Ray<R>, t_end: R) -> Option<([R; 3], [R; 3])
 
 /// Calls `visit` with the ball range of every leaf of `tree` (a hierarchy
 /// over chart boxes, [`super::FlatScene::ball_tree`]) whose box, and its
-/// parents', the chart segment `a + s d`, `0 <= s <= 1`, meets (the slab
+/// parents', grown by `pad` on every side (cone tracing's growth, 0 for a
+/// ray), the chart segment `a + s d`, `0 <= s <= 1`, meets (the slab
 /// test, `mesh::bvh::hit_box`). Depth first, left child first, with a
 /// bounded stack ([`MAX_DEPTH`], the builder's deepest level).
 /// WGSL twin: the walk of `interior_balls` in `shaders/render.wgsl`.
-pub fn tree_leaves<R: Real>(tree: &[BvhNode], a: [R; 3], d: [R; 3], mut visit: impl FnMut(Range<usize>)) {
+pub fn tree_leaves<R: Real>(tree: &[BvhNode], a: [R; 3], d: [R; 3], pad: f32, mut visit: impl FnMut(Range<usize>)) {
     if tree.is_empty() {
         return;
     }
@@ -233,7 +234,8 @@ pub fn tree_leaves<R: Real>(tree: &[BvhNode], a: [R; 3], d: [R; 3], mut visit: i
         top -= 1;
         let index = stack[top] as usize;
         let node = &tree[index];
-        if hit_box(a, inv_d, node.min, node.max, R::of(1.0)).is_none() {
+        let (lo, hi) = (node.min.map(|x| x - pad), node.max.map(|x| x + pad));
+        if hit_box(a, inv_d, lo, hi, R::of(1.0)).is_none() {
             continue;
         }
         if node.count > 0 {

@@ -124,6 +124,12 @@ pub struct FaceTables<R: Real> {
     /// inverse of the least `p_w` of the domain, at a vertex; infinite (no
     /// culling) where the domain reaches `w <= 0`.
     pub near_scale: R,
+    /// How much longer a path may be in the chart (`x/w`) than in the
+    /// space, inside the domain: 1 in E3 and H3 (the projective chart
+    /// only shortens), `near_scale^2` in S3 (the gnomonic chart stretches
+    /// by at most `1 / w^2`). Cone tracing pads the ball tree's boxes by
+    /// a footprint times this.
+    pub chart_stretch: R,
 }
 
 impl<R: Real> FaceTables<R> {
@@ -138,6 +144,10 @@ impl<R: Real> FaceTables<R> {
             partners: faces.iter().map(|f| f.partner).collect(),
             crossings: (0..faces.len()).map(|i| R::m4_of(space.crossing(i))).collect(),
             near_scale: R::of(near_scale(space)),
+            chart_stretch: R::of(match space.geometry() {
+                Geometry::Spherical => near_scale(space).powi(2),
+                _ => 1.0,
+            }),
         }
     }
 }
@@ -158,6 +168,15 @@ pub struct FlatScene<R: Real> {
     /// carry face masks ([`FlatBall::face_mask`]): the edge radius (a hair
     /// more), else twice the smallest ball or mesh radius.
     pub near_reach: R,
+    /// The distance `r` itself (infinite when no object is masked): cone
+    /// tracing grows it by a segment's footprint
+    /// ([`super::footprint::Inflation`]) before taking `s` of it.
+    pub near_distance: R,
+    /// The mean area of the domain's shadow on a plane, a quarter of its
+    /// surface area (Cauchy): a pixel's cone whose cross-section is wider
+    /// holds that many copies of the domain side by side, of which its
+    /// axis walks one ([`super::footprint::side_by_side`]).
+    pub cell_shadow: R,
     /// Where each face's group starts in `balls`, `tubes` and `instances`
     /// (sorted by [`FaceGroups`]): the lists `nearest_object` walks.
     pub groups: FaceGroups,
@@ -314,6 +333,8 @@ impl<R: Real> FlatScene<R> {
             } else {
                 f64::INFINITY
             }),
+            cell_shadow: R::of(space.surface_area() / 4.0),
+            near_distance: R::of(if masked { reach * 1.01 + 1e-6 } else { f64::INFINITY }),
             lights,
             instances,
             meshes,

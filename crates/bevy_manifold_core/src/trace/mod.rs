@@ -33,6 +33,7 @@ mod cull;
 mod drift;
 mod flat;
 mod flow;
+pub mod footprint;
 mod mesh_hit;
 mod output;
 mod render;
@@ -49,13 +50,14 @@ pub use flat::{
     same_cell_point,
 };
 pub use flow::{Flowed, flow};
+pub use footprint::{Layers, pixel_half_angle};
 pub use mesh_hit::{InstanceHit, hit_instance, meets_ball, mesh_albedo, mesh_normal};
 pub use output::{id_pixel, srgb8, upscale};
 #[cfg(feature = "png")]
 pub use output::{write_ids_png, write_png, write_rgba_png};
 pub use render::{
     FOG_CUT, LIGHT_AT_HIT, MAX_LEVELS, MAX_PIXELS, PathStep, Projection, Stop, TraceImage, TracePixel, TraceSettings,
-    camera_ray, render, trace_ray, view_ray, view_slopes,
+    camera_ray, pixel_half_angle_of, render, trace_ray, view_ray, view_slopes,
 };
 pub use scene::MeshPart;
 pub use scene::{

@@ -9,10 +9,16 @@
 pub const FOG_CUT: f64 = 5.541_263_545_158_426;
 
 use super::cull::{FaceGroups, chart_segment, tree_leaves};
-use super::flat::{EDGE_ID, FlatScene, same_cell_point};
+use super::flat::{EDGE_ID, FlatInstance, FlatScene, same_cell_point};
+use super::footprint::{
+    Approach, BALL_GROWTH, Inflation, Layers, SEGMENT_LAYERS, ball_approach, coverage, grown_reach, normal_at_offset,
+    pixel_half_angle, radius_of, shading_offset, side_by_side, spread, tube_approach,
+};
 use super::mesh_hit::{hit_instance, mesh_albedo, mesh_normal};
 use super::scene::Scene;
-use super::step::{ALL_FACES, Ray, advance_or_raw, foot_on_line, hit_ball, hit_tube, may_hit, near_faces, normal_from};
+use super::step::{
+    ALL_FACES, Ray, advance_or_raw, foot_on_line, hit_ball, hit_tube, may_hit, near_faces, normal_from, on_edge,
+};
 use super::walk::Walker;
 use crate::geometry::{Geometry, Real};
 use crate::mesh::MeshHit;
@@ -52,6 +58,13 @@ pub struct TraceSettings {
     /// ([`super::step::near_faces`]): the same image, fewer tests. Off
     /// only to measure what it saves (the GPU twin is `FLAG_NO_CULL`).
     pub cull: bool,
+    /// Trace each pixel as a cone half a pixel wide
+    /// ([`super::footprint`]): balls and edge tubes thinner than its
+    /// footprint add the part of the pixel they cover and let the rest
+    /// through, so far copies fade to their average instead of
+    /// flickering, and silhouettes are smooth. Off: one ray per pixel,
+    /// hit or miss. The GPU twin is `params.footprint`.
+    pub footprint: bool,
 }
 
 /// How the pixels of an image map to view directions.
@@ -151,6 +164,7 @@ impl Default for TraceSettings {
             cell_rule: CellRule::default(),
             projection: Projection::Perspective,
             cull: true,
+            footprint: false,
         }
     }
 }
@@ -338,12 +352,22 @@ pub fn trace_ray<R: Real>(
     };
     let mut travelled = R::of(0.0);
     let background = prep.fog.map_or([0.0; 3], |(_, c)| c);
-    let finish = |color, object, walk: &Walker<R>, exact: &Option<CellElement>, travelled: R| TracePixel {
+    // Cone tracing (settings.footprint): the pixel's half-angle, the
+    // layers met so far, and the first layer covering half the pixel or
+    // more, which names the pixel's object and depth.
+    let beta = settings.footprint.then(|| R::of(pixel_half_angle_of(prep, settings)));
+    let mut layers = Layers::default();
+    let mut front: Option<TracePixel> = None;
+    let pixel = |color, object, walk: &Walker<R>, exact: &Option<CellElement>, distance: R| TracePixel {
         color,
         object,
         levels: walk.levels,
         cell: cell_id(walk, exact),
-        distance: travelled.f64() as f32,
+        distance: distance.f64() as f32,
+    };
+    let finish = |layers: &Layers, front: Option<TracePixel>, behind: TracePixel| TracePixel {
+        color: layers.over(behind.color),
+        ..front.unwrap_or(behind)
     };
     // A hard bound on the loop: every pass either transports (at most
     // levels times) or, in S3, advances by a fixed distance of 1 (at most
@@ -354,32 +378,79 @@ pub fn trace_ray<R: Real>(
             && settings.fog_early_stop
             && density * travelled > fog_cut
         {
-            return (finish(background, 0, &walk, &exact, travelled), Stop::Fog);
+            let behind = pixel(background, 0, &walk, &exact, travelled);
+            return (finish(&layers, front, behind), Stop::Fog);
         }
         let (face, t_end) = walk.segment_end(&prep.faces);
         let cell_point = walk.cell * R::v4_of(glam::DVec4::W);
         let here = rule.is_active().then(|| cell_id(&walk, &exact));
         let shown = here.is_none_or(|id| rule.visible(id));
+        // Objects grow by the segment's widest footprint, at its end.
+        let w = beta.map_or(R::of(0.0), |b| {
+            b * spread(g, travelled + g.chart_to_distance::<R>(t_end))
+        });
+        let (grow, reach) = if w > R::of(0.0) {
+            let reach = grown_reach(g, prep.faces.near_scale, prep.near_distance, w * R::of(BALL_GROWTH));
+            (Inflation::new(g, w), reach)
+        } else {
+            (Inflation::none(), prep.near_reach)
+        };
         let near = if settings.cull {
-            near_faces(
-                &prep.faces.planes,
-                prep.faces.near_scale,
-                prep.near_reach,
-                &walk.ray,
-                t_end,
-            )
+            near_faces(&prep.faces.planes, prep.faces.near_scale, reach, &walk.ray, t_end)
         } else {
             ALL_FACES
         };
-        if let Some((t, hit)) =
-            nearest_object(g, prep, &walk.ray, t_end, cell_point, (near, settings.cull)).filter(|_| shown)
-        {
-            let dist = travelled + g.chart_to_distance::<R>(t);
-            let color = shade(g, prep, &walk.ray, t, hit, dist, cell_id(&walk, &exact), settings);
-            return (
-                finish(color, hit.id(prep), &walk, &exact, dist),
-                Stop::Hit(hit.id(prep)),
+        // Each object met on the segment, nearest first: for a ray the
+        // first hit, whole; for a cone each object it passes within its
+        // footprint of, in the order of the ray's nearest approach, a
+        // layer covering part of the pixel.
+        let met = match (beta, shown) {
+            (_, false) => Nearest::default(),
+            (Some(b), true) => segment_layers(
+                g,
+                prep,
+                &walk.ray,
+                t_end,
+                cell_point,
+                (near, settings.cull),
+                (&grow, b, travelled),
+            ),
+            (None, true) => {
+                let mut met = Nearest::default();
+                if let Some((t, h)) = nearest_object(g, prep, &walk.ray, t_end, cell_point, (near, settings.cull)) {
+                    met.keep((t, h, None));
+                }
+                met
+            }
+        };
+        for &(t, hit, cover) in met.iter() {
+            let layer = match cover {
+                Some(c) => cone_layer(g, prep, &walk.ray, (hit, c), t_end),
+                None => ConeLayer::whole(t),
+            };
+            let dist = travelled + g.chart_to_distance::<R>(layer.t);
+            let color = shade(
+                g,
+                prep,
+                &walk.ray,
+                (layer.t, layer.normal),
+                hit,
+                dist,
+                cell_id(&walk, &exact),
+                settings,
             );
+            let part = layer.part;
+            let this = pixel(color, hit.id(prep), &walk, &exact, dist);
+            if part >= 0.5 && front.is_none() {
+                front = Some(this);
+            }
+            if layers.add(color, part) {
+                return (finish(&layers, front, this), Stop::Hit(hit.id(prep)));
+            }
+            if layers.full() {
+                let behind = pixel(background, 0, &walk, &exact, travelled);
+                return (finish(&layers, front, behind), Stop::MaxLevel);
+            }
         }
         let end = advance_or_raw(g, &walk.ray, t_end, settings.renormalize);
         let length = g.chart_to_distance::<R>(t_end);
@@ -391,7 +462,8 @@ pub fn trace_ray<R: Real>(
         });
         travelled = travelled + length;
         if travelled > max_distance {
-            return (finish(background, 0, &walk, &exact, travelled), Stop::MaxDistance);
+            let behind = pixel(background, 0, &walk, &exact, travelled);
+            return (finish(&layers, front, behind), Stop::MaxDistance);
         }
         // The cell across the face, crossed once: for the wall test, then
         // for the walk.
@@ -404,13 +476,13 @@ pub fn trace_ray<R: Real>(
         {
             let f = face.unwrap_or_default();
             let color = shade_wall(prep, &prep.faces.planes[f], &walk.ray, travelled);
-            return (
-                finish(color, WALL_OBJECT, &walk, &exact, travelled),
-                Stop::Hit(WALL_OBJECT),
-            );
+            let wall = pixel(color, WALL_OBJECT, &walk, &exact, travelled);
+            layers.add(color, 1.0);
+            return (finish(&layers, front, wall), Stop::Hit(WALL_OBJECT));
         }
         if face.is_some() && walk.levels >= settings.levels {
-            return (finish(background, 0, &walk, &exact, travelled), Stop::MaxLevel);
+            let behind = pixel(background, 0, &walk, &exact, travelled);
+            return (finish(&layers, front, behind), Stop::MaxLevel);
         }
         walk.step(&prep.faces, face, end, settings.renormalize);
         if let (Some(e), Some(f)) = (&mut exact, face) {
@@ -424,7 +496,93 @@ pub fn trace_ray<R: Real>(
             exact = None;
         }
     }
-    (finish(background, 0, &walk, &exact, travelled), Stop::MaxDistance)
+    let behind = pixel(background, 0, &walk, &exact, travelled);
+    (finish(&layers, front, behind), Stop::MaxDistance)
+}
+
+/// The half-angle of the pixels' cones for the scene's camera
+/// ([`pixel_half_angle`]): its frustum's half height, or
+/// `tan_half_fov`, over the image's rows.
+#[must_use]
+pub fn pixel_half_angle_of<R: Real>(prep: &FlatScene<R>, settings: &TraceSettings) -> f64 {
+    let half_height = prep.frustum.map_or(prep.tan_half_fov, |f| f[1]).f64();
+    pixel_half_angle(settings.projection, half_height, settings.height)
+}
+
+/// A layer of a pixel's cone: the part of the pixel it covers, where it
+/// is shaded, and the normal there when that is not the object's own at
+/// the ray's hit.
+struct ConeLayer<R: Real> {
+    part: f32,
+    t: R,
+    normal: Option<R::V4>,
+}
+
+impl<R: Real> ConeLayer<R> {
+    /// All of the pixel, shaded where the ray hit: a ray's hit.
+    fn whole(t: R) -> Self {
+        ConeLayer {
+            part: 1.0,
+            t,
+            normal: None,
+        }
+    }
+}
+
+/// What a ball or tube met by a pixel's cone covers: where the ray
+/// passes nearest it ([`approach`]), the footprint there (`beta` times
+/// [`spread`] of the distance from the eye), the object's radius and the
+/// part of the pixel it covers ([`coverage`]).
+#[derive(Clone, Copy, Debug)]
+struct Cover<R: Real> {
+    near: Approach<R>,
+    w: R,
+    r: R,
+    part: f32,
+}
+
+/// Where a layer is shaded (`Cover`'s object `hit`, on the segment
+/// ending at `t_end`): at the ray's own hit on it when that is where
+/// [`shading_offset`] puts the shading, else where the ray passes
+/// nearest it, with the normal of that offset ([`normal_at_offset`]).
+/// WGSL twin: `cone_layer` in `shaders/render.wgsl`.
+fn cone_layer<R: Real>(
+    g: Geometry,
+    prep: &FlatScene<R>,
+    ray: &Ray<R>,
+    (hit, cover): (Hit<R>, Cover<R>),
+    t_end: R,
+) -> ConeLayer<R> {
+    let zero = R::of(0.0);
+    let (ball, own) = match hit {
+        Hit::Mesh(..) => return ConeLayer::whole(cover.near.t),
+        Hit::Ball(i) => (true, hit_ball(g, ray, prep.balls[i].center, prep.balls[i].k, zero)),
+        Hit::Tube(i) => (false, hit_tube(g, ray, &prep.tubes[i].segment, prep.tube_k, zero)),
+    };
+    let near = cover.near;
+    let s = shading_offset(ball, near.gap, cover.r, cover.w);
+    if let Some(t_own) = own
+        && t_own <= t_end
+        && near.gap <= s * cover.r
+    {
+        return ConeLayer {
+            part: cover.part,
+            t: t_own,
+            normal: None,
+        };
+    }
+    let x = g.normalize_point::<R>(ray.origin + ray.dir * near.t);
+    let view = -g.normalize_tangent::<R>(x, ray.dir);
+    let n0 = match hit {
+        Hit::Tube(i) => normal_from::<R>(g, x, foot_on_line::<R>(g, x, &prep.tubes[i].segment)),
+        Hit::Ball(i) => normal_from::<R>(g, x, prep.balls[i].center),
+        Hit::Mesh(..) => view,
+    };
+    ConeLayer {
+        part: cover.part,
+        t: near.t,
+        normal: Some(normal_at_offset(g, n0, view, s)),
+    }
 }
 
 /// A wall on face `plane`, met at distance `dist`: [`WALL_COLOR`] lit by
@@ -465,16 +623,60 @@ impl<R: Real> Hit<R> {
     }
 }
 
+/// One object a segment may meet, as [`each_candidate`] hands them out.
+#[derive(Clone, Copy, Debug)]
+enum Candidate {
+    Ball(usize),
+    Tube(usize),
+    Instance(usize),
+}
+
+/// Hands `visit` each object a segment of `ray` ending at `t_end` may
+/// meet, in a fixed order: balls, tubes, mesh instances. With `cull`,
+/// objects whose faces the segment does not come near (`near`, from
+/// [`near_faces`]) are left out: only the groups of near faces are walked
+/// ([`FaceGroups`]); and of the balls with no face mask only those in the
+/// leaves of [`FlatScene::ball_tree`] whose boxes, padded by `pad`, the
+/// segment's chart image meets ([`tree_leaves`]). WGSL twin: the loops of
+/// `nearest_object` in `shaders/render.wgsl`.
+fn each_candidate<R: Real>(
+    prep: &FlatScene<R>,
+    ray: &Ray<R>,
+    t_end: R,
+    (near, cull): (u32, bool),
+    pad: f32,
+    mut visit: impl FnMut(Candidate),
+) {
+    let groups = &prep.groups;
+    let mut ranges = FaceGroups::ranges(&groups.balls, near);
+    let interior = ranges.next().unwrap_or_default();
+    match chart_segment(ray, t_end).filter(|_| cull && pad.is_finite()) {
+        Some((a, d)) => tree_leaves(&prep.ball_tree, a, d, pad, |leaf| {
+            leaf.for_each(|i| visit(Candidate::Ball(i)))
+        }),
+        None => interior.for_each(|i| visit(Candidate::Ball(i))),
+    }
+    ranges.flatten().for_each(|i| visit(Candidate::Ball(i)));
+    FaceGroups::ranges(&groups.tubes, near)
+        .flatten()
+        .for_each(|i| visit(Candidate::Tube(i)));
+    FaceGroups::ranges(&groups.instances, near)
+        .flatten()
+        .for_each(|i| visit(Candidate::Instance(i)));
+}
+
+/// True when a mesh instance can be hit on a segment near `near` seen
+/// from the cell of `cell_point` (not the camera's own body there).
+fn instance_shown<R: Real>(inst: &FlatInstance<R>, near: u32, cell_point: R::V4) -> bool {
+    may_hit(inst.face_mask, near) && !inst.home.is_some_and(|home| same_cell_point::<R>(home, cell_point))
+}
+
 /// The nearest object along the ray with chart parameter in `[0, t_end]`,
 /// seen from the cell whose element takes the origin to `cell_point` (the
 /// copy of a camera-attached mesh that is the camera's own body from
-/// there is skipped). With `cull`, objects whose faces the segment does
-/// not come near (`near`, from [`near_faces`]) are not tested: only the
-/// groups of near faces are walked ([`FaceGroups`]); and of the balls
-/// with no face mask only those in the leaves of
-/// [`FlatScene::ball_tree`] the segment's chart image meets
-/// ([`tree_leaves`]). Ties between balls go to the lower index, so the
-/// order of the tests changes nothing.
+/// there is skipped), of those [`each_candidate`] hands out. Ties between
+/// balls go to the lower index, so the order of the tests changes
+/// nothing.
 fn nearest_object<R: Real>(
     g: Geometry,
     prep: &FlatScene<R>,
@@ -485,57 +687,157 @@ fn nearest_object<R: Real>(
 ) -> Option<(R, Hit<R>)> {
     let zero = R::of(0.0);
     let mut best: Option<(R, Hit<R>)> = None;
-    let groups = &prep.groups;
-    let try_ball = |best: &mut Option<(R, Hit<R>)>, i: usize| {
-        let b = &prep.balls[i];
-        if may_hit(b.face_mask, near)
-            && let Some(t) = hit_ball(g, ray, b.center, b.k, zero)
-            && t <= t_end
-            && best.is_none_or(|(bt, h)| t < bt || (t == bt && matches!(h, Hit::Ball(j) if i < j)))
-        {
-            *best = Some((t, Hit::Ball(i)));
-        }
-    };
-    let mut ranges = FaceGroups::ranges(&groups.balls, near);
-    let interior = ranges.next().unwrap_or_default();
-    match chart_segment(ray, t_end).filter(|_| cull) {
-        Some((a, d)) => tree_leaves(&prep.ball_tree, a, d, |leaf| {
-            for i in leaf {
-                try_ball(&mut best, i);
-            }
-        }),
-        None => {
-            for i in interior {
-                try_ball(&mut best, i);
+    each_candidate(prep, ray, t_end, (near, cull), 0.0, |c| match c {
+        Candidate::Ball(i) => {
+            let b = &prep.balls[i];
+            if may_hit(b.face_mask, near)
+                && let Some(t) = hit_ball(g, ray, b.center, b.k, zero)
+                && t <= t_end
+                && best.is_none_or(|(bt, h)| t < bt || (t == bt && matches!(h, Hit::Ball(j) if i < j)))
+            {
+                best = Some((t, Hit::Ball(i)));
             }
         }
-    }
-    for i in ranges.flatten() {
-        try_ball(&mut best, i);
-    }
-    for i in FaceGroups::ranges(&groups.tubes, near).flatten() {
-        let tube = &prep.tubes[i];
-        if may_hit(tube.face_mask, near)
-            && let Some(t) = hit_tube(g, ray, &tube.segment, prep.tube_k, zero)
-            && t <= t_end
-            && best.is_none_or(|(bt, _)| t < bt)
-        {
-            best = Some((t, Hit::Tube(i)));
+        Candidate::Tube(i) => {
+            let tube = &prep.tubes[i];
+            if may_hit(tube.face_mask, near)
+                && let Some(t) = hit_tube(g, ray, &tube.segment, prep.tube_k, zero)
+                && t <= t_end
+                && best.is_none_or(|(bt, _)| t < bt)
+            {
+                best = Some((t, Hit::Tube(i)));
+            }
         }
-    }
-    for i in FaceGroups::ranges(&groups.instances, near).flatten() {
-        let inst = &prep.instances[i];
-        if !may_hit(inst.face_mask, near) || inst.home.is_some_and(|home| same_cell_point::<R>(home, cell_point)) {
-            continue;
+        Candidate::Instance(i) => {
+            let inst = &prep.instances[i];
+            let limit = best.map_or(t_end, |(bt, _)| bt);
+            if instance_shown(inst, near, cell_point)
+                && let Some(h) = hit_instance(g, ray, inst, &prep.meshes[inst.mesh], limit)
+                && h.t <= limit
+            {
+                best = Some((h.t, Hit::Mesh(i, h.hit)));
+            }
         }
-        let limit = best.map_or(t_end, |(bt, _)| bt);
-        if let Some(h) = hit_instance(g, ray, inst, &prep.meshes[inst.mesh], limit)
-            && h.t <= limit
-        {
-            best = Some((h.t, Hit::Mesh(i, h.hit)));
-        }
-    }
+    });
     best
+}
+
+/// A thing met on a segment: where, what, and for a cone's layer what
+/// it covers.
+type Met<R> = (R, Hit<R>, Option<Cover<R>>);
+
+/// Up to [`SEGMENT_LAYERS`] things met on one segment, nearest first.
+struct Nearest<R: Real> {
+    met: [Option<Met<R>>; SEGMENT_LAYERS],
+    count: usize,
+}
+
+impl<R: Real> Default for Nearest<R> {
+    fn default() -> Self {
+        Nearest {
+            met: [None; SEGMENT_LAYERS],
+            count: 0,
+        }
+    }
+}
+
+impl<R: Real> Nearest<R> {
+    /// The farthest still wanted: `t_end`, or once full the farthest kept.
+    fn limit(&self, t_end: R) -> R {
+        match self.count {
+            SEGMENT_LAYERS => self.met[SEGMENT_LAYERS - 1].map_or(t_end, |m| m.0),
+            _ => t_end,
+        }
+    }
+
+    /// Keeps `m` in order, dropping the farthest when full.
+    fn keep(&mut self, m: Met<R>) {
+        let mut at = self.count.min(SEGMENT_LAYERS - 1);
+        self.met[at] = Some(m);
+        while at > 0 && self.met[at - 1].is_some_and(|p| p.0 > m.0) {
+            self.met.swap(at - 1, at);
+            at -= 1;
+        }
+        self.count = (self.count + 1).min(SEGMENT_LAYERS);
+    }
+
+    /// What was kept, nearest first.
+    fn iter(&self) -> impl Iterator<Item = &Met<R>> {
+        self.met[..self.count].iter().flatten()
+    }
+}
+
+/// The layers of a pixel's cone on the segment of `ray` ending at
+/// `t_end`, nearest first, at most [`SEGMENT_LAYERS`] (the nearest): the
+/// balls and tubes that the ray's geodesic passes within their radius
+/// grown by `grow` of ([`approach`], [`Approach::within`]), by where it
+/// passes nearest, in `[0, t_end]` (a tube's only where the
+/// perpendicular's foot lies on its edge), and that cover some of the
+/// pixel ([`Cover`]); and the first mesh hit, whole, by its hit. Each
+/// object passes nearest the ray at one point of the cover, so it is one
+/// layer on one segment whichever copies of the domain its grown shape
+/// reaches into. The boxes of the ball tree are padded by the balls'
+/// growth times [`super::FaceTables::chart_stretch`]. WGSL twin:
+/// `segment_layers` in `shaders/render.wgsl`.
+fn segment_layers<R: Real>(
+    g: Geometry,
+    prep: &FlatScene<R>,
+    ray: &Ray<R>,
+    t_end: R,
+    cell_point: R::V4,
+    (near, cull): (u32, bool),
+    (grow, beta, travelled): (&Inflation<R>, R, R),
+) -> Nearest<R> {
+    let zero = R::of(0.0);
+    let mut met = Nearest::<R>::default();
+    // An object the grown test lets through covers part of the pixel
+    // with the footprint where the ray passes it, which may be none.
+    let cover = |a: Approach<R>, end: R, grown: R, k: R, length: Option<R>| {
+        if !(a.t >= zero && a.t <= end && a.within(g, grown)) {
+            return None;
+        }
+        let w = beta * spread(g, travelled + g.chart_to_distance::<R>(a.t));
+        let r = radius_of(g, k);
+        let part = coverage(length.is_none(), a.gap, r, length.unwrap_or(zero), w) * side_by_side(w, prep.cell_shadow);
+        let part = part.min(R::of(1.0)).f64() as f32;
+        (part > 0.0).then_some(Cover { near: a, w, r, part })
+    };
+    let pad = (grow.w * R::of(BALL_GROWTH) * prep.faces.chart_stretch).f64() as f32;
+    let tube_k = grow.k(g, prep.tube_k);
+    each_candidate(prep, ray, t_end, (near, cull), pad, |c| {
+        let end = met.limit(t_end);
+        match c {
+            Candidate::Ball(i) => {
+                let b = &prep.balls[i];
+                if may_hit(b.face_mask, near)
+                    && let Some(c) = cover(ball_approach(g, ray, b.center), end, grow.ball_k(g, b.k), b.k, None)
+                {
+                    met.keep((c.near.t, Hit::Ball(i), Some(c)));
+                }
+            }
+            Candidate::Tube(i) => {
+                let seg = &prep.tubes[i].segment;
+                if may_hit(prep.tubes[i].face_mask, near) {
+                    let a = tube_approach(g, ray, seg);
+                    if on_edge(g, ray.origin + ray.dir * a.t, seg)
+                        && let Some(c) = cover(a, end, tube_k, prep.tube_k, Some(g.distance::<R>(seg.a, seg.b)))
+                    {
+                        met.keep((a.t, Hit::Tube(i), Some(c)));
+                    }
+                }
+            }
+            Candidate::Instance(i) => {
+                let inst = &prep.instances[i];
+                if instance_shown(inst, near, cell_point)
+                    && let Some(h) = hit_instance(g, ray, inst, &prep.meshes[inst.mesh], end)
+                    && h.t <= end
+                {
+                    met.keep((h.t, Hit::Mesh(i, h.hit), None));
+                }
+            }
+        }
+    });
+    met
 }
 
 /// A light nearer a hit than this (`|tangent towards it|^2`) is on the hit
@@ -557,14 +859,16 @@ fn toward_light<R: Real>(g: Geometry, x: R::V4, l: R::V4, normal: R::V4) -> R::V
     }
 }
 
-/// Lambert + Blinn shading at the hit, lights with geometry-correct
-/// fall-off (1 / area of the sphere of radius d), per-cell colour, fog.
+/// Lambert + Blinn shading at the hit (chart parameter `t`, with the
+/// object's normal there unless `normal_at` gives another: a cone's
+/// layer, see `cone_layer`), lights with geometry-correct fall-off
+/// (1 / area of the sphere of radius d), per-cell colour, fog.
 #[expect(clippy::too_many_arguments, reason = "the shading inputs are all distinct")]
 fn shade<R: Real>(
     g: Geometry,
     prep: &FlatScene<R>,
     ray: &Ray<R>,
-    t: R,
+    (t, normal_at): (R, Option<R::V4>),
     hit: Hit<R>,
     dist: R,
     cell: CellId,
@@ -595,6 +899,7 @@ fn shade<R: Real>(
             )
         }
     };
+    let normal = normal_at.unwrap_or(normal);
     let mut albedo = albedo;
     if settings.cell_colors {
         let c = settings.cell_tint.tint(cell);

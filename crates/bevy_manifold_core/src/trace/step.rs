@@ -284,13 +284,21 @@ pub fn hit_tube<R: Real>(g: Geometry, ray: &Ray<R>, seg: &Segment<R>, k: R, t_mi
             )?
         }
     };
-    let p = o + d * t;
+    on_edge(g, o + d * t, seg).then_some(t)
+}
+
+/// True when the point `p` (homogeneous, not necessarily normalised) lies
+/// between the end planes of a tube's segment: past `a` along `e`, short
+/// of `b` along `e_b`. WGSL twin: `on_edge` in `shaders/step.wgsl`.
+#[inline]
+#[must_use]
+pub fn on_edge<R: Real>(g: Geometry, p: R::V4, seg: &Segment<R>) -> bool {
     let zero = R::of(0.0);
     let (along_a, along_b) = match g {
         Geometry::Euclidean => (g.form::<R>(p - seg.a, seg.e), g.form::<R>(p - seg.b, seg.e_b)),
         _ => (g.form::<R>(p, seg.e), g.form::<R>(p, seg.e_b)),
     };
-    (along_a >= zero && along_b <= zero).then_some(t)
+    along_a >= zero && along_b <= zero
 }
 
 /// A geodesic segment prepared for [`hit_tube`].
