@@ -103,7 +103,9 @@ pub mod prelude {
         ManifoldSystems, Placement, PlacementPlugin, RayCastSettings, RayHit, SpaceMembers, WallHit,
     };
     #[cfg(feature = "render")]
-    pub use crate::render::{AdaptiveRenderScale, ManifoldAccumulation, ManifoldCamera, ManifoldRenderScale};
+    pub use crate::render::{
+        AdaptiveRenderScale, ManifoldAccumulation, ManifoldCamera, ManifoldFootprint, ManifoldRenderScale,
+    };
     #[cfg(feature = "asset")]
     pub use crate::space_asset::{ManifoldSpaceSource, SpaceAsset};
     pub use crate::tour::{Tour, TourPlayer};

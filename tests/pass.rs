@@ -977,9 +977,49 @@ fn the_pass_draws_exact_cells_and_walls_far_from_the_origin_copy() {
     assert!(close >= 0.99, "{close}");
 }
 
+/// A camera with `ManifoldFootprint` traces cones (the `FOOTPRINT`
+/// pipeline): what it shows is the CPU f64 cone trace, and it is nearer
+/// the 16-spp reference than the plain pass in a hyperbolic space, moving
+/// or not (one frame, no accumulation).
+fn a_cone_traced_view_is_the_cpu_cone_trace_and_nearer_supersampling() {
+    for (space, bound, gain) in [(catalog::torus(1.0), 0.98, 2.0), (catalog::seifert_weber(), 0.97, 5.0)] {
+        let name = space.name().to_string();
+        let mut app = headless_app(true);
+        let image = target(&mut app, W, H);
+        let (root, camera) = spawn_view(&mut app, &space, &image, false, false);
+        wait_for_pipelines(&mut app);
+        let plain_shown = capture(&mut app, &image);
+        app.world_mut().entity_mut(camera).insert(ManifoldFootprint);
+        wait_for_pipelines(&mut app);
+        let shown = capture(&mut app, &image);
+        let scene = gathered_scene(&app, &space, root, false);
+        let settings = TraceSettings {
+            width: W,
+            height: H,
+            levels: 8,
+            footprint: true,
+            ..TraceSettings::default()
+        };
+        let cone = colors(&render::<f64>(&space, &scene, &settings));
+        let close = close_to(&shown, &cone, 2);
+        let reference = supersampled(&space, &scene, 8);
+        let (p_cone, p_plain) = (psnr(&shown, &reference), psnr(&plain_shown, &reference));
+        eprintln!(
+            "{name}: pass vs CPU cone trace within 2/255: {:.2}%; PSNR against 16 spp: plain {p_plain:.2} dB, cone {p_cone:.2} dB",
+            close * 100.0
+        );
+        assert!(close >= bound, "{name}: {close}");
+        assert!(
+            p_cone > p_plain + gain,
+            "{name}: cone {p_cone:.2} dB, plain {p_plain:.2} dB"
+        );
+    }
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [],
     gpu: [
+        a_cone_traced_view_is_the_cpu_cone_trace_and_nearer_supersampling,
         the_pass_draws_exact_cells_and_walls_far_from_the_origin_copy,
         the_pass_draws_what_the_tracer_computes_in_every_space,
         uploads_happen_only_when_something_changed,

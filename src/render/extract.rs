@@ -6,6 +6,7 @@
 
 use super::accumulate::ManifoldAccumulation;
 use super::camera::ManifoldCamera;
+use super::footprint::ManifoldFootprint;
 use super::prepare::ManifoldViewBinding;
 use super::scale::ManifoldRenderScale;
 use crate::drawables::ManifoldScene;
@@ -63,6 +64,7 @@ type CameraData<'a> = (
     Option<&'a CellShading>,
     Option<&'a ManifoldRenderScale>,
     Option<&'a ManifoldAccumulation>,
+    Has<ManifoldFootprint>,
 );
 
 /// Copies every active [`ManifoldCamera`]'s view to its render entity, and
@@ -77,7 +79,9 @@ pub fn extract_manifold_views(
     mut warned: Local<HashSet<Entity>>,
 ) {
     let mut now = HashSet::new();
-    for (entity, render_entity, camera, mc, placement, cell, in_space, fog, shading, scale, accumulation) in &cameras {
+    for (entity, render_entity, camera, mc, placement, cell, in_space, fog, shading, scale, accumulation, footprint) in
+        &cameras
+    {
         if !camera.is_active {
             continue;
         }
@@ -96,7 +100,8 @@ pub fn extract_manifold_views(
         let levels = mc.levels.min(crate::trace::MAX_LEVELS);
         let mut defs = TraceDefs::for_scene(space.space(), scene.scene(), tint.is_some())
             .for_levels(space.space(), levels)
-            .for_rule(space.rule());
+            .for_rule(space.rule())
+            .for_footprint(footprint);
         defs.fog = fog.is_some();
         commands.entity(render_entity.id()).insert(ExtractedManifoldView {
             root,

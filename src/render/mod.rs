@@ -24,6 +24,7 @@
 pub mod accumulate;
 pub mod camera;
 pub mod extract;
+mod footprint;
 pub mod node;
 #[cfg(feature = "offscreen")]
 pub mod offscreen;
@@ -34,6 +35,7 @@ pub mod upscale;
 
 pub use accumulate::ManifoldAccumulation;
 pub use camera::ManifoldCamera;
+pub use footprint::ManifoldFootprint;
 pub use prepare::{ManifoldBufferCache, ManifoldUploads};
 pub use scale::{AdaptiveRenderScale, MIN_RENDER_SCALE, ManifoldRenderScale};
 
@@ -57,6 +59,7 @@ impl Plugin for ManifoldRenderPlugin {
             .register_type::<ManifoldRenderScale>()
             .register_type::<AdaptiveRenderScale>()
             .register_type::<ManifoldAccumulation>()
+            .register_type::<ManifoldFootprint>()
             .add_systems(PostUpdate, scale::adapt_render_scale);
         let Some(render_app) = app.get_sub_app_mut(RenderApp) else {
             return;

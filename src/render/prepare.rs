@@ -14,7 +14,7 @@ use super::upscale::{HISTORY_FORMAT, TracedTextures, UpscaleKey, UpscalePipeline
 use crate::space::Space;
 use crate::space::ball::OUTSIDE;
 use crate::space::element::CellElement;
-use crate::trace::FlatScene;
+use crate::trace::{FlatScene, Projection, pixel_half_angle};
 use bevy::camera::CompositingSpace;
 use bevy::platform::collections::{HashMap, HashSet};
 use bevy::prelude::*;
@@ -469,6 +469,13 @@ fn gpu_view(view: &ExtractedManifoldView, extracted: &ExtractedView, traced: Opt
         cell_tint: view.cell_tint,
         cell_rule: view.space.rule().words(),
         projection: bevy_manifold_core::trace::Projection::Perspective.words(),
+        // The cones are as wide as the traced pixels.
+        footprint: if view.defs.footprint {
+            let half_height = frustum.map_or(1.0 / p.y_axis.y, |f| f[1]);
+            pixel_half_angle(Projection::Perspective, f64::from(half_height), size[1]) as f32
+        } else {
+            0.0
+        },
     }
 }
 

@@ -83,11 +83,18 @@ struct Params {
     // interior_balls walks it.
     ball_tree: u32,
     ball_tree_nodes: u32,
-    pad: array<u32, 3>,
+    // FOOTPRINT: FaceTables::chart_stretch, what the ball tree's boxes are
+    // padded by per unit of growth.
+    chart_stretch: f32,
+    pad: array<u32, 2>,
     // An off-centre frustum (Frustum::half_extent_and_centre): half width,
     // half height, centre x, centre y, in slopes; all zero for the
     // symmetric one of tan_half_fov and the image's aspect.
     frustum: vec4<f32>,
+    // FOOTPRINT (cone tracing, footprint.wgsl): the pixel's half-angle
+    // (pixel_half_angle), FlatScene::near_distance, FaceTables::near_scale
+    // and FlatScene::cell_shadow.
+    cone: vec4<f32>,
     // FlatScene::groups: groups[f] is where face f's group starts in the
     // balls, tubes and instances (x, y, z); the entry after the last face
     // (at most 32) holds their counts. Objects before groups[0] carry no

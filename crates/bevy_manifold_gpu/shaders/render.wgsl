@@ -2,11 +2,12 @@
 // on each segment of its walk, and the shading at the hit.
 //
 // Rust twin: crates/bevy_manifold_core/src/trace/render.rs (camera_ray,
-// trace_ray as trace_pixel, Hit, nearest_object, shade).
+// trace_ray as trace_pixel, Hit, nearest_object with each_candidate's
+// walk, segment_layers, cone_layer, shade).
 //
 // Shader defs read: FOG (early stop, fog colour), BALLS, TUBES, MESHES
 // (which objects are tested and shaded), CELL_COLORS, LIGHTS, CELL_RULES
-// (hidden cells, walls);
+// (hidden cells, walls), FOOTPRINT (cone tracing: footprint.wgsl);
 // GEOMETRY_*, TRANSLATIONS_ONLY, CELLS_* through the imports.
 #define_import_path bevy_manifold::render
 
@@ -33,6 +34,10 @@
 #import bevy_manifold::bindings::instances
 #import bevy_manifold::bvh::MeshHit
 #import bevy_manifold::mesh_hit::{hit_instance, mesh_normal, mesh_albedo}
+#endif
+#ifdef FOOTPRINT
+#import bevy_manifold::step::on_edge
+#import bevy_manifold::footprint::{Approach, Inflation, Layers, inflation_new, grow_k, grown_reach, radius_of, ball_approach, tube_approach, within, coverage, side_by_side, shading_offset, normal_at_offset, spread, add_layer, layers_full, layers_over, BALL_GROWTH, SEGMENT_LAYERS}
 #endif
 
 // The view-space slopes of the direction through NDC (x, y): the
@@ -112,10 +117,54 @@ fn background() -> vec3<f32> {
 #endif
 }
 
+#ifdef FOOTPRINT
+// The cone's layers so far (Rust: trace_ray's `layers`), and the first
+// covering half the pixel or more (`front`), which names its object.
+var<private> cone_layers: Layers;
+var<private> cone_front: Pixel;
+var<private> cone_has_front: bool;
+#endif
+
+// The pixel that ends the walk, `behind` seen through the cone's layers
+// (Rust: trace_ray's `finish`); `behind` itself for a ray.
+fn finish(behind: Pixel) -> Pixel {
+#ifdef FOOTPRINT
+    var p = behind;
+    if cone_has_front {
+        p = cone_front;
+    }
+    p.color = vec4<f32>(layers_over(cone_layers, behind.color.xyz), p.color.w);
+    return p;
+#else
+    return behind;
+#endif
+}
+
+// The object id of a hit (Rust: Hit::id).
+fn object_id(hit: Hit) -> u32 {
+    var object = EDGE_ID;
+#ifdef BALLS
+    if hit.kind == 1u {
+        object = balls[hit.index].id;
+    }
+#endif
+#ifdef MESHES
+    if hit.kind == 3u {
+        object = instances[hit.index].id;
+    }
+#endif
+    return object;
+}
+
 // Algorithm 1 for the pixel (i, j) of the view (Rust: trace_ray): on each
-// segment the nearest object, else walk on through the exit face.
+// segment the nearest object, else walk on through the exit face. Under
+// FOOTPRINT each segment's layers, front to back.
 fn trace_pixel(i: u32, j: u32) -> Pixel {
     var walk = walker_new(view_ray(i, j), params.camera_cell, params.camera_cell_index);
+#ifdef FOOTPRINT
+    cone_layers = Layers(vec3<f32>(0.0), 1.0, 0u);
+    cone_has_front = false;
+#endif
     let passes = max_passes();
     for (var pass_index = 0u; pass_index < passes; pass_index++) {
 #ifdef FOG
@@ -125,41 +174,66 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
         }
 #endif
         let seg = segment_end(walk);
-        var hit = nearest_object(walk.ray, seg.t, walk.cell[3], near_faces(walk.ray, seg.t));
+        var shown = true;
 #ifdef CELL_RULES
         // Objects in an off cell are not there (Rust: CellRule::visible).
-        if !cell_visible(cell_id(walk.cell, walk.index)) {
-            hit.kind = 0u;
-        }
+        shown = cell_visible(cell_id(walk.cell, walk.index));
 #endif
+#ifdef FOOTPRINT
+        // Objects grow by the segment's widest footprint, at its end.
+        let w = params.cone.x * spread(walk.travelled + chart_to_distance(seg.t));
+        cone_grow = inflation_new(w);
+        cone_travelled = walk.travelled;
+        met_count = 0u;
+        if shown {
+            let near = near_faces(walk.ray, seg.t, params.cone.z * grown_reach(params.cone.y, w * BALL_GROWTH));
+            nearest_object(walk.ray, seg.t, walk.cell[3], near);
+        }
+        for (var k = 0u; k < met_count; k++) {
+            let layer = cone_layer(walk.ray, met[k], seg.t);
+            var hit = met[k].hit;
+            hit.t = layer.t;
+            let dist = walk.travelled + chart_to_distance(layer.t);
+            let cid = cell_id(walk.cell, walk.index);
+            let color = shade(walk.ray, hit, layer.normal, dist, cid);
+            let here = Pixel(vec4<f32>(color, dist), object_id(hit), walk.levels, cid.x, cid.y);
+            if layer.part >= 0.5 && !cone_has_front {
+                cone_front = here;
+                cone_has_front = true;
+            }
+            if add_layer(&cone_layers, color, layer.part) {
+                return finish(here);
+            }
+            if layers_full(cone_layers) {
+                return finish(Pixel(vec4<f32>(background(), walk.travelled), 0u, walk.levels, cid.x, cid.y));
+            }
+        }
+#else
+        var hit = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
+        if shown {
+            hit = nearest_object(walk.ray, seg.t, walk.cell[3], near_faces(walk.ray, seg.t, params.near_reach));
+        }
         if hit.kind != 0u {
             let dist = walk.travelled + chart_to_distance(hit.t);
             let cid = cell_id(walk.cell, walk.index);
-            var object = EDGE_ID;
-#ifdef BALLS
-            if hit.kind == 1u {
-                object = balls[hit.index].id;
-            }
-#endif
-#ifdef MESHES
-            if hit.kind == 3u {
-                object = instances[hit.index].id;
-            }
-#endif
-            return Pixel(vec4<f32>(shade(walk.ray, hit, dist, cid), dist), object, walk.levels, cid.x, cid.y);
+            return Pixel(vec4<f32>(shade(walk.ray, hit, vec4<f32>(0.0), dist, cid), dist), object_id(hit), walk.levels, cid.x, cid.y);
         }
+#endif
         let segment_start = walk.ray;
         let step = walk_segment(&walk, seg);
 #ifdef CELL_RULES
         if step.wall == 1u {
             let cid = cell_id(walk.cell, walk.index);
             let color = shade_wall(faces[seg.face].plane, segment_start, walk.travelled);
-            return Pixel(vec4<f32>(color, walk.travelled), WALL_OBJECT, walk.levels, cid.x, cid.y);
+#ifdef FOOTPRINT
+            add_layer(&cone_layers, color, 1.0);
+#endif
+            return finish(Pixel(vec4<f32>(color, walk.travelled), WALL_OBJECT, walk.levels, cid.x, cid.y));
         }
         if step.wall == 2u {
             // Beyond the table the rules are unknown: CellTint::UNKNOWN's
             // grey, in fog, and the cell CellId::BEYOND_TABLE.
-            return Pixel(vec4<f32>(unknown_rules(walk.travelled), walk.travelled), 0u, walk.levels, 0u, 0x40000000u);
+            return finish(Pixel(vec4<f32>(unknown_rules(walk.travelled), walk.travelled), 0u, walk.levels, 0u, 0x40000000u));
         }
 #endif
         if step.stop {
@@ -167,7 +241,7 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
         }
     }
     let cid = cell_id(walk.cell, walk.index);
-    return Pixel(vec4<f32>(background(), walk.travelled), 0u, walk.levels, cid.x, cid.y);
+    return finish(Pixel(vec4<f32>(background(), walk.travelled), 0u, walk.levels, cid.x, cid.y));
 }
 
 // Which object a ray hit (Rust: the enum Hit).
@@ -206,38 +280,111 @@ fn same_cell_point(a: vec4<f32>, b: vec4<f32>) -> bool {
     return dot(d, d) <= 1.0e-6 * size;
 }
 
-#ifdef BALLS
-// `best`, or ball i if it is hit on [0, t_end] nearer (ties to the lower
-// index, as in the array's order). Rust: try_ball in nearest_object.
-fn nearer_ball(ray: Ray, t_end: f32, near: u32, best: Hit, i: u32) -> Hit {
-    if !may_hit(balls[i].face_mask, near) {
-        return best;
-    }
-    let t = hit_ball(ray, balls[i].center, balls[i].k, 0.0);
-    if t >= 0.0 && t <= t_end && (best.kind == 0u || t < best.t || (t == best.t && i < best.index)) {
-        return Hit(t, 1u, i, 0u, 0.0, 0.0);
-    }
-    return best;
+// What the walk over a segment's objects keeps (Rust: the closures
+// nearest_object and segment_layers hand each_candidate): a ray's
+// nearest hit, or under FOOTPRINT the cone's nearest layers.
+var<private> best: Hit;
+
+#ifdef FOOTPRINT
+// A layer met on a segment (Rust: Met, with Cover): the hit (at the
+// ray's nearest approach for a ball or tube), where the ray passes
+// nearest it, the footprint there, the object's radius and the part of
+// the pixel it covers.
+struct Met {
+    hit: Hit,
+    near: Approach,
+    w: f32,
+    r: f32,
+    part: f32,
 }
 
-// The nearest of the balls with no face mask (0..params.groups[0].x): only
-// those in the leaves of the ball tree (params.ball_tree in mesh_data)
-// whose boxes the segment's chart image, from a = o/o_w to e/e_w, meets;
-// every one when culling is off or an end is at the chart's horizon.
-// Rust twin: chart_segment and tree_leaves in
-// crates/bevy_manifold_core/src/trace/cull.rs, as nearest_object calls them.
-fn interior_balls(ray: Ray, t_end: f32, near: u32) -> Hit {
-    var best = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
+// The segment's layers, nearest first (Rust: Nearest), the growth and
+// the distance travelled at its start.
+var<private> met: array<Met, SEGMENT_LAYERS>;
+var<private> met_count: u32;
+var<private> cone_grow: Inflation;
+var<private> cone_travelled: f32;
+
+// The farthest still wanted (Rust: Nearest::limit).
+fn met_limit(t_end: f32) -> f32 {
+    if met_count == SEGMENT_LAYERS {
+        return met[SEGMENT_LAYERS - 1u].hit.t;
+    }
+    return t_end;
+}
+
+// Keeps m in order, dropping the farthest when full (Rust: Nearest::keep).
+fn keep_met(m: Met) {
+    var at = min(met_count, SEGMENT_LAYERS - 1u);
+    met[at] = m;
+    for (var guard = 0u; guard < SEGMENT_LAYERS && at > 0u && met[at - 1u].hit.t > m.hit.t; guard++) {
+        met[at] = met[at - 1u];
+        met[at - 1u] = m;
+        at -= 1u;
+    }
+    met_count = min(met_count + 1u, SEGMENT_LAYERS);
+}
+
+// A ball or tube the grown test lets through: the layer it makes, with
+// part 0 when it covers none of the pixel (Rust: segment_layers' cover).
+fn cover(hit: Hit, near: Approach, end: f32, grown: f32, k: f32, ball: bool, length: f32) -> Met {
+    var m = Met(hit, near, 0.0, 0.0, 0.0);
+    if !(near.t >= 0.0 && near.t <= end && within(near, grown)) {
+        return m;
+    }
+    m.w = params.cone.x * spread(cone_travelled + chart_to_distance(near.t));
+    m.r = radius_of(k);
+    m.part = min(coverage(ball, near.gap, m.r, length, m.w) * side_by_side(m.w, params.cone.w), 1.0);
+    return m;
+}
+#endif
+
+#ifdef BALLS
+// Ball i against what the walk keeps: for a ray, `best` if ball i is not
+// hit on [0, t_end] nearer (ties to the lower index, as in the array's
+// order); under FOOTPRINT, its layer if it makes one. Rust: the ball arm
+// of nearest_object's and segment_layers' closures.
+fn consider_ball(ray: Ray, t_end: f32, near: u32, i: u32) {
+    if !may_hit(balls[i].face_mask, near) {
+        return;
+    }
+#ifdef FOOTPRINT
+    let m = cover(Hit(0.0, 1u, i, 0u, 0.0, 0.0), ball_approach(ray, balls[i].center), met_limit(t_end), grow_k(balls[i].k, cone_grow.ball), balls[i].k, true, 0.0);
+    if m.part > 0.0 {
+        var kept = m;
+        kept.hit.t = m.near.t;
+        keep_met(kept);
+    }
+#else
+    let t = hit_ball(ray, balls[i].center, balls[i].k, 0.0);
+    if t >= 0.0 && t <= t_end && (best.kind == 0u || t < best.t || (t == best.t && i < best.index)) {
+        best = Hit(t, 1u, i, 0u, 0.0, 0.0);
+    }
+#endif
+}
+
+// The balls with no face mask (0..params.groups[0].x): only those in the
+// leaves of the ball tree (params.ball_tree in mesh_data) whose boxes,
+// padded by the balls' growth under FOOTPRINT, the segment's chart image,
+// from a = o/o_w to e/e_w, meets; every one when culling is off or an
+// end is at the chart's horizon. Rust twin: chart_segment and
+// tree_leaves in crates/bevy_manifold_core/src/trace/cull.rs, as
+// each_candidate calls them.
+fn interior_balls(ray: Ray, t_end: f32, near: u32) {
     let o = ray.origin;
     let e = ray.origin + ray.dir * t_end;
     let a = o.xyz / o.w;
     let d = e.xyz / e.w - a;
     let finite = all(abs(a) < vec3<f32>(3.0e38)) && all(abs(d) < vec3<f32>(3.0e38));
-    if (params.flags & FLAG_NO_CULL) != 0u || params.ball_tree_nodes == 0u || !(t_end < 3.0e38) || !(o.w > 0.0) || !(e.w > 0.0) || !finite {
+    var pad = 0.0;
+#ifdef FOOTPRINT
+    pad = cone_grow.w * BALL_GROWTH * params.chart_stretch;
+#endif
+    if (params.flags & FLAG_NO_CULL) != 0u || params.ball_tree_nodes == 0u || !(t_end < 3.0e38) || !(o.w > 0.0) || !(e.w > 0.0) || !finite || !(pad < 3.0e38) {
         for (var i = 0u; i < params.groups[0].x; i++) {
-            best = nearer_ball(ray, t_end, near, best, i);
+            consider_ball(ray, t_end, near, i);
         }
-        return best;
+        return;
     }
     let inv_d = safe_inverse(d);
     var stack: array<u32, BVH_STACK>;
@@ -249,12 +396,12 @@ fn interior_balls(ray: Ray, t_end: f32, near: u32) -> Hit {
         let index = stack[top];
         let w0 = mesh_data[params.ball_tree + 2u * index];
         let w1 = mesh_data[params.ball_tree + 2u * index + 1u];
-        if hit_box(a, inv_d, bitcast<vec3<f32>>(w0.xyz), bitcast<vec3<f32>>(w1.xyz), 1.0) < 0.0 {
+        if hit_box(a, inv_d, bitcast<vec3<f32>>(w0.xyz) - pad, bitcast<vec3<f32>>(w1.xyz) + pad, 1.0) < 0.0 {
             continue;
         }
         if w1.w > 0u {
             for (var i = w0.w; i < w0.w + w1.w; i++) {
-                best = nearer_ball(ray, t_end, near, best, i);
+                consider_ball(ray, t_end, near, i);
             }
         } else if top + 2u <= BVH_STACK {
             // The right child under the left, so the left is walked first.
@@ -263,25 +410,75 @@ fn interior_balls(ray: Ray, t_end: f32, near: u32) -> Hit {
             top += 2u;
         }
     }
-    return best;
 }
 #endif
 
-// The nearest object on the ray within [0, t_end], seen from the cell whose
-// element takes the origin to `cell_point` (the copy of a camera-attached
-// mesh that is the camera's own body from there is skipped). Objects whose
-// faces the segment does not come near (`near`, from near_faces) are not
-// tested, nor balls with no face mask in the leaves of the ball tree the
-// segment does not meet (interior_balls).
+#ifdef TUBES
+// Tube i against what the walk keeps (Rust: the tube arms).
+fn consider_tube(ray: Ray, t_end: f32, near: u32, i: u32) {
+    if !may_hit(tubes[i].face_mask, near) {
+        return;
+    }
+#ifdef FOOTPRINT
+    let a = tube_approach(ray, tubes[i].a, tubes[i].e);
+    if on_edge(ray.origin + ray.dir * a.t, tubes[i]) {
+        let length = distance(tubes[i].a, tubes[i].b);
+        let m = cover(Hit(a.t, 2u, i, 0u, 0.0, 0.0), a, met_limit(t_end), grow_k(params.tube_k, cone_grow.tube), params.tube_k, false, length);
+        if m.part > 0.0 {
+            keep_met(m);
+        }
+    }
+#else
+    let t = hit_tube(ray, tubes[i], params.tube_k, 0.0);
+    if t >= 0.0 && t <= t_end && (best.kind == 0u || t < best.t) {
+        best = Hit(t, 2u, i, 0u, 0.0, 0.0);
+    }
+#endif
+}
+#endif
+
+#ifdef MESHES
+// Mesh instance i against what the walk keeps, hit whole (Rust: the
+// instance arms).
+fn consider_instance(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32, i: u32) {
+    if !may_hit(instances[i].face_mask, near) || (instances[i].attached != 0u && same_cell_point(instances[i].home, cell_point)) {
+        return;
+    }
+#ifdef FOOTPRINT
+    let limit = met_limit(t_end);
+#else
+    let limit = select(t_end, best.t, best.kind != 0u);
+#endif
+    let h = hit_instance(ray, instances[i], limit);
+    if h.t >= 0.0 && h.t <= limit {
+        let hit = Hit(h.t, 3u, i, h.hit.triangle, h.hit.u, h.hit.v);
+#ifdef FOOTPRINT
+        keep_met(Met(hit, Approach(0.0, 0.0, h.t), 0.0, 0.0, 1.0));
+#else
+        best = hit;
+#endif
+    }
+}
+#endif
+
+// The objects a segment may meet, each handed to consider_*: the nearest
+// hit on the ray within [0, t_end] (returned), or under FOOTPRINT the
+// segment's layers (in met), seen from the cell whose element takes the
+// origin to `cell_point` (the copy of a camera-attached mesh that is the
+// camera's own body from there is skipped). Objects whose faces the
+// segment does not come near (`near`, from near_faces) are not tested,
+// nor balls with no face mask in the leaves of the ball tree the segment
+// does not meet (interior_balls). Rust: each_candidate, and
+// nearest_object or segment_layers.
 fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit {
-    var best = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
+    best = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
     // The groups walked (Rust: FaceGroups::ranges): the unmasked objects,
     // then the group of each near face, in order. Each kind's loop runs
     // over the ranges next_group hands out; `rest_*` holds the near faces
     // not yet walked.
     let groups = near_groups(near);
 #ifdef BALLS
-    best = interior_balls(ray, t_end, near);
+    interior_balls(ray, t_end, near);
     var rest_balls = groups;
     loop {
         if rest_balls == 0u {
@@ -289,7 +486,7 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
         }
         let balls_range = next_group(&rest_balls, 0u);
         for (var i = balls_range.x; i < balls_range.y; i++) {
-            best = nearer_ball(ray, t_end, near, best, i);
+            consider_ball(ray, t_end, near, i);
         }
     }
 #endif
@@ -298,13 +495,7 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
     var tubes_range = vec2<u32>(0u, params.groups[0].y);
     loop {
         for (var i = tubes_range.x; i < tubes_range.y; i++) {
-            if !may_hit(tubes[i].face_mask, near) {
-                continue;
-            }
-            let t = hit_tube(ray, tubes[i], params.tube_k, 0.0);
-            if t >= 0.0 && t <= t_end && (best.kind == 0u || t < best.t) {
-                best = Hit(t, 2u, i, 0u, 0.0, 0.0);
-            }
+            consider_tube(ray, t_end, near, i);
         }
         if rest_tubes == 0u {
             break;
@@ -317,14 +508,7 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
     var meshes_range = vec2<u32>(0u, params.groups[0].z);
     loop {
         for (var i = meshes_range.x; i < meshes_range.y; i++) {
-            if !may_hit(instances[i].face_mask, near) || (instances[i].attached != 0u && same_cell_point(instances[i].home, cell_point)) {
-                continue;
-            }
-            let limit = select(t_end, best.t, best.kind != 0u);
-            let h = hit_instance(ray, instances[i], limit);
-            if h.t >= 0.0 && h.t <= limit {
-                best = Hit(h.t, 3u, i, h.hit.triangle, h.hit.u, h.hit.v);
-            }
+            consider_instance(ray, t_end, cell_point, near, i);
         }
         if rest_meshes == 0u {
             break;
@@ -334,6 +518,47 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
 #endif
     return best;
 }
+
+#ifdef FOOTPRINT
+// Where a layer is shaded (Rust: ConeLayer): the part of the pixel, the
+// chart parameter, and the normal there (zero: the object's own).
+struct ConeLayer {
+    part: f32,
+    t: f32,
+    normal: vec4<f32>,
+}
+
+// Rust twin: cone_layer. At the ray's own hit when shading_offset puts
+// the shading there, else where the ray passes nearest, with the normal
+// of that offset.
+fn cone_layer(ray: Ray, m: Met, t_end: f32) -> ConeLayer {
+    if m.hit.kind == 3u {
+        return ConeLayer(1.0, m.hit.t, vec4<f32>(0.0));
+    }
+    let ball = m.hit.kind == 1u;
+    var own = -1.0;
+    var n0 = vec4<f32>(0.0);
+    let x = normalize_point(ray.origin + ray.dir * m.near.t);
+    let view = -normalize_tangent(x, ray.dir);
+#ifdef BALLS
+    if ball {
+        own = hit_ball(ray, balls[m.hit.index].center, balls[m.hit.index].k, 0.0);
+        n0 = normal_from(x, balls[m.hit.index].center);
+    }
+#endif
+#ifdef TUBES
+    if m.hit.kind == 2u {
+        own = hit_tube(ray, tubes[m.hit.index], params.tube_k, 0.0);
+        n0 = normal_from(x, foot_on_line(x, tubes[m.hit.index]));
+    }
+#endif
+    let s = shading_offset(ball, m.near.gap, m.r, m.w);
+    if own >= 0.0 && own <= t_end && m.near.gap <= s * m.r {
+        return ConeLayer(m.part, own, vec4<f32>(0.0));
+    }
+    return ConeLayer(m.part, m.near.t, normal_at_offset(n0, view, s));
+}
+#endif
 
 // The unit tangent at x towards the light at l; the normal when the light
 // is on x (or, in S3, at its antipode), where the direction is 0 / 0.
@@ -349,7 +574,10 @@ fn toward_light(x: vec4<f32>, l: vec4<f32>, normal: vec4<f32>) -> vec4<f32> {
 
 // Lambert + Blinn shading at the hit, lights with geometry-correct
 // fall-off (1 / area of the sphere of radius d), per-cell colour, fog.
-fn shade(ray: Ray, hit: Hit, dist: f32, cell: vec2<u32>) -> vec3<f32> {
+// The hit's chart parameter is where it is shaded; `normal_at`, when not
+// zero, the normal there in place of the object's own (a cone's layer,
+// Rust: shade's `normal_at`).
+fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>) -> vec3<f32> {
     let x = normalize_point(ray.origin + ray.dir * hit.t);
     let view = -normalize_tangent(x, ray.dir);
     var normal = vec4<f32>(0.0);
@@ -377,6 +605,9 @@ fn shade(ray: Ray, hit: Hit, dist: f32, cell: vec2<u32>) -> vec3<f32> {
         albedo = mesh_albedo(inst, h);
     }
 #endif
+    if any(normal_at != vec4<f32>(0.0)) {
+        normal = normal_at;
+    }
 #ifdef CELL_COLORS
     albedo *= cell_color(cell);
 #endif

@@ -65,13 +65,14 @@ const ALL_FACES: u32 = 0xffffffffu;
 
 // The faces the segment o + t d, 0 <= t <= t_end, comes near (the ray
 // exit_face was last given): bit i set when some point of it may be
-// within params.near_reach of face i's plane (|n . p| / p_w is monotone along the segment, so its
-// ends decide, or a change of sign). Faces from 32 on are always near; a
-// segment with no finite end is near all. FLAG_NO_CULL: all near. Rust
-// twin: near_faces in crates/bevy_manifold_core/src/trace/step.rs (takes
-// the planes, scales and reach; here they are in faces and params).
-fn near_faces(ray: Ray, t_end: f32) -> u32 {
-    let within = params.near_reach;
+// within `within` of face i's plane (params.near_reach, near_scale times
+// s(r); grown objects reach further): |n . p| / p_w is monotone along the
+// segment, so its ends decide, or a change of sign. Faces from 32 on are
+// always near; a segment with no finite end is near all. FLAG_NO_CULL:
+// all near. Rust twin: near_faces in
+// crates/bevy_manifold_core/src/trace/step.rs (takes the planes and the
+// scale apart; here the planes are exit_face's).
+fn near_faces(ray: Ray, t_end: f32, within: f32) -> u32 {
     if (params.flags & FLAG_NO_CULL) != 0u || !(t_end < 3.0e38) || !(within < 3.0e38) {
         return ALL_FACES;
     }
@@ -229,7 +230,11 @@ fn hit_tube(ray: Ray, seg: Tube, k: f32, t_min: f32) -> f32 {
     if t < 0.0 {
         return -1.0;
     }
-    let p = o + d * t;
+    return select(-1.0, t, on_edge(o + d * t, seg));
+}
+
+// True when p lies between the tube's end planes. Rust twin: on_edge.
+fn on_edge(p: vec4<f32>, seg: Tube) -> bool {
 #ifdef GEOMETRY_EUCLIDEAN
     let along_a = form(p - seg.a, seg.e);
     let along_b = form(p - seg.b, seg.e_b);
@@ -237,7 +242,7 @@ fn hit_tube(ray: Ray, seg: Tube, k: f32, t_min: f32) -> f32 {
     let along_a = form(p, seg.e);
     let along_b = form(p, seg.e_b);
 #endif
-    return select(-1.0, t, along_a >= 0.0 && along_b <= 0.0);
+    return along_a >= 0.0 && along_b <= 0.0;
 }
 
 fn foot_on_line(x: vec4<f32>, seg: Tube) -> vec4<f32> {

@@ -7,7 +7,7 @@ use bevy_manifold_core::space::Space;
 use bevy_manifold_core::space::ball::OUTSIDE;
 use bevy_manifold_core::space::cells::{CellId, CellScheme};
 use bevy_manifold_core::space::element::CellElement;
-use bevy_manifold_core::trace::{FlatScene, TraceSettings};
+use bevy_manifold_core::trace::{FlatScene, TraceSettings, pixel_half_angle_of};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec4};
 
@@ -90,12 +90,18 @@ pub struct GpuParams {
     pub ball_tree: u32,
     /// ... and how many there are.
     pub ball_tree_nodes: u32,
+    /// Cone tracing: `FaceTables::chart_stretch`.
+    pub chart_stretch: f32,
     /// Padding to 16 bytes.
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
     /// An off-centre frustum, `[half width, half height, centre x, centre
     /// y]` in slopes ([`bevy_manifold_core::trace::Frustum`]); all zero
     /// for the symmetric frustum of `tan_half_fov` and the image's aspect.
     pub frustum: [f32; 4],
+    /// Cone tracing (`FOOTPRINT`): the pixels' half-angle
+    /// ([`GpuView::footprint`]), `FlatScene::near_distance`,
+    /// `FaceTables::near_scale`, `FlatScene::cell_shadow`.
+    pub cone: [f32; 4],
     /// [`GpuObjects::groups`].
     pub groups: [[u32; 4]; 33],
 }
@@ -263,6 +269,9 @@ pub struct GpuObjects {
     pub tube_k: f32,
     /// `FlatScene::near_reach`.
     pub near_reach: f32,
+    /// `FlatScene::near_distance`, `FlatScene::cell_shadow` and
+    /// `FaceTables::chart_stretch`: what cone tracing grows objects with.
+    pub cone: [f32; 3],
     /// `FlatScene::groups`: entry `f` holds where face `f`'s group starts
     /// in the balls, tubes and instances (x, y, z); the entry after the
     /// last face (at most 32) holds their counts, as do the ones after it.
@@ -300,6 +309,10 @@ pub struct GpuView {
     pub cell_rule: [u32; 4],
     /// [`bevy_manifold_core::trace::Projection::words`].
     pub projection: (u32, f32),
+    /// Cone tracing: the half-angle of a pixel's cone
+    /// (`bevy_manifold_core::trace::pixel_half_angle`), read under the
+    /// `FOOTPRINT` def; 0 for rays.
+    pub footprint: f32,
 }
 
 /// [`GpuParams::flags`]: fog does not stop rays early
@@ -528,6 +541,7 @@ impl GpuObjects {
             ],
             tube_k: prep.tube_k,
             near_reach: prep.near_reach,
+            cone: [prep.near_distance, prep.cell_shadow, prep.faces.chart_stretch],
             groups: pack_groups(prep),
         }
     }
@@ -663,8 +677,10 @@ impl GpuParams {
             near_reach: packed.near_scale * objects.near_reach,
             ball_tree: objects.ball_tree[0],
             ball_tree_nodes: objects.ball_tree[1],
-            pad: [0; 3],
+            chart_stretch: objects.cone[2],
+            pad: [0; 2],
             frustum: view.frustum.unwrap_or([0.0; 4]),
+            cone: [view.footprint, objects.cone[0], packed.near_scale, objects.cone[1]],
             groups: objects.groups,
         }
     }
@@ -696,6 +712,11 @@ impl GpuScene {
             cell_tint: settings.cell_tint.words(),
             cell_rule: settings.cell_rule.words(),
             projection: settings.projection.words(),
+            footprint: if settings.footprint {
+                pixel_half_angle_of(prep, settings) as f32
+            } else {
+                0.0
+            },
         };
         GpuScene {
             params: GpuParams::new(space, &packed, &objects, &view),

@@ -74,13 +74,15 @@ macro_rules! wgsl {
 /// order naga_oil's composer needs; Bevy resolves them by their
 /// `#define_import_path`, `bevy_manifold::<name>`). Each is the WGSL twin
 /// of a Rust file: `bindings` of [`layout`], `geometry`, `step`, `cells`,
-/// `rules` (of the core's `space/rule.rs`), `bvh`, `mesh_hit`, `walk`, `render`, `drift` and `output` of the core's files of
-/// the same names.
-pub const SHADER_IMPORTS: [WgslModule; 11] = [
+/// `rules` (of the core's `space/rule.rs`), `bvh`, `mesh_hit`, `walk`,
+/// `render`, `drift`, `output` and `footprint` of the core's files of the
+/// same names.
+pub const SHADER_IMPORTS: [WgslModule; 12] = [
     wgsl!("output"),
     wgsl!("bindings"),
     wgsl!("geometry"),
     wgsl!("step"),
+    wgsl!("footprint"),
     wgsl!("cells"),
     wgsl!("rules"),
     wgsl!("bvh"),

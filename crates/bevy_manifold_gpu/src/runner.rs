@@ -346,7 +346,8 @@ impl GpuTracer {
     pub fn render(&mut self, space: &Space, scene: &Scene, settings: &TraceSettings) -> Result<TraceImage, GpuError> {
         let defs = TraceDefs::for_scene(space, scene, settings.cell_colors)
             .for_levels(space, settings.levels)
-            .for_rule(&settings.cell_rule);
+            .for_rule(&settings.cell_rule)
+            .for_footprint(settings.footprint);
         self.render_with(space, scene, settings, defs)
     }
 
@@ -473,7 +474,8 @@ impl GpuTracer {
     ) -> Result<Vec<u8>, GpuError> {
         let defs = TraceDefs::for_scene(space, scene, settings.cell_colors)
             .for_levels(space, settings.levels)
-            .for_rule(&settings.cell_rule);
+            .for_rule(&settings.cell_rule)
+            .for_footprint(settings.footprint);
         let prep = FlatScene::<f32>::new(space, scene);
         let gpu = GpuScene::pack(space, &prep, settings);
         self.fragment_pipeline(defs)?;

@@ -55,6 +55,10 @@ pub struct TraceDefs {
     pub lights: bool,
     /// `MESHES`: triangle meshes through their BVH.
     pub meshes: bool,
+    /// `FOOTPRINT`: cone tracing (`TraceSettings::footprint`, the
+    /// shader's `footprint.wgsl`), only where there are balls or tubes
+    /// to fade ([`TraceDefs::for_footprint`]).
+    pub footprint: bool,
     /// `FACE_COUNT` (a value def), for long walks only
     /// ([`TraceDefs::for_levels`]): the domain's faces as a constant, so
     /// every loop over the faces has a constant trip count and is unrolled.
@@ -94,8 +98,25 @@ impl TraceDefs {
             tubes: scene.edge_radius.is_some(),
             lights: !scene.lights.is_empty(),
             meshes: !scene.meshes.is_empty(),
+            footprint: false,
             face_count: None,
         }
+    }
+
+    /// These defs with cone tracing when `on` and the scene has balls or
+    /// tubes (meshes are hit whole either way).
+    ///
+    /// ```
+    /// use bevy_manifold_core::prelude::*;
+    /// use bevy_manifold_gpu::TraceDefs;
+    /// let sw = catalog::seifert_weber();
+    /// assert!(TraceDefs::for_scene(&sw, &Scene::default_for(&sw), false).for_footprint(true).footprint);
+    /// assert!(!TraceDefs::for_scene(&sw, &Scene::empty(), false).for_footprint(true).footprint);
+    /// ```
+    #[must_use]
+    pub fn for_footprint(mut self, on: bool) -> Self {
+        self.footprint = on && (self.balls || self.tubes);
+        self
     }
 
     /// These defs for walks of up to `levels` transports in `space`: with
@@ -141,13 +162,15 @@ impl TraceDefs {
             tubes: true,
             lights: true,
             meshes: true,
+            footprint: true,
             face_count: None,
         }
     }
 
     /// Every valid combination (each geometry with the cell schemes and
     /// transport kinds it allows, every optional part on and off, the faces
-    /// counted at run time and as a constant 12, the cell rules on and off).
+    /// counted at run time and as a constant 12, the cell rules on and off,
+    /// cone tracing on and off where there are balls or tubes).
     #[must_use]
     pub fn all() -> Vec<Self> {
         let mut out = Vec::new();
@@ -161,8 +184,11 @@ impl TraceDefs {
             (Geometry::Spherical, false, CellScheme::Hashed),
         ];
         for (geometry, translations_only, cells) in bases {
-            for bits in 0..256u32 {
+            for bits in 0..512u32 {
                 let on = |k: u32| bits & (1 << k) != 0;
+                if on(8) && !(on(2) || on(3)) {
+                    continue;
+                }
                 out.push(TraceDefs {
                     geometry,
                     translations_only,
@@ -175,6 +201,7 @@ impl TraceDefs {
                     meshes: on(5),
                     face_count: on(6).then_some(12),
                     cell_rules: on(7),
+                    footprint: on(8),
                 });
             }
         }
@@ -210,6 +237,7 @@ impl TraceDefs {
             (self.tubes, "TUBES"),
             (self.lights, "LIGHTS"),
             (self.meshes, "MESHES"),
+            (self.footprint, "FOOTPRINT"),
         ] {
             if on {
                 n.push(name);

@@ -24,7 +24,9 @@ fn validate(module: &naga::Module) -> Result<(), String> {
 #[test]
 fn every_specialisation_composes_and_validates() {
     let all = TraceDefs::all();
-    assert_eq!(all.len(), 7 * 256);
+    // 8 switches per base, and cone tracing where there are balls or
+    // tubes (three quarters of them).
+    assert_eq!(all.len(), 7 * (256 + 192));
     for defs in &all {
         let module = compose(defs).unwrap_or_else(|e| panic!("{:?}: {e}", defs.names()));
         validate(&module).unwrap_or_else(|e| panic!("{:?}: {e}", defs.names()));
@@ -35,6 +37,9 @@ fn every_specialisation_composes_and_validates() {
         // The BVH walk is compiled in only with meshes.
         let has_bvh = functions(&module).iter().any(|f| f == "hit_mesh");
         assert_eq!(has_bvh, defs.meshes, "{:?}", defs.names());
+        // Cone tracing is compiled in only under FOOTPRINT.
+        let has_cone = functions(&module).iter().any(|f| f == "cone_layer");
+        assert_eq!(has_cone, defs.footprint, "{:?}", defs.names());
     }
 }
 

@@ -156,23 +156,22 @@ pub fn grow_k<R: Real>(g: Geometry, k: R, (cosine, sine): (R, R)) -> R {
     }
 }
 
-/// The bound of [`super::step::near_faces`]' test for objects grown by
-/// `w`: `near_scale * s(near_distance + w)` (`s` as in
-/// [`super::near_reach`]: `sinh`, `sin` up to a quarter turn and
-/// infinite from there, the distance itself). An object within
-/// `near_distance` of the planes of its face mask is, grown, within
-/// `near_distance + w` of them. WGSL twin: `grown_reach`.
+/// The reach of [`super::step::near_faces`]' test for objects grown by
+/// `w`: `s(near_distance + w)` (`s` as in [`super::near_reach`]: `sinh`,
+/// `sin` up to a quarter turn and infinite from there, the distance
+/// itself), what `FlatScene::near_reach` is for objects not grown. An
+/// object within `near_distance` of the planes of its face mask is,
+/// grown, within `near_distance + w` of them. WGSL twin: `grown_reach`.
 #[inline]
 #[must_use]
-pub fn grown_reach<R: Real>(g: Geometry, near_scale: R, near_distance: R, w: R) -> R {
+pub fn grown_reach<R: Real>(g: Geometry, near_distance: R, w: R) -> R {
     let r = near_distance + w;
-    let s = match g {
+    match g {
         Geometry::Euclidean => r,
         Geometry::Hyperbolic => r.sinh(),
         Geometry::Spherical if r.f64() < core::f64::consts::FRAC_PI_2 => r.sin(),
         Geometry::Spherical => R::of(f64::INFINITY),
-    };
-    near_scale * s
+    }
 }
 
 /// The radius whose `k` is `k`: `acosh k`, `acos k`, `sqrt k`.

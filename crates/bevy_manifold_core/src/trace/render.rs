@@ -390,7 +390,7 @@ pub fn trace_ray<R: Real>(
             b * spread(g, travelled + g.chart_to_distance::<R>(t_end))
         });
         let (grow, reach) = if w > R::of(0.0) {
-            let reach = grown_reach(g, prep.faces.near_scale, prep.near_distance, w * R::of(BALL_GROWTH));
+            let reach = grown_reach(g, prep.near_distance, w * R::of(BALL_GROWTH));
             (Inflation::new(g, w), reach)
         } else {
             (Inflation::none(), prep.near_reach)
