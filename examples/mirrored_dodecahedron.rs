@@ -26,11 +26,14 @@ fn main() -> AppExit {
 fn setup(mut commands: Commands) {
     let space = catalog::mirrored_dodecahedron();
     let root = commands.spawn(ManifoldSpace::new(space.clone())).id();
-    // Eight levels: beyond four the copies shrink below a pixel and alias
-    // into noise while the camera moves; once it stops, 16 jittered
-    // samples a pixel settle them to their average colour.
+    // Eight levels: beyond four the copies shrink below a pixel. Traced as
+    // cones (ManifoldFootprint) they cover the part of each pixel they
+    // would, so they fade to their average colour instead of sparkling
+    // while the camera moves; once it stops, 16 jittered samples a pixel
+    // refine the rest.
     let camera = (
         ManifoldCamera { levels: 8, ..default() },
+        ManifoldFootprint,
         ManifoldAccumulation::default(),
     );
     // Turned around, towards the nearer mirrors and their reflections.

@@ -359,6 +359,22 @@ fn both_eyes_trace_at_the_bodys_render_scale_through_their_own_frusta() {
         assert!((seen.0 - y).abs() < 1.5 * px, "eye {eye}: top edge");
         assert!((seen.1 + y).abs() < 1.5 * px, "eye {eye}: bottom edge");
     }
+    // Cone tracing on the body reaches both eyes, and leaves with it.
+    let cones = |rig: &mut Rig| {
+        let world = rig.app.world_mut();
+        world
+            .query_filtered::<Has<ManifoldFootprint>, With<XrEye>>()
+            .iter(world)
+            .collect::<Vec<_>>()
+    };
+    rig.app.world_mut().entity_mut(body).insert(ManifoldFootprint);
+    rig.app.update();
+    rig.app.update();
+    assert_eq!(cones(&mut rig), [true, true]);
+    rig.app.world_mut().entity_mut(body).remove::<ManifoldFootprint>();
+    rig.app.update();
+    rig.app.update();
+    assert_eq!(cones(&mut rig), [false, false]);
 }
 
 /// The pixel at the centre of the image of a ball of radius `r` whose

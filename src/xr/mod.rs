@@ -59,7 +59,7 @@ mod late;
 
 use crate::placement::tracked::{self, TrackedPose};
 use crate::placement::{DomainCell, InSpace, ManifoldSpace, ManifoldSystems, Placement, WrapOrigin};
-use crate::render::{AdaptiveRenderScale, ManifoldCamera, ManifoldRenderScale};
+use crate::render::{AdaptiveRenderScale, ManifoldCamera, ManifoldFootprint, ManifoldRenderScale};
 use crate::view::{CellShading, ManifoldFog};
 use bevy::camera::CameraMainTextureUsages;
 use bevy::core_pipeline::tonemapping::Tonemapping;
@@ -231,8 +231,8 @@ fn equip_eyes(
     }
 }
 
-/// The body's levels, distance, fog, cell shading and render scale on
-/// every eye. A body holding a frame rate ([`crate::render::AdaptiveRenderScale`])
+/// The body's levels, distance, fog, cell shading, render scale and cone
+/// tracing ([`ManifoldFootprint`]) on every eye. A body holding a frame rate ([`crate::render::AdaptiveRenderScale`])
 /// chooses one scale from the whole frame's time, both eyes included,
 /// and both eyes trace at it; an eye with a controller of its own keeps
 /// its own.
@@ -245,6 +245,7 @@ fn copy_view_settings(
             Option<&ManifoldFog>,
             Option<&CellShading>,
             Option<&ManifoldRenderScale>,
+            Has<ManifoldFootprint>,
         ),
         With<XrBody>,
     >,
@@ -256,14 +257,24 @@ fn copy_view_settings(
             Option<&CellShading>,
             Option<&ManifoldRenderScale>,
             Has<AdaptiveRenderScale>,
+            Has<ManifoldFootprint>,
         ),
         (With<XrEye>, Without<XrBody>),
     >,
 ) {
-    let Ok((camera, fog, shading, scale)) = bodies.single() else {
+    let Ok((camera, fog, shading, scale, cones)) = bodies.single() else {
         return;
     };
-    for (entity, mut eye, eye_fog, eye_shading, eye_scale, own_controller) in &mut eyes {
+    for (entity, mut eye, eye_fog, eye_shading, eye_scale, own_controller, eye_cones) in &mut eyes {
+        match (cones, eye_cones) {
+            (true, false) => {
+                commands.entity(entity).insert(ManifoldFootprint);
+            }
+            (false, true) => {
+                commands.entity(entity).remove::<ManifoldFootprint>();
+            }
+            _ => {}
+        }
         match (scale, eye_scale) {
             _ if own_controller => {}
             (Some(s), e) if e != Some(s) => {

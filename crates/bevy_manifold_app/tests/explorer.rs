@@ -57,6 +57,7 @@ fn settings_round_trip_and_broken_files_are_replaced_not_lost() {
         target_fps: 90.0,
         refine_still: false,
         still_samples: 64,
+        smooth_detail: false,
         panel: false,
     };
     mine.save(&path).expect("saved");
@@ -348,6 +349,15 @@ fn holding_a_frame_rate_moves_the_cameras_render_scale() {
     }
     app.update();
     assert_eq!(refine(&app), Some(ManifoldAccumulation { samples: 32 }));
+    // Cone tracing: on by default, off and back.
+    let cones = |app: &App| app.world().get::<ManifoldFootprint>(camera).is_some();
+    assert!(cones(&app));
+    app.world_mut().resource_mut::<ExplorerSettings>().smooth_detail = false;
+    app.update();
+    assert!(!cones(&app));
+    app.world_mut().resource_mut::<ExplorerSettings>().smooth_detail = true;
+    app.update();
+    assert!(cones(&app));
 }
 
 /// The panel's cell rules reach the space the world shows (what the render

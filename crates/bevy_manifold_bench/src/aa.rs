@@ -1,12 +1,14 @@
-//! `bench aa`: what accumulating jittered samples while the view is
-//! still (`ManifoldAccumulation`, CPU twin `trace::accumulate`) buys,
-//! against a reference of 16 samples per pixel (the trace at 4x the size,
-//! box-filtered over each pixel), per space at 8 and 16 levels: PSNR of
-//! the plain trace and of 4, 8 and 16 accumulated samples. And flicker:
-//! the mean frame-to-frame change of each pixel while the camera moves
-//! slowly forward, for the plain trace and for the 16-sample reference;
-//! what the plain trace adds over the reference is aliasing. All on the
-//! CPU f64 reference (the pass's accumulation matches it: tests/pass.rs).
+//! `bench aa`: what cone tracing (`ManifoldFootprint`, CPU twin
+//! `TraceSettings::footprint`) and accumulating jittered samples while
+//! the view is still (`ManifoldAccumulation`, CPU twin
+//! `trace::accumulate`) buy, against a reference of 16 samples per pixel
+//! (the trace at 4x the size, box-filtered over each pixel), per space at
+//! 8 and 16 levels: PSNR of the plain trace, of the cone trace, and of 4,
+//! 8 and 16 accumulated samples. And flicker: the mean frame-to-frame
+//! change of each pixel while the camera moves slowly forward, for the
+//! plain trace, the cone trace and the 16-sample reference; what a trace
+//! adds over the reference is aliasing. All on the CPU f64 reference (the
+//! pass matches it: tests/pass.rs); then what each costs in the pass.
 
 use crate::pass::frame_ms;
 use bevy_manifold::prelude::*;
@@ -76,22 +78,26 @@ fn change(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
     sum / (3 * a.len()) as f64
 }
 
-/// What accumulation costs in the pass (a headless Bevy app, 320x180,
+/// What anti-aliasing costs in the pass (a headless Bevy app, 320x180,
 /// the default scene, 8 levels, ms a frame, best of `runs`): the plain
-/// pass; accumulating (256 samples wanted, so every frame traces, blends
-/// and copies: what a moving view pays); and converged (2 samples, long
-/// in: no trace, one copy).
+/// pass; cone tracing (`ManifoldFootprint`, every frame); accumulating
+/// (256 samples wanted, so every frame traces, blends and copies: what a
+/// moving view pays); and converged (2 samples, long in: no trace, one
+/// copy).
 fn pass_cost(runs: u32) -> Result<(), String> {
     println!("\nthe pass, 320x180, default scene, 8 levels, ms a frame (best of {runs}):");
     println!(
-        "{:<22} {:>8} {:>13} {:>10}",
-        "space", "plain", "accumulating", "converged"
+        "{:<22} {:>8} {:>8} {:>13} {:>10}",
+        "space", "plain", "cone", "accumulating", "converged"
     );
-    for name in ["torus", "seifert-weber"] {
+    for name in ["torus", "seifert-weber", "mirrored-dodecahedron"] {
         let space = catalog::resolve(name)?;
         let scene = Scene::default_for(&space);
-        let mut ms = [0.0; 3];
-        for (slot, samples) in [None, Some(256), Some(2)].into_iter().enumerate() {
+        let mut ms = [0.0; 4];
+        for (slot, (cone, samples)) in [(false, None), (true, None), (false, Some(256)), (false, Some(2))]
+            .into_iter()
+            .enumerate()
+        {
             let mut app = offscreen::app(true);
             let image = offscreen::target(&mut app, 320, 180);
             let camera = ManifoldCamera {
@@ -102,9 +108,15 @@ fn pass_cost(runs: u32) -> Result<(), String> {
             if let Some(samples) = samples {
                 app.world_mut().entity_mut(id).insert(ManifoldAccumulation { samples });
             }
+            if cone {
+                app.world_mut().entity_mut(id).insert(ManifoldFootprint);
+            }
             ms[slot] = frame_ms(&mut app, &image, runs)?;
         }
-        println!("{name:<22} {:>8.1} {:>13.1} {:>10.1}", ms[0], ms[1], ms[2]);
+        println!(
+            "{name:<22} {:>8.1} {:>8.1} {:>13.1} {:>10.1}",
+            ms[0], ms[1], ms[2], ms[3]
+        );
     }
     Ok(())
 }
@@ -115,11 +127,11 @@ fn pass_cost(runs: u32) -> Result<(), String> {
 /// A space that does not build.
 pub fn run(width: u32, height: u32, frames: u32) -> Result<(), String> {
     println!(
-        "Anti-aliasing by accumulation, {width}x{height}, CPU f64; PSNR (dB) against 16 samples per pixel (4x4 box), flicker = mean frame-to-frame change (sRGB bytes) over {frames} frames moving forward 0.002 a frame"
+        "Anti-aliasing, {width}x{height}, CPU f64; PSNR (dB) against 16 samples per pixel (4x4 box), flicker = mean frame-to-frame change (sRGB bytes) over {frames} frames moving forward 0.002 a frame"
     );
     println!(
-        "{:<22} {:>6} {:>8} {:>8} {:>8} {:>8} {:>13} {:>13}",
-        "space", "levels", "1 spp", "4", "8", "16", "flicker 1spp", "flicker 16spp"
+        "{:<22} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>10} {:>10} {:>10}",
+        "space", "levels", "1 spp", "cone", "4", "8", "16", "flick 1", "flick cone", "flick 16"
     );
     for name in catalog::NAMES {
         let space = catalog::resolve(name)?;
@@ -131,8 +143,13 @@ pub fn run(width: u32, height: u32, frames: u32) -> Result<(), String> {
                 levels,
                 ..TraceSettings::default()
             };
+            let cone_settings = TraceSettings {
+                footprint: true,
+                ..settings.clone()
+            };
             let reference = supersampled(&space, &scene, &settings, 4);
             let plain = colors(&render::<f64>(&space, &scene, &settings));
+            let cone = colors(&render::<f64>(&space, &scene, &cone_settings));
             let acc: Vec<f64> = [4, 8, 16]
                 .iter()
                 .map(|&n| psnr(&accumulate::<f64>(&space, &scene, &settings, n), &reference))
@@ -140,19 +157,22 @@ pub fn run(width: u32, height: u32, frames: u32) -> Result<(), String> {
             // Flicker: the camera creeping forward.
             let mut moving = scene.clone();
             let step = isometry::translation(space.geometry(), glam::DVec3::NEG_Z * 0.002);
-            let (mut last_plain, mut last_ref) = (plain.clone(), reference.clone());
-            let (mut f_plain, mut f_ref) = (0.0, 0.0);
+            let (mut last_plain, mut last_cone, mut last_ref) = (plain.clone(), cone.clone(), reference.clone());
+            let (mut f_plain, mut f_cone, mut f_ref) = (0.0, 0.0, 0.0);
             for _ in 0..frames {
                 moving.camera.isometry *= step;
                 let p = colors(&render::<f64>(&space, &moving, &settings));
+                let c = colors(&render::<f64>(&space, &moving, &cone_settings));
                 let r = supersampled(&space, &moving, &settings, 4);
                 f_plain += change(&p, &last_plain) / f64::from(frames);
+                f_cone += change(&c, &last_cone) / f64::from(frames);
                 f_ref += change(&r, &last_ref) / f64::from(frames);
-                (last_plain, last_ref) = (p, r);
+                (last_plain, last_cone, last_ref) = (p, c, r);
             }
             println!(
-                "{name:<22} {levels:>6} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {f_plain:>13.2} {f_ref:>13.2}",
+                "{name:<22} {levels:>6} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {f_plain:>10.2} {f_cone:>10.2} {f_ref:>10.2}",
                 psnr(&plain, &reference),
+                psnr(&cone, &reference),
                 acc[0],
                 acc[1],
                 acc[2]

@@ -292,6 +292,7 @@ fn contents(
         );
     });
     ui.label(scale_line(view.size, scale));
+    ui.checkbox(&mut s.smooth_detail, "smooth far detail (cone tracing)");
     ui.checkbox(&mut s.refine_still, "refine while still (anti-aliasing)");
     ui.add_enabled_ui(s.refine_still, |ui| {
         ui.add(

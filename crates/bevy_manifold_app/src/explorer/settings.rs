@@ -23,7 +23,7 @@
 //! ```
 
 use bevy::prelude::*;
-use bevy_manifold::render::{AdaptiveRenderScale, ManifoldAccumulation, ManifoldCamera};
+use bevy_manifold::render::{AdaptiveRenderScale, ManifoldAccumulation, ManifoldCamera, ManifoldFootprint};
 use bevy_manifold::space::rule::{CellRule, OnOff, Walls};
 use bevy_manifold::space::{catalog, library};
 use bevy_manifold::trace::{PaperOptions, SuzanneMode};
@@ -118,6 +118,9 @@ pub struct ExplorerSettings {
     /// Samples per pixel a still view is refined to (2 to
     /// [`ManifoldAccumulation::MAX_SAMPLES`]).
     pub still_samples: u32,
+    /// Trace each pixel as a cone ([`ManifoldFootprint`]): far copies fade
+    /// to their average colour instead of sparkling, moving or still.
+    pub smooth_detail: bool,
     /// The side panel shown.
     pub panel: bool,
 }
@@ -152,6 +155,7 @@ impl Default for ExplorerSettings {
             target_fps: 30.0,
             refine_still: true,
             still_samples: 16,
+            smooth_detail: true,
             panel: true,
         }
     }
@@ -190,6 +194,12 @@ impl ExplorerSettings {
         self.refine_still.then_some(ManifoldAccumulation {
             samples: self.still_samples,
         })
+    }
+
+    /// Cone tracing, when asked for.
+    #[must_use]
+    pub fn footprint(&self) -> Option<ManifoldFootprint> {
+        self.smooth_detail.then_some(ManifoldFootprint)
     }
 
     /// The per-cell shading these settings ask for.

@@ -210,6 +210,7 @@ pub fn step_settings(base: &ExplorerSettings, spaces: &[String], k: u64) -> Expl
     s.target_fps = [10.0, 30.0, 90.0][pick(3)];
     s.refine_still = k % 3 != 1;
     s.still_samples = [4, 16, 64][pick(3)];
+    s.smooth_detail = k % 5 != 1;
     s.panel = k % 5 != 4;
     s
 }

@@ -10,7 +10,7 @@ use bevy::prelude::*;
 use bevy_manifold::camera_controller::{FlyCamera, Vehicle};
 use bevy_manifold::paper_scene::{paper_camera, spawn_paper_scene};
 use bevy_manifold::placement::{DomainCell, FaceCrossed, ManifoldSpace, Placement};
-use bevy_manifold::render::{AdaptiveRenderScale, ManifoldAccumulation, ManifoldRenderScale};
+use bevy_manifold::render::{AdaptiveRenderScale, ManifoldAccumulation, ManifoldFootprint, ManifoldRenderScale};
 use bevy_manifold::space::{Space, catalog};
 use bevy_manifold::tour::FaceWord;
 use bevy_manifold::view::ManifoldFog;
@@ -127,8 +127,9 @@ fn spawn_world(
 
 /// The camera's render scale: held by an [`AdaptiveRenderScale`] when
 /// the settings hold a frame rate (starting from the scale it has), else
-/// full (the image's size is the render scale); and the refinement of a
-/// still view ([`ManifoldAccumulation`]) when asked for.
+/// full (the image's size is the render scale); the refinement of a
+/// still view ([`ManifoldAccumulation`]) and cone tracing
+/// ([`ManifoldFootprint`]) when asked for.
 pub fn insert_scale(camera: &mut EntityCommands, settings: &ExplorerSettings) {
     match settings.adaptive_scale() {
         Some(adaptive) => camera.insert(adaptive),
@@ -137,6 +138,10 @@ pub fn insert_scale(camera: &mut EntityCommands, settings: &ExplorerSettings) {
     match settings.accumulation() {
         Some(a) => camera.insert(a),
         None => camera.remove::<ManifoldAccumulation>(),
+    };
+    match settings.footprint() {
+        Some(f) => camera.insert(f),
+        None => camera.remove::<ManifoldFootprint>(),
     };
 }
 
@@ -254,6 +259,7 @@ pub fn apply_settings(
     camera.insert(settings.camera());
     if settings.adaptive_scale() != world.applied.adaptive_scale()
         || settings.accumulation() != world.applied.accumulation()
+        || settings.footprint() != world.applied.footprint()
     {
         insert_scale(&mut camera, &settings);
     }

@@ -345,7 +345,7 @@ pub fn normal_at_offset<R: Real>(g: Geometry, n0: R::V4, view: R::V4, s: R) -> R
 #[must_use]
 pub fn strip<R: Real>(delta: R, r: R, w: R) -> R {
     let zero = R::of(0.0);
-    if !(w > zero) {
+    if w <= zero || !w.is_finite() {
         return if delta <= r { R::of(1.0) } else { zero };
     }
     let covered = (delta + r).min(w) - (delta - r).max(-w);
@@ -369,7 +369,7 @@ pub fn strip<R: Real>(delta: R, r: R, w: R) -> R {
 #[must_use]
 pub fn disc<R: Real>(delta: R, r: R, w: R) -> R {
     let (zero, one) = (R::of(0.0), R::of(1.0));
-    if !(w > zero) {
+    if w <= zero || !w.is_finite() {
         return if delta <= r { one } else { zero };
     }
     if delta > r + R::of(BALL_GROWTH) * w {
@@ -447,8 +447,8 @@ impl Layers {
         let part = part.clamp(0.0, 1.0);
         let last = part >= 1.0 || self.left * (1.0 - part) < LAYERS_CLEAR;
         let take = if last { self.left } else { self.left * part };
-        for c in 0..3 {
-            self.color[c] += take * color[c];
+        for (s, c) in self.color.iter_mut().zip(color) {
+            *s += take * c;
         }
         self.left -= take;
         last
