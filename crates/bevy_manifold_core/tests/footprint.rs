@@ -144,14 +144,15 @@ fn change(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
 
 #[test]
 fn a_cone_traced_view_is_nearer_supersampling_and_flickers_less() {
-    // Hyperbolic: copies shrink below a pixel within a few levels. The
-    // other geometries: no worse.
-    for (name, gain, calmer) in [
-        ("seifert-weber", 5.0, 0.3),
-        ("mirrored-dodecahedron", 5.0, 0.3),
-        ("torus", 0.0, 1.0),
-        ("poincare", 0.0, 1.0),
-        ("mirrored-cube", 0.0, 1.0),
+    // Hyperbolic: copies shrink below a pixel within a few levels; the
+    // cone gains 5 dB and flickers no more than 16 samples a pixel do. The
+    // other geometries: better, and calmer than one ray.
+    for (name, gain, hyperbolic) in [
+        ("seifert-weber", 5.0, true),
+        ("mirrored-dodecahedron", 5.0, true),
+        ("torus", 0.0, false),
+        ("poincare", 0.0, false),
+        ("mirrored-cube", 0.0, false),
     ] {
         let space = catalog::by_name(name).expect("catalog");
         let scene = Scene::default_for(&space);
@@ -191,9 +192,7 @@ fn a_cone_traced_view_is_nearer_supersampling_and_flickers_less() {
             f_ref / 4.0
         );
         assert!(p_cone > p_plain + gain, "{name}: {p_cone:.2} dB against {p_plain:.2}");
-        assert!(
-            f_cone <= calmer * f_plain,
-            "{name}: flicker {f_cone:.2} against {f_plain:.2}"
-        );
+        let bound = if hyperbolic { f_ref } else { f_plain };
+        assert!(f_cone <= bound, "{name}: flicker {f_cone:.2} against {bound:.2}");
     }
 }

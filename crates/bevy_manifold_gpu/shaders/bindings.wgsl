@@ -84,9 +84,11 @@ struct Params {
     ball_tree: u32,
     ball_tree_nodes: u32,
     // FOOTPRINT: FaceTables::chart_stretch, what the ball tree's boxes are
-    // padded by per unit of growth.
+    // padded by per unit of growth, and FlatScene::footprint_cap, the
+    // widest a pixel's cone grows.
     chart_stretch: f32,
-    pad: array<u32, 2>,
+    footprint_cap: f32,
+    pad: u32,
     // An off-centre frustum (Frustum::half_extent_and_centre): half width,
     // half height, centre x, centre y, in slopes; all zero for the
     // symmetric one of tan_half_fov and the image's aspect.

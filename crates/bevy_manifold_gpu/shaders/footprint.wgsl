@@ -19,23 +19,39 @@
 #import bevy_manifold::step::Ray
 
 // Most layers one pixel adds; then what is left sees the background.
-const MAX_LAYERS: u32 = 32u;
+const MAX_LAYERS: u32 = 16u;
 // Most layers kept on one segment: the nearest.
-const SEGMENT_LAYERS: u32 = 8u;
+const SEGMENT_LAYERS: u32 = 4u;
 // Light left below which a layer takes the rest.
 const LAYERS_CLEAR: f32 = 0.003921569;
 // How many footprints balls are grown by (tubes by one).
 const BALL_GROWTH: f32 = 3.5;
 
 // How far apart two geodesics leaving a point at unit angle are after d:
-// sinh d, d, sin d (held at 1 from a quarter turn on).
+// sinh d, d, |sin d| (they meet again at the antipode).
 fn spread(d: f32) -> f32 {
 #ifdef GEOMETRY_HYPERBOLIC
     return sinh(d);
 #else ifdef GEOMETRY_SPHERICAL
-    return select(1.0, sin(d), d < 1.5707963267948966);
+    return abs(sin(d));
 #else
     return d;
+#endif
+}
+
+// The most spread between distances d0 and d1 >= d0: at d1 in E3 and H3;
+// in S3 1 when a quarter turn (mod a half turn) lies between, else the
+// more of the two ends.
+fn widest_spread(d0: f32, d1: f32) -> f32 {
+#ifdef GEOMETRY_SPHERICAL
+    let pi = 3.141592653589793;
+    let k = ceil((d0 - pi / 2.0) / pi);
+    if k * pi + pi / 2.0 <= d1 {
+        return 1.0;
+    }
+    return max(spread(d0), spread(d1));
+#else
+    return spread(d1);
 #endif
 }
 

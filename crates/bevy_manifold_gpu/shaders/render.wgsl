@@ -37,7 +37,7 @@
 #endif
 #ifdef FOOTPRINT
 #import bevy_manifold::step::on_edge
-#import bevy_manifold::footprint::{Approach, Inflation, Layers, inflation_new, grow_k, grown_reach, radius_of, ball_approach, tube_approach, within, coverage, side_by_side, shading_offset, normal_at_offset, spread, add_layer, layers_full, layers_over, BALL_GROWTH, SEGMENT_LAYERS}
+#import bevy_manifold::footprint::{Approach, Inflation, Layers, inflation_new, grow_k, grown_reach, radius_of, ball_approach, tube_approach, within, coverage, side_by_side, shading_offset, normal_at_offset, spread, widest_spread, add_layer, layers_full, layers_over, BALL_GROWTH, SEGMENT_LAYERS}
 #endif
 
 // The view-space slopes of the direction through NDC (x, y): the
@@ -180,19 +180,27 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
         shown = cell_visible(cell_id(walk.cell, walk.index));
 #endif
 #ifdef FOOTPRINT
-        // Objects grow by the segment's widest footprint, at its end.
-        let w = params.cone.x * spread(walk.travelled + chart_to_distance(seg.t));
+        // Objects grow by the segment's widest footprint, at most the cap.
+        let w = min(params.cone.x * widest_spread(walk.travelled, walk.travelled + chart_to_distance(seg.t)), params.footprint_cap);
         cone_grow = inflation_new(w);
         cone_travelled = walk.travelled;
         met_count = 0u;
         if shown {
-            let near = near_faces(walk.ray, seg.t, params.cone.z * grown_reach(params.cone.y, w * BALL_GROWTH));
-            nearest_object(walk.ray, seg.t, walk.cell[3], near);
+            // The faces the segment comes near for balls (grown
+            // BALL_GROWTH footprints) and for tubes and meshes (one).
+            near_balls = near_faces(walk.ray, seg.t, params.cone.z * grown_reach(params.cone.y, w * BALL_GROWTH));
+            nearest_object(walk.ray, seg.t, walk.cell[3], near_faces(walk.ray, seg.t, params.cone.z * grown_reach(params.cone.y, w)));
         }
+        // The layers in order, then the mesh hit, whole (Rust:
+        // Nearest::iter).
         for (var k = 0u; k < met_count; k++) {
-            let layer = cone_layer(walk.ray, met[k], seg.t);
-            var hit = met[k].hit;
-            hit.t = layer.t;
+            if best.kind != 0u && best.t < met_t[k] {
+                break;
+            }
+            let kind = met_id[k] >> 30u;
+            let index = met_id[k] & 0x3fffffffu;
+            let layer = cone_layer(walk.ray, kind, index, kept_cover(walk.ray, kind, index, seg.t), seg.t);
+            let hit = Hit(layer.t, kind, index, 0u, 0.0, 0.0);
             let dist = walk.travelled + chart_to_distance(layer.t);
             let cid = cell_id(walk.cell, walk.index);
             let color = shade(walk.ray, hit, layer.normal, dist, cid);
@@ -207,6 +215,18 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
             if layers_full(cone_layers) {
                 return finish(Pixel(vec4<f32>(background(), walk.travelled), 0u, walk.levels, cid.x, cid.y));
             }
+        }
+        if best.kind != 0u {
+            let dist = walk.travelled + chart_to_distance(best.t);
+            let cid = cell_id(walk.cell, walk.index);
+            let color = shade(walk.ray, best, vec4<f32>(0.0), dist, cid);
+            let here = Pixel(vec4<f32>(color, dist), object_id(best), walk.levels, cid.x, cid.y);
+            if !cone_has_front {
+                cone_front = here;
+                cone_has_front = true;
+            }
+            add_layer(&cone_layers, color, 1.0);
+            return finish(here);
         }
 #else
         var hit = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
@@ -286,56 +306,95 @@ fn same_cell_point(a: vec4<f32>, b: vec4<f32>) -> bool {
 var<private> best: Hit;
 
 #ifdef FOOTPRINT
-// A layer met on a segment (Rust: Met, with Cover): the hit (at the
-// ray's nearest approach for a ball or tube), where the ray passes
-// nearest it, the footprint there, the object's radius and the part of
-// the pixel it covers.
-struct Met {
-    hit: Hit,
+// What a ball or tube met by a pixel's cone covers (Rust: Cover): where
+// the ray passes nearest it, the footprint there, its radius and the part
+// of the pixel it covers (0: none).
+struct Cover {
     near: Approach,
     w: f32,
     r: f32,
     part: f32,
 }
 
-// The segment's layers, nearest first (Rust: Nearest), the growth and
-// the distance travelled at its start.
-var<private> met: array<Met, SEGMENT_LAYERS>;
+// The segment's layers, nearest first (Rust: Nearest): where the ray
+// passes each, and which it is (kind << 30 | index). Only these two
+// words are kept and moved; the cover is worked out again for the few
+// kept (an array of whole layers indexed at run time doubled the cone
+// pass's time on lavapipe). A mesh hit, whole, is `best`.
+var<private> met_t: array<f32, SEGMENT_LAYERS>;
+var<private> met_id: array<u32, SEGMENT_LAYERS>;
 var<private> met_count: u32;
 var<private> cone_grow: Inflation;
 var<private> cone_travelled: f32;
+// The faces the segment comes near for grown balls (Rust: each_candidate's
+// near_balls); the walk's `near` serves tubes and meshes.
+var<private> near_balls: u32;
 
-// The farthest still wanted (Rust: Nearest::limit).
+// The farthest still wanted (Rust: Nearest::limit): t_end, or once full
+// the farthest layer kept; never past the mesh hit.
 fn met_limit(t_end: f32) -> f32 {
+    var limit = t_end;
     if met_count == SEGMENT_LAYERS {
-        return met[SEGMENT_LAYERS - 1u].hit.t;
+        limit = met_t[SEGMENT_LAYERS - 1u];
     }
-    return t_end;
+    if best.kind != 0u {
+        limit = min(best.t, limit);
+    }
+    return limit;
 }
 
-// Keeps m in order, dropping the farthest when full (Rust: Nearest::keep).
-fn keep_met(m: Met) {
+// Keeps a layer in order, dropping the farthest when full, a tie staying
+// ahead (Rust: Nearest::keep).
+fn keep_met(t: f32, id: u32) {
     var at = min(met_count, SEGMENT_LAYERS - 1u);
-    met[at] = m;
-    for (var guard = 0u; guard < SEGMENT_LAYERS && at > 0u && met[at - 1u].hit.t > m.hit.t; guard++) {
-        met[at] = met[at - 1u];
-        met[at - 1u] = m;
+    met_t[at] = t;
+    met_id[at] = id;
+    for (var guard = 0u; guard < SEGMENT_LAYERS && at > 0u && met_t[at - 1u] > t; guard++) {
+        met_t[at] = met_t[at - 1u];
+        met_id[at] = met_id[at - 1u];
+        met_t[at - 1u] = t;
+        met_id[at - 1u] = id;
         at -= 1u;
     }
     met_count = min(met_count + 1u, SEGMENT_LAYERS);
 }
 
-// A ball or tube the grown test lets through: the layer it makes, with
-// part 0 when it covers none of the pixel (Rust: segment_layers' cover).
-fn cover(hit: Hit, near: Approach, end: f32, grown: f32, k: f32, ball: bool, length: f32) -> Met {
-    var m = Met(hit, near, 0.0, 0.0, 0.0);
+// What the ball (kind 1) or tube (kind 2) `index` covers when the ray's
+// approach `near` to it lies in [0, end] within the grown radius (`k`
+// grown to `grown`); part 0 otherwise (Rust: segment_layers' cover).
+fn cover(kind: u32, index: u32, near: Approach, end: f32, grown: f32, k: f32) -> Cover {
+    var c = Cover(near, 0.0, 0.0, 0.0);
     if !(near.t >= 0.0 && near.t <= end && within(near, grown)) {
-        return m;
+        return c;
     }
-    m.w = params.cone.x * spread(cone_travelled + chart_to_distance(near.t));
-    m.r = radius_of(k);
-    m.part = min(coverage(ball, near.gap, m.r, length, m.w) * side_by_side(m.w, params.cone.w), 1.0);
-    return m;
+    // Never wider than the segment's growth (the cap).
+    c.w = min(params.cone.x * spread(cone_travelled + chart_to_distance(near.t)), cone_grow.w);
+    c.r = radius_of(k);
+    let ball = kind == 1u;
+    var length = 0.0;
+#ifdef TUBES
+    if !ball {
+        length = distance(tubes[index].a, tubes[index].b);
+    }
+#endif
+    c.part = min(coverage(ball, near.gap, c.r, length, c.w) * side_by_side(c.w, params.cone.w), 1.0);
+    return c;
+}
+
+// The cover of a kept layer (its id from met_id), worked out again as
+// consider_ball and consider_tube did.
+fn kept_cover(ray: Ray, kind: u32, index: u32, t_end: f32) -> Cover {
+#ifdef BALLS
+    if kind == 1u {
+        return cover(1u, index, ball_approach(ray, balls[index].center), t_end, grow_k(balls[index].k, cone_grow.ball), balls[index].k);
+    }
+#endif
+#ifdef TUBES
+    if kind == 2u {
+        return cover(2u, index, tube_approach(ray, tubes[index].a, tubes[index].e), t_end, grow_k(params.tube_k, cone_grow.tube), params.tube_k);
+    }
+#endif
+    return Cover(Approach(0.0, 0.0, 0.0), 0.0, 0.0, 0.0);
 }
 #endif
 
@@ -349,11 +408,9 @@ fn consider_ball(ray: Ray, t_end: f32, near: u32, i: u32) {
         return;
     }
 #ifdef FOOTPRINT
-    let m = cover(Hit(0.0, 1u, i, 0u, 0.0, 0.0), ball_approach(ray, balls[i].center), met_limit(t_end), grow_k(balls[i].k, cone_grow.ball), balls[i].k, true, 0.0);
-    if m.part > 0.0 {
-        var kept = m;
-        kept.hit.t = m.near.t;
-        keep_met(kept);
+    let c = cover(1u, i, ball_approach(ray, balls[i].center), met_limit(t_end), grow_k(balls[i].k, cone_grow.ball), balls[i].k);
+    if c.part > 0.0 {
+        keep_met(c.near.t, (1u << 30u) | i);
     }
 #else
     let t = hit_ball(ray, balls[i].center, balls[i].k, 0.0);
@@ -422,10 +479,9 @@ fn consider_tube(ray: Ray, t_end: f32, near: u32, i: u32) {
 #ifdef FOOTPRINT
     let a = tube_approach(ray, tubes[i].a, tubes[i].e);
     if on_edge(ray.origin + ray.dir * a.t, tubes[i]) {
-        let length = distance(tubes[i].a, tubes[i].b);
-        let m = cover(Hit(a.t, 2u, i, 0u, 0.0, 0.0), a, met_limit(t_end), grow_k(params.tube_k, cone_grow.tube), params.tube_k, false, length);
-        if m.part > 0.0 {
-            keep_met(m);
+        let c = cover(2u, i, a, met_limit(t_end), grow_k(params.tube_k, cone_grow.tube), params.tube_k);
+        if c.part > 0.0 {
+            keep_met(a.t, (2u << 30u) | i);
         }
     }
 #else
@@ -451,12 +507,7 @@ fn consider_instance(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32, i: 
 #endif
     let h = hit_instance(ray, instances[i], limit);
     if h.t >= 0.0 && h.t <= limit {
-        let hit = Hit(h.t, 3u, i, h.hit.triangle, h.hit.u, h.hit.v);
-#ifdef FOOTPRINT
-        keep_met(Met(hit, Approach(0.0, 0.0, h.t), 0.0, 0.0, 1.0));
-#else
-        best = hit;
-#endif
+        best = Hit(h.t, 3u, i, h.hit.triangle, h.hit.u, h.hit.v);
     }
 }
 #endif
@@ -466,7 +517,8 @@ fn consider_instance(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32, i: 
 // segment's layers (in met), seen from the cell whose element takes the
 // origin to `cell_point` (the copy of a camera-attached mesh that is the
 // camera's own body from there is skipped). Objects whose faces the
-// segment does not come near (`near`, from near_faces) are not tested,
+// segment does not come near (`near`, from near_faces; under FOOTPRINT
+// balls their own, near_balls) are not tested,
 // nor balls with no face mask in the leaves of the ball tree the segment
 // does not meet (interior_balls). Rust: each_candidate, and
 // nearest_object or segment_layers.
@@ -478,15 +530,20 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
     // not yet walked.
     let groups = near_groups(near);
 #ifdef BALLS
-    interior_balls(ray, t_end, near);
-    var rest_balls = groups;
+    // A cone grows balls further: their own near faces.
+    var ball_near = near;
+#ifdef FOOTPRINT
+    ball_near = near_balls;
+#endif
+    interior_balls(ray, t_end, ball_near);
+    var rest_balls = near_groups(ball_near);
     loop {
         if rest_balls == 0u {
             break;
         }
         let balls_range = next_group(&rest_balls, 0u);
         for (var i = balls_range.x; i < balls_range.y; i++) {
-            consider_ball(ray, t_end, near, i);
+            consider_ball(ray, t_end, ball_near, i);
         }
     }
 #endif
@@ -531,32 +588,29 @@ struct ConeLayer {
 // Rust twin: cone_layer. At the ray's own hit when shading_offset puts
 // the shading there, else where the ray passes nearest, with the normal
 // of that offset.
-fn cone_layer(ray: Ray, m: Met, t_end: f32) -> ConeLayer {
-    if m.hit.kind == 3u {
-        return ConeLayer(1.0, m.hit.t, vec4<f32>(0.0));
-    }
-    let ball = m.hit.kind == 1u;
+fn cone_layer(ray: Ray, kind: u32, index: u32, c: Cover, t_end: f32) -> ConeLayer {
+    let ball = kind == 1u;
     var own = -1.0;
     var n0 = vec4<f32>(0.0);
-    let x = normalize_point(ray.origin + ray.dir * m.near.t);
+    let x = normalize_point(ray.origin + ray.dir * c.near.t);
     let view = -normalize_tangent(x, ray.dir);
 #ifdef BALLS
     if ball {
-        own = hit_ball(ray, balls[m.hit.index].center, balls[m.hit.index].k, 0.0);
-        n0 = normal_from(x, balls[m.hit.index].center);
+        own = hit_ball(ray, balls[index].center, balls[index].k, 0.0);
+        n0 = normal_from(x, balls[index].center);
     }
 #endif
 #ifdef TUBES
-    if m.hit.kind == 2u {
-        own = hit_tube(ray, tubes[m.hit.index], params.tube_k, 0.0);
-        n0 = normal_from(x, foot_on_line(x, tubes[m.hit.index]));
+    if kind == 2u {
+        own = hit_tube(ray, tubes[index], params.tube_k, 0.0);
+        n0 = normal_from(x, foot_on_line(x, tubes[index]));
     }
 #endif
-    let s = shading_offset(ball, m.near.gap, m.r, m.w);
-    if own >= 0.0 && own <= t_end && m.near.gap <= s * m.r {
-        return ConeLayer(m.part, own, vec4<f32>(0.0));
+    let s = shading_offset(ball, c.near.gap, c.r, c.w);
+    if own >= 0.0 && own <= t_end && c.near.gap <= s * c.r {
+        return ConeLayer(c.part, own, vec4<f32>(0.0));
     }
-    return ConeLayer(m.part, m.near.t, normal_at_offset(n0, view, s));
+    return ConeLayer(c.part, c.near.t, normal_at_offset(n0, view, s));
 }
 #endif
 

@@ -90,10 +90,12 @@ pub struct GpuParams {
     pub ball_tree: u32,
     /// ... and how many there are.
     pub ball_tree_nodes: u32,
-    /// Cone tracing: `FaceTables::chart_stretch`.
+    /// Cone tracing: `FaceTables::chart_stretch`...
     pub chart_stretch: f32,
+    /// ... and `FlatScene::footprint_cap`.
+    pub footprint_cap: f32,
     /// Padding to 16 bytes.
-    pub pad: [u32; 2],
+    pub pad: u32,
     /// An off-centre frustum, `[half width, half height, centre x, centre
     /// y]` in slopes ([`bevy_manifold_core::trace::Frustum`]); all zero
     /// for the symmetric frustum of `tan_half_fov` and the image's aspect.
@@ -269,9 +271,10 @@ pub struct GpuObjects {
     pub tube_k: f32,
     /// `FlatScene::near_reach`.
     pub near_reach: f32,
-    /// `FlatScene::near_distance`, `FlatScene::cell_shadow` and
-    /// `FaceTables::chart_stretch`: what cone tracing grows objects with.
-    pub cone: [f32; 3],
+    /// `FlatScene::near_distance`, `FlatScene::cell_shadow`,
+    /// `FaceTables::chart_stretch` and `FlatScene::footprint_cap`: what
+    /// cone tracing grows objects with.
+    pub cone: [f32; 4],
     /// `FlatScene::groups`: entry `f` holds where face `f`'s group starts
     /// in the balls, tubes and instances (x, y, z); the entry after the
     /// last face (at most 32) holds their counts, as do the ones after it.
@@ -541,7 +544,12 @@ impl GpuObjects {
             ],
             tube_k: prep.tube_k,
             near_reach: prep.near_reach,
-            cone: [prep.near_distance, prep.cell_shadow, prep.faces.chart_stretch],
+            cone: [
+                prep.near_distance,
+                prep.cell_shadow,
+                prep.faces.chart_stretch,
+                prep.footprint_cap,
+            ],
             groups: pack_groups(prep),
         }
     }
@@ -678,7 +686,8 @@ impl GpuParams {
             ball_tree: objects.ball_tree[0],
             ball_tree_nodes: objects.ball_tree[1],
             chart_stretch: objects.cone[2],
-            pad: [0; 2],
+            footprint_cap: objects.cone[3],
+            pad: 0,
             frustum: view.frustum.unwrap_or([0.0; 4]),
             cone: [view.footprint, objects.cone[0], packed.near_scale, objects.cone[1]],
             groups: objects.groups,

@@ -177,6 +177,10 @@ pub struct FlatScene<R: Real> {
     /// holds that many copies of the domain side by side, of which its
     /// axis walks one ([`super::footprint::side_by_side`]).
     pub cell_shadow: R,
+    /// The widest a pixel's cone grows ([`super::footprint::FOOTPRINT_CAP`]
+    /// of the inradius): beyond, far copies are sampled by a cone
+    /// narrower than the pixel.
+    pub footprint_cap: R,
     /// Where each face's group starts in `balls`, `tubes` and `instances`
     /// (sorted by [`FaceGroups`]): the lists `nearest_object` walks.
     pub groups: FaceGroups,
@@ -334,6 +338,7 @@ impl<R: Real> FlatScene<R> {
                 f64::INFINITY
             }),
             cell_shadow: R::of(space.surface_area() / 4.0),
+            footprint_cap: R::of(super::footprint::FOOTPRINT_CAP * space.inradius()),
             near_distance: R::of(if masked { reach * 1.01 + 1e-6 } else { f64::INFINITY }),
             lights,
             instances,

@@ -12,12 +12,13 @@ use super::cull::{FaceGroups, chart_segment, tree_leaves};
 use super::flat::{EDGE_ID, FlatInstance, FlatScene, same_cell_point};
 use super::footprint::{
     Approach, BALL_GROWTH, Inflation, Layers, SEGMENT_LAYERS, ball_approach, coverage, grown_reach, normal_at_offset,
-    pixel_half_angle, radius_of, shading_offset, side_by_side, spread, tube_approach,
+    pixel_half_angle, radius_of, shading_offset, side_by_side, spread, tube_approach, widest_spread,
 };
 use super::mesh_hit::{hit_instance, mesh_albedo, mesh_normal};
 use super::scene::Scene;
 use super::step::{
-    ALL_FACES, Ray, advance_or_raw, foot_on_line, hit_ball, hit_tube, may_hit, near_faces, normal_from, on_edge,
+    ALL_FACES, Ray, Segment, advance_or_raw, foot_on_line, hit_ball, hit_tube, may_hit, near_faces, normal_from,
+    on_edge,
 };
 use super::walk::Walker;
 use crate::geometry::{Geometry, Real};
@@ -385,20 +386,33 @@ pub fn trace_ray<R: Real>(
         let cell_point = walk.cell * R::v4_of(glam::DVec4::W);
         let here = rule.is_active().then(|| cell_id(&walk, &exact));
         let shown = here.is_none_or(|id| rule.visible(id));
-        // Objects grow by the segment's widest footprint, at its end.
+        // Objects grow by the segment's widest footprint, at most the cap.
         let w = beta.map_or(R::of(0.0), |b| {
-            b * spread(g, travelled + g.chart_to_distance::<R>(t_end))
+            let end = travelled + g.chart_to_distance::<R>(t_end);
+            (b * widest_spread(g, travelled, end)).min(prep.footprint_cap)
         });
-        let (grow, reach) = if w > R::of(0.0) {
-            let reach = grown_reach(g, prep.near_distance, w * R::of(BALL_GROWTH));
-            (Inflation::new(g, w), reach)
+        // The faces the segment comes near, for balls (grown BALL_GROWTH
+        // footprints) and for tubes and meshes (one).
+        let grow = if w > R::of(0.0) {
+            Inflation::new(g, w)
         } else {
-            (Inflation::none(), prep.near_reach)
+            Inflation::none()
         };
-        let near = if settings.cull {
+        let near_within = |growth: R| {
+            if !settings.cull {
+                return ALL_FACES;
+            }
+            let reach = if growth > R::of(0.0) {
+                grown_reach(g, prep.near_distance, growth)
+            } else {
+                prep.near_reach
+            };
             near_faces(&prep.faces.planes, prep.faces.near_scale, reach, &walk.ray, t_end)
+        };
+        let near = if w > R::of(0.0) {
+            [near_within(w * R::of(BALL_GROWTH)), near_within(w)]
         } else {
-            ALL_FACES
+            [near_within(w); 2]
         };
         // Each object met on the segment, nearest first: for a ray the
         // first hit, whole; for a cone each object it passes within its
@@ -417,8 +431,8 @@ pub fn trace_ray<R: Real>(
             ),
             (None, true) => {
                 let mut met = Nearest::default();
-                if let Some((t, h)) = nearest_object(g, prep, &walk.ray, t_end, cell_point, (near, settings.cull)) {
-                    met.keep((t, h, None));
+                if let Some((t, h)) = nearest_object(g, prep, &walk.ray, t_end, cell_point, (near[0], settings.cull)) {
+                    met.whole = Some((t, h, None));
                 }
                 met
             }
@@ -633,8 +647,9 @@ enum Candidate {
 
 /// Hands `visit` each object a segment of `ray` ending at `t_end` may
 /// meet, in a fixed order: balls, tubes, mesh instances. With `cull`,
-/// objects whose faces the segment does not come near (`near`, from
-/// [`near_faces`]) are left out: only the groups of near faces are walked
+/// objects whose faces the segment does not come near (`near_balls` for
+/// balls, `near` for the others, from [`near_faces`]: a cone grows balls
+/// further) are left out: only the groups of near faces are walked
 /// ([`FaceGroups`]); and of the balls with no face mask only those in the
 /// leaves of [`FlatScene::ball_tree`] whose boxes, padded by `pad`, the
 /// segment's chart image meets ([`tree_leaves`]). WGSL twin: the loops of
@@ -643,12 +658,12 @@ fn each_candidate<R: Real>(
     prep: &FlatScene<R>,
     ray: &Ray<R>,
     t_end: R,
-    (near, cull): (u32, bool),
+    ([near_balls, near], cull): ([u32; 2], bool),
     pad: f32,
     mut visit: impl FnMut(Candidate),
 ) {
     let groups = &prep.groups;
-    let mut ranges = FaceGroups::ranges(&groups.balls, near);
+    let mut ranges = FaceGroups::ranges(&groups.balls, near_balls);
     let interior = ranges.next().unwrap_or_default();
     match chart_segment(ray, t_end).filter(|_| cull && pad.is_finite()) {
         Some((a, d)) => tree_leaves(&prep.ball_tree, a, d, pad, |leaf| {
@@ -687,7 +702,7 @@ fn nearest_object<R: Real>(
 ) -> Option<(R, Hit<R>)> {
     let zero = R::of(0.0);
     let mut best: Option<(R, Hit<R>)> = None;
-    each_candidate(prep, ray, t_end, (near, cull), 0.0, |c| match c {
+    each_candidate(prep, ray, t_end, ([near; 2], cull), 0.0, |c| match c {
         Candidate::Ball(i) => {
             let b = &prep.balls[i];
             if may_hit(b.face_mask, near)
@@ -726,10 +741,14 @@ fn nearest_object<R: Real>(
 /// it covers.
 type Met<R> = (R, Hit<R>, Option<Cover<R>>);
 
-/// Up to [`SEGMENT_LAYERS`] things met on one segment, nearest first.
+/// Up to [`SEGMENT_LAYERS`] layers met on one segment, nearest first,
+/// and the nearest thing hit whole (a mesh for a cone; anything for a
+/// ray), which hides what is behind it. WGSL twin: `met_t`, `met_id` and
+/// `best` in `shaders/render.wgsl`.
 struct Nearest<R: Real> {
     met: [Option<Met<R>>; SEGMENT_LAYERS],
     count: usize,
+    whole: Option<Met<R>>,
 }
 
 impl<R: Real> Default for Nearest<R> {
@@ -737,20 +756,24 @@ impl<R: Real> Default for Nearest<R> {
         Nearest {
             met: [None; SEGMENT_LAYERS],
             count: 0,
+            whole: None,
         }
     }
 }
 
 impl<R: Real> Nearest<R> {
-    /// The farthest still wanted: `t_end`, or once full the farthest kept.
+    /// The farthest still wanted: `t_end`, or once full the farthest
+    /// layer kept; never past the whole hit. WGSL twin: `met_limit`.
     fn limit(&self, t_end: R) -> R {
-        match self.count {
+        let layers = match self.count {
             SEGMENT_LAYERS => self.met[SEGMENT_LAYERS - 1].map_or(t_end, |m| m.0),
             _ => t_end,
-        }
+        };
+        self.whole.map_or(layers, |m| m.0.min(layers))
     }
 
-    /// Keeps `m` in order, dropping the farthest when full.
+    /// Keeps the layer `m` in order, dropping the farthest when full
+    /// (a tie stays ahead). WGSL twin: `keep_met`.
     fn keep(&mut self, m: Met<R>) {
         let mut at = self.count.min(SEGMENT_LAYERS - 1);
         self.met[at] = Some(m);
@@ -761,9 +784,15 @@ impl<R: Real> Nearest<R> {
         self.count = (self.count + 1).min(SEGMENT_LAYERS);
     }
 
-    /// What was kept, nearest first.
+    /// What was met, nearest first: the layers before the whole hit (or
+    /// level with it), then the whole hit.
     fn iter(&self) -> impl Iterator<Item = &Met<R>> {
-        self.met[..self.count].iter().flatten()
+        let whole = self.whole;
+        self.met[..self.count]
+            .iter()
+            .flatten()
+            .take_while(move |m| whole.is_none_or(|h| h.0 >= m.0))
+            .chain(self.whole.iter())
     }
 }
 
@@ -785,31 +814,32 @@ fn segment_layers<R: Real>(
     ray: &Ray<R>,
     t_end: R,
     cell_point: R::V4,
-    (near, cull): (u32, bool),
+    ([near_balls, near], cull): ([u32; 2], bool),
     (grow, beta, travelled): (&Inflation<R>, R, R),
 ) -> Nearest<R> {
     let zero = R::of(0.0);
     let mut met = Nearest::<R>::default();
     // An object the grown test lets through covers part of the pixel
     // with the footprint where the ray passes it, which may be none.
-    let cover = |a: Approach<R>, end: R, grown: R, k: R, length: Option<R>| {
+    let cover = |a: Approach<R>, end: R, grown: R, k: R, tube: Option<&Segment<R>>| {
         if !(a.t >= zero && a.t <= end && a.within(g, grown)) {
             return None;
         }
-        let w = beta * spread(g, travelled + g.chart_to_distance::<R>(a.t));
+        let w = (beta * spread(g, travelled + g.chart_to_distance::<R>(a.t))).min(grow.w);
         let r = radius_of(g, k);
-        let part = coverage(length.is_none(), a.gap, r, length.unwrap_or(zero), w) * side_by_side(w, prep.cell_shadow);
+        let length = tube.map_or(zero, |seg| g.distance::<R>(seg.a, seg.b));
+        let part = coverage(tube.is_none(), a.gap, r, length, w) * side_by_side(w, prep.cell_shadow);
         let part = part.min(R::of(1.0)).f64() as f32;
         (part > 0.0).then_some(Cover { near: a, w, r, part })
     };
     let pad = (grow.w * R::of(BALL_GROWTH) * prep.faces.chart_stretch).f64() as f32;
     let tube_k = grow.k(g, prep.tube_k);
-    each_candidate(prep, ray, t_end, (near, cull), pad, |c| {
+    each_candidate(prep, ray, t_end, ([near_balls, near], cull), pad, |c| {
         let end = met.limit(t_end);
         match c {
             Candidate::Ball(i) => {
                 let b = &prep.balls[i];
-                if may_hit(b.face_mask, near)
+                if may_hit(b.face_mask, near_balls)
                     && let Some(c) = cover(ball_approach(g, ray, b.center), end, grow.ball_k(g, b.k), b.k, None)
                 {
                     met.keep((c.near.t, Hit::Ball(i), Some(c)));
@@ -820,7 +850,7 @@ fn segment_layers<R: Real>(
                 if may_hit(prep.tubes[i].face_mask, near) {
                     let a = tube_approach(g, ray, seg);
                     if on_edge(g, ray.origin + ray.dir * a.t, seg)
-                        && let Some(c) = cover(a, end, tube_k, prep.tube_k, Some(g.distance::<R>(seg.a, seg.b)))
+                        && let Some(c) = cover(a, end, tube_k, prep.tube_k, Some(seg))
                     {
                         met.keep((a.t, Hit::Tube(i), Some(c)));
                     }
@@ -832,7 +862,7 @@ fn segment_layers<R: Real>(
                     && let Some(h) = hit_instance(g, ray, inst, &prep.meshes[inst.mesh], end)
                     && h.t <= end
                 {
-                    met.keep((h.t, Hit::Mesh(i, h.hit), None));
+                    met.whole = Some((h.t, Hit::Mesh(i, h.hit), None));
                 }
             }
         }
