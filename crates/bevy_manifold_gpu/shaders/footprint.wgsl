@@ -126,10 +126,10 @@ fn off_flat(x: vec4<f32>, a: vec4<f32>, e: vec4<f32>) -> vec4<f32> {
 #endif
 }
 
-// Where the ray's geodesic comes nearest a flat: the least distance, its
-// sinh^2 / sin^2 / square, and the chart parameter there.
+// Where the ray's geodesic comes nearest a flat: the least distance's
+// sinh^2 / sin^2 / square, and the chart parameter there (the distance
+// itself is gap_of, left until within has let the object through).
 struct Approach {
-    gap: f32,
     lambda: f32,
     t: f32,
 }
@@ -159,15 +159,19 @@ fn approach(ray: Ray, a: vec4<f32>, e: vec4<f32>) -> Approach {
     let lead = q;
 #endif
     let t = select(0.0, -m / lead, abs(lead) > 1.1920929e-7);
+    return Approach(lambda, t);
+}
+
+// The least distance of an approach (Rust: Approach::gap).
+fn gap_of(lambda: f32) -> f32 {
     let root = sqrt(max(lambda, 0.0));
 #ifdef GEOMETRY_HYPERBOLIC
-    let gap = asinh(root);
+    return asinh(root);
 #else ifdef GEOMETRY_SPHERICAL
-    let gap = atan2(min(root, 1.0), sqrt(max(1.0 - lambda, 0.0)));
+    return atan2(min(root, 1.0), sqrt(max(1.0 - lambda, 0.0)));
 #else
-    let gap = root;
+    return root;
 #endif
-    return Approach(gap, lambda, t);
 }
 
 fn ball_approach(ray: Ray, c: vec4<f32>) -> Approach {

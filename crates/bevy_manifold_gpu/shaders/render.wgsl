@@ -37,7 +37,7 @@
 #endif
 #ifdef FOOTPRINT
 #import bevy_manifold::step::on_edge
-#import bevy_manifold::footprint::{Approach, Inflation, Layers, inflation_new, grow_k, grown_reach, radius_of, ball_approach, tube_approach, within, coverage, side_by_side, shading_offset, normal_at_offset, spread, widest_spread, add_layer, layers_full, layers_over, BALL_GROWTH, SEGMENT_LAYERS}
+#import bevy_manifold::footprint::{Approach, Inflation, Layers, inflation_new, grow_k, grown_reach, radius_of, ball_approach, tube_approach, within, gap_of, coverage, side_by_side, shading_offset, normal_at_offset, spread, widest_spread, add_layer, layers_full, layers_over, BALL_GROWTH, SEGMENT_LAYERS}
 #endif
 
 // The view-space slopes of the direction through NDC (x, y): the
@@ -311,6 +311,7 @@ var<private> best: Hit;
 // of the pixel it covers (0: none).
 struct Cover {
     near: Approach,
+    gap: f32,
     w: f32,
     r: f32,
     part: f32,
@@ -363,7 +364,7 @@ fn keep_met(t: f32, id: u32) {
 // approach `near` to it lies in [0, end] within the grown radius (`k`
 // grown to `grown`); part 0 otherwise (Rust: segment_layers' cover).
 fn cover(kind: u32, index: u32, near: Approach, end: f32, grown: f32, k: f32) -> Cover {
-    var c = Cover(near, 0.0, 0.0, 0.0);
+    var c = Cover(near, 0.0, 0.0, 0.0, 0.0);
     if !(near.t >= 0.0 && near.t <= end && within(near, grown)) {
         return c;
     }
@@ -377,7 +378,8 @@ fn cover(kind: u32, index: u32, near: Approach, end: f32, grown: f32, k: f32) ->
         length = distance(tubes[index].a, tubes[index].b);
     }
 #endif
-    c.part = min(coverage(ball, near.gap, c.r, length, c.w) * side_by_side(c.w, params.cone.w), 1.0);
+    c.gap = gap_of(near.lambda);
+    c.part = min(coverage(ball, c.gap, c.r, length, c.w) * side_by_side(c.w, params.cone.w), 1.0);
     return c;
 }
 
@@ -394,7 +396,7 @@ fn kept_cover(ray: Ray, kind: u32, index: u32, t_end: f32) -> Cover {
         return cover(2u, index, tube_approach(ray, tubes[index].a, tubes[index].e), t_end, grow_k(params.tube_k, cone_grow.tube), params.tube_k);
     }
 #endif
-    return Cover(Approach(0.0, 0.0, 0.0), 0.0, 0.0, 0.0);
+    return Cover(Approach(0.0, 0.0), 0.0, 0.0, 0.0, 0.0);
 }
 #endif
 
@@ -606,8 +608,8 @@ fn cone_layer(ray: Ray, kind: u32, index: u32, c: Cover, t_end: f32) -> ConeLaye
         n0 = normal_from(x, foot_on_line(x, tubes[index]));
     }
 #endif
-    let s = shading_offset(ball, c.near.gap, c.r, c.w);
-    if own >= 0.0 && own <= t_end && c.near.gap <= s * c.r {
+    let s = shading_offset(ball, c.gap, c.r, c.w);
+    if own >= 0.0 && own <= t_end && c.gap <= s * c.r {
         return ConeLayer(c.part, own, vec4<f32>(0.0));
     }
     return ConeLayer(c.part, c.near.t, normal_at_offset(n0, view, s));

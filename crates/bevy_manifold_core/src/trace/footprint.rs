@@ -237,7 +237,9 @@ pub fn off_flat<R: Real>(g: Geometry, x: R::V4, a: R::V4, e: R::V4) -> R::V4 {
 
 /// Where the whole geodesic of `ray` comes nearest the flat through `a`
 /// along `e` ([`off_flat`]): a ball's centre (`e` zero) or a tube's
-/// axis. Along the ray `p = o + t d`, the squared off-flat part is
+/// axis. (The distance itself, [`Approach::gap`], a transcendental, is
+/// left until a test on `lambda` has let the object through.) Along the
+/// ray `p = o + t d`, the squared off-flat part is
 /// `P + 2 M t + Q t^2` over `1 - t^2` (H3), `1 + t^2` (S3) or 1 (E3); its
 /// least value `lambda` is where the quotient touches it, a double root
 /// of the numerator less `lambda` times the denominator, taken in the
@@ -245,10 +247,9 @@ pub fn off_flat<R: Real>(g: Geometry, x: R::V4, a: R::V4, e: R::V4) -> R::V4 {
 /// WGSL twin: `Approach` and `approach`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Approach<R: Real> {
-    /// The least distance.
-    pub gap: R,
-    /// Its `sinh^2` (H3), `sin^2` (S3) or square (E3): what
-    /// [`Approach::within`] compares.
+    /// The least distance's `sinh^2` (H3), `sin^2` (S3) or square (E3):
+    /// what [`Approach::within`] compares; [`Approach::gap`] is the
+    /// distance.
     pub lambda: R,
     /// The chart parameter on the ray where it is reached (perhaps
     /// behind the origin or past the segment).
@@ -261,7 +262,7 @@ pub struct Approach<R: Real> {
 pub fn approach<R: Real>(g: Geometry, ray: &Ray<R>, a: R::V4, e: R::V4) -> Approach<R> {
     let (po, pd) = (off_flat::<R>(g, ray.origin, a, e), off_flat::<R>(g, ray.dir, a, e));
     let (p, m, q) = (g.form::<R>(po, po), g.form::<R>(po, pd), g.form::<R>(pd, pd));
-    let (zero, one, two) = (R::of(0.0), R::of(1.0), R::of(2.0));
+    let (zero, two) = (R::of(0.0), R::of(2.0));
     let det = (p * q - m * m).max(zero);
     // The least value and the leading coefficient of the touching
     // quadratic, whose double root is at -m over it.
@@ -291,16 +292,24 @@ pub fn approach<R: Real>(g: Geometry, ray: &Ray<R>, a: R::V4, e: R::V4) -> Appro
         }
     };
     let t = if lead.abs() > R::EPSILON { -m / lead } else { zero };
-    let root = lambda.max(zero).sqrt();
-    let gap = match g {
-        Geometry::Euclidean => root,
-        Geometry::Hyperbolic => root.asinh(),
-        Geometry::Spherical => root.min(one).atan2((one - lambda).max(zero).sqrt()),
-    };
-    Approach { gap, lambda, t }
+    Approach { lambda, t }
 }
 
 impl<R: Real> Approach<R> {
+    /// The least distance: `asinh`, `asin` or the square root of
+    /// `lambda`. WGSL twin: `gap_of`.
+    #[inline]
+    #[must_use]
+    pub fn gap(&self, g: Geometry) -> R {
+        let (zero, one) = (R::of(0.0), R::of(1.0));
+        let root = self.lambda.max(zero).sqrt();
+        match g {
+            Geometry::Euclidean => root,
+            Geometry::Hyperbolic => root.asinh(),
+            Geometry::Spherical => root.min(one).atan2((one - self.lambda).max(zero).sqrt()),
+        }
+    }
+
     /// True when the gap is at most the radius whose `k` (`cosh`, `cos`,
     /// square) is `k`: `lambda <= k^2 - 1`, `1 - k^2`, `k`.
     #[inline]
@@ -535,12 +544,12 @@ mod tests {
                 Geometry::Hyperbolic => (l.sinh() * angle.sin()).asinh(),
                 Geometry::Spherical => (l.sin() * angle.sin()).asin(),
             };
-            let got = ball_approach::<f64>(g, &r, c).gap;
+            let got = ball_approach::<f64>(g, &r, c).gap(g);
             assert!((got - want).abs() < 1e-12, "{g:?}: {got} against {want}");
             // From another point of the same geodesic, pointing back: the
             // gap is the geodesic's, not the ray's.
             let r2 = ray(g, at(g, [1.0, 0.0, 0.0], 1.1), -DVec4::X);
-            let got2 = ball_approach::<f64>(g, &r2, c).gap;
+            let got2 = ball_approach::<f64>(g, &r2, c).gap(g);
             assert!((got2 - want).abs() < 1e-9, "{g:?} from behind: {got2} against {want}");
         }
     }
@@ -565,7 +574,7 @@ mod tests {
             // The perpendicular's foot on the ray is the origin, 0.7 on.
             let foot = g.chart_to_distance::<f64>(got.t);
             assert!((foot - 0.7).abs() < 1e-9, "{g:?}: foot at {foot}");
-            let got = got.gap;
+            let got = got.gap(g);
             assert!((got - h).abs() < 1e-12, "{g:?}: {got} against {h}");
         }
     }

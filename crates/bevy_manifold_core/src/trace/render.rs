@@ -550,6 +550,7 @@ impl<R: Real> ConeLayer<R> {
 #[derive(Clone, Copy, Debug)]
 struct Cover<R: Real> {
     near: Approach<R>,
+    gap: R,
     w: R,
     r: R,
     part: f32,
@@ -574,10 +575,10 @@ fn cone_layer<R: Real>(
         Hit::Tube(i) => (false, hit_tube(g, ray, &prep.tubes[i].segment, prep.tube_k, zero)),
     };
     let near = cover.near;
-    let s = shading_offset(ball, near.gap, cover.r, cover.w);
+    let s = shading_offset(ball, cover.gap, cover.r, cover.w);
     if let Some(t_own) = own
         && t_own <= t_end
-        && near.gap <= s * cover.r
+        && cover.gap <= s * cover.r
     {
         return ConeLayer {
             part: cover.part,
@@ -828,9 +829,16 @@ fn segment_layers<R: Real>(
         let w = (beta * spread(g, travelled + g.chart_to_distance::<R>(a.t))).min(grow.w);
         let r = radius_of(g, k);
         let length = tube.map_or(zero, |seg| g.distance::<R>(seg.a, seg.b));
-        let part = coverage(tube.is_none(), a.gap, r, length, w) * side_by_side(w, prep.cell_shadow);
+        let gap = a.gap(g);
+        let part = coverage(tube.is_none(), gap, r, length, w) * side_by_side(w, prep.cell_shadow);
         let part = part.min(R::of(1.0)).f64() as f32;
-        (part > 0.0).then_some(Cover { near: a, w, r, part })
+        (part > 0.0).then_some(Cover {
+            near: a,
+            gap,
+            w,
+            r,
+            part,
+        })
     };
     let pad = (grow.w * R::of(BALL_GROWTH) * prep.faces.chart_stretch).f64() as f32;
     let tube_k = grow.k(g, prep.tube_k);
