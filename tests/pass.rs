@@ -14,7 +14,7 @@ use bevy_manifold::render::{ManifoldBufferCache, ManifoldUploads, offscreen};
 use bevy_manifold::space::Space;
 use bevy_manifold::trace::FlatScene;
 use bevy_manifold_gpu::{GpuObjects, GpuTracer};
-use bevy_manifold_test_support::compare::rgba8_agreement;
+use bevy_manifold_test_support::compare::{colors, rgba8_agreement};
 
 const W: u32 = 160;
 const H: u32 = 120;
@@ -289,14 +289,6 @@ fn a_viewport_shows_the_same_trace_as_a_whole_target() {
     );
 }
 
-/// Linear colours of a trace, row-major.
-fn colors(img: &bevy_manifold::trace::TraceImage) -> Vec<[f32; 3]> {
-    img.pixels
-        .iter()
-        .map(|p| [p.color[0], p.color[1], p.color[2]])
-        .collect()
-}
-
 /// The fraction of `shown` (RGBA8, sRGB) within `tol` of linear `colors`.
 fn close_to(shown: &[u8], colors: &[[f32; 3]], tol: u8) -> f64 {
     let close = shown
@@ -433,27 +425,12 @@ fn psnr(shown: &[u8], reference: &[[f32; 3]]) -> f64 {
 /// each pixel the mean of its 4x4 block (a box filter over the pixel).
 fn supersampled(space: &Space, scene: &Scene, levels: u32) -> Vec<[f32; 3]> {
     let settings = TraceSettings {
-        width: W * 4,
-        height: H * 4,
+        width: W,
+        height: H,
         levels,
         ..TraceSettings::default()
     };
-    let big = render::<f64>(space, scene, &settings);
-    (0..W * H)
-        .map(|k| {
-            let (i, j) = (k % W, k / W);
-            let mut sum = [0.0f32; 3];
-            for dy in 0..4 {
-                for dx in 0..4 {
-                    let p = &big.pixels[((j * 4 + dy) * W * 4 + i * 4 + dx) as usize];
-                    for (s, c) in sum.iter_mut().zip(p.color) {
-                        *s += c / 16.0;
-                    }
-                }
-            }
-            sum
-        })
-        .collect()
+    bevy_manifold_test_support::compare::supersampled(space, scene, &settings, 4)
 }
 
 fn a_still_view_accumulates_jittered_samples_then_stops_tracing() {

@@ -13,70 +13,8 @@
 use crate::pass::frame_ms;
 use bevy_manifold::prelude::*;
 use bevy_manifold::render::offscreen;
-use bevy_manifold::trace::{accumulate, srgb8};
-
-/// Linear colours of a trace.
-fn colors(img: &TraceImage) -> Vec<[f32; 3]> {
-    img.pixels
-        .iter()
-        .map(|p| [p.color[0], p.color[1], p.color[2]])
-        .collect()
-}
-
-/// The trace at `k` times the size, each pixel the mean of its k x k block.
-fn supersampled(space: &Space, scene: &Scene, settings: &TraceSettings, k: u32) -> Vec<[f32; 3]> {
-    let big = render::<f64>(
-        space,
-        scene,
-        &TraceSettings {
-            width: settings.width * k,
-            height: settings.height * k,
-            ..settings.clone()
-        },
-    );
-    let (w, h) = (settings.width, settings.height);
-    let n = (k * k) as f32;
-    (0..w * h)
-        .map(|p| {
-            let (i, j) = (p % w, p / w);
-            let mut sum = [0.0f32; 3];
-            for dy in 0..k {
-                for dx in 0..k {
-                    let c = big.pixels[((j * k + dy) * w * k + i * k + dx) as usize].color;
-                    for (s, c) in sum.iter_mut().zip(c) {
-                        *s += c / n;
-                    }
-                }
-            }
-            sum
-        })
-        .collect()
-}
-
-/// Mean squared difference of two images in sRGB bytes, as PSNR (dB).
-fn psnr(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
-    let sq: f64 = a
-        .iter()
-        .zip(b)
-        .flat_map(|(x, y)| (0..3).map(move |c| (f64::from(srgb8(x[c])) - f64::from(srgb8(y[c]))).powi(2)))
-        .sum();
-    let rmse = (sq / (3 * a.len()) as f64).sqrt() / 255.0;
-    if rmse > 0.0 {
-        -20.0 * rmse.log10()
-    } else {
-        f64::INFINITY
-    }
-}
-
-/// Mean absolute change per channel between two images, in sRGB bytes.
-fn change(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
-    let sum: f64 = a
-        .iter()
-        .zip(b)
-        .flat_map(|(x, y)| (0..3).map(move |c| f64::from(srgb8(x[c]).abs_diff(srgb8(y[c])))))
-        .sum();
-    sum / (3 * a.len()) as f64
-}
+use bevy_manifold::trace::accumulate;
+use bevy_manifold_test_support::compare::{change, colors, psnr_of as psnr, supersampled};
 
 /// What anti-aliasing costs in the pass (a headless Bevy app, 320x180,
 /// the default scene, 8 levels, ms a frame, best of `runs`): the plain

@@ -5,7 +5,7 @@
 
 use bevy_manifold_core::geometry::{Geometry, isometry};
 use bevy_manifold_core::prelude::*;
-use bevy_manifold_core::trace::srgb8;
+use bevy_manifold_test_support::compare::{change, colors, psnr_of as psnr, supersampled};
 use glam::{DVec3, DVec4};
 
 /// The point at distance `s` from the origin along the unit `u`.
@@ -84,64 +84,6 @@ fn a_ball_under_a_pixel_leaves_its_area_in_the_image_wherever_it_lies() {
     }
 }
 
-/// Linear colours of a trace.
-fn colors(img: &TraceImage) -> Vec<[f32; 3]> {
-    img.pixels.iter().map(|p| p.color).collect()
-}
-
-/// The trace at 4x the size, each pixel the mean of its 4x4 block: 16
-/// samples per pixel, box-filtered.
-fn supersampled(space: &Space, scene: &Scene, settings: &TraceSettings) -> Vec<[f32; 3]> {
-    let k = 4;
-    let big = render::<f64>(
-        space,
-        scene,
-        &TraceSettings {
-            width: settings.width * k,
-            height: settings.height * k,
-            footprint: false,
-            ..settings.clone()
-        },
-    );
-    let w = settings.width;
-    (0..w * settings.height)
-        .map(|p| {
-            let (i, j) = (p % w, p / w);
-            let mut sum = [0.0f32; 3];
-            for dy in 0..k {
-                for dx in 0..k {
-                    let c = big.pixels[((j * k + dy) * w * k + i * k + dx) as usize].color;
-                    for (s, c) in sum.iter_mut().zip(c) {
-                        *s += c / 16.0;
-                    }
-                }
-            }
-            sum
-        })
-        .collect()
-}
-
-/// PSNR (dB) of two images in sRGB bytes.
-fn psnr(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
-    let sq: f64 = a
-        .iter()
-        .zip(b)
-        .flat_map(|(x, y)| (0..3).map(move |c| (f64::from(srgb8(x[c])) - f64::from(srgb8(y[c]))).powi(2)))
-        .sum();
-    let rmse = (sq / (3 * a.len()) as f64).sqrt() / 255.0;
-    -20.0 * rmse.log10()
-}
-
-/// Mean absolute change per channel between two images, in sRGB bytes.
-fn change(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
-    let sum: f64 = a
-        .iter()
-        .zip(b)
-        .flat_map(|(x, y)| (0..3).map(move |c| f64::from(srgb8(x[c]).abs_diff(srgb8(y[c])))))
-        .sum();
-    sum / (3 * a.len()) as f64
-}
-
 #[test]
 fn a_cone_traced_view_is_nearer_supersampling_and_flickers_less() {
     // Hyperbolic: copies shrink below a pixel within a few levels; the
@@ -166,7 +108,7 @@ fn a_cone_traced_view_is_nearer_supersampling_and_flickers_less() {
             footprint: true,
             ..settings.clone()
         };
-        let reference = supersampled(&space, &scene, &settings);
+        let reference = supersampled(&space, &scene, &settings, 4);
         let plain = colors(&render::<f64>(&space, &scene, &settings));
         let cone = colors(&render::<f64>(&space, &scene, &cone_settings));
         let (p_plain, p_cone) = (psnr(&plain, &reference), psnr(&cone, &reference));
@@ -179,7 +121,7 @@ fn a_cone_traced_view_is_nearer_supersampling_and_flickers_less() {
             moving.camera.isometry *= step;
             let p = colors(&render::<f64>(&space, &moving, &settings));
             let c = colors(&render::<f64>(&space, &moving, &cone_settings));
-            let r = supersampled(&space, &moving, &settings);
+            let r = supersampled(&space, &moving, &settings, 4);
             f_plain += change(&p, &last_plain);
             f_cone += change(&c, &last_cone);
             f_ref += change(&r, &last_ref);

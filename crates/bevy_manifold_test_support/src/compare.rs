@@ -2,7 +2,8 @@
 //! benchmarks do it: object and cell ids, colours within a tolerance,
 //! PSNR.
 
-use bevy_manifold_core::trace::{TraceImage, TracePixel, srgb8};
+use bevy_manifold_core::space::Space;
+use bevy_manifold_core::trace::{Scene, TraceImage, TracePixel, TraceSettings, render, srgb8};
 
 /// Fractions of pixels with the same object and cell id, and with every
 /// colour channel within 2/255, of `a` against the reference `b`. A cell id
@@ -122,4 +123,74 @@ impl ImageErrors {
         let r = self.rmse();
         if r > 0.0 { -20.0 * r.log10() } else { f64::INFINITY }
     }
+}
+
+/// Linear colours of a trace, row-major.
+#[must_use]
+pub fn colors(img: &TraceImage) -> Vec<[f32; 3]> {
+    img.pixels.iter().map(|p| p.color).collect()
+}
+
+/// The CPU f64 trace of `settings` at `k` times its size, each pixel the
+/// mean of its `k` x `k` block: `k^2` samples per pixel, box-filtered
+/// over the pixel, each a ray (cone tracing off). The reference the
+/// anti-aliasing tests and `bench aa` measure against.
+#[must_use]
+pub fn supersampled(space: &Space, scene: &Scene, settings: &TraceSettings, k: u32) -> Vec<[f32; 3]> {
+    let big = render::<f64>(
+        space,
+        scene,
+        &TraceSettings {
+            width: settings.width * k,
+            height: settings.height * k,
+            footprint: false,
+            ..settings.clone()
+        },
+    );
+    let (w, h) = (settings.width, settings.height);
+    let n = (k * k) as f32;
+    (0..w * h)
+        .map(|p| {
+            let (i, j) = (p % w, p / w);
+            let mut sum = [0.0f32; 3];
+            for dy in 0..k {
+                for dx in 0..k {
+                    let c = big.pixels[((j * k + dy) * w * k + i * k + dx) as usize].color;
+                    for (s, c) in sum.iter_mut().zip(c) {
+                        *s += c / n;
+                    }
+                }
+            }
+            sum
+        })
+        .collect()
+}
+
+/// PSNR (dB) of two images of linear colours, compared as sRGB bytes
+/// (infinite for equal images).
+#[must_use]
+pub fn psnr_of(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
+    let sq: f64 = a
+        .iter()
+        .zip(b)
+        .flat_map(|(x, y)| (0..3).map(move |c| (f64::from(srgb8(x[c])) - f64::from(srgb8(y[c]))).powi(2)))
+        .sum();
+    let rmse = (sq / (3 * a.len().max(1)) as f64).sqrt() / 255.0;
+    if rmse > 0.0 {
+        -20.0 * rmse.log10()
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The mean absolute change per channel between two images of linear
+/// colours, in sRGB bytes: one frame's flicker against the last.
+#[must_use]
+pub fn change(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
+    let sum: f64 = a
+        .iter()
+        .zip(b)
+        .flat_map(|(x, y)| (0..3).map(move |c| f64::from(srgb8(x[c]).abs_diff(srgb8(y[c])))))
+        .sum();
+    sum / (3 * a.len().max(1)) as f64
 }
