@@ -138,3 +138,51 @@ fn a_cone_traced_view_is_nearer_supersampling_and_flickers_less() {
         assert!(f_cone <= bound, "{name}: flicker {f_cone:.2} against {bound:.2}");
     }
 }
+
+#[test]
+fn cones_along_rays_through_vertices_edges_and_faces_stay_finite() {
+    // The rays where layers meet: through vertices (where tubes and the
+    // joints meet, their nearest approaches all but level), along edges
+    // (a tube's axis: gap 0, and the approach's quadratic degenerate), and
+    // sliding along faces. Each view's 5x5 pixels around that ray, traced
+    // as cones in f32 and f64 with the paper's scene (fog on in one pass):
+    // every colour and distance finite, no colour negative, every level
+    // within the limit.
+    for name in catalog::NAMES {
+        let space = catalog::by_name(name).expect("catalog");
+        let rays = bevy_manifold_test_support::stress::degenerate_rays(&space);
+        for (k, ray) in rays.iter().enumerate() {
+            for fog in [false, true] {
+                let mut scene = Scene::default_for(&space);
+                scene.camera.isometry = bevy_manifold_test_support::stress::camera_along(&space, ray);
+                if fog {
+                    scene.fog = Some(Fog {
+                        density: 0.5 / space.inradius(),
+                        color: [0.7, 0.75, 0.8],
+                    });
+                }
+                let settings = TraceSettings {
+                    width: 5,
+                    height: 5,
+                    levels: 8,
+                    footprint: true,
+                    ..TraceSettings::default()
+                };
+                for img in [
+                    render::<f32>(&space, &scene, &settings),
+                    render::<f64>(&space, &scene, &settings),
+                ] {
+                    for p in &img.pixels {
+                        assert!(
+                            p.color.iter().all(|c| c.is_finite() && *c >= 0.0),
+                            "{name} ray {k} fog {fog}: {:?}",
+                            p.color
+                        );
+                        assert!(p.levels <= settings.levels, "{name} ray {k}: {} levels", p.levels);
+                        assert!(p.distance.is_finite(), "{name} ray {k}: distance {}", p.distance);
+                    }
+                }
+            }
+        }
+    }
+}
