@@ -14,7 +14,7 @@ use crate::pass::frame_ms;
 use bevy_manifold::prelude::*;
 use bevy_manifold::render::offscreen;
 use bevy_manifold::trace::accumulate;
-use bevy_manifold_test_support::compare::{change, colors, psnr_of as psnr, supersampled};
+use bevy_manifold_test_support::compare::{colors, creeping_flicker, psnr_of as psnr, supersampled};
 
 /// What anti-aliasing costs in the pass (a headless Bevy app, 320x180,
 /// the default scene, 8 levels, ms a frame, best of `runs`): the plain
@@ -93,20 +93,19 @@ pub fn run(width: u32, height: u32, frames: u32) -> Result<(), String> {
                 .map(|&n| psnr(&accumulate::<f64>(&space, &scene, &settings, n), &reference))
                 .collect();
             // Flicker: the camera creeping forward.
-            let mut moving = scene.clone();
-            let step = isometry::translation(space.geometry(), glam::DVec3::NEG_Z * 0.002);
-            let (mut last_plain, mut last_cone, mut last_ref) = (plain.clone(), cone.clone(), reference.clone());
-            let (mut f_plain, mut f_cone, mut f_ref) = (0.0, 0.0, 0.0);
-            for _ in 0..frames {
-                moving.camera.isometry *= step;
-                let p = colors(&render::<f64>(&space, &moving, &settings));
-                let c = colors(&render::<f64>(&space, &moving, &cone_settings));
-                let r = supersampled(&space, &moving, &settings, 4);
-                f_plain += change(&p, &last_plain) / f64::from(frames);
-                f_cone += change(&c, &last_cone) / f64::from(frames);
-                f_ref += change(&r, &last_ref) / f64::from(frames);
-                (last_plain, last_cone, last_ref) = (p, c, r);
-            }
+            let (plain_of, cone_of, reference_of) = (
+                |s: &Scene| colors(&render::<f64>(&space, s, &settings)),
+                |s: &Scene| colors(&render::<f64>(&space, s, &cone_settings)),
+                |s: &Scene| supersampled(&space, s, &settings, 4),
+            );
+            let flicker = creeping_flicker(
+                &space,
+                &scene,
+                (0.002, frames),
+                vec![plain.clone(), cone.clone(), reference.clone()],
+                &[&plain_of, &cone_of, &reference_of],
+            );
+            let [f_plain, f_cone, f_ref] = [flicker[0], flicker[1], flicker[2]];
             println!(
                 "{name:<22} {levels:>6} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {f_plain:>10.2} {f_cone:>10.2} {f_ref:>10.2}",
                 psnr(&plain, &reference),

@@ -3,9 +3,9 @@
 //! cone-traced image is nearer a supersampled one than one ray per pixel
 //! is, and flickers less while the camera moves.
 
-use bevy_manifold_core::geometry::{Geometry, isometry};
+use bevy_manifold_core::geometry::Geometry;
 use bevy_manifold_core::prelude::*;
-use bevy_manifold_test_support::compare::{change, colors, psnr_of as psnr, supersampled};
+use bevy_manifold_test_support::compare::{colors, creeping_flicker, psnr_of as psnr, supersampled};
 use glam::{DVec3, DVec4};
 
 /// The point at distance `s` from the origin along the unit `u`.
@@ -113,25 +113,21 @@ fn a_cone_traced_view_is_nearer_supersampling_and_flickers_less() {
         let cone = colors(&render::<f64>(&space, &scene, &cone_settings));
         let (p_plain, p_cone) = (psnr(&plain, &reference), psnr(&cone, &reference));
         // Flicker while creeping forward.
-        let step = isometry::translation(space.geometry(), DVec3::NEG_Z * 0.002);
-        let mut moving = scene.clone();
-        let (mut last_plain, mut last_cone, mut last_ref) = (plain, cone, reference);
-        let (mut f_plain, mut f_cone, mut f_ref) = (0.0, 0.0, 0.0);
-        for _ in 0..4 {
-            moving.camera.isometry *= step;
-            let p = colors(&render::<f64>(&space, &moving, &settings));
-            let c = colors(&render::<f64>(&space, &moving, &cone_settings));
-            let r = supersampled(&space, &moving, &settings, 4);
-            f_plain += change(&p, &last_plain);
-            f_cone += change(&c, &last_cone);
-            f_ref += change(&r, &last_ref);
-            (last_plain, last_cone, last_ref) = (p, c, r);
-        }
+        let (plain_of, cone_of, reference_of) = (
+            |s: &Scene| colors(&render::<f64>(&space, s, &settings)),
+            |s: &Scene| colors(&render::<f64>(&space, s, &cone_settings)),
+            |s: &Scene| supersampled(&space, s, &settings, 4),
+        );
+        let flicker = creeping_flicker(
+            &space,
+            &scene,
+            (0.002, 4),
+            vec![plain, cone, reference],
+            &[&plain_of, &cone_of, &reference_of],
+        );
+        let [f_plain, f_cone, f_ref] = [flicker[0], flicker[1], flicker[2]];
         println!(
-            "{name}: PSNR plain {p_plain:.2} cone {p_cone:.2} dB; flicker plain {:.2} cone {:.2} reference {:.2}",
-            f_plain / 4.0,
-            f_cone / 4.0,
-            f_ref / 4.0
+            "{name}: PSNR plain {p_plain:.2} cone {p_cone:.2} dB; flicker plain {f_plain:.2} cone {f_cone:.2} reference {f_ref:.2}"
         );
         assert!(p_cone > p_plain + gain, "{name}: {p_cone:.2} dB against {p_plain:.2}");
         let bound = if hyperbolic { f_ref } else { f_plain };

@@ -1,14 +1,16 @@
 // Cone tracing: each pixel is a thin cone, so a ball or an edge tube
 // narrower than its footprint covers part of the pixel instead of
 // flickering on and off. The cone's half-angle is params.cone.x; at
-// distance D it is w = beta * spread(D) wide. Objects are grown by the
+// distance D it is w = beta * spread(D) wide, at most
+// params.footprint_cap. Objects are grown by the
 // segment's widest footprint (Inflation); each one the ray's geodesic
 // passes within the grown radius of (approach, within) covers part of
 // the pixel (coverage) and is a layer, added front to back (Layers).
 //
 // Rust twin: crates/bevy_manifold_core/src/trace/footprint.rs (the same
 // names; Rust's methods are functions here: Inflation::new is
-// inflation_new, Approach::within is within, Layers::add is add_layer).
+// inflation_new, Approach::within is within, Approach::gap is gap_of,
+// Layers::add is add_layer).
 // render.wgsl's segment layers and cone_layer use it under FOOTPRINT.
 //
 // Shader defs read: GEOMETRY_HYPERBOLIC / GEOMETRY_SPHERICAL /

@@ -194,3 +194,33 @@ pub fn change(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
         .sum();
     sum / (3 * a.len().max(1)) as f64
 }
+
+/// A picture of a scene: what [`creeping_flicker`] traces each frame.
+pub type Picture<'a> = &'a dyn Fn(&Scene) -> Vec<[f32; 3]>;
+
+/// Flicker while the camera creeps forward: for each of `pictures`, the
+/// mean [`change`] from one frame to the next over `frames` frames, the
+/// camera moving `step` along its view (`-z`) each frame. `first` holds
+/// each picture of `scene` as it is (already made for other measures).
+#[must_use]
+pub fn creeping_flicker(
+    space: &Space,
+    scene: &Scene,
+    (step, frames): (f64, u32),
+    first: Vec<Vec<[f32; 3]>>,
+    pictures: &[Picture<'_>],
+) -> Vec<f64> {
+    let forward = bevy_manifold_core::geometry::isometry::translation(space.geometry(), glam::DVec3::NEG_Z * step);
+    let mut moving = scene.clone();
+    let mut last = first;
+    let mut sums = vec![0.0; pictures.len()];
+    for _ in 0..frames {
+        moving.camera.isometry *= forward;
+        for ((picture, last), sum) in pictures.iter().zip(&mut last).zip(&mut sums) {
+            let now = picture(&moving);
+            *sum += change(&now, last);
+            *last = now;
+        }
+    }
+    sums.into_iter().map(|s| s / f64::from(frames.max(1))).collect()
+}

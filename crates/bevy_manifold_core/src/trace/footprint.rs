@@ -6,15 +6,16 @@
 //! A pixel's cone has the half-angle `beta` of half a pixel
 //! ([`pixel_half_angle`]). At distance `D` along its axis (the ray) it is
 //! `w = beta * spread(D)` wide ([`spread`]: geodesics leaving a point at
-//! a small angle part as `sinh D` in H3, `D` in E3, `sin D` in S3).
-//! Objects are tested inflated by the segment's widest footprint
-//! ([`Inflation`]); where the axis enters an inflated one, its gap `delta`
-//! to the object's centre or axis ([`gap`]) and the footprint there give
-//! the part of the pixel covered ([`coverage`]: the box filter of a
-//! pixel, across a strip for a tube, across a strip both ways for a
-//! ball). That layer is added front to back ([`Layers`]) and the search
-//! goes on past it, until a layer covers all that is left. The cone
-//! widens at most to [`FOOTPRINT_CAP`] of the domain's inradius.
+//! a small angle part as `sinh D` in H3, `D` in E3, `|sin D|` in S3), and
+//! at most [`FOOTPRINT_CAP`] of the domain's inradius. Objects are grown
+//! by the segment's widest footprint ([`Inflation`]); each one the ray's
+//! geodesic passes within its grown radius of ([`approach`],
+//! [`Approach::within`]) is a layer, placed where the ray passes nearest
+//! it, and its gap to the object's centre or axis ([`Approach::gap`]) and
+//! the footprint there give the part of the pixel it covers
+//! ([`coverage`]: a strip across a tube, a spread disc for a ball). The
+//! layers are added front to back ([`Layers`]) until one covers all that
+//! is left.
 //!
 //! WGSL twin: `shaders/footprint.wgsl` in `bevy_manifold_gpu` (the same
 //! names), used by `trace_pixel` and `nearest_object` in `render.wgsl`.
@@ -22,8 +23,9 @@
 use super::step::{Ray, Segment};
 use crate::geometry::{Geometry, Real};
 
-/// Most layers one pixel adds: the last one found takes what is left.
-/// WGSL twin: `MAX_LAYERS` in `shaders/footprint.wgsl`.
+/// Most layers one pixel adds: after them what is left sees the
+/// background ([`Layers::full`]). WGSL twin: `MAX_LAYERS` in
+/// `shaders/footprint.wgsl`.
 pub const MAX_LAYERS: u32 = 16;
 
 /// Most layers kept on one segment of a ray's walk: the nearest.

@@ -443,18 +443,16 @@ pub fn trace_ray<R: Real>(
                 None => ConeLayer::whole(t),
             };
             let dist = travelled + g.chart_to_distance::<R>(layer.t);
-            let color = shade(
-                g,
-                prep,
-                &walk.ray,
-                (layer.t, layer.normal),
-                hit,
-                dist,
-                cell_id(&walk, &exact),
-                settings,
-            );
+            let cell = cell_id(&walk, &exact);
+            let color = shade(g, prep, &walk.ray, (layer.t, layer.normal), hit, dist, cell, settings);
             let part = layer.part;
-            let this = pixel(color, hit.id(prep), &walk, &exact, dist);
+            let this = TracePixel {
+                color,
+                object: hit.id(prep),
+                levels: walk.levels,
+                cell,
+                distance: dist.f64() as f32,
+            };
             if part >= 0.5 && front.is_none() {
                 front = Some(this);
             }
