@@ -124,7 +124,9 @@ fn stopped(app: &App) -> Result<(), String> {
 /// image); returns its RGBA bytes (sRGB-encoded, rows top to bottom).
 ///
 /// # Errors
-/// When the image is unknown or nothing arrives within 200 frames.
+/// When the image is unknown or nothing arrives within 200 frames and
+/// [`CAPTURE_WAIT`] (frames alone are no bound on a fast GPU, where 200
+/// of them can pass while a pipeline still compiles).
 pub fn capture(app: &mut App, target: &Handle<Image>) -> Result<Vec<u8>, String> {
     let (w, h) = {
         let images = app.world().resource::<Assets<Image>>();
@@ -142,7 +144,13 @@ pub fn capture(app: &mut App, target: &Handle<Image>) -> Result<Vec<u8>, String>
             }
         })
         .id();
-    for _ in 0..200 {
+    let start = Instant::now();
+    let mut frames = 0;
+    while frames < 200 || start.elapsed() < CAPTURE_WAIT {
+        if frames >= 200 {
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        frames += 1;
         app.update();
         stopped(app)?;
         let taken = slot.lock().map_err(|e| e.to_string())?.take();
@@ -161,8 +169,15 @@ pub fn capture(app: &mut App, target: &Handle<Image>) -> Result<Vec<u8>, String>
                 .collect());
         }
     }
-    Err("no image came back within 200 frames".into())
+    app.world_mut().despawn(reader);
+    Err(format!(
+        "no image came back within {frames} frames and {} s",
+        CAPTURE_WAIT.as_secs()
+    ))
 }
+
+/// How long [`capture`] waits for its image, at least.
+pub const CAPTURE_WAIT: Duration = Duration::from_secs(30);
 
 /// Spawns `space` with a tracer [`crate::trace::Scene`]'s balls, lights and
 /// edges (see [`crate::drawables::spawn_scene`]) and a manifold camera at

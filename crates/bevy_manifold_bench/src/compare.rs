@@ -66,6 +66,10 @@ struct Case {
 struct Times {
     cpu: f64,
     gpu: f64,
+    /// The GPU's trace alone, once uploaded, by the device's clock
+    /// ([`GpuTracer::time_trace`]): what `gpu` costs without the packing,
+    /// upload and read-back.
+    trace: f64,
     pass: f64,
     /// [`lane_occupancy`] of the CPU image.
     lanes: f64,
@@ -252,6 +256,12 @@ fn time(case: &Case, tracer: &mut GpuTracer, width: u32, height: u32, runs: u32)
     let mut best = Times {
         cpu: f64::INFINITY,
         gpu: f64::INFINITY,
+        trace: {
+            let t = tracer
+                .time_trace(&case.space, &case.scene, &settings, runs.max(3))
+                .map_err(|e| e.to_string())?;
+            t.device_ms.unwrap_or(t.wall_ms)
+        },
         pass: f64::INFINITY,
         lanes: lane_occupancy(&render::<f32>(&case.space, &case.scene, &settings)),
     };
@@ -286,22 +296,27 @@ pub fn run(args: &CompareArgs) -> Result<(), String> {
         tracer.adapter_name()
     );
     println!(
-        "{:<10} {:<22} {:>8} {:>9} {:>9} {:>9} {:>9} {:>9} {:>7}",
-        "sweep", "space", "x", "CPU", "GPU", "pass", "CPU/GPU", "pass/GPU", "lanes"
+        "(trace: the GPU's compute pass alone by the device's clock, median of {})",
+        runs.max(3)
     );
-    let mut csv = String::from("sweep,space,x,levels,cpu_ms,gpu_ms,pass_ms,lane_occupancy\n");
+    println!(
+        "{:<10} {:<22} {:>8} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>7}",
+        "sweep", "space", "x", "CPU", "GPU", "trace", "pass", "CPU/GPU", "pass/GPU", "lanes"
+    );
+    let mut csv = String::from("sweep,space,x,levels,cpu_ms,gpu_ms,trace_ms,pass_ms,lane_occupancy\n");
     let mut results = Vec::new();
     let mut progress = Progress::new(cases.len());
     for case in &cases {
         let t = time(case, &mut tracer, width, height, runs)?;
         progress.step(&case.label);
         println!(
-            "{:<10} {:<22} {:>8} {:>9.1} {:>9.1} {:>9.1} {:>9.2} {:>9.2} {:>6.1}%",
+            "{:<10} {:<22} {:>8} {:>9.1} {:>9.1} {:>9.2} {:>9.1} {:>9.2} {:>9.2} {:>6.1}%",
             case.sweep,
             case.label,
             case.x,
             t.cpu,
             t.gpu,
+            t.trace,
             t.pass,
             t.cpu / t.gpu,
             t.pass / t.gpu,
@@ -309,8 +324,8 @@ pub fn run(args: &CompareArgs) -> Result<(), String> {
         );
         let _ = writeln!(
             csv,
-            "{},{},{},{},{:.3},{:.3},{:.3},{:.4}",
-            case.sweep, case.label, case.x, case.levels, t.cpu, t.gpu, t.pass, t.lanes
+            "{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.4}",
+            case.sweep, case.label, case.x, case.levels, t.cpu, t.gpu, t.trace, t.pass, t.lanes
         );
         results.push((case, t));
     }

@@ -163,14 +163,15 @@ pub enum BenchCommand {
     Compare(compare::CompareArgs),
     /// Stereo, as a headset asks: two eyes with off-centre frusta, each
     /// placed along a geodesic, at 2x1512x1680 times each render scale,
-    /// per catalog space (the paper's scene) at 1, 3 and 8 levels; the CPU
-    /// reference's rays/s beside it.
+    /// per catalog space (the paper's scene) at 1, 3 and 8 levels, timed
+    /// on the device; cone tracing and the whole headless render at the
+    /// first scale; the CPU reference's rays/s at the last.
     Stereo {
         /// Per-eye render scales (1: 1512x1680 an eye).
         #[arg(long, value_delimiter = ',', default_value = "1,0.5,0.25")]
         scales: Vec<f64>,
-        /// Runs per setting; the best is reported.
-        #[arg(long, default_value_t = 1)]
+        /// Traces per setting; the median is reported.
+        #[arg(long, default_value_t = 3)]
         runs: u32,
         /// Only the spaces whose name holds this.
         #[arg(long, default_value = "")]

@@ -39,16 +39,20 @@ fn eyes(space: &Space) -> [Scene; 2] {
     })
 }
 
-/// Prints the table: per space and levels, both eyes' GPU frame time at
-/// each per-eye scale in `scales` (1 is 1512x1680 an eye), best of
-/// `runs`, and the CPU reference's rays/s at the smallest scale.
+/// Prints the table: per space and levels, both eyes' trace time at each
+/// per-eye scale in `scales` (1 is 1512x1680 an eye), as the device times
+/// it ([`GpuTracer::time_trace`]: its timestamps where it has them, else
+/// the wall time to idle; the median of `runs` traces of one upload), the
+/// same with cone tracing (`footprint`) and the whole headless render
+/// (packing, upload, trace, read-back) at the first scale, and the CPU
+/// reference's rays/s at the last scale.
 ///
 /// # Errors
 /// No GPU adapter, or a space that does not build.
 pub fn run(scales: &[f64], runs: u32, only: &str) -> Result<(), String> {
     let mut tracer = GpuTracer::new().map_err(|e| e.to_string())?;
     println!(
-        "Stereo: both eyes, off-centre frusta, paper scene; GPU on {}, CPU f32 reference on {} threads; best of {runs}; ms for both eyes",
+        "Stereo: both eyes, off-centre frusta, paper scene; GPU on {}, CPU f32 reference on {} threads; median of {runs} traces; ms for both eyes",
         tracer.adapter_name(),
         rayon::current_num_threads()
     );
@@ -59,41 +63,58 @@ pub fn run(scales: &[f64], runs: u32, only: &str) -> Result<(), String> {
             (s, px(EYE.0), px(EYE.1))
         })
         .collect();
+    let &(_, first_w, first_h) = sizes.first().ok_or("no scale")?;
+    let &(_, last_w, last_h) = sizes.last().ok_or("no scale")?;
+    let mut clock = "device";
     print!("{:<22} {:>6}", "space", "levels");
     for (s, w, h) in &sizes {
         print!(" {:>18}", format!("2x{w}x{h} ({s})"));
     }
-    println!(" {:>14}", "CPU Mrays/s");
+    println!(" {:>18} {:>14} {:>12}", "cone (first)", "render (first)", "CPU Mrays/s");
     for name in catalog::NAMES.iter().filter(|n| n.contains(only)) {
         let space = catalog::resolve(name)?;
         let eyes = eyes(&space);
         for levels in [1, 3, 8] {
             print!("{name:<22} {levels:>6}");
-            for &(_, width, height) in &sizes {
-                let settings = TraceSettings {
-                    width,
-                    height,
-                    levels,
-                    ..TraceSettings::default()
-                };
-                let ms = best_ms(runs, || {
-                    for eye in &eyes {
-                        tracer.render(&space, eye, &settings).map_err(|e| e.to_string())?;
-                    }
-                    Ok(())
-                })?;
-                print!(" {:>12.1} ({:>3.0}fps)", ms, 1e3 / ms);
-            }
-            let &(_, width, height) = sizes.last().ok_or("no scale")?;
-            let settings = TraceSettings {
+            let at = |width, height, footprint| TraceSettings {
                 width,
                 height,
                 levels,
+                footprint,
                 ..TraceSettings::default()
             };
-            let ms = best_ms(runs, || Ok(render::<f32>(&space, &eyes[0], &settings)))?;
-            println!(" {:>14.2}", f64::from(width * height) / ms / 1e3);
+            let mut both = |settings: &TraceSettings| -> Result<f64, String> {
+                let mut ms = 0.0;
+                for eye in &eyes {
+                    let t = tracer
+                        .time_trace(&space, eye, settings, runs)
+                        .map_err(|e| e.to_string())?;
+                    if t.device_ms.is_none() {
+                        clock = "wall";
+                    }
+                    ms += t.device_ms.unwrap_or(t.wall_ms);
+                }
+                Ok(ms)
+            };
+            for &(_, width, height) in &sizes {
+                let ms = both(&at(width, height, false))?;
+                print!(" {:>12.2} ({:>3.0}fps)", ms, 1e3 / ms);
+            }
+            let cone = both(&at(first_w, first_h, true))?;
+            print!(" {:>12.2} ({:>3.0}fps)", cone, 1e3 / cone);
+            let settings = at(first_w, first_h, false);
+            let whole = best_ms(1, || {
+                for eye in &eyes {
+                    tracer.render(&space, eye, &settings).map_err(|e| e.to_string())?;
+                }
+                Ok(())
+            })?;
+            print!(" {whole:>14.1}");
+            let settings = at(last_w, last_h, false);
+            let ms = best_ms(1, || Ok(render::<f32>(&space, &eyes[0], &settings)))?;
+            println!(" {:>12.2}", f64::from(last_w * last_h) / ms / 1e3);
         }
     }
+    println!("(trace times by the {clock} clock)");
     Ok(())
 }

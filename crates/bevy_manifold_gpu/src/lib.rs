@@ -49,7 +49,7 @@ pub use error::GpuError;
 #[cfg(feature = "headless")]
 pub use probe::{probe_adapter, probe_adapter_info};
 #[cfg(feature = "headless")]
-pub use runner::GpuTracer;
+pub use runner::{GpuTracer, TraceTiming};
 
 /// One WGSL file of the tracer, carried inside the crate so an app that
 /// depends on it from crates.io finds it.

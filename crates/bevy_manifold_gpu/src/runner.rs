@@ -60,6 +60,9 @@ impl GpuTracer {
                     storage.max(wgpu::Limits::default().max_storage_buffers_per_shader_stage),
                 ..wgpu::Limits::default()
             },
+            // Timestamps, where the adapter has them, time a trace on the
+            // device itself ([`GpuTracer::time_trace`]).
+            required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
             ..Default::default()
         }))
         .map_err(|e| GpuError::NoDevice {
@@ -414,11 +417,33 @@ impl GpuTracer {
         defs: TraceDefs,
         entry: &'static str,
     ) -> Result<Vec<GpuPixel>, GpuError> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let bound = self.bind(space, scene, settings, defs, entry)?;
+        let size = (bound.count * std::mem::size_of::<GpuPixel>()) as u64;
+        let readback = self.readback_buffer(size);
+        let mut encoder = self.trace_encoder(&bound, settings);
+        encoder.copy_buffer_to_buffer(&bound.pixels, 0, &readback, 0, size);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Validation(e.to_string()));
+        }
+        let data = self.finish(encoder, &readback)?;
+        Ok(bytemuck::pod_collect_to_vec(&data))
+    }
+
+    /// Packs and uploads a scene for the compute `entry`, with its pipeline
+    /// built, after checking every buffer against the device's limits.
+    fn bind(
+        &mut self,
+        space: &Space,
+        scene: &Scene,
+        settings: &TraceSettings,
+        defs: TraceDefs,
+        entry: &'static str,
+    ) -> Result<Bound, GpuError> {
         settings.check().map_err(GpuError::Settings)?;
         let prep = FlatScene::<f32>::new(space, scene);
         let gpu = GpuScene::pack(space, &prep, settings);
         self.pipeline(defs, entry)?;
-        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let count = (u64::from(settings.width) * u64::from(settings.height)) as usize;
         // Every storage buffer within what the device binds, checked before
         // wgpu would raise a validation error.
@@ -437,26 +462,137 @@ impl GpuTracer {
             }
         }
         let (bind, pixels) = self.upload(&gpu, count);
-        let size = (count * std::mem::size_of::<GpuPixel>()) as u64;
-        let readback = self.readback_buffer(size);
+        Ok(Bound {
+            bind,
+            pixels,
+            count,
+            key: (defs, entry),
+        })
+    }
+
+    /// An encoder holding one compute pass over every pixel of `bound`.
+    fn trace_encoder(&self, bound: &Bound, settings: &TraceSettings) -> wgpu::CommandEncoder {
         let mut encoder = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("trace") });
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("trace"),
-                timestamp_writes: None,
+        self.encode_trace(&mut encoder, bound, settings, None);
+        encoder
+    }
+
+    /// Records one compute pass over every pixel of `bound` into
+    /// `encoder`, its start and end written to `timestamps` at the given
+    /// index and the next when given.
+    fn encode_trace(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        bound: &Bound,
+        settings: &TraceSettings,
+        timestamps: Option<(&wgpu::QuerySet, u32)>,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("trace"),
+            timestamp_writes: timestamps.map(|(query_set, at)| wgpu::ComputePassTimestampWrites {
+                query_set,
+                beginning_of_pass_write_index: Some(at),
+                end_of_pass_write_index: Some(at + 1),
+            }),
+        });
+        pass.set_pipeline(&self.pipelines[&bound.key]);
+        pass.set_bind_group(0, &bound.bind, &[]);
+        pass.dispatch_workgroups(settings.width.div_ceil(8), settings.height.div_ceil(8), 1);
+    }
+
+    /// How long tracing `scene` takes once it is on the device: `repeats`
+    /// traces of the same upload, back to back in one submission, with no
+    /// read-back, after untimed traces for at least 250 ms (a GPU
+    /// idling between calls runs at a fraction of its clock). The device
+    /// time is the median pass by the adapter's timestamps at the start and
+    /// end of each compute pass (none where the adapter has no timestamp
+    /// queries); the wall time is the submission's, from submitting until
+    /// the device is idle, over `repeats`. [`GpuTracer::render`] times
+    /// more: the packing, the upload and the read-back, which on a discrete
+    /// GPU at headset sizes outweigh the trace.
+    ///
+    /// # Errors
+    /// As [`GpuTracer::render`].
+    pub fn time_trace(
+        &mut self,
+        space: &Space,
+        scene: &Scene,
+        settings: &TraceSettings,
+        repeats: u32,
+    ) -> Result<TraceTiming, GpuError> {
+        let defs = TraceDefs::for_scene(space, scene, settings.cell_colors)
+            .for_levels(space, settings.levels)
+            .for_rule(&settings.cell_rule)
+            .for_footprint(settings.footprint);
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let bound = self.bind(space, scene, settings, defs, "trace")?;
+        let repeats = repeats.clamp(1, 1024);
+        let queries = self
+            .device
+            .features()
+            .contains(wgpu::Features::TIMESTAMP_QUERY)
+            .then(|| {
+                self.device.create_query_set(&wgpu::QuerySetDescriptor {
+                    label: Some("trace timestamps"),
+                    ty: wgpu::QueryType::Timestamp,
+                    count: 2 * repeats,
+                })
             });
-            pass.set_pipeline(&self.pipelines[&(defs, entry)]);
-            pass.set_bind_group(0, &bind, &[]);
-            pass.dispatch_workgroups(settings.width.div_ceil(8), settings.height.div_ceil(8), 1);
+        let wait = || {
+            self.device
+                .poll(wgpu::PollType::wait_indefinitely())
+                .map_err(|e| GpuError::Readback(e.to_string()))
+        };
+        let warm = std::time::Instant::now();
+        for _ in 0..256 {
+            self.queue.submit([self.trace_encoder(&bound, settings).finish()]);
+            wait()?;
+            if warm.elapsed() >= WARM_UP {
+                break;
+            }
         }
-        encoder.copy_buffer_to_buffer(&pixels, 0, &readback, 0, size);
+        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("timed traces"),
+        });
+        for i in 0..repeats {
+            self.encode_trace(&mut encoder, &bound, settings, queries.as_ref().map(|q| (q, 2 * i)));
+        }
+        let commands = encoder.finish();
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Validation(e.to_string()));
         }
-        let data = self.finish(encoder, &readback)?;
-        Ok(bytemuck::pod_collect_to_vec(&data))
+        let start = std::time::Instant::now();
+        self.queue.submit([commands]);
+        wait()?;
+        let wall_ms = start.elapsed().as_secs_f64() * 1e3 / f64::from(repeats);
+        let device_ms = match &queries {
+            Some(set) => {
+                let bytes = u64::from(2 * repeats) * 8;
+                let resolved = self.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("timestamps"),
+                    size: bytes,
+                    usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                });
+                let readback = self.readback_buffer(bytes);
+                let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("timestamps"),
+                });
+                encoder.resolve_query_set(set, 0..2 * repeats, &resolved, 0);
+                encoder.copy_buffer_to_buffer(&resolved, 0, &readback, 0, bytes);
+                let ticks: Vec<u64> = bytemuck::pod_collect_to_vec(&self.finish(encoder, &readback)?);
+                let period = f64::from(self.queue.get_timestamp_period()) * 1e-6;
+                let spans: Vec<f64> = ticks
+                    .chunks_exact(2)
+                    .map(|t| t[1].saturating_sub(t[0]) as f64 * period)
+                    .collect();
+                Some(median(spans))
+            }
+            None => None,
+        };
+        Ok(TraceTiming { device_ms, wall_ms })
     }
 
     /// Traces `scene` the way the Bevy render pass does: the `fragment`
@@ -560,6 +696,38 @@ impl GpuTracer {
             .flat_map(|r| &r[..(w * 4) as usize])
             .copied()
             .collect())
+    }
+}
+
+/// How long [`GpuTracer::time_trace`] keeps the device busy before timing.
+const WARM_UP: std::time::Duration = std::time::Duration::from_millis(250);
+
+/// A scene uploaded and bound for one compute entry.
+struct Bound {
+    bind: wgpu::BindGroup,
+    pixels: wgpu::Buffer,
+    count: usize,
+    key: (TraceDefs, &'static str),
+}
+
+/// What [`GpuTracer::time_trace`] measured for one trace, in ms.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TraceTiming {
+    /// The device's own time for the compute pass (its timestamps); `None`
+    /// where the adapter has no timestamp queries.
+    pub device_ms: Option<f64>,
+    /// Wall time from submitting the trace until the device is idle.
+    pub wall_ms: f64,
+}
+
+/// The median of `values` (the mean of the middle two for an even count).
+fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    match n {
+        0 => f64::NAN,
+        _ if n % 2 == 1 => values[n / 2],
+        _ => 0.5 * (values[n / 2 - 1] + values[n / 2]),
     }
 }
 

@@ -502,9 +502,37 @@ fn gpu_cone_tracing_agrees_with_the_cpu_reference() {
     }
 }
 
+/// Timing a trace on the device (what `bench stereo` and `bench compare`
+/// report) gives finite positive times, by the adapter's own clock where it
+/// has timestamps (lavapipe has), refuses bad settings by name, and leaves
+/// the tracer drawing exactly what it drew before.
+fn timing_a_trace_reports_device_time_and_changes_nothing() {
+    let mut gpu = tracer();
+    let space = catalog::by_name("seifert-weber").expect("catalog");
+    let scene = Scene::default_for(&space);
+    let settings = TraceSettings {
+        width: 64,
+        height: 36,
+        levels: 4,
+        ..TraceSettings::default()
+    };
+    let before = gpu.render(&space, &scene, &settings).expect("render");
+    let t = gpu.time_trace(&space, &scene, &settings, 4).expect("timed");
+    eprintln!("64x36 Seifert-Weber, 4 levels: {t:?}");
+    assert!(t.wall_ms.is_finite() && t.wall_ms > 0.0, "{t:?}");
+    let device = t.device_ms.expect("lavapipe and desktop GPUs have timestamp queries");
+    assert!(device.is_finite() && device > 0.0, "{t:?}");
+    let after = gpu.render(&space, &scene, &settings).expect("render");
+    assert_eq!(before.pixels, after.pixels, "timing changed what the tracer draws");
+    let bad = TraceSettings { width: 0, ..settings };
+    let err = gpu.time_trace(&space, &scene, &bad, 4).expect_err("zero width").to_string();
+    assert!(err.contains("0x36 pixels"), "{err}");
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [],
     gpu: [
+        timing_a_trace_reports_device_time_and_changes_nothing,
         gpu_cone_tracing_agrees_with_the_cpu_reference,
         glowing_balls_show_their_glow_in_the_dark_on_the_gpu,
         gpu_panoramas_agree_with_the_cpu_reference,
