@@ -36,11 +36,13 @@ impl Int for i128 {
     fn mul(&self, o: &Self) -> Option<Self> {
         self.checked_mul(*o)
     }
+    // Bit operations, not `% 2` and `/ 2`: those are library calls on
+    // `i128`. An even value shifted right is halved exactly, negative too.
     fn is_even(&self) -> bool {
-        self % 2 == 0
+        self & 1 == 0
     }
     fn half(&self) -> Self {
-        self / 2
+        self >> 1
     }
     fn to_f64(&self) -> f64 {
         *self as f64
@@ -235,6 +237,13 @@ mod tests {
             }
             if a % 2 == 0 {
                 assert_eq!(BigInt::from_i128(a).half().to_i128(), Some(a / 2));
+            }
+            // The i128 bit tricks against plain remainder and division.
+            for v in [a, a.wrapping_neg(), a.wrapping_mul(3), a.wrapping_mul(2) - 2] {
+                assert_eq!(Int::is_even(&v), v % 2 == 0, "{v} even");
+                if v % 2 == 0 {
+                    assert_eq!(Int::half(&v), v / 2, "{v} / 2");
+                }
             }
         }
         // Past i128: (2^100)^2 = 2^200, minus itself is zero, not -0.

@@ -389,7 +389,7 @@ impl ExactGroup {
     /// When `face` is not a face of the space.
     pub fn cross(&self, g: &ExactElement, face: usize) -> Result<ExactElement, TooFar> {
         let big = match &g.0 {
-            Repr::Small(m) => match m.mul(&self.crossings[face]) {
+            Repr::Small(m) => match m.mul_small(&self.crossings[face]) {
                 Some(r) => return checked_shift(Repr::Small(Box::new(r))),
                 None => m.to_big().mul(&self.big_crossings[face]),
             },
@@ -406,7 +406,7 @@ impl ExactGroup {
     /// [`TooFar`] past [`int::MAX_BITS`].
     pub fn compose(&self, a: &ExactElement, b: &ExactElement) -> Result<ExactElement, TooFar> {
         if let (Repr::Small(x), Repr::Small(y)) = (&a.0, &b.0)
-            && let Some(r) = x.mul(y)
+            && let Some(r) = x.mul_small(y)
         {
             return checked_shift(Repr::Small(Box::new(r)));
         }
@@ -501,6 +501,71 @@ fn checked_shift(r: Repr) -> Result<ExactElement, TooFar> {
     }
 }
 
+impl GoldenMatrix<i128> {
+    /// The product, as [`GoldenMatrix::mul`] gives it, without checking
+    /// each operation where the operands' sizes rule overflow out: an
+    /// entry of the product is four golden products, each at most three
+    /// integer products (the `phi` part: `ad + bc + bd`), so it is under
+    /// `12 * 2^(bits(self) + bits(o)) < 2^(bits(self) + bits(o) + 4)`, and
+    /// so is every partial sum. Below `2^127` nothing wraps. Checked
+    /// `i128` products cost a library call each; near the origin copy, where
+    /// the walk's elements are, the plain ones are about ten times cheaper.
+    /// Past the bound it is [`GoldenMatrix::mul`], checked.
+    fn mul_small(&self, o: &Self) -> Option<Self> {
+        let bits = self.bits() + o.bits() + 4;
+        if bits > 127 {
+            return self.mul(o);
+        }
+        let m = if bits <= 63 {
+            // Within i64 the same sums again, a machine product each.
+            let narrow = |x: i128| x as i64;
+            product(self, o, |x, y| narrow(x).wrapping_mul(narrow(y)), i128::from)
+        } else {
+            product(self, o, i128::wrapping_mul, |x| x)
+        };
+        let mut r = GoldenMatrix {
+            m,
+            shift: self.shift + o.shift,
+        };
+        r.reduce();
+        Some(r)
+    }
+
+    /// The most bits of any integer's magnitude in the matrix.
+    fn bits(&self) -> u32 {
+        let all = self
+            .m
+            .iter()
+            .flatten()
+            .fold(0u128, |acc, g| acc | g.a.unsigned_abs() | g.b.unsigned_abs());
+        128 - all.leading_zeros()
+    }
+}
+
+/// The entries of `x y` over the golden field, each integer product made
+/// by `mul` in an integer type `T` that the caller knows holds every sum,
+/// then widened back by `wide`. `(a + b phi)(c + d phi) = (ac + bd) +
+/// (ad + bc + bd) phi` ([`Golden::mul`], unchecked).
+fn product<T: Copy + core::ops::Add<Output = T> + Default>(
+    x: &GoldenMatrix<i128>,
+    y: &GoldenMatrix<i128>,
+    mul: impl Fn(i128, i128) -> T,
+    wide: impl Fn(T) -> i128,
+) -> [[Golden<i128>; 4]; 4] {
+    core::array::from_fn(|i| {
+        core::array::from_fn(|j| {
+            let (mut a, mut b) = (T::default(), T::default());
+            for k in 0..4 {
+                let (p, q) = (&x.m[i][k], &y.m[k][j]);
+                let bd = mul(p.b, q.b);
+                a = a + mul(p.a, q.a) + bd;
+                b = b + mul(p.a, q.b) + mul(p.b, q.a) + bd;
+            }
+            Golden { a: wide(a), b: wide(b) }
+        })
+    })
+}
+
 /// Recognises `pairing`, rescaled by `s`, as a golden matrix within 1e-9.
 fn recognise_matrix(pairing: DMat4, s: f64) -> Option<GoldenMatrix<i128>> {
     let mut entries = [[(Golden::<i128>::default(), 0u32); 4]; 4];
@@ -525,4 +590,75 @@ fn recognise_matrix(pairing: DMat4, s: f64) -> Option<GoldenMatrix<i128>> {
     let mut r = GoldenMatrix { m, shift };
     r.reduce();
     Some(r)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A matrix whose integers are drawn from `(-2^bits, 2^bits)` by a
+    /// xorshift stream, or all `2^bits - 1` (the worst case for the bound:
+    /// every term of every sum the largest it can be, and of one sign).
+    fn matrix(state: &mut u64, bits: u32, extreme: bool) -> GoldenMatrix<i128> {
+        let mut next = || {
+            *state ^= *state << 13;
+            *state ^= *state >> 7;
+            *state ^= *state << 17;
+            *state
+        };
+        let top = (1i128 << bits) - 1;
+        let mut draw = || {
+            if extreme {
+                return top;
+            }
+            let wide = (i128::from(next()) << 64) | i128::from(next());
+            let x = wide.rem_euclid(top + 1);
+            if next() & 1 == 0 { x } else { -x }
+        };
+        GoldenMatrix {
+            m: core::array::from_fn(|_| core::array::from_fn(|_| Golden { a: draw(), b: draw() })),
+            shift: 0,
+        }
+    }
+
+    /// The unchecked product against the product in big integers (limbs,
+    /// another arithmetic): equal wherever it is given, and always given
+    /// where the sizes allow it, up to the bound `bits + bits + 4 = 127`.
+    #[test]
+    fn unchecked_products_are_the_big_integer_products() {
+        let mut state = 0x9e37_79b9_7f4a_7c15;
+        // The i64 path up to 29 + 30 + 4 = 63 bits, the i128 one from 64.
+        for (b1, b2) in [
+            (1, 1),
+            (3, 40),
+            (20, 30),
+            (29, 30),
+            (30, 30),
+            (61, 62),
+            (62, 61),
+            (100, 23),
+            (62, 62),
+            (63, 63),
+            (70, 70),
+        ] {
+            for trial in 0..40 {
+                let extreme = trial == 0;
+                let x = matrix(&mut state, b1, extreme);
+                let y = matrix(&mut state, b2, extreme);
+                let big = x.to_big().mul(&y.to_big()).expect("far below the big limit");
+                let eligible = b1 + b2 + 4 <= 127;
+                match x.mul_small(&y) {
+                    Some(fast) => assert_eq!(fast.to_big(), big, "{b1}+{b2} bits, trial {trial}"),
+                    None => assert!(!eligible, "{b1}+{b2} bits, trial {trial}: refused within the bound"),
+                }
+                if eligible {
+                    assert_eq!(
+                        x.mul(&y),
+                        x.mul_small(&y),
+                        "{b1}+{b2} bits: checked and unchecked differ"
+                    );
+                }
+            }
+        }
+    }
 }
