@@ -238,6 +238,57 @@ fn render_writes_the_image_and_the_id_buffer() {
     assert!(img.pixels().any(|p| p.0 != first));
 }
 
+/// `render --cones` traces cones: far edges fade to a haze of their
+/// average colour instead of sparkling (Seifert-Weber, 8 levels, where
+/// most pixels see far copies), while what is hit in the camera's own copy
+/// (the hands) stays as the plain trace draws it.
+fn render_cones_trace_cones() {
+    let (ids, pair) = (tmp("sw_ids.png"), [tmp("sw_plain.png"), tmp("sw_cones.png")]);
+    for (path, cones) in pair.iter().zip([false, true]) {
+        let mut args = vec![
+            "render",
+            "--space",
+            "seifert-weber",
+            "--width",
+            "96",
+            "--height",
+            "54",
+            "--cpu",
+            "--out",
+        ];
+        args.push(path.to_str().expect("utf-8"));
+        args.extend(if cones {
+            vec!["--cones"]
+        } else {
+            vec!["--ids", ids.to_str().expect("utf-8")]
+        });
+        let o = run(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert_eq!(stderr(&o).contains(", cones,"), cones, "{}", stderr(&o));
+    }
+    let [plain, cones] = pair.map(|p| image::open(p).expect("PNG").to_rgba8());
+    let ids = image::open(&ids).expect("ids").to_rgba8();
+    let close = |p: &image::Rgba<u8>, q: &image::Rgba<u8>| p.0.iter().zip(q.0).all(|(a, b)| a.abs_diff(b) <= 2);
+    let (mut near, mut near_same, mut same) = (0, 0, 0);
+    for ((p, q), id) in plain.pixels().zip(cones.pixels()).zip(ids.pixels()) {
+        // The hands (ids 2 and 3) in the camera's own copy.
+        let here = (id.0[0] == 2 || id.0[0] == 3) && id.0[1] == 0;
+        near += usize::from(here);
+        near_same += usize::from(here && close(p, q));
+        same += usize::from(close(p, q));
+    }
+    let n = plain.pixels().len();
+    eprintln!(
+        "cones: {same} of {n} pixels within 2/255 of the plain trace; {near_same} of {near} in the camera's copy"
+    );
+    assert!(near > n / 50, "the hands are in view ({near} pixels)");
+    assert!(
+        near_same * 10 >= near * 9,
+        "near hits changed: {near_same} of {near} the same"
+    );
+    assert!(same * 2 < n, "the far haze is missing: {same} of {n} the same");
+}
+
 fn render_reports_a_bad_scene_field() {
     let scene = tmp("bad_scene.json");
     std::fs::write(
@@ -505,6 +556,7 @@ bevy_manifold_test_support::test_main! {
         export_then_load_the_file_by_path,
         a_broken_space_file_is_reported_with_its_name,
         render_writes_the_image_and_the_id_buffer,
+        render_cones_trace_cones,
         render_reports_a_bad_scene_field,
         space_cell_reads_ten_thousand_words_in_one_process,
     ],

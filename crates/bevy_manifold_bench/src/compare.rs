@@ -118,11 +118,10 @@ fn cases(only: &str) -> Result<Vec<Case>, String> {
         }
     }
     if wanted("faces") {
-        for name in faces::SPACES {
-            let space = catalog::resolve(name)?;
+        for (name, space) in faces::spaces()? {
             out.push(Case {
                 sweep: "faces",
-                label: name.to_string(),
+                label: name,
                 x: space.faces().len() as f64,
                 scene: Scene::default_for(&space),
                 space,

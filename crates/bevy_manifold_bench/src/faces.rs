@@ -1,11 +1,16 @@
 //! `bench faces`: frame time against the number of faces of the domain,
 //! on spaces built from generators (lens, prism and binary polyhedral
 //! spaces in S3, lattices and screw spaces in E3, Seifert-Weber and the
-//! Weeks manifold in H3). The tracer tests every face at every level, so a
-//! level costs in proportion to the face count; this measures how much.
+//! Weeks manifold in H3), and Seifert-Weber's own pairings as generators,
+//! their Dirichlet domain about the centre (12 faces) and about a point off
+//! it (56 faces): one manifold, one scene size, four and a half times the
+//! faces. The tracer tests every face at every level, so a level costs in
+//! proportion to the face count; this measures how much.
 
 use crate::best_ms;
+use bevy::math::DVec4;
 use bevy_manifold::prelude::*;
+use bevy_manifold::space::generators::Generators;
 use bevy_manifold_gpu::GpuTracer;
 
 /// The spaces, by geometry and face count.
@@ -25,6 +30,40 @@ pub(crate) const SPACES: [&str; 13] = [
     "weeks",
 ];
 
+/// Where the off-centre domain of Seifert-Weber is centred (lifted onto
+/// the hyperboloid): its Dirichlet domain there has 56 faces.
+const OFF_CENTRE: [f64; 3] = [0.2, 0.1, 0.05];
+
+/// [`SPACES`] by name, then Seifert-Weber's Dirichlet domains from its
+/// pairings as generators, about the centre and about [`OFF_CENTRE`].
+///
+/// # Errors
+/// A space that does not build.
+pub(crate) fn spaces() -> Result<Vec<(String, Space)>, String> {
+    let mut out = Vec::new();
+    for name in SPACES {
+        out.push((name.to_string(), catalog::resolve(name)?));
+    }
+    let sw = catalog::seifert_weber();
+    let pairings = sw.faces().iter().map(|f| f.pairing).collect();
+    let gens = Generators::of_geometry("seifert-weber", Geometry::Hyperbolic, pairings).map_err(|e| e.to_string())?;
+    let [x, y, z] = OFF_CENTRE;
+    for (label, at) in [
+        ("seifert-weber/centre", None),
+        (
+            "seifert-weber/off-centre",
+            Some(DVec4::new(x, y, z, (1.0 + x * x + y * y + z * z).sqrt())),
+        ),
+    ] {
+        let mut g = gens.clone();
+        g.set_basepoint(at.map(|p: DVec4| p.to_array()))
+            .map_err(|e| e.to_string())?;
+        let space = g.dirichlet_domain().map_err(|e| format!("{label}: {e}"))?;
+        out.push((label.to_string(), space));
+    }
+    Ok(out)
+}
+
 /// GPU and CPU f32 frame times at 8 levels, with nothing to hit (the
 /// transport alone) and with the default scene (a ball, the edges and a
 /// light), per space.
@@ -34,15 +73,14 @@ pub(crate) const SPACES: [&str; 13] = [
 pub fn run(width: u32, height: u32, runs: u32) -> Result<(), String> {
     let mut tracer = GpuTracer::new().map_err(|e| e.to_string())?;
     println!(
-        "Frame time against face count, {width}x{height}, 8 levels, best of {runs}; GPU on {}, CPU f32 reference",
+        "Frame time against face count, {width}x{height}, 8 levels; GPU on {} (the trace alone by the device's clock, median of {runs}), CPU f32 reference (best of {runs})",
         tracer.adapter_name()
     );
     println!(
-        "{:<22} {:<10} {:>5} {:>12} {:>12} {:>12} {:>12} {:>14}",
+        "{:<26} {:<10} {:>5} {:>12} {:>12} {:>12} {:>12} {:>14}",
         "space", "geometry", "faces", "GPU empty", "GPU scene", "CPU empty", "CPU scene", "GPU empty/face"
     );
-    for name in SPACES {
-        let space = catalog::resolve(name)?;
+    for (name, space) in spaces()? {
         let settings = TraceSettings {
             width,
             height,
@@ -53,14 +91,15 @@ pub fn run(width: u32, height: u32, runs: u32) -> Result<(), String> {
         let mut gpu = [0.0; 2];
         let mut cpu = [0.0; 2];
         for (k, scene) in scenes.iter().enumerate() {
-            gpu[k] = best_ms(runs, || {
-                tracer.render(&space, scene, &settings).map_err(|e| e.to_string())
-            })?;
+            let t = tracer
+                .time_trace(&space, scene, &settings, runs)
+                .map_err(|e| e.to_string())?;
+            gpu[k] = t.device_ms.unwrap_or(t.wall_ms);
             cpu[k] = best_ms(runs, || Ok(render::<f32>(&space, scene, &settings)))?;
         }
         let faces = space.faces().len();
         println!(
-            "{name:<22} {:<10} {faces:>5} {:>12.1} {:>12.1} {:>12.1} {:>12.1} {:>14.2}",
+            "{name:<26} {:<10} {faces:>5} {:>12.2} {:>12.2} {:>12.1} {:>12.1} {:>14.3}",
             space.geometry().name(),
             gpu[0],
             gpu[1],

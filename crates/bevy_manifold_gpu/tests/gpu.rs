@@ -525,7 +525,10 @@ fn timing_a_trace_reports_device_time_and_changes_nothing() {
     let after = gpu.render(&space, &scene, &settings).expect("render");
     assert_eq!(before.pixels, after.pixels, "timing changed what the tracer draws");
     let bad = TraceSettings { width: 0, ..settings };
-    let err = gpu.time_trace(&space, &scene, &bad, 4).expect_err("zero width").to_string();
+    let err = gpu
+        .time_trace(&space, &scene, &bad, 4)
+        .expect_err("zero width")
+        .to_string();
     assert!(err.contains("0x36 pixels"), "{err}");
 }
 

@@ -199,6 +199,10 @@ struct RenderArgs {
     /// With --cpu: trace in f32, the GPU's precision, instead of f64.
     #[arg(long)]
     f32: bool,
+    /// Trace each pixel as a cone (anti-aliasing: far balls and edges fade
+    /// to their average colour instead of sparkling).
+    #[arg(long)]
+    cones: bool,
 }
 
 /// Parses the arguments and runs the command.
@@ -356,6 +360,7 @@ fn render_command(args: &RenderArgs) -> Result<(), String> {
             hidden: args.hidden.map(|on_fraction| OnOff { on_fraction, seed }),
             walls: args.walls.map(|density| Walls { density, seed }),
         },
+        footprint: args.cones,
         ..TraceSettings::default()
     };
     let start = std::time::Instant::now();
@@ -372,11 +377,12 @@ fn render_command(args: &RenderArgs) -> Result<(), String> {
         write_ids_png(&img, ids).map_err(|e| format!("{}: {e}", ids.display()))?;
     }
     eprintln!(
-        "rendered {} ({}x{}, {} levels, {tracer}) in {:.2} s -> {}",
+        "rendered {} ({}x{}, {} levels{}, {tracer}) in {:.2} s -> {}",
         space.name(),
         args.width,
         args.height,
         args.levels,
+        if args.cones { ", cones" } else { "" },
         secs,
         args.out.display()
     );
