@@ -14,7 +14,7 @@
 //! each swept quantity.
 
 use crate::plot::{Panel, Series, draw};
-use crate::{Progress, faces, meshes, pass::frame_ms};
+use crate::{Progress, faces, meshes, pass::frame_ms, trace_ms};
 use bevy::prelude::*;
 use bevy_manifold::drawables::ManifoldMeshes;
 use bevy_manifold::mesh::{MeshData, MeshMaterial};
@@ -255,12 +255,7 @@ fn time(case: &Case, tracer: &mut GpuTracer, width: u32, height: u32, runs: u32)
     let mut best = Times {
         cpu: f64::INFINITY,
         gpu: f64::INFINITY,
-        trace: {
-            let t = tracer
-                .time_trace(&case.space, &case.scene, &settings, runs.max(3))
-                .map_err(|e| e.to_string())?;
-            t.device_ms.unwrap_or(t.wall_ms)
-        },
+        trace: trace_ms(tracer, &case.space, &case.scene, &settings, runs.max(3))?,
         pass: f64::INFINITY,
         lanes: lane_occupancy(&render::<f32>(&case.space, &case.scene, &settings)),
     };

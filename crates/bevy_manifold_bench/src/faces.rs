@@ -7,7 +7,7 @@
 //! faces. The tracer tests every face at every level, so a level costs in
 //! proportion to the face count; this measures how much.
 
-use crate::best_ms;
+use crate::{best_ms, trace_ms};
 use bevy::math::DVec4;
 use bevy_manifold::prelude::*;
 use bevy_manifold::space::generators::Generators;
@@ -91,10 +91,7 @@ pub fn run(width: u32, height: u32, runs: u32) -> Result<(), String> {
         let mut gpu = [0.0; 2];
         let mut cpu = [0.0; 2];
         for (k, scene) in scenes.iter().enumerate() {
-            let t = tracer
-                .time_trace(&space, scene, &settings, runs)
-                .map_err(|e| e.to_string())?;
-            gpu[k] = t.device_ms.unwrap_or(t.wall_ms);
+            gpu[k] = trace_ms(&mut tracer, &space, scene, &settings, runs)?;
             cpu[k] = best_ms(runs, || Ok(render::<f32>(&space, scene, &settings)))?;
         }
         let faces = space.faces().len();

@@ -235,6 +235,27 @@ pub fn best_ms<T>(runs: u32, mut f: impl FnMut() -> Result<T, String>) -> Result
     Ok(best * 1e3)
 }
 
+/// The GPU's time for one trace of `scene` once uploaded, in ms: the
+/// device's own clock where it has timestamps, else the wall time to idle;
+/// the median of `runs` ([`GpuTracer::time_trace`]). What the packing,
+/// upload and read-back of a whole [`GpuTracer::render`] add is left out:
+/// the render pass pays them once, not per frame.
+///
+/// # Errors
+/// As [`GpuTracer::render`].
+pub fn trace_ms(
+    tracer: &mut bevy_manifold_gpu::GpuTracer,
+    space: &Space,
+    scene: &Scene,
+    settings: &TraceSettings,
+    runs: u32,
+) -> Result<f64, String> {
+    let t = tracer
+        .time_trace(space, scene, settings, runs)
+        .map_err(|e| e.to_string())?;
+    Ok(t.device_ms.unwrap_or(t.wall_ms))
+}
+
 /// The benchmarks' fog: density 0.4 per inradius, so about half a domain
 /// away light keeps 80% and fog hides what lies past 14 inradii.
 #[must_use]
