@@ -347,11 +347,7 @@ impl GpuTracer {
     /// # Errors
     /// A shader, validation or readback failure, as [`GpuError`].
     pub fn render(&mut self, space: &Space, scene: &Scene, settings: &TraceSettings) -> Result<TraceImage, GpuError> {
-        let defs = TraceDefs::for_scene(space, scene, settings.cell_colors)
-            .for_levels(space, settings.levels)
-            .for_rule(&settings.cell_rule)
-            .for_footprint(settings.footprint);
-        self.render_with(space, scene, settings, defs)
+        self.render_with(space, scene, settings, scene_defs(space, scene, settings))
     }
 
     /// [`GpuTracer::render`] with the shader specialised by `defs` instead
@@ -522,10 +518,7 @@ impl GpuTracer {
         settings: &TraceSettings,
         repeats: u32,
     ) -> Result<TraceTiming, GpuError> {
-        let defs = TraceDefs::for_scene(space, scene, settings.cell_colors)
-            .for_levels(space, settings.levels)
-            .for_rule(&settings.cell_rule)
-            .for_footprint(settings.footprint);
+        let defs = scene_defs(space, scene, settings);
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let bound = self.bind(space, scene, settings, defs, "trace")?;
         let repeats = repeats.clamp(1, 1024);
@@ -608,10 +601,7 @@ impl GpuTracer {
         scene: &Scene,
         settings: &TraceSettings,
     ) -> Result<Vec<u8>, GpuError> {
-        let defs = TraceDefs::for_scene(space, scene, settings.cell_colors)
-            .for_levels(space, settings.levels)
-            .for_rule(&settings.cell_rule)
-            .for_footprint(settings.footprint);
+        let defs = scene_defs(space, scene, settings);
         let prep = FlatScene::<f32>::new(space, scene);
         let gpu = GpuScene::pack(space, &prep, settings);
         self.fragment_pipeline(defs)?;
@@ -701,6 +691,15 @@ impl GpuTracer {
 
 /// How long [`GpuTracer::time_trace`] keeps the device busy before timing.
 const WARM_UP: std::time::Duration = std::time::Duration::from_millis(250);
+
+/// The specialisation `scene` is traced with (by the compute and the
+/// fragment entry alike).
+fn scene_defs(space: &Space, scene: &Scene, settings: &TraceSettings) -> TraceDefs {
+    TraceDefs::for_scene(space, scene, settings.cell_colors)
+        .for_levels(space, settings.levels)
+        .for_rule(&settings.cell_rule)
+        .for_footprint(settings.footprint)
+}
 
 /// A scene uploaded and bound for one compute entry.
 struct Bound {
