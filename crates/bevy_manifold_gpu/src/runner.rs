@@ -509,6 +509,18 @@ impl GpuTracer {
     /// more: the packing, the upload and the read-back, which on a discrete
     /// GPU at headset sizes outweigh the trace.
     ///
+    /// ```no_run
+    /// use bevy_manifold_core::prelude::*;
+    /// use bevy_manifold_gpu::GpuTracer;
+    ///
+    /// let mut gpu = GpuTracer::new()?;
+    /// let space = catalog::seifert_weber();
+    /// let settings = TraceSettings { width: 1512, height: 1680, levels: 8, ..TraceSettings::default() };
+    /// let t = gpu.time_trace(&space, &Scene::default_for(&space), &settings, 10)?;
+    /// println!("{:.2} ms", t.device_ms.unwrap_or(t.wall_ms));
+    /// # Ok::<(), bevy_manifold_gpu::GpuError>(())
+    /// ```
+    ///
     /// # Errors
     /// As [`GpuTracer::render`].
     pub fn time_trace(
