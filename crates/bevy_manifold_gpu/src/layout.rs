@@ -699,12 +699,26 @@ impl GpuScene {
     /// Packs a prepared scene for the GPU.
     #[must_use]
     pub fn pack(space: &Space, prep: &FlatScene<f32>, settings: &TraceSettings) -> Self {
+        Self::pack_in(space, Self::pack_space(space, prep), prep, settings)
+    }
+
+    /// The space's part of [`GpuScene::pack`]: its faces and its table of
+    /// cells (grown here if it is not yet), centred on the camera's cell.
+    #[must_use]
+    pub fn pack_space(space: &Space, prep: &FlatScene<f32>) -> GpuSpace {
         // Headless: the whole table, grown here if it is not yet.
         if let CellScheme::Exact(exact) = space.cells() {
             exact.ball();
         }
         let mut packed = GpuSpace::pack(space);
         packed.centre_on(space, &prep.camera_element);
+        packed
+    }
+
+    /// [`GpuScene::pack`] with the space already packed ([`GpuScene::pack_space`]
+    /// for this space and camera cell, or kept from an earlier frame).
+    #[must_use]
+    pub fn pack_in(space: &Space, packed: GpuSpace, prep: &FlatScene<f32>, settings: &TraceSettings) -> Self {
         let objects = GpuObjects::pack(prep);
         let view = GpuView {
             camera: prep.camera,

@@ -21,6 +21,20 @@ pub struct GpuTracer {
     layout: wgpu::BindGroupLayout,
     pipelines: HashMap<(TraceDefs, &'static str), wgpu::ComputePipeline>,
     fragment_pipelines: HashMap<TraceDefs, wgpu::RenderPipeline>,
+    /// The last space packed where packing costs (exact ids: a product
+    /// per cell of its table, 16,129 in Seifert-Weber), for the frames of
+    /// a tour.
+    kept: Option<KeptSpace>,
+}
+
+/// A packed space and what it was packed for: the same faces, the same
+/// table of cells (one `Arc`) and the same camera cell give the same
+/// [`GpuSpace`].
+struct KeptSpace {
+    faces: Vec<bevy_manifold_core::space::Face>,
+    ball: std::sync::Arc<bevy_manifold_core::space::ball::CellBall>,
+    camera: bevy_manifold_core::space::element::CellElement,
+    packed: crate::layout::GpuSpace,
 }
 
 impl GpuTracer {
@@ -101,6 +115,7 @@ impl GpuTracer {
             layout,
             pipelines: HashMap::new(),
             fragment_pipelines: HashMap::new(),
+            kept: None,
         })
     }
 
@@ -404,6 +419,33 @@ impl GpuTracer {
             .collect())
     }
 
+    /// The space packed for `prep`'s camera cell: kept from the last call
+    /// where the space has exact ids and nothing it was packed for changed
+    /// (the frames of a tour in one copy of the domain), else packed again
+    /// and, where the ids are exact, kept.
+    fn packed_space(&mut self, space: &Space, prep: &FlatScene<f32>) -> crate::layout::GpuSpace {
+        use bevy_manifold_core::space::cells::CellScheme;
+        if let Some(k) = &self.kept
+            && let CellScheme::Exact(exact) = space.cells()
+            && exact.grown_ball().is_some_and(|b| std::sync::Arc::ptr_eq(b, &k.ball))
+            && k.camera == prep.camera_element
+            && k.faces == space.faces()
+        {
+            return k.packed.clone();
+        }
+        let packed = GpuScene::pack_space(space, prep);
+        self.kept = match space.cells() {
+            CellScheme::Exact(exact) => exact.grown_ball().map(|ball| KeptSpace {
+                faces: space.faces().to_vec(),
+                ball: ball.clone(),
+                camera: prep.camera_element.clone(),
+                packed: packed.clone(),
+            }),
+            _ => None,
+        };
+        packed
+    }
+
     /// Runs the compute `entry` over every pixel and reads the pixels back.
     fn dispatch(
         &mut self,
@@ -438,7 +480,7 @@ impl GpuTracer {
     ) -> Result<Bound, GpuError> {
         settings.check().map_err(GpuError::Settings)?;
         let prep = FlatScene::<f32>::new(space, scene);
-        let gpu = GpuScene::pack(space, &prep, settings);
+        let gpu = GpuScene::pack_in(space, self.packed_space(space, &prep), &prep, settings);
         self.pipeline(defs, entry)?;
         let count = (u64::from(settings.width) * u64::from(settings.height)) as usize;
         // Every storage buffer within what the device binds, checked before
@@ -615,7 +657,7 @@ impl GpuTracer {
     ) -> Result<Vec<u8>, GpuError> {
         let defs = scene_defs(space, scene, settings);
         let prep = FlatScene::<f32>::new(space, scene);
-        let gpu = GpuScene::pack(space, &prep, settings);
+        let gpu = GpuScene::pack_in(space, self.packed_space(space, &prep), &prep, settings);
         self.fragment_pipeline(defs)?;
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let (bind, _) = self.upload(&gpu, 1);

@@ -532,9 +532,53 @@ fn timing_a_trace_reports_device_time_and_changes_nothing() {
     assert!(err.contains("0x36 pixels"), "{err}");
 }
 
+/// A tour's frames through one tracer, which keeps the packed table of
+/// exact ids between calls: the camera in the origin copy, in another copy
+/// (the table centred anew), back, then another space with as many faces,
+/// then the first again. Each frame is what a fresh tracer, which keeps
+/// nothing, draws: ids, levels, cells and colours.
+fn kept_tables_draw_what_fresh_ones_do() {
+    let mut kept = tracer();
+    let settings = TraceSettings {
+        width: 48,
+        height: 27,
+        levels: 6,
+        ..TraceSettings::default()
+    };
+    let sw = catalog::by_name("seifert-weber").expect("catalog");
+    let md = catalog::by_name("mirrored-dodecahedron").expect("catalog");
+    let g = Geometry::Hyperbolic;
+    let at = |space: &Space, x: f64| {
+        let mut scene = Scene::default_for(space);
+        scene.camera.isometry = bevy_manifold_core::geometry::isometry::translation(g, glam::DVec3::new(x, 0.1, 0.0))
+            * scene.camera.isometry;
+        scene
+    };
+    let mut cells = Vec::new();
+    for (space, x) in [
+        (&sw, 0.0),
+        (&sw, 0.3),
+        (&sw, 2.5),
+        (&sw, 0.3),
+        (&md, 0.3),
+        (&md, 2.5),
+        (&sw, 2.5),
+    ] {
+        let scene = at(space, x);
+        let a = kept.render(space, &scene, &settings).expect("kept");
+        let b = tracer().render(space, &scene, &settings).expect("fresh");
+        assert_eq!(a.pixels, b.pixels, "{} at x = {x}", space.name());
+        cells.push(bevy_manifold_core::trace::FlatScene::<f32>::new(space, &scene).camera_element);
+    }
+    // The camera did change copies, so the table was centred anew.
+    assert_ne!(cells[1], cells[2], "x = 2.5 is in another copy");
+    assert_ne!(cells[4], cells[5], "x = 2.5 is in another copy");
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [],
     gpu: [
+        kept_tables_draw_what_fresh_ones_do,
         timing_a_trace_reports_device_time_and_changes_nothing,
         gpu_cone_tracing_agrees_with_the_cpu_reference,
         glowing_balls_show_their_glow_in_the_dark_on_the_gpu,
