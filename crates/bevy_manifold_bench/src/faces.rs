@@ -8,10 +8,9 @@
 //! proportion to the face count; this measures how much.
 
 use crate::{best_ms, trace_ms};
-use bevy::math::DVec4;
 use bevy_manifold::prelude::*;
-use bevy_manifold::space::generators::Generators;
 use bevy_manifold_gpu::GpuTracer;
+use bevy_manifold_test_support::stress;
 
 /// The spaces, by geometry and face count.
 pub(crate) const SPACES: [&str; 13] = [
@@ -30,12 +29,9 @@ pub(crate) const SPACES: [&str; 13] = [
     "weeks",
 ];
 
-/// Where the off-centre domain of Seifert-Weber is centred (lifted onto
-/// the hyperboloid): its Dirichlet domain there has 56 faces.
-const OFF_CENTRE: [f64; 3] = [0.2, 0.1, 0.05];
-
 /// [`SPACES`] by name, then Seifert-Weber's Dirichlet domains from its
-/// pairings as generators, about the centre and about [`OFF_CENTRE`].
+/// pairings as generators, about the centre and about a point off it
+/// ([`stress::seifert_weber_about`]).
 ///
 /// # Errors
 /// A space that does not build.
@@ -44,23 +40,12 @@ pub(crate) fn spaces() -> Result<Vec<(String, Space)>, String> {
     for name in SPACES {
         out.push((name.to_string(), catalog::resolve(name)?));
     }
-    let sw = catalog::seifert_weber();
-    let pairings = sw.faces().iter().map(|f| f.pairing).collect();
-    let gens = Generators::of_geometry("seifert-weber", Geometry::Hyperbolic, pairings).map_err(|e| e.to_string())?;
-    let [x, y, z] = OFF_CENTRE;
-    for (label, at) in [
-        ("seifert-weber/centre", None),
-        (
-            "seifert-weber/off-centre",
-            Some(DVec4::new(x, y, z, (1.0 + x * x + y * y + z * z).sqrt())),
-        ),
-    ] {
-        let mut g = gens.clone();
-        g.set_basepoint(at.map(|p: DVec4| p.to_array()))
-            .map_err(|e| e.to_string())?;
-        let space = g.dirichlet_domain().map_err(|e| format!("{label}: {e}"))?;
-        out.push((label.to_string(), space));
-    }
+    let (x, y, z) = stress::FIFTY_TWO_FACES;
+    out.push((
+        "seifert-weber/centre".into(),
+        stress::seifert_weber_about(0.0, 0.0, 0.0)?,
+    ));
+    out.push(("seifert-weber/off-centre".into(), stress::seifert_weber_about(x, y, z)?));
     Ok(out)
 }
 

@@ -11,7 +11,8 @@ use bevy_manifold_test_support::Rng;
 use bevy_manifold_test_support::stress::{self, face_middle};
 use glam::DVec4;
 
-/// The spaces: the catalog, and generator spaces up to 20 faces.
+/// The spaces: the catalog, generator spaces up to 20 faces, and
+/// Seifert-Weber's 52-face domain, whose faces fold onto the masks' 32 bits.
 fn spaces() -> Vec<(String, Space)> {
     let mut out: Vec<(String, Space)> = catalog::NAMES
         .iter()
@@ -20,6 +21,10 @@ fn spaces() -> Vec<(String, Space)> {
     for name in ["weeks", "lens-5-2", "torus-bcc", "binary-octahedral"] {
         out.push((name.to_string(), catalog::resolve(name).expect("library")));
     }
+    let (x, y, z) = stress::FIFTY_TWO_FACES;
+    let sw52 = stress::seifert_weber_about(x, y, z).expect("builds");
+    assert_eq!(sw52.faces().len(), 52, "the off-centre domain");
+    out.push(("seifert-weber/52".into(), sw52));
     out
 }
 

@@ -67,9 +67,10 @@ const ALL_FACES: u32 = 0xffffffffu;
 // exit_face was last given): bit i set when some point of it may be
 // within `within` of face i's plane (params.near_reach, near_scale times
 // s(r); grown objects reach further): |n . p| / p_w is monotone along the
-// segment, so its ends decide, or a change of sign. Faces from 32 on are
-// always near; a segment with no finite end is near all. FLAG_NO_CULL:
-// all near. Rust twin: near_faces in
+// segment, so its ends decide, or a change of sign. Faces from 32 on fold
+// onto bit i % 32, set when any of its faces is near (their planes loaded
+// again: exit_face keeps 32); a segment with no finite end is near all.
+// FLAG_NO_CULL: all near. Rust twin: near_faces in
 // crates/bevy_manifold_core/src/trace/step.rs (takes the planes and the
 // scale apart; here the planes are exit_face's).
 fn near_faces(ray: Ray, t_end: f32, within: f32) -> u32 {
@@ -79,13 +80,26 @@ fn near_faces(ray: Ray, t_end: f32, within: f32) -> u32 {
     let wa = ray.origin.w;
     let wb = (ray.origin + ray.dir * t_end).w;
     var near = ALL_FACES;
-    for (var i = 0u; i < min(face_count(), 32u); i++) {
+    for (var i = 0u; i < face_count(); i++) {
         // exit_face's n . o and n . d for this ray; the end's value from them.
-        let sa = face_at_origin[i];
-        let sb = sa + t_end * face_along_dir[i];
+        var sa: f32;
+        var sd: f32;
+        if i < 32u {
+            sa = face_at_origin[i];
+            sd = face_along_dir[i];
+        } else {
+            sa = dot(faces[i].plane, ray.origin);
+            sd = dot(faces[i].plane, ray.dir);
+        }
+        let sb = sa + t_end * sd;
         let crosses = (sa < 0.0) != (sb < 0.0);
-        if !(crosses || abs(sa) <= within * wa || abs(sb) <= within * wb) {
+        let is_near = crosses || abs(sa) <= within * wa || abs(sb) <= within * wb;
+        // Faces 0 to 31 clear their bit when far; the folded ones set it
+        // again when near.
+        if i < 32u && !is_near {
             near &= ~(1u << i);
+        } else if i >= 32u && is_near {
+            near |= 1u << (i % 32u);
         }
     }
     return near;

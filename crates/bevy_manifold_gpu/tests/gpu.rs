@@ -121,6 +121,10 @@ fn gpu_culling_leaves_the_image_unchanged() {
         .map(|n| (n.to_string(), catalog::by_name(n).expect("catalog")))
         .collect();
     spaces.push(("weeks".into(), catalog::resolve("weeks").expect("library")));
+    // 52 faces: faces past the 32nd fold onto the masks' bits.
+    let (x, y, z) = bevy_manifold_test_support::stress::FIFTY_TWO_FACES;
+    let sw52 = bevy_manifold_test_support::stress::seifert_weber_about(x, y, z).expect("builds");
+    spaces.push(("seifert-weber/52".into(), sw52));
     for (name, space) in spaces {
         for (what, scene) in [
             ("default", Scene::default_for(&space)),

@@ -24,6 +24,31 @@ use bevy_manifold_core::trace::{Camera, FaceTables, FlatScene, RayDrift, Scene, 
 use glam::{DMat4, DQuat, DVec3, DVec4};
 use rayon::prelude::*;
 
+/// Seifert-Weber's own face pairings taken as generators, and their
+/// Dirichlet domain about the chart point `(x, y, z)` lifted onto the
+/// hyperboloid: the same manifold with another domain. About the origin
+/// it is the dodecahedron (12 faces); about `(0.2, 0.1, 0.05)` it has 52
+/// faces, more than the 32 bits of a face mask (`trace::cull`).
+///
+/// # Errors
+/// When the domain does not build, with the reason.
+pub fn seifert_weber_about(x: f64, y: f64, z: f64) -> Result<Space, String> {
+    use bevy_manifold_core::geometry::Geometry;
+    use bevy_manifold_core::space::{Generators, catalog};
+    let sw = catalog::seifert_weber();
+    let pairings = sw.faces().iter().map(|f| f.pairing).collect();
+    let mut gens =
+        Generators::of_geometry("seifert-weber", Geometry::Hyperbolic, pairings).map_err(|e| e.to_string())?;
+    let w = (1.0 + x * x + y * y + z * z).sqrt();
+    let at = (x, y, z) != (0.0, 0.0, 0.0);
+    gens.set_basepoint(at.then_some([x, y, z, w]))
+        .map_err(|e| e.to_string())?;
+    gens.dirichlet_domain().map_err(|e| e.to_string())
+}
+
+/// Where [`seifert_weber_about`] gives Seifert-Weber 52 faces.
+pub const FIFTY_TWO_FACES: (f64, f64, f64) = (0.2, 0.1, 0.05);
+
 /// The middle of face `i`: the normalised mean of its vertices.
 #[must_use]
 pub fn face_middle(space: &Space, i: usize) -> DVec4 {

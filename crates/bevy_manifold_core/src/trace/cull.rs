@@ -30,8 +30,11 @@ pub fn near_reach(g: Geometry, r: f64) -> f64 {
     }
 }
 
-/// The faces (bits 0 to 31) of `space` whose planes every point of the
-/// domain that an object reaches is within `reach` of, for an object
+/// The faces of `space` whose planes every point of the domain that an
+/// object reaches is within `reach` of, face `i` as bit `i % 32` (a domain
+/// of more than 32 faces folds them: a bit stands for any of its faces,
+/// which [`super::step::near_faces`] folds alike, so an object is still
+/// tested on every segment that comes near all of its faces), for an object
 /// whose points lie within distance `radius` of `centers` (a ball: its
 /// centre; a tube: its edge, given by its two ends): the depth inside a
 /// plane grows by at most the distance moved, and along an edge it is
@@ -41,13 +44,13 @@ pub fn near_reach(g: Geometry, r: f64) -> f64 {
 pub(super) fn face_mask(space: &Space, centers: &[DVec4], radius: f64, reach: f64) -> u32 {
     let g = space.geometry();
     let mut mask = 0;
-    for (i, f) in space.faces().iter().enumerate().take(32) {
+    for (i, f) in space.faces().iter().enumerate() {
         let depth = centers
             .iter()
             .map(|&c| -crate::geometry::plane::signed_distance(g, f.plane, c))
             .fold(f64::NEG_INFINITY, f64::max);
         if depth + radius <= reach {
-            mask |= 1 << i;
+            mask |= 1 << (i % 32);
         }
     }
     mask

@@ -47,8 +47,10 @@ pub fn exit_face<R: Real>(planes: &[R::V4], ray: &Ray<R>, skip: usize) -> Option
 pub const ALL_FACES: u32 = u32::MAX;
 
 /// The faces the segment `o + t d`, `0 <= t <= t_end`, of a ray inside the
-/// domain comes near: bit `i` (faces 0 to 31) is set when some point of it
-/// may be within the reach of face `i`'s plane, the reach given by
+/// domain comes near: bit `i % 32` is set when some point of it may be
+/// within the reach of face `i`'s plane (faces from 32 on fold onto the
+/// bits as in [`super::cull`]'s masks: a bit is set when any of its faces
+/// is near), the reach given by
 /// `reach` (`sinh r`, `sin r` or `r` of the distance `r`, see
 /// `FlatScene::near_reach`) times the space's `near_scale`
 /// (`FaceTables::near_scale`). An object lying within that distance of
@@ -59,8 +61,7 @@ pub const ALL_FACES: u32 = u32::MAX;
 /// a face's covector to the chart's `w` is a Moebius function of `t`, so
 /// it is monotone where `p_w > 0` (all of the domain, see `near_scale`),
 /// and its least absolute value is at an end, or zero where it changes
-/// sign. Faces from 32 on are always near. A segment whose end is not
-/// finite is near every face.
+/// sign. A segment whose end is not finite is near every face.
 ///
 /// WGSL twin: `near_faces` in `shaders/step.wgsl`.
 #[inline]
@@ -72,13 +73,18 @@ pub fn near_faces<R: Real>(planes: &[R::V4], near_scale: R, reach: R, ray: &Ray<
     }
     let (wa, wb) = (R::xyzw(ray.origin)[3], R::xyzw(ray.origin + ray.dir * t_end)[3]);
     let mut near = ALL_FACES;
-    for (i, n) in planes.iter().enumerate().take(32) {
+    for (i, n) in planes.iter().enumerate() {
         // n . o and n . d, as exit_face has them; the end's value from them.
         let (sa, sd) = (R::dot4(*n, ray.origin), R::dot4(*n, ray.dir));
         let sb = sa + t_end * sd;
         let crosses = (sa < R::of(0.0)) != (sb < R::of(0.0));
-        if !(crosses || sa.abs() <= within * wa || sb.abs() <= within * wb) {
+        let is_near = crosses || sa.abs() <= within * wa || sb.abs() <= within * wb;
+        // Faces 0 to 31 clear their bit when far; the folded ones set it
+        // again when near.
+        if i < 32 && !is_near {
             near &= !(1u32 << i);
+        } else if i >= 32 && is_near {
+            near |= 1u32 << (i % 32);
         }
     }
     near
