@@ -318,8 +318,14 @@ fn attempt(gens: &Generators, basepoint: Option<DVec4>) -> Result<Space, Failure
     let mut radius = step * 1.001;
     let whole_sphere = core::f64::consts::PI + 1e-9;
     let mut open = None;
+    // How far past the radius the walk expands elements. The words to an
+    // element within the radius may pass outside it (a basepoint off the
+    // generators' centre: the Weeks manifold about (0.1, 0.05, 0.02)),
+    // so a domain whose faces do not pair expands one letter's step
+    // further once before it is refused.
+    let mut beyond = 0.0;
     for _ in 0..12 {
-        search.grow(radius, n, gens.manifold)?;
+        search.grow(radius + beyond, n, gens.manifold)?;
         let mut candidates: Vec<usize> = (1..search.elements.len())
             .filter(|&i| search.elements[i].displacement <= radius)
             .collect();
@@ -333,9 +339,17 @@ fn attempt(gens: &Generators, basepoint: Option<DVec4>) -> Result<Space, Failure
             Ok(poly) => {
                 let circumradius = poly.circumradius(g);
                 if whole || radius >= 2.0 * circumradius + 1e-9 {
-                    let space = pair_faces(gens, &search, &poly)?;
-                    prove(gens, &letters[..n], &space)?;
-                    return Ok(space);
+                    match pair_faces(gens, &search, &poly) {
+                        Ok(space) => {
+                            prove(gens, &letters[..n], &space)?;
+                            return Ok(space);
+                        }
+                        Err(_) if beyond == 0.0 => {
+                            beyond = step;
+                            continue;
+                        }
+                        Err(e) => return Err(e),
+                    }
                 }
                 radius = (2.0 * circumradius * 1.02).max(radius * 1.25);
             }
