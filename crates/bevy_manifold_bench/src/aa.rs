@@ -14,7 +14,7 @@ use crate::pass::frame_ms;
 use bevy_manifold::prelude::*;
 use bevy_manifold::render::offscreen;
 use bevy_manifold::trace::accumulate;
-use bevy_manifold_test_support::compare::{colors, creeping_flicker, psnr_of as psnr, supersampled};
+use bevy_manifold_test_support::compare::{ConeComparison, compare_cones, psnr_of as psnr};
 
 /// What anti-aliasing costs in the pass (a headless Bevy app, 320x180,
 /// the default scene, 8 levels, ms a frame, best of `runs`): the plain
@@ -81,31 +81,16 @@ pub fn run(width: u32, height: u32, frames: u32) -> Result<(), String> {
                 levels,
                 ..TraceSettings::default()
             };
-            let cone_settings = TraceSettings {
-                footprint: true,
-                ..settings.clone()
-            };
-            let reference = supersampled(&space, &scene, &settings, 4);
-            let plain = colors(&render::<f64>(&space, &scene, &settings));
-            let cone = colors(&render::<f64>(&space, &scene, &cone_settings));
+            let ConeComparison {
+                plain,
+                cone,
+                reference,
+                flicker: [f_plain, f_cone, f_ref],
+            } = compare_cones(&space, &scene, &settings, 4, (0.002, frames));
             let acc: Vec<f64> = [4, 8, 16]
                 .iter()
                 .map(|&n| psnr(&accumulate::<f64>(&space, &scene, &settings, n), &reference))
                 .collect();
-            // Flicker: the camera creeping forward.
-            let (plain_of, cone_of, reference_of) = (
-                |s: &Scene| colors(&render::<f64>(&space, s, &settings)),
-                |s: &Scene| colors(&render::<f64>(&space, s, &cone_settings)),
-                |s: &Scene| supersampled(&space, s, &settings, 4),
-            );
-            let flicker = creeping_flicker(
-                &space,
-                &scene,
-                (0.002, frames),
-                vec![plain.clone(), cone.clone(), reference.clone()],
-                &[&plain_of, &cone_of, &reference_of],
-            );
-            let [f_plain, f_cone, f_ref] = [flicker[0], flicker[1], flicker[2]];
             println!(
                 "{name:<22} {levels:>6} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {f_plain:>10.2} {f_cone:>10.2} {f_ref:>10.2}",
                 psnr(&plain, &reference),

@@ -3,9 +3,10 @@
 //! spaces in S3, lattices and screw spaces in E3, Seifert-Weber and the
 //! Weeks manifold in H3), and Seifert-Weber's own pairings as generators,
 //! their Dirichlet domain about the centre (12 faces) and about a point off
-//! it (56 faces): one manifold, one scene size, four and a half times the
-//! faces. The tracer tests every face at every level, so a level costs in
-//! proportion to the face count; this measures how much.
+//! it (52 faces): one manifold and one volume, 4.3 times the faces (and
+//! more edges, so a larger default scene). The tracer tests every face at
+//! every level, so a level costs in proportion to the face count; this
+//! measures how much.
 
 use crate::{best_ms, trace_ms};
 use bevy_manifold::prelude::*;

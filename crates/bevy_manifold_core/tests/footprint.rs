@@ -5,7 +5,7 @@
 
 use bevy_manifold_core::geometry::Geometry;
 use bevy_manifold_core::prelude::*;
-use bevy_manifold_test_support::compare::{colors, creeping_flicker, psnr_of as psnr, supersampled};
+use bevy_manifold_test_support::compare::{ConeComparison, compare_cones, psnr_of as psnr};
 use glam::{DVec3, DVec4};
 
 /// The point at distance `s` from the origin along the unit `u`.
@@ -104,28 +104,15 @@ fn a_cone_traced_view_is_nearer_supersampling_and_flickers_less() {
             levels: 8,
             ..TraceSettings::default()
         };
-        let cone_settings = TraceSettings {
-            footprint: true,
-            ..settings.clone()
-        };
-        let reference = supersampled(&space, &scene, &settings, 4);
-        let plain = colors(&render::<f64>(&space, &scene, &settings));
-        let cone = colors(&render::<f64>(&space, &scene, &cone_settings));
+        // Against 4x4 samples a pixel, and flicker over 4 frames creeping
+        // forward.
+        let ConeComparison {
+            plain,
+            cone,
+            reference,
+            flicker: [f_plain, f_cone, f_ref],
+        } = compare_cones(&space, &scene, &settings, 4, (0.002, 4));
         let (p_plain, p_cone) = (psnr(&plain, &reference), psnr(&cone, &reference));
-        // Flicker while creeping forward.
-        let (plain_of, cone_of, reference_of) = (
-            |s: &Scene| colors(&render::<f64>(&space, s, &settings)),
-            |s: &Scene| colors(&render::<f64>(&space, s, &cone_settings)),
-            |s: &Scene| supersampled(&space, s, &settings, 4),
-        );
-        let flicker = creeping_flicker(
-            &space,
-            &scene,
-            (0.002, 4),
-            vec![plain, cone, reference],
-            &[&plain_of, &cone_of, &reference_of],
-        );
-        let [f_plain, f_cone, f_ref] = [flicker[0], flicker[1], flicker[2]];
         println!(
             "{name}: PSNR plain {p_plain:.2} cone {p_cone:.2} dB; flicker plain {f_plain:.2} cone {f_cone:.2} reference {f_ref:.2}"
         );

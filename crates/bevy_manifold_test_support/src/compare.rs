@@ -224,3 +224,55 @@ pub fn creeping_flicker(
     }
     sums.into_iter().map(|s| s / f64::from(frames.max(1))).collect()
 }
+
+/// One view traced three ways on the CPU in f64, one ray a pixel, one cone
+/// a pixel (`TraceSettings::footprint`) and [`supersampled`] at `k` x `k`
+/// samples a pixel (the reference), with each way's [`creeping_flicker`]:
+/// what `bench aa` tabulates and the cone tests assert on.
+pub struct ConeComparison {
+    /// One ray a pixel.
+    pub plain: Vec<[f32; 3]>,
+    /// One cone a pixel.
+    pub cone: Vec<[f32; 3]>,
+    /// `k` x `k` rays a pixel, box-filtered.
+    pub reference: Vec<[f32; 3]>,
+    /// The flicker of the plain, cone and reference pictures, in that
+    /// order, while the camera creeps forward.
+    pub flicker: [f64; 3],
+}
+
+/// [`ConeComparison`] of `scene` at `settings` (cones off in them), the
+/// reference at `k` x `k` samples a pixel, the flicker over `frames`
+/// frames moving `step` each.
+#[must_use]
+pub fn compare_cones(
+    space: &Space,
+    scene: &Scene,
+    settings: &TraceSettings,
+    k: u32,
+    (step, frames): (f64, u32),
+) -> ConeComparison {
+    let cone_settings = TraceSettings {
+        footprint: true,
+        ..settings.clone()
+    };
+    let (plain_of, cone_of, reference_of) = (
+        |s: &Scene| colors(&render::<f64>(space, s, settings)),
+        |s: &Scene| colors(&render::<f64>(space, s, &cone_settings)),
+        |s: &Scene| supersampled(space, s, settings, k),
+    );
+    let (plain, cone, reference) = (plain_of(scene), cone_of(scene), reference_of(scene));
+    let flicker = creeping_flicker(
+        space,
+        scene,
+        (step, frames),
+        vec![plain.clone(), cone.clone(), reference.clone()],
+        &[&plain_of, &cone_of, &reference_of],
+    );
+    ConeComparison {
+        plain,
+        cone,
+        reference,
+        flicker: [flicker[0], flicker[1], flicker[2]],
+    }
+}
