@@ -9,7 +9,7 @@
 //! head, the hands), 1, 3 and 8 levels; the CPU f32 reference's rays/s
 //! on the same scene in the same run, for scale.
 
-use crate::best_ms;
+use crate::{best_ms, trace_ms};
 use bevy::math::{Quat, Vec3};
 use bevy_manifold::placement::tracked;
 use bevy_manifold::prelude::*;
@@ -65,7 +65,6 @@ pub fn run(scales: &[f64], runs: u32, only: &str) -> Result<(), String> {
         .collect();
     let &(_, first_w, first_h) = sizes.first().ok_or("no scale")?;
     let &(_, last_w, last_h) = sizes.last().ok_or("no scale")?;
-    let mut clock = "device";
     print!("{:<22} {:>6}", "space", "levels");
     for (s, w, h) in &sizes {
         print!(" {:>18}", format!("2x{w}x{h} ({s})"));
@@ -86,13 +85,7 @@ pub fn run(scales: &[f64], runs: u32, only: &str) -> Result<(), String> {
             let mut both = |settings: &TraceSettings| -> Result<f64, String> {
                 let mut ms = 0.0;
                 for eye in &eyes {
-                    let t = tracer
-                        .time_trace(&space, eye, settings, runs)
-                        .map_err(|e| e.to_string())?;
-                    if t.device_ms.is_none() {
-                        clock = "wall";
-                    }
-                    ms += t.device_ms.unwrap_or(t.wall_ms);
+                    ms += trace_ms(&mut tracer, &space, eye, settings, runs)?;
                 }
                 Ok(ms)
             };
@@ -115,6 +108,7 @@ pub fn run(scales: &[f64], runs: u32, only: &str) -> Result<(), String> {
             println!(" {:>12.2}", f64::from(last_w * last_h) / ms / 1e3);
         }
     }
+    let clock = if tracer.has_timestamps() { "device" } else { "wall" };
     println!("(trace times by the {clock} clock)");
     Ok(())
 }

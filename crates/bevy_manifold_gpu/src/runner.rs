@@ -128,6 +128,13 @@ impl GpuTracer {
         )
     }
 
+    /// Whether the device times passes itself (timestamp queries), so that
+    /// [`GpuTracer::time_trace`] gives `device_ms`.
+    #[must_use]
+    pub fn has_timestamps(&self) -> bool {
+        self.device.features().contains(wgpu::Features::TIMESTAMP_QUERY)
+    }
+
     /// The composed, validated shader for a specialisation.
     ///
     /// # Errors
@@ -576,17 +583,13 @@ impl GpuTracer {
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let bound = self.bind(space, scene, settings, defs, "trace")?;
         let repeats = repeats.clamp(1, 1024);
-        let queries = self
-            .device
-            .features()
-            .contains(wgpu::Features::TIMESTAMP_QUERY)
-            .then(|| {
-                self.device.create_query_set(&wgpu::QuerySetDescriptor {
-                    label: Some("trace timestamps"),
-                    ty: wgpu::QueryType::Timestamp,
-                    count: 2 * repeats,
-                })
-            });
+        let queries = self.has_timestamps().then(|| {
+            self.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("trace timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2 * repeats,
+            })
+        });
         let wait = || {
             self.device
                 .poll(wgpu::PollType::wait_indefinitely())
