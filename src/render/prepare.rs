@@ -323,10 +323,31 @@ impl ManifoldBufferCache {
     }
 }
 
+/// The uniform binding a buffer labelled `manifold_<name>` is made for,
+/// if its binding is a uniform.
+fn uniform_binding(label: &str) -> Option<&'static bevy_manifold_gpu::bindings::Binding> {
+    let name = label.strip_prefix("manifold_")?;
+    bevy_manifold_gpu::bindings::BINDINGS
+        .iter()
+        .find(|b| b.name == name && b.kind == bevy_manifold_gpu::bindings::BindingKind::Uniform)
+}
+
 /// Smallest storage buffer made, in bytes.
 const MIN_BUFFER: u64 = 256;
 
 fn storage(device: &RenderDevice, label: &'static str, data: &[u8], stats: &mut ManifoldUploads) -> Buffer {
+    // The faces and lights are uniform arrays of fixed length (BINDINGS):
+    // their buffer is that length, so every space and scene fits in place.
+    if let Some(b) = uniform_binding(label) {
+        stats.bytes += data.len() as u64;
+        let mut contents = data.to_vec();
+        contents.resize(b.bytes_for(data.len()), 0);
+        return device.create_buffer_with_data(&BufferInitDescriptor {
+            label: Some(label),
+            contents: &contents,
+            usage: BufferUsages::UNIFORM | BufferUsages::COPY_DST,
+        });
+    }
     stats.bytes += data.len() as u64;
     // Room to grow (a power of two), so the next space or scene that fits
     // is written in place and keeps the bind group (see `write_or_grow`);

@@ -16,16 +16,16 @@
 // write-back unchanged).
 #define_import_path bevy_manifold::bindings
 
-// The domain's faces: params.face_count, or for long walks the value def
-// FACE_COUNT (TraceDefs::for_levels), a constant, so every loop over the
-// faces has a constant trip count and is unrolled. On lavapipe a run-time
-// bound cut long walks: it ends all loops of an invocation after 65,535
-// iterations between them.
+// The domain's faces: params.face_count (read once, `cached`), or for
+// long walks the value def FACE_COUNT (TraceDefs::for_levels), a constant,
+// so every loop over the faces has a constant trip count and is unrolled.
+// On lavapipe a run-time bound cut long walks: it ends all loops of an
+// invocation after 65,535 iterations between them.
 fn face_count() -> u32 {
 #ifdef FACE_COUNT
     return #{FACE_COUNT}u;
 #else
-    return params.face_count;
+    return cached.face_count;
 #endif
 }
 
@@ -112,7 +112,11 @@ struct Face {
     // T_i^-1: what the ray's cell element is right-multiplied by.
     crossing: mat4x4<f32>,
     partner: u32,
-    pad: array<u32, 3>,
+    // One word a field: in a uniform array a member array would need a
+    // 16-byte stride.
+    pad_a: u32,
+    pad_b: u32,
+    pad_c: u32,
 }
 
 // Rust twin: GpuBall in crates/bevy_manifold_gpu/src/layout.rs.
@@ -188,14 +192,25 @@ struct Pixel {
     cell_hi: u32,
 }
 
+// The most faces, lights and edge tubes the uniform arrays hold. Rust
+// twins: bevy_manifold_core's MAX_FACES and MAX_LIGHTS, and MAX_TUBES in
+// crates/bevy_manifold_gpu/src/bindings.rs (BINDINGS' capacities, which
+// the contract test holds to these lengths).
+const MAX_FACES: u32 = 128u;
+const MAX_LIGHTS: u32 = 64u;
+const MAX_TUBES: u32 = 378u;
+
 // A read-only storage buffer, not a uniform: see BINDINGS in
 // crates/bevy_manifold_gpu/src/bindings.rs (with a uniform, lavapipe's
-// memory grew at every draw).
+// memory grew at every draw). Read it once per invocation where a loop
+// would read it again: see cache_params.
 @group(0) @binding(0) var<storage, read> params: Params;
-@group(0) @binding(1) var<storage, read> faces: array<Face>;
+// Uniform arrays, full size whatever the space: lavapipe reads a storage
+// buffer one lane at a time, a uniform by a gather.
+@group(0) @binding(1) var<uniform> faces: array<Face, MAX_FACES>;
 @group(0) @binding(2) var<storage, read> balls: array<Ball>;
-@group(0) @binding(3) var<storage, read> tubes: array<Tube>;
-@group(0) @binding(4) var<storage, read> lights: array<Light>;
+@group(0) @binding(3) var<uniform> tubes: array<Tube, MAX_TUBES>;
+@group(0) @binding(4) var<uniform> lights: array<Light, MAX_LIGHTS>;
 // CELLS_FINITE: table[k * face_count + f] = index of element k * T_f.
 @group(0) @binding(5) var<storage, read> cell_table: array<u32>;
 #ifdef MESHES
@@ -206,6 +221,29 @@ struct Pixel {
 @group(0) @binding(7) var<storage, read> mesh_data: array<vec4<u32>>;
 // The compute entries' output.
 @group(0) @binding(8) var<storage, read_write> pixels: array<Pixel>;
+
+// The params a walk reads at every segment or object, read once per
+// invocation by cache_params: lavapipe reads a storage buffer one lane at
+// a time, in a loop of its own, and does not hoist the same read out of
+// the walk's loops. WGSL only: Rust reads its settings directly.
+struct CachedParams {
+    face_count: u32,
+    flags: u32,
+    levels: u32,
+    max_distance: f32,
+    fog_density: f32,
+    near_reach: f32,
+    tube_k: f32,
+    ball_tree: u32,
+    ball_tree_nodes: u32,
+}
+var<private> cached: CachedParams;
+
+// Fills `cached` from params. Every entry point calls it (through
+// trace_pixel or ray_drift) before anything reads `cached`.
+fn cache_params() {
+    cached = CachedParams(params.face_count, params.flags, params.levels, params.max_distance, params.fog_density, params.near_reach, params.tube_k, params.ball_tree, params.ball_tree_nodes);
+}
 
 // Pixel::object of a domain edge (a tube). Rust twin: EDGE_ID in
 // crates/bevy_manifold_core/src/trace/flat.rs.

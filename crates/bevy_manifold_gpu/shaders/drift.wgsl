@@ -9,7 +9,7 @@
 // through walk, MESHES through bindings.
 #define_import_path bevy_manifold::drift
 
-#import bevy_manifold::bindings::{params, faces, Pixel, NO_FACE, face_count}
+#import bevy_manifold::bindings::{params, cache_params, faces, Pixel, NO_FACE, face_count}
 #import bevy_manifold::geometry::{point_error, tangent_error}
 #import bevy_manifold::step::Ray
 #import bevy_manifold::walk::{walker_new, max_passes, segment_end, walk_segment}
@@ -50,6 +50,7 @@ fn keep_worst(worst: vec3<f32>, ray: Ray) -> vec3<f32> {
 // how far outside the domain any end was in color.z, the distance in
 // color.w and the transports made in levels.
 fn ray_drift(ray: Ray) -> Pixel {
+    cache_params();
     var walk = walker_new(ray, params.camera_cell, params.camera_cell_index);
     var worst = keep_worst(vec3<f32>(0.0, 0.0, -3.0e38), walk.ray);
     let passes = max_passes();

@@ -11,7 +11,7 @@
 // GEOMETRY_*, TRANSLATIONS_ONLY, CELLS_* through the imports.
 #define_import_path bevy_manifold::render
 
-#import bevy_manifold::bindings::{params, balls, tubes, lights, faces, face_count, Pixel, EDGE_ID, FLAG_NO_EARLY_STOP, FOG_CUT, LIGHT_AT_HIT, WALL_OBJECT}
+#import bevy_manifold::bindings::{params, cached, cache_params, balls, tubes, lights, faces, face_count, Pixel, EDGE_ID, FLAG_NO_EARLY_STOP, FOG_CUT, LIGHT_AT_HIT, WALL_OBJECT}
 #import bevy_manifold::geometry::{form, normalize_point, normalize_tangent, project_tangent, distance, chart_to_distance, sphere_area}
 #import bevy_manifold::step::{Ray, normal_from, near_faces, may_hit}
 #import bevy_manifold::cells::cell_id
@@ -160,6 +160,7 @@ fn object_id(hit: Hit) -> u32 {
 // segment the nearest object, else walk on through the exit face. Under
 // FOOTPRINT each segment's layers, front to back.
 fn trace_pixel(i: u32, j: u32) -> Pixel {
+    cache_params();
     var walk = walker_new(view_ray(i, j), params.camera_cell, params.camera_cell_index);
 #ifdef FOOTPRINT
     cone_layers = Layers(vec3<f32>(0.0), 1.0, 0u);
@@ -168,8 +169,8 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
     let passes = max_passes();
     for (var pass_index = 0u; pass_index < passes; pass_index++) {
 #ifdef FOG
-        let early_stop = (params.flags & FLAG_NO_EARLY_STOP) == 0u;
-        if early_stop && params.fog_density * walk.travelled > FOG_CUT {
+        let early_stop = (cached.flags & FLAG_NO_EARLY_STOP) == 0u;
+        if early_stop && cached.fog_density * walk.travelled > FOG_CUT {
             break;
         }
 #endif
@@ -231,7 +232,7 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
 #else
         var hit = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
         if shown {
-            hit = nearest_object(walk.ray, seg.t, walk.cell[3], near_faces(walk.ray, seg.t, params.near_reach));
+            hit = nearest_object(walk.ray, seg.t, walk.cell[3], near_faces(walk.ray, seg.t, cached.near_reach));
         }
         if hit.kind != 0u {
             let dist = walk.travelled + chart_to_distance(hit.t);
@@ -393,7 +394,7 @@ fn kept_cover(ray: Ray, kind: u32, index: u32, t_end: f32) -> Cover {
 #endif
 #ifdef TUBES
     if kind == 2u {
-        return cover(2u, index, tube_approach(ray, tubes[index].a, tubes[index].e), t_end, grow_k(params.tube_k, cone_grow.tube), params.tube_k);
+        return cover(2u, index, tube_approach(ray, tubes[index].a, tubes[index].e), t_end, grow_k(cached.tube_k, cone_grow.tube), cached.tube_k);
     }
 #endif
     return Cover(Approach(0.0, 0.0), 0.0, 0.0, 0.0, 0.0);
@@ -439,7 +440,7 @@ fn interior_balls(ray: Ray, t_end: f32, near: u32) {
 #ifdef FOOTPRINT
     pad = cone_grow.w * BALL_GROWTH * params.chart_stretch;
 #endif
-    if (params.flags & FLAG_NO_CULL) != 0u || params.ball_tree_nodes == 0u || !(t_end < 3.0e38) || !(o.w > 0.0) || !(e.w > 0.0) || !finite || !(pad < 3.0e38) {
+    if (cached.flags & FLAG_NO_CULL) != 0u || cached.ball_tree_nodes == 0u || !(t_end < 3.0e38) || !(o.w > 0.0) || !(e.w > 0.0) || !finite || !(pad < 3.0e38) {
         for (var i = 0u; i < params.groups[0].x; i++) {
             consider_ball(ray, t_end, near, i);
         }
@@ -450,11 +451,11 @@ fn interior_balls(ray: Ray, t_end: f32, near: u32) {
     var top = 1u;
     stack[0] = 0u;
     // Every node is visited at most once: a hard bound on the loop.
-    for (var guard = 0u; guard < params.ball_tree_nodes && top > 0u; guard++) {
+    for (var guard = 0u; guard < cached.ball_tree_nodes && top > 0u; guard++) {
         top -= 1u;
         let index = stack[top];
-        let w0 = mesh_data[params.ball_tree + 2u * index];
-        let w1 = mesh_data[params.ball_tree + 2u * index + 1u];
+        let w0 = mesh_data[cached.ball_tree + 2u * index];
+        let w1 = mesh_data[cached.ball_tree + 2u * index + 1u];
         if hit_box(a, inv_d, bitcast<vec3<f32>>(w0.xyz) - pad, bitcast<vec3<f32>>(w1.xyz) + pad, 1.0) < 0.0 {
             continue;
         }
@@ -481,13 +482,13 @@ fn consider_tube(ray: Ray, t_end: f32, near: u32, i: u32) {
 #ifdef FOOTPRINT
     let a = tube_approach(ray, tubes[i].a, tubes[i].e);
     if on_edge(ray.origin + ray.dir * a.t, tubes[i]) {
-        let c = cover(2u, i, a, met_limit(t_end), grow_k(params.tube_k, cone_grow.tube), params.tube_k);
+        let c = cover(2u, i, a, met_limit(t_end), grow_k(cached.tube_k, cone_grow.tube), cached.tube_k);
         if c.part > 0.0 {
             keep_met(a.t, (2u << 30u) | i);
         }
     }
 #else
-    let t = hit_tube(ray, tubes[i], params.tube_k, 0.0);
+    let t = hit_tube(ray, tubes[i], cached.tube_k, 0.0);
     if t >= 0.0 && t <= t_end && (best.kind == 0u || t < best.t) {
         best = Hit(t, 2u, i, 0u, 0.0, 0.0);
     }
@@ -604,7 +605,7 @@ fn cone_layer(ray: Ray, kind: u32, index: u32, c: Cover, t_end: f32) -> ConeLaye
 #endif
 #ifdef TUBES
     if kind == 2u {
-        own = hit_tube(ray, tubes[index], params.tube_k, 0.0);
+        own = hit_tube(ray, tubes[index], cached.tube_k, 0.0);
         n0 = normal_from(x, foot_on_line(x, tubes[index]));
     }
 #endif
@@ -687,7 +688,7 @@ fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>) -
     }
 #endif
 #ifdef FOG
-    let tr = exp(-(params.fog_density * dist));
+    let tr = exp(-(cached.fog_density * dist));
     rgb = rgb * tr + params.fog_color.xyz * (1.0 - tr);
 #endif
     return rgb;

@@ -11,7 +11,7 @@
 // / GEOMETRY_EUCLIDEAN (the quadrics); MESHES through bindings.
 #define_import_path bevy_manifold::step
 
-#import bevy_manifold::bindings::{params, faces, Tube, NO_FACE, FLAG_NO_RENORMALIZE, FLAG_NO_CULL, face_count}
+#import bevy_manifold::bindings::{params, cached, faces, Tube, NO_FACE, FLAG_NO_RENORMALIZE, FLAG_NO_CULL, face_count}
 #import bevy_manifold::geometry::{form, normalize_point, normalize_tangent}
 
 // Rust twin: Ray in crates/bevy_manifold_core/src/trace/step.rs.
@@ -74,7 +74,7 @@ const ALL_FACES: u32 = 0xffffffffu;
 // crates/bevy_manifold_core/src/trace/step.rs (takes the planes and the
 // scale apart; here the planes are exit_face's).
 fn near_faces(ray: Ray, t_end: f32, within: f32) -> u32 {
-    if (params.flags & FLAG_NO_CULL) != 0u || !(t_end < 3.0e38) || !(within < 3.0e38) {
+    if (cached.flags & FLAG_NO_CULL) != 0u || !(t_end < 3.0e38) || !(within < 3.0e38) {
         return ALL_FACES;
     }
     let wa = ray.origin.w;
@@ -135,7 +135,7 @@ fn advance_raw(ray: Ray, t: f32) -> Ray {
 // Rust passes `renormalize` in (TraceSettings::renormalize); here it is
 // the FLAG_NO_RENORMALIZE bit of Params::flags.
 fn renormalize() -> bool {
-    return (params.flags & FLAG_NO_RENORMALIZE) == 0u;
+    return (cached.flags & FLAG_NO_RENORMALIZE) == 0u;
 }
 
 // advance, or advance_raw when FLAG_NO_RENORMALIZE is set.

@@ -17,7 +17,7 @@
 // MESHES through bindings.
 #define_import_path bevy_manifold::walk
 
-#import bevy_manifold::bindings::{params, faces, cell_table, NO_FACE, CELL_OUTSIDE}
+#import bevy_manifold::bindings::{params, cached, faces, cell_table, face_count, NO_FACE, CELL_OUTSIDE}
 #import bevy_manifold::geometry::{chart_to_distance, max_chart_parameter}
 #import bevy_manifold::step::{Ray, Exit, exit_face, advance_or_raw, transport_or_raw}
 #ifdef CELL_RULES
@@ -60,7 +60,7 @@ fn walker_new(ray: Ray, cell: mat4x4<f32>, index: u32) -> Walker {
 // transports (at most params.levels times) or, in S3, advances by a fixed
 // distance of 1 (at most max_distance times), so no input makes it spin.
 fn max_passes() -> u32 {
-    return params.levels + u32(min(params.max_distance, 1.0e4)) + 2u;
+    return cached.levels + u32(min(cached.max_distance, 1.0e4)) + 2u;
 }
 
 // Where the current segment ends: the face it leaves through (NO_FACE in
@@ -90,13 +90,13 @@ fn walker_step(walk: ptr<function, Walker>, face: u32, end: Ray) {
     (*walk).entered = faces[face].partner;
     (*walk).cell = (*walk).cell * faces[face].crossing;
 #ifdef CELLS_FINITE
-    (*walk).index = cell_table[(*walk).index * params.face_count + faces[face].partner];
+    (*walk).index = cell_table[(*walk).index * face_count() + faces[face].partner];
 #endif
 #ifdef CELLS_TABLE
     // Rust: CellBall's neighbours (space/ball.rs); once outside the table
     // the walk stays outside.
     if (*walk).index != CELL_OUTSIDE {
-        (*walk).index = cell_table[(*walk).index * params.face_count + faces[face].partner];
+        (*walk).index = cell_table[(*walk).index * face_count() + faces[face].partner];
     }
 #endif
     (*walk).levels += 1u;
@@ -119,12 +119,12 @@ struct PathStep {
 // cell_id_of in crates/bevy_manifold_core/src/space/element.rs.
 fn next_cell_id(walk: Walker, face: u32) -> vec2<u32> {
 #ifdef CELLS_FINITE
-    return cell_id(walk.cell, cell_table[walk.index * params.face_count + faces[face].partner]);
+    return cell_id(walk.cell, cell_table[walk.index * face_count() + faces[face].partner]);
 #else ifdef CELLS_TABLE
     if walk.index == CELL_OUTSIDE {
         return cell_id(walk.cell, CELL_OUTSIDE);
     }
-    return cell_id(walk.cell, cell_table[walk.index * params.face_count + faces[face].partner]);
+    return cell_id(walk.cell, cell_table[walk.index * face_count() + faces[face].partner]);
 #else
     return cell_id(walk.cell * faces[face].crossing, 0u);
 #endif
@@ -138,7 +138,7 @@ fn next_cell_id(walk: Walker, face: u32) -> vec2<u32> {
 fn walk_segment(walk: ptr<function, Walker>, seg: Exit) -> PathStep {
     let end = advance_or_raw((*walk).ray, seg.t);
     (*walk).travelled += chart_to_distance(seg.t);
-    if (*walk).travelled > params.max_distance {
+    if (*walk).travelled > cached.max_distance {
         return PathStep(end, true, 0u);
     }
 #ifdef CELL_RULES
@@ -152,7 +152,7 @@ fn walk_segment(walk: ptr<function, Walker>, seg: Exit) -> PathStep {
         }
     }
 #endif
-    if seg.face != NO_FACE && (*walk).levels >= params.levels {
+    if seg.face != NO_FACE && (*walk).levels >= cached.levels {
         return PathStep(end, true, 0u);
     }
     walker_step(walk, seg.face, end);

@@ -37,9 +37,40 @@ pub struct Binding {
     pub kind: BindingKind,
     /// Read by the compute entries only (the render pass binds the others).
     pub compute_only: bool,
-    /// The size of one element (the params' size, or one array element
-    /// of a storage buffer): the Rust twin's `size_of`.
+    /// The size of one element (the params' size, or one array element):
+    /// the Rust twin's `size_of`.
     pub element_size: usize,
+    /// A uniform array's length, fixed in the WGSL: its buffer is always
+    /// this many elements, whatever the space or scene holds. 0 for the
+    /// others, which are as long as their data.
+    pub capacity: usize,
+}
+
+impl Binding {
+    /// The bytes a buffer for `data` bound here must hold: a uniform
+    /// array's whole declared size, else `data` itself.
+    ///
+    /// ```
+    /// use bevy_manifold_gpu::bindings::BINDINGS;
+    /// let faces = &BINDINGS[1];
+    /// assert_eq!(faces.name, "faces");
+    /// assert_eq!(faces.bytes_for(320), 128 * 160);
+    /// assert_eq!(BINDINGS[5].bytes_for(320), 320);
+    /// ```
+    #[must_use]
+    pub fn bytes_for(&self, data: usize) -> usize {
+        data.max(self.capacity * self.element_size)
+    }
+
+    /// wgpu's usage for this binding's buffer (with `COPY_DST` so it can
+    /// be written in place).
+    #[must_use]
+    pub fn usage(&self) -> wgpu_types::BufferUsages {
+        match self.kind {
+            BindingKind::Uniform => wgpu_types::BufferUsages::UNIFORM,
+            BindingKind::Storage | BindingKind::StorageReadWrite => wgpu_types::BufferUsages::STORAGE,
+        }
+    }
 }
 
 const fn binding(binding: u32, name: &'static str, kind: BindingKind, element_size: usize) -> Binding {
@@ -49,12 +80,32 @@ const fn binding(binding: u32, name: &'static str, kind: BindingKind, element_si
         kind,
         compute_only: matches!(kind, BindingKind::StorageReadWrite),
         element_size,
+        capacity: 0,
+    }
+}
+
+/// A uniform array of `capacity` elements.
+const fn uniform_array(binding: u32, name: &'static str, element_size: usize, capacity: usize) -> Binding {
+    Binding {
+        binding,
+        name,
+        kind: BindingKind::Uniform,
+        compute_only: false,
+        element_size,
+        capacity,
     }
 }
 
 use crate::layout::{GpuBall, GpuFace, GpuInstance, GpuLight, GpuParams, GpuPixel, GpuTube};
 use BindingKind::{Storage, StorageReadWrite};
+use bevy_manifold_core::space::MAX_FACES;
+use bevy_manifold_core::trace::MAX_LIGHTS;
 use std::mem::size_of;
+
+/// The most edge tubes a domain has: a convex polyhedron with `F` faces
+/// has at most `3F - 6` edges (Euler), so [`MAX_FACES`] faces give at most
+/// this many. The tubes' uniform array holds this many.
+pub const MAX_TUBES: usize = 3 * MAX_FACES - 6;
 
 /// Group 0, in binding order: the params, then faces, balls,
 /// tubes, lights, the cell table, mesh instances and mesh data (read by
@@ -67,20 +118,54 @@ use std::mem::size_of;
 /// thread, mostly outside malloc: JIT code, we believe from its inlining
 /// of uniform values into loop bounds; trivial shaders with a uniform do
 /// not show it). Read from a storage buffer the same shader stays flat.
-/// The compute stage then binds nine storage buffers, one more than
-/// WebGPU's default limit (the headless runner asks for them; desktop
-/// adapters have more).
+///
+/// The faces, the edge tubes and the lights are uniform arrays of fixed
+/// length ([`MAX_FACES`], [`MAX_TUBES`], [`MAX_LIGHTS`]: 20,480, 30,240
+/// and 2,048 bytes, within WebGPU's default 64 KiB per binding; the runner
+/// and the pass refuse an adapter below [`largest_uniform`]). lavapipe
+/// (Mesa 22.3.6) reads a storage buffer one SIMD lane at a time, each lane
+/// a loop iteration with its own bounds check, and a uniform with one
+/// gather. With these three uniform and the walk's params read once per
+/// invocation (`cache_params` in the WGSL), the default scene at 8 levels
+/// traced 1.2-1.4x faster on lavapipe (see BENCHMARKS.md, "Uniform arrays
+/// on lavapipe"). The balls stay storage: their count has no small bound
+/// (a ball may have up to 256 ghost copies). The params stay storage for
+/// the leak above; these arrays did not grow the process over 80 headless
+/// renders, nor the explorer's soak beyond its pipelines.
+///
+/// The compute stage binds six storage buffers.
 pub const BINDINGS: [Binding; 9] = [
     binding(0, "params", Storage, size_of::<GpuParams>()),
-    binding(1, "faces", Storage, size_of::<GpuFace>()),
+    uniform_array(1, "faces", size_of::<GpuFace>(), MAX_FACES),
     binding(2, "balls", Storage, size_of::<GpuBall>()),
-    binding(3, "tubes", Storage, size_of::<GpuTube>()),
-    binding(4, "lights", Storage, size_of::<GpuLight>()),
+    uniform_array(3, "tubes", size_of::<GpuTube>(), MAX_TUBES),
+    uniform_array(4, "lights", size_of::<GpuLight>(), MAX_LIGHTS),
     binding(5, "cell_table", Storage, size_of::<u32>()),
     binding(6, "instances", Storage, size_of::<GpuInstance>()),
     binding(7, "mesh_data", Storage, size_of::<[u32; 4]>()),
     binding(8, "pixels", StorageReadWrite, size_of::<GpuPixel>()),
 ];
+
+/// The bytes of the largest uniform binding: what an adapter's
+/// `max_uniform_buffer_binding_size` must reach for the tracer to bind
+/// (the tubes, 30,240 bytes; WebGPU's default limit is 65,536).
+///
+/// ```
+/// assert_eq!(bevy_manifold_gpu::bindings::largest_uniform(), 378 * 80);
+/// ```
+#[must_use]
+pub const fn largest_uniform() -> u64 {
+    let mut largest = 0;
+    let mut i = 0;
+    while i < BINDINGS.len() {
+        let bytes = BINDINGS[i].capacity * BINDINGS[i].element_size;
+        if bytes > largest {
+            largest = bytes;
+        }
+        i += 1;
+    }
+    largest as u64
+}
 
 /// The bindings the render pass binds (every one the fragment entry reads).
 pub fn render_bindings() -> impl Iterator<Item = &'static Binding> {

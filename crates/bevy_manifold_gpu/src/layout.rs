@@ -120,8 +120,13 @@ pub struct GpuFace {
     pub crossing: [f32; 16],
     /// Partner face.
     pub partner: u32,
-    /// Padding to 16 bytes.
-    pub pad: [u32; 3],
+    /// Padding to 16 bytes, one word a field: the faces are a uniform
+    /// array, where an array member would need a 16-byte stride.
+    pub pad_a: u32,
+    /// Padding.
+    pub pad_b: u32,
+    /// Padding.
+    pub pad_c: u32,
 }
 
 /// WGSL twin: `Ball` in `shaders/bindings.wgsl`.
@@ -381,7 +386,9 @@ impl GpuSpace {
                 pairing: m(t.pairings[i]),
                 crossing: m(t.crossings[i]),
                 partner: t.partners[i] as u32,
-                pad: [0; 3],
+                pad_a: 0,
+                pad_b: 0,
+                pad_c: 0,
             })
             .collect();
         let (cell_scale, cell_table) = match space.cells() {
@@ -510,9 +517,12 @@ impl GpuObjects {
                     })
                     .collect(),
             ),
+            // At most MAX_TUBES, the uniform array's length, which a
+            // convex domain's edges never pass.
             tubes: non_empty(
                 prep.tubes
                     .iter()
+                    .take(crate::bindings::MAX_TUBES)
                     .map(|tb| GpuTube {
                         a: v(tb.segment.a),
                         e: v(tb.segment.e),
@@ -523,9 +533,12 @@ impl GpuObjects {
                     })
                     .collect(),
             ),
+            // At most MAX_LIGHTS, the uniform array's length (the ECS
+            // layer and scene files keep to it already).
             lights: non_empty(
                 prep.lights
                     .iter()
+                    .take(bevy_manifold_core::trace::MAX_LIGHTS)
                     .map(|l| GpuLight {
                         position: v(l.position),
                         color: l.color,
@@ -538,8 +551,8 @@ impl GpuObjects {
             ball_tree,
             counts: [
                 prep.balls.len() as u32,
-                prep.tubes.len() as u32,
-                prep.lights.len() as u32,
+                prep.tubes.len().min(crate::bindings::MAX_TUBES) as u32,
+                prep.lights.len().min(bevy_manifold_core::trace::MAX_LIGHTS) as u32,
                 prep.instances.len() as u32,
             ],
             tube_k: prep.tube_k,

@@ -54,9 +54,8 @@ impl GpuTracer {
         }))
         .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
         let info = adapter.get_info();
-        // Every binding but the params is a storage buffer, and the params
-        // are one too (see [`BINDINGS`]): nine in the compute stage, one
-        // more than WebGPU's default limit, which desktop adapters exceed.
+        // The storage buffers of [`BINDINGS`] (the params among them) and
+        // its largest uniform array, each checked against the adapter.
         let storage = BINDINGS.iter().filter(|b| b.kind != BindingKind::Uniform).count() as u32;
         let allowed = adapter.limits().max_storage_buffers_per_shader_stage;
         if allowed < storage {
@@ -67,11 +66,20 @@ impl GpuTracer {
                 ),
             });
         }
+        let uniform = crate::bindings::largest_uniform();
+        let allowed = adapter.limits().max_uniform_buffer_binding_size;
+        if allowed < uniform {
+            return Err(GpuError::NoDevice {
+                adapter: info.name.clone(),
+                message: format!("the tracer binds a uniform array of {uniform} bytes; this adapter allows {allowed}"),
+            });
+        }
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("bevy_manifold tracer"),
             required_limits: wgpu::Limits {
                 max_storage_buffers_per_shader_stage:
                     storage.max(wgpu::Limits::default().max_storage_buffers_per_shader_stage),
+                max_uniform_buffer_binding_size: uniform.max(wgpu::Limits::default().max_uniform_buffer_binding_size),
                 ..wgpu::Limits::default()
             },
             // Timestamps, where the adapter has them, time a trace on the
@@ -305,15 +313,23 @@ impl GpuTracer {
                 usage,
             })
         };
+        // Each binding's buffer as BINDINGS says: its usage, and a uniform
+        // array padded to its declared length.
+        let bound = |index: usize, data: &[u8]| {
+            let b = &BINDINGS[index];
+            let mut contents = data.to_vec();
+            contents.resize(b.bytes_for(data.len()), 0);
+            buffer(b.name, &contents, b.usage())
+        };
         let storage = wgpu::BufferUsages::STORAGE;
-        let params = buffer("params", bytemuck::bytes_of(&gpu.params), wgpu::BufferUsages::STORAGE);
-        let faces = buffer("faces", bytemuck::cast_slice(&gpu.space.faces), storage);
-        let balls = buffer("balls", bytemuck::cast_slice(&gpu.objects.balls), storage);
-        let tubes = buffer("tubes", bytemuck::cast_slice(&gpu.objects.tubes), storage);
-        let lights = buffer("lights", bytemuck::cast_slice(&gpu.objects.lights), storage);
-        let table = buffer("cell table", bytemuck::cast_slice(&gpu.space.cell_table), storage);
-        let instances = buffer("instances", bytemuck::cast_slice(&gpu.objects.instances), storage);
-        let mesh_data = buffer("mesh data", bytemuck::cast_slice(&gpu.objects.mesh_data), storage);
+        let params = bound(0, bytemuck::bytes_of(&gpu.params));
+        let faces = bound(1, bytemuck::cast_slice(&gpu.space.faces));
+        let balls = bound(2, bytemuck::cast_slice(&gpu.objects.balls));
+        let tubes = bound(3, bytemuck::cast_slice(&gpu.objects.tubes));
+        let lights = bound(4, bytemuck::cast_slice(&gpu.objects.lights));
+        let table = bound(5, bytemuck::cast_slice(&gpu.space.cell_table));
+        let instances = bound(6, bytemuck::cast_slice(&gpu.objects.instances));
+        let mesh_data = bound(7, bytemuck::cast_slice(&gpu.objects.mesh_data));
         let pixels = d.create_buffer(&wgpu::BufferDescriptor {
             label: Some("pixels"),
             size: (count.max(1) * std::mem::size_of::<GpuPixel>()) as u64,

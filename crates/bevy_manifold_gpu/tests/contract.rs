@@ -45,7 +45,7 @@ fn rust_layouts() -> Vec<RustLayout> {
             origin_y, near, flags, cell_scale, instance_count, cell_mode, cell_a, cell_b, rule_hidden, rule_hidden_seed, rule_walls, rule_walls_seed,
             projection, eye_offset, near_reach, ball_tree, ball_tree_nodes, chart_stretch, footprint_cap, pad, frustum, cone, groups,
         }),
-        rust_layout!(GpuFace => "Face" { plane, pairing, crossing, partner, pad }),
+        rust_layout!(GpuFace => "Face" { plane, pairing, crossing, partner, pad_a, pad_b, pad_c }),
         rust_layout!(GpuBall => "Ball" { center, color, k, id, face_mask, glow, pad }),
         rust_layout!(GpuTube => "Tube" { a, e, b, e_b, color, face_mask }),
         rust_layout!(GpuInstance => "Instance" {
@@ -151,6 +151,15 @@ fn the_bindings_are_the_rust_tables() {
             _ => layouter[var.ty].size,
         };
         assert_eq!(element as usize, rust.element_size, "{name}: element size");
+        // A uniform array's declared length is the buffer's capacity.
+        let length = match &module.types[var.ty].inner {
+            naga::TypeInner::Array {
+                size: naga::ArraySize::Constant(n),
+                ..
+            } => n.get() as usize,
+            _ => 0,
+        };
+        assert_eq!(length, rust.capacity, "{name}: uniform array length");
         seen.push(rust.binding);
     }
     seen.sort_unstable();

@@ -282,6 +282,53 @@ fn a_light_on_the_hit_point_is_lit_head_on_on_the_gpu() {
     }
 }
 
+/// The lights are a uniform array of `MAX_LIGHTS`: a scene with that many,
+/// all dark but the last, is lit by the last on the GPU as on the CPU
+/// reference (an array that held fewer would leave it at ambient light);
+/// past `MAX_LIGHTS` the GPU lights by the first `MAX_LIGHTS`, as the ECS
+/// layer does, and renders without a validation error.
+fn the_last_of_the_most_lights_lights_the_gpu_scene() {
+    use bevy_manifold_core::trace::MAX_LIGHTS;
+    let mut gpu = tracer();
+    let space = catalog::by_name("seifert-weber").expect("catalog");
+    let mut scene = Scene::default_for(&space);
+    let bright = scene.lights[0].clone();
+    let dark = Light {
+        intensity: 0.0,
+        ..bright.clone()
+    };
+    scene.lights = vec![dark.clone(); MAX_LIGHTS - 1];
+    scene.lights.push(bright.clone());
+    let settings = TraceSettings {
+        width: 96,
+        height: 54,
+        levels: 4,
+        ..TraceSettings::default()
+    };
+    let (g, _) = gpu_against_cpu(&mut gpu, &space, &scene, &settings, "64 lights, the last lit");
+    let mut unlit = scene.clone();
+    unlit.lights = vec![dark.clone(); MAX_LIGHTS];
+    let u = gpu.render(&space, &unlit, &settings).expect("render");
+    let brighter = g
+        .pixels
+        .iter()
+        .zip(&u.pixels)
+        .filter(|(a, b)| a.color[0] + a.color[1] + a.color[2] > 1.5 * (b.color[0] + b.color[1] + b.color[2]) + 1e-3)
+        .count();
+    assert!(
+        brighter > g.pixels.len() / 10,
+        "the last light brightens {brighter} of {} pixels",
+        g.pixels.len()
+    );
+    let mut more = scene.clone();
+    more.lights.extend(vec![bright; 6]);
+    let m = gpu.render(&space, &more, &settings).expect("render past MAX_LIGHTS");
+    assert!(
+        m.pixels.iter().zip(&g.pixels).all(|(a, b)| a == b),
+        "lights past MAX_LIGHTS change nothing on the GPU"
+    );
+}
+
 /// Glowing balls with no light in the scene, in a flat, a hyperbolic and
 /// a spherical space: what the shading rule predicts (unlit, a ball shows
 /// its albedo times ambient plus glow, at every distance), on the GPU as
@@ -594,5 +641,6 @@ bevy_manifold_test_support::test_main! {
         a_ball_straddling_a_torus_face_is_seen_whole_from_either_side,
         the_fragment_entry_draws_what_the_compute_entry_computes,
         a_light_on_the_hit_point_is_lit_head_on_on_the_gpu,
+        the_last_of_the_most_lights_lights_the_gpu_scene,
     ],
 }
