@@ -29,13 +29,6 @@ struct Exit {
     t: f32,
 }
 
-// exit_face's n . o and n . d of faces 0 to 31 for the last ray it was
-// given, which near_faces reads instead of loading the planes again (on
-// lavapipe a storage load per face costs as much as the face's test).
-// WGSL only: Rust's near_faces takes the planes.
-var<private> face_at_origin: array<f32, 32>;
-var<private> face_along_dir: array<f32, 32>;
-
 // Where a ray crosses a face (see Exit); NO_FACE when it leaves by none.
 fn exit_face(ray: Ray, skip: u32) -> Exit {
     var best = Exit(NO_FACE, 0.0);
@@ -43,10 +36,6 @@ fn exit_face(ray: Ray, skip: u32) -> Exit {
         let n = faces[i].plane;
         let no = dot(n, ray.origin);
         let nd = dot(n, ray.dir);
-        if i < 32u {
-            face_at_origin[i] = no;
-            face_along_dir[i] = nd;
-        }
         if i == skip {
             continue;
         }
@@ -63,16 +52,17 @@ fn exit_face(ray: Ray, skip: u32) -> Exit {
 // Every face bit. Rust twin: ALL_FACES.
 const ALL_FACES: u32 = 0xffffffffu;
 
-// The faces the segment o + t d, 0 <= t <= t_end, comes near (the ray
-// exit_face was last given): bit i set when some point of it may be
-// within `within` of face i's plane (params.near_reach, near_scale times
-// s(r); grown objects reach further): |n . p| / p_w is monotone along the
-// segment, so its ends decide, or a change of sign. Faces from 32 on fold
-// onto bit i % 32, set when any of its faces is near (their planes loaded
-// again: exit_face keeps 32); a segment with no finite end is near all.
-// FLAG_NO_CULL: all near. Rust twin: near_faces in
-// crates/bevy_manifold_core/src/trace/step.rs (takes the planes and the
-// scale apart; here the planes are exit_face's).
+// The faces the segment o + t d, 0 <= t <= t_end, comes near: bit i set
+// when some point of it may be within `within` of face i's plane
+// (params.near_reach, near_scale times s(r); grown objects reach
+// further): |n . p| / p_w is monotone along the segment, so its ends
+// decide, or a change of sign. Faces from 32 on fold onto bit i % 32, set
+// when any of its faces is near; a segment with no finite end is near
+// all. FLAG_NO_CULL: all near. The planes are read again rather than kept
+// from exit_face: on lavapipe a uniform read is a gather, cheaper than
+// keeping them in a private array indexed at run time (6-13% of a frame).
+// Rust twin: near_faces in crates/bevy_manifold_core/src/trace/step.rs
+// (takes the planes and the scale apart).
 fn near_faces(ray: Ray, t_end: f32, within: f32) -> u32 {
     if (cached.flags & FLAG_NO_CULL) != 0u || !(t_end < 3.0e38) || !(within < 3.0e38) {
         return ALL_FACES;
@@ -81,16 +71,9 @@ fn near_faces(ray: Ray, t_end: f32, within: f32) -> u32 {
     let wb = (ray.origin + ray.dir * t_end).w;
     var near = ALL_FACES;
     for (var i = 0u; i < face_count(); i++) {
-        // exit_face's n . o and n . d for this ray; the end's value from them.
-        var sa: f32;
-        var sd: f32;
-        if i < 32u {
-            sa = face_at_origin[i];
-            sd = face_along_dir[i];
-        } else {
-            sa = dot(faces[i].plane, ray.origin);
-            sd = dot(faces[i].plane, ray.dir);
-        }
+        // n . o and n . d for this ray; the end's value from them.
+        let sa = dot(faces[i].plane, ray.origin);
+        let sd = dot(faces[i].plane, ray.dir);
         let sb = sa + t_end * sd;
         let crosses = (sa < 0.0) != (sb < 0.0);
         let is_near = crosses || abs(sa) <= within * wa || abs(sb) <= within * wb;
