@@ -107,7 +107,7 @@ fn check_segments<R: Real>(name: &str, space: &Space, prep: &FlatScene<R>, rng: 
             // hits is in a leaf the walk visits.
             let interior = prep.groups.balls[0] as usize;
             let mut visited = vec![false; interior];
-            match chart_segment(&walk.ray, t_end) {
+            match chart_segment(&walk.ray, t_end).filter(|_| !prep.ball_tree.is_empty()) {
                 Some((a, d)) => tree_leaves(&prep.ball_tree, a, d, 0.0, |leaf| {
                     for i in leaf {
                         assert!(!visited[i], "{name}: ball {i} is in two leaves");

@@ -426,8 +426,9 @@ fn consider_ball(ray: Ray, t_end: f32, near: u32, i: u32) {
 // The balls with no face mask (0..params.groups[0].x): only those in the
 // leaves of the ball tree (params.ball_tree in mesh_data) whose boxes,
 // padded by the balls' growth under FOOTPRINT, the segment's chart image,
-// from a = o/o_w to e/e_w, meets; every one when culling is off or an
-// end is at the chart's horizon. Rust twin: chart_segment and
+// from a = o/o_w to e/e_w, meets; every one when culling is off, an end
+// is at the chart's horizon, or there is no tree (fewer than
+// MIN_BALL_TREE such balls, Rust's flat.rs). Rust twin: chart_segment and
 // tree_leaves in crates/bevy_manifold_core/src/trace/cull.rs, as
 // each_candidate calls them.
 fn interior_balls(ray: Ray, t_end: f32, near: u32) {

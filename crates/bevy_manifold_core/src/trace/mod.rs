@@ -46,8 +46,8 @@ pub use cast::{CastBall, CastHit, CastWall, cast_balls, cast_with_rule};
 pub use cull::{FaceGroups, UNBOUNDED, ball_box, chart_segment, near_reach, tree_leaves};
 pub use drift::{RayDrift, ray_drift};
 pub use flat::{
-    EDGE_ID, FaceTables, FlatBall, FlatInstance, FlatLight, FlatScene, FlatTube, ghost_centres, ghost_elements,
-    same_cell_point,
+    EDGE_ID, FaceTables, FlatBall, FlatInstance, FlatLight, FlatScene, FlatTube, MIN_BALL_TREE, ghost_centres,
+    ghost_elements, same_cell_point,
 };
 pub use flow::{Flowed, flow};
 pub use footprint::{Layers, pixel_half_angle};

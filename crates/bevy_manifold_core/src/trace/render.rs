@@ -651,7 +651,8 @@ enum Candidate {
 /// further) are left out: only the groups of near faces are walked
 /// ([`FaceGroups`]); and of the balls with no face mask only those in the
 /// leaves of [`FlatScene::ball_tree`] whose boxes, padded by `pad`, the
-/// segment's chart image meets ([`tree_leaves`]). WGSL twin: the loops of
+/// segment's chart image meets ([`tree_leaves`]), or all of them where
+/// there is no tree (fewer than [`super::MIN_BALL_TREE`]). WGSL twin: the loops of
 /// `nearest_object` in `shaders/render.wgsl`.
 fn each_candidate<R: Real>(
     prep: &FlatScene<R>,
@@ -664,7 +665,7 @@ fn each_candidate<R: Real>(
     let groups = &prep.groups;
     let mut ranges = FaceGroups::ranges(&groups.balls, near_balls);
     let interior = ranges.next().unwrap_or_default();
-    match chart_segment(ray, t_end).filter(|_| cull && pad.is_finite()) {
+    match chart_segment(ray, t_end).filter(|_| cull && pad.is_finite() && !prep.ball_tree.is_empty()) {
         Some((a, d)) => tree_leaves(&prep.ball_tree, a, d, pad, |leaf| {
             leaf.for_each(|i| visit(Candidate::Ball(i)))
         }),
