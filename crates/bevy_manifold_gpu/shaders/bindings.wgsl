@@ -97,6 +97,10 @@ struct Params {
     // (pixel_half_angle), FlatScene::near_distance, FaceTables::near_scale
     // and FlatScene::cell_shadow.
     cone: vec4<f32>,
+    // The faces (below 32) whose group holds any ball, tube, instance (x,
+    // y, z): nearest_object walks only these of a segment's near faces.
+    // WGSL only (GpuParams::occupied).
+    occupied: vec4<u32>,
     // FlatScene::groups: groups[f] is where face f's group starts in the
     // balls, tubes and instances (x, y, z); the entry after the last face
     // (at most 32) holds their counts. Objects before groups[0] carry no
@@ -227,6 +231,7 @@ const MAX_TUBES: u32 = 378u;
 // a time, in a loop of its own, and does not hoist the same read out of
 // the walk's loops. WGSL only: Rust reads its settings directly.
 struct CachedParams {
+    occupied: vec4<u32>,
     face_count: u32,
     flags: u32,
     levels: u32,
@@ -242,7 +247,7 @@ var<private> cached: CachedParams;
 // Fills `cached` from params. Every entry point calls it (through
 // trace_pixel or ray_drift) before anything reads `cached`.
 fn cache_params() {
-    cached = CachedParams(params.face_count, params.flags, params.levels, params.max_distance, params.fog_density, params.near_reach, params.tube_k, params.ball_tree, params.ball_tree_nodes);
+    cached = CachedParams(params.occupied, params.face_count, params.flags, params.levels, params.max_distance, params.fog_density, params.near_reach, params.tube_k, params.ball_tree, params.ball_tree_nodes);
 }
 
 // Pixel::object of a domain edge (a tube). Rust twin: EDGE_ID in

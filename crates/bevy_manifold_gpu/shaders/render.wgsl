@@ -442,11 +442,21 @@ fn interior_balls(ray: Ray, t_end: f32, near: u32) {
     pad = cone_grow.w * BALL_GROWTH * params.chart_stretch;
 #endif
     if (cached.flags & FLAG_NO_CULL) != 0u || cached.ball_tree_nodes == 0u || !(t_end < 3.0e38) || !(o.w > 0.0) || !(e.w > 0.0) || !finite || !(pad < 3.0e38) {
-        for (var i = 0u; i < params.groups[0].x; i++) {
+        let interior = params.groups[0].x;
+        for (var i = 0u; i < interior; i++) {
             consider_ball(ray, t_end, near, i);
         }
         return;
     }
+    ball_tree_leaves(ray, t_end, near, a, d, pad);
+}
+
+// The walk of the ball tree for interior_balls, a function of its own:
+// WGSL zeroes a function's local array at the function's start, so the
+// stack is cleared only where there is a tree to walk (on lavapipe,
+// clearing it on every segment of the default scene's one-ball frame
+// cost a fifth of the frame).
+fn ball_tree_leaves(ray: Ray, t_end: f32, near: u32, a: vec3<f32>, d: vec3<f32>, pad: f32) {
     let inv_d = safe_inverse(d);
     var stack: array<u32, BVH_STACK>;
     var top = 1u;
@@ -531,7 +541,9 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
     // The groups walked (Rust: FaceGroups::ranges): the unmasked objects,
     // then the group of each near face, in order. Each kind's loop runs
     // over the ranges next_group hands out; `rest_*` holds the near faces
-    // not yet walked.
+    // not yet walked whose group is not empty (cached.occupied: an empty
+    // group's range is two storage reads for nothing; Rust's empty ranges
+    // cost nothing, so it has no twin).
     let groups = near_groups(near);
 #ifdef BALLS
     // A cone grows balls further: their own near faces.
@@ -540,7 +552,7 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
     ball_near = near_balls;
 #endif
     interior_balls(ray, t_end, ball_near);
-    var rest_balls = near_groups(ball_near);
+    var rest_balls = near_groups(ball_near) & cached.occupied.x;
     loop {
         if rest_balls == 0u {
             break;
@@ -552,7 +564,7 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
     }
 #endif
 #ifdef TUBES
-    var rest_tubes = groups;
+    var rest_tubes = groups & cached.occupied.y;
     var tubes_range = vec2<u32>(0u, params.groups[0].y);
     loop {
         for (var i = tubes_range.x; i < tubes_range.y; i++) {
@@ -565,7 +577,7 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
     }
 #endif
 #ifdef MESHES
-    var rest_meshes = groups;
+    var rest_meshes = groups & cached.occupied.z;
     var meshes_range = vec2<u32>(0u, params.groups[0].z);
     loop {
         for (var i = meshes_range.x; i < meshes_range.y; i++) {

@@ -104,6 +104,12 @@ pub struct GpuParams {
     /// ([`GpuView::footprint`]), `FlatScene::near_distance`,
     /// `FaceTables::near_scale`, `FlatScene::cell_shadow`.
     pub cone: [f32; 4],
+    /// The faces whose group holds any ball, tube, mesh instance (x, y,
+    /// z; bit `f` for face `f` below 32, from [`GpuObjects::groups`]):
+    /// the WGSL walks only these of a segment's near faces, so that empty
+    /// groups cost no reads (WGSL only; the CPU's empty ranges cost
+    /// nothing).
+    pub occupied: [u32; 4],
     /// [`GpuObjects::groups`].
     pub groups: [[u32; 4]; 33],
 }
@@ -583,6 +589,20 @@ fn pack_groups(prep: &FlatScene<f32>) -> [[u32; 4]; 33] {
     })
 }
 
+/// Per kind (balls, tubes, instances), the faces below 32 whose group in
+/// `groups` is not empty, as bits (`GpuParams::occupied`).
+fn occupied(groups: &[[u32; 4]; 33]) -> [u32; 4] {
+    let mut out = [0; 4];
+    for f in 0..32 {
+        for (k, word) in out.iter_mut().take(3).enumerate() {
+            if groups[f + 1][k] > groups[f][k] {
+                *word |= 1 << f;
+            }
+        }
+    }
+    out
+}
+
 fn bits(v: [f32; 3], w: u32) -> [u32; 4] {
     [v[0].to_bits(), v[1].to_bits(), v[2].to_bits(), w]
 }
@@ -703,6 +723,7 @@ impl GpuParams {
             pad: 0,
             frustum: view.frustum.unwrap_or([0.0; 4]),
             cone: [view.footprint, objects.cone[0], packed.near_scale, objects.cone[1]],
+            occupied: occupied(&objects.groups),
             groups: objects.groups,
         }
     }

@@ -232,8 +232,8 @@ const PALETTE: [[f32; 3]; 10] = [
 /// Fewest balls with no face mask for which [`FlatScene::ball_tree`] is
 /// built. Below it a segment tests each of them, which costs less than
 /// walking a tree: with the default scene's one interior ball, a frame at
-/// 8 levels took 20-23% less on lavapipe without its one-node tree (the
-/// tree's nodes are read from a storage buffer, one SIMD lane at a time).
+/// 8 levels took 0-5% less on lavapipe without its one-node tree (whose
+/// nodes the GPU reads from a storage buffer, one SIMD lane at a time).
 pub const MIN_BALL_TREE: usize = 8;
 
 /// Most copies of one object kept as ghosts (a huge ball in a small
