@@ -127,7 +127,7 @@ pub const MAX_TUBES: usize = 3 * MAX_FACES - 6;
 /// a loop iteration with its own bounds check, and a uniform with one
 /// gather. With these three uniform and the walk's params read once per
 /// invocation (`cache_params` in the WGSL), the default scene at 8 levels
-/// traced 1.2-1.4x faster on lavapipe (see BENCHMARKS.md, "Uniform arrays
+/// traced 1.13-1.32x faster on lavapipe (see BENCHMARKS.md, "Uniform arrays
 /// on lavapipe"). The balls stay storage: their count has no small bound
 /// (a ball may have up to 256 ghost copies). The params stay storage for
 /// the leak above; these arrays did not grow the process over 80 headless
