@@ -335,37 +335,36 @@ fn uniform_binding(label: &str) -> Option<&'static bevy_manifold_gpu::bindings::
 /// Smallest storage buffer made, in bytes.
 const MIN_BUFFER: u64 = 256;
 
-fn storage(device: &RenderDevice, label: &'static str, data: &[u8], stats: &mut ManifoldUploads) -> Buffer {
-    // The faces and lights are uniform arrays of fixed length (BINDINGS):
-    // their buffer is that length, so every space and scene fits in place.
-    if let Some(b) = uniform_binding(label) {
-        stats.bytes += data.len() as u64;
-        let mut contents = data.to_vec();
-        contents.resize(b.bytes_for(data.len()), 0);
-        return device.create_buffer_with_data(&BufferInitDescriptor {
-            label: Some(label),
-            contents: &contents,
-            usage: BufferUsages::UNIFORM | BufferUsages::COPY_DST,
-        });
-    }
+/// A buffer holding `data` for the binding its label names
+/// (`manifold_<name>`), with `COPY_DST` so later data is written in place.
+fn scene_buffer(device: &RenderDevice, label: &'static str, data: &[u8], stats: &mut ManifoldUploads) -> Buffer {
     stats.bytes += data.len() as u64;
-    // Room to grow (a power of two), so the next space or scene that fits
-    // is written in place and keeps the bind group (see `write_or_grow`);
-    // never past what the device binds, unless the data itself is larger
-    // (then binding fails as it would have without the room).
-    let limit = usize::try_from(device.limits().max_storage_buffer_binding_size).unwrap_or(usize::MAX);
-    let size = data
-        .len()
-        .max(MIN_BUFFER as usize)
-        .next_power_of_two()
-        .min(limit & !3)
-        .max(data.len());
+    let (size, usage) = match uniform_binding(label) {
+        // A uniform array (the faces, tubes and lights: BINDINGS) is always
+        // its declared length, so every space and scene fits in place.
+        Some(b) => (b.bytes_for(data.len()), b.usage()),
+        // Room to grow (a power of two), so the next space or scene that
+        // fits is written in place and keeps the bind group (see
+        // `write_or_grow`); never past what the device binds, unless the
+        // data itself is larger (then binding fails as it would have
+        // without the room).
+        None => {
+            let limit = usize::try_from(device.limits().max_storage_buffer_binding_size).unwrap_or(usize::MAX);
+            let size = data
+                .len()
+                .max(MIN_BUFFER as usize)
+                .next_power_of_two()
+                .min(limit & !3)
+                .max(data.len());
+            (size, BufferUsages::STORAGE)
+        }
+    };
     let mut contents = vec![0u8; size];
     contents[..data.len()].copy_from_slice(data);
     device.create_buffer_with_data(&BufferInitDescriptor {
         label: Some(label),
         contents: &contents,
-        usage: BufferUsages::STORAGE | BufferUsages::COPY_DST,
+        usage: usage | BufferUsages::COPY_DST,
     })
 }
 
@@ -390,7 +389,7 @@ fn write_or_grow(
         stats.bytes += data.len() as u64;
         false
     } else {
-        *slot = storage(device, label, data, stats);
+        *slot = scene_buffer(device, label, data, stats);
         true
     }
 }
@@ -398,8 +397,8 @@ fn write_or_grow(
 fn space_buffers(device: &RenderDevice, s: &GpuSpace, stats: &mut ManifoldUploads) -> (Buffer, Buffer) {
     stats.space += 1;
     (
-        storage(device, "manifold_faces", bytemuck::cast_slice(&s.faces), stats),
-        storage(
+        scene_buffer(device, "manifold_faces", bytemuck::cast_slice(&s.faces), stats),
+        scene_buffer(
             device,
             "manifold_cell_table",
             bytemuck::cast_slice(&s.cell_table),
@@ -413,11 +412,11 @@ fn space_buffers(device: &RenderDevice, s: &GpuSpace, stats: &mut ManifoldUpload
 fn object_buffers(device: &RenderDevice, o: &GpuObjects, stats: &mut ManifoldUploads) -> [Buffer; 5] {
     stats.objects += 1;
     [
-        storage(device, "manifold_balls", bytemuck::cast_slice(&o.balls), stats),
-        storage(device, "manifold_tubes", bytemuck::cast_slice(&o.tubes), stats),
-        storage(device, "manifold_lights", bytemuck::cast_slice(&o.lights), stats),
-        storage(device, "manifold_instances", bytemuck::cast_slice(&o.instances), stats),
-        storage(device, "manifold_mesh_data", bytemuck::cast_slice(&o.mesh_data), stats),
+        scene_buffer(device, "manifold_balls", bytemuck::cast_slice(&o.balls), stats),
+        scene_buffer(device, "manifold_tubes", bytemuck::cast_slice(&o.tubes), stats),
+        scene_buffer(device, "manifold_lights", bytemuck::cast_slice(&o.lights), stats),
+        scene_buffer(device, "manifold_instances", bytemuck::cast_slice(&o.instances), stats),
+        scene_buffer(device, "manifold_mesh_data", bytemuck::cast_slice(&o.mesh_data), stats),
     ]
 }
 

@@ -62,8 +62,8 @@ impl Binding {
         data.max(self.capacity * self.element_size)
     }
 
-    /// wgpu's usage for this binding's buffer (with `COPY_DST` so it can
-    /// be written in place).
+    /// wgpu's usage for this binding's buffer (a buffer written in place
+    /// adds `COPY_DST`).
     #[must_use]
     pub fn usage(&self) -> wgpu_types::BufferUsages {
         match self.kind {

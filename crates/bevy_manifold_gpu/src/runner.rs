@@ -314,11 +314,16 @@ impl GpuTracer {
             })
         };
         // Each binding's buffer as BINDINGS says: its usage, and a uniform
-        // array padded to its declared length.
+        // array padded to its declared length (copied only then: the cell
+        // table and the meshes' data run to megabytes).
         let bound = |index: usize, data: &[u8]| {
             let b = &BINDINGS[index];
+            let size = b.bytes_for(data.len());
+            if size == data.len() {
+                return buffer(b.name, data, b.usage());
+            }
             let mut contents = data.to_vec();
-            contents.resize(b.bytes_for(data.len()), 0);
+            contents.resize(size, 0);
             buffer(b.name, &contents, b.usage())
         };
         let storage = wgpu::BufferUsages::STORAGE;
