@@ -7,8 +7,14 @@
 //
 // Shader defs read: FOG (early stop, fog colour), BALLS, TUBES, MESHES
 // (which objects are tested and shaded), CELL_COLORS, LIGHTS, CELL_RULES
-// (hidden cells, walls), FOOTPRINT (cone tracing: footprint.wgsl);
-// GEOMETRY_*, TRANSLATIONS_ONLY, CELLS_* through the imports.
+// (hidden cells, walls), FOOTPRINT (cone tracing: footprint.wgsl),
+// BALL_TREE (the walk of the ball tree); GEOMETRY_*, TRANSLATIONS_ONLY,
+// CELLS_* through the imports.
+//
+// Written for lavapipe too, which runs the body of every branch under a
+// mask whether or not any SIMD lane takes it (only loops end early, once
+// all lanes are done): what a scene does not need is left out by a def,
+// and the shading is done once, after the walk, not inside it.
 #define_import_path bevy_manifold::render
 
 #import bevy_manifold::bindings::{params, cached, cache_params, balls, tubes, lights, faces, face_count, Pixel, EDGE_ID, FLAG_NO_EARLY_STOP, FOG_CUT, LIGHT_AT_HIT, WALL_OBJECT}
@@ -18,6 +24,8 @@
 #import bevy_manifold::walk::{walker_new, max_passes, segment_end, walk_segment}
 #ifdef BALLS
 #import bevy_manifold::step::hit_ball
+#endif
+#ifdef BALL_TREE
 #import bevy_manifold::bindings::{mesh_data, BVH_STACK, FLAG_NO_CULL}
 #import bevy_manifold::bvh::{hit_box, safe_inverse}
 #endif
@@ -167,6 +175,10 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
     cone_has_front = false;
 #endif
     let passes = max_passes();
+#ifdef FOOTPRINT
+#else
+    var hit = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
+#endif
     for (var pass_index = 0u; pass_index < passes; pass_index++) {
 #ifdef FOG
         let early_stop = (cached.flags & FLAG_NO_EARLY_STOP) == 0u;
@@ -230,14 +242,14 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
             return finish(here);
         }
 #else
-        var hit = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
         if shown {
             hit = nearest_object(walk.ray, seg.t, walk.cell[3], near_faces(walk.ray, seg.t, cached.near_reach));
         }
+        // Shaded after the loop (Rust shades and returns here): lavapipe
+        // runs a branch's body, under a mask, whether or not any lane
+        // takes it, so shading here cost every pass of every ray.
         if hit.kind != 0u {
-            let dist = walk.travelled + chart_to_distance(hit.t);
-            let cid = cell_id(walk.cell, walk.index);
-            return Pixel(vec4<f32>(shade(walk.ray, hit, vec4<f32>(0.0), dist, cid), dist), object_id(hit), walk.levels, cid.x, cid.y);
+            break;
         }
 #endif
         let segment_start = walk.ray;
@@ -261,6 +273,14 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
             break;
         }
     }
+#ifdef FOOTPRINT
+#else
+    if hit.kind != 0u {
+        let dist = walk.travelled + chart_to_distance(hit.t);
+        let cid = cell_id(walk.cell, walk.index);
+        return Pixel(vec4<f32>(shade(walk.ray, hit, vec4<f32>(0.0), dist, cid), dist), object_id(hit), walk.levels, cid.x, cid.y);
+    }
+#endif
     let cid = cell_id(walk.cell, walk.index);
     return finish(Pixel(vec4<f32>(background(), walk.travelled), 0u, walk.levels, cid.x, cid.y));
 }
@@ -428,10 +448,12 @@ fn consider_ball(ray: Ray, t_end: f32, near: u32, i: u32) {
 // padded by the balls' growth under FOOTPRINT, the segment's chart image,
 // from a = o/o_w to e/e_w, meets; every one when culling is off, an end
 // is at the chart's horizon, or there is no tree (fewer than
-// MIN_BALL_TREE such balls, Rust's flat.rs). Rust twin: chart_segment and
-// tree_leaves in crates/bevy_manifold_core/src/trace/cull.rs, as
-// each_candidate calls them.
+// MIN_BALL_TREE such balls, Rust's flat.rs; not compiled at all without
+// BALL_TREE). Rust twin: chart_segment and tree_leaves in
+// crates/bevy_manifold_core/src/trace/cull.rs, as each_candidate calls
+// them.
 fn interior_balls(ray: Ray, t_end: f32, near: u32) {
+#ifdef BALL_TREE
     let o = ray.origin;
     let e = ray.origin + ray.dir * t_end;
     let a = o.xyz / o.w;
@@ -442,20 +464,29 @@ fn interior_balls(ray: Ray, t_end: f32, near: u32) {
     pad = cone_grow.w * BALL_GROWTH * params.chart_stretch;
 #endif
     if (cached.flags & FLAG_NO_CULL) != 0u || cached.ball_tree_nodes == 0u || !(t_end < 3.0e38) || !(o.w > 0.0) || !(e.w > 0.0) || !finite || !(pad < 3.0e38) {
-        let interior = params.groups[0].x;
-        for (var i = 0u; i < interior; i++) {
-            consider_ball(ray, t_end, near, i);
-        }
+        every_interior_ball(ray, t_end, near);
         return;
     }
     ball_tree_leaves(ray, t_end, near, a, d, pad);
+#else
+    every_interior_ball(ray, t_end, near);
+#endif
 }
 
-// The walk of the ball tree for interior_balls, a function of its own:
-// WGSL zeroes a function's local array at the function's start, so the
-// stack is cleared only where there is a tree to walk (on lavapipe,
-// clearing it on every segment of the default scene's one-ball frame
-// cost a fifth of the frame).
+// Every ball with no face mask, in order.
+fn every_interior_ball(ray: Ray, t_end: f32, near: u32) {
+    let interior = params.groups[0].x;
+    for (var i = 0u; i < interior; i++) {
+        consider_ball(ray, t_end, near, i);
+    }
+}
+
+#ifdef BALL_TREE
+// The walk of the ball tree for interior_balls, compiled only under
+// BALL_TREE (a scene with MIN_BALL_TREE balls or more): lavapipe runs a
+// branch's body, under a mask, whether or not any lane takes it, so with
+// it compiled into every scene the walk, its 40-word stack cleared, cost
+// every segment of every frame (a fifth of the default scene's frame).
 fn ball_tree_leaves(ray: Ray, t_end: f32, near: u32, a: vec3<f32>, d: vec3<f32>, pad: f32) {
     let inv_d = safe_inverse(d);
     var stack: array<u32, BVH_STACK>;
@@ -482,6 +513,7 @@ fn ball_tree_leaves(ray: Ray, t_end: f32, near: u32, a: vec3<f32>, d: vec3<f32>,
         }
     }
 }
+#endif
 #endif
 
 #ifdef TUBES

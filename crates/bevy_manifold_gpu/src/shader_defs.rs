@@ -55,6 +55,14 @@ pub struct TraceDefs {
     pub lights: bool,
     /// `MESHES`: triangle meshes through their BVH.
     pub meshes: bool,
+    /// `BALL_TREE`: the scene has enough balls for a ball tree
+    /// ([`bevy_manifold_core::trace::MIN_BALL_TREE`]), so the walk of the
+    /// tree is compiled in; without it every interior ball is tested. A
+    /// def, not a run-time branch: lavapipe runs both sides of every
+    /// branch, under masks, so the tree's walk cost every segment of
+    /// every scene a fifth to two fifths of its frame (BENCHMARKS.md,
+    /// "Branches on lavapipe").
+    pub ball_tree: bool,
     /// `FOOTPRINT`: cone tracing (`TraceSettings::footprint`, the
     /// shader's `footprint.wgsl`), only where there are balls or tubes
     /// to fade ([`TraceDefs::for_footprint`]).
@@ -98,6 +106,9 @@ impl TraceDefs {
             tubes: scene.edge_radius.is_some(),
             lights: !scene.lights.is_empty(),
             meshes: !scene.meshes.is_empty(),
+            // The interior balls, those a tree holds, are scene balls (a
+            // ghost copy or a vertex joint lies near a face).
+            ball_tree: scene.balls.len() >= bevy_manifold_core::trace::MIN_BALL_TREE,
             footprint: false,
             face_count: None,
         }
@@ -162,6 +173,7 @@ impl TraceDefs {
             tubes: true,
             lights: true,
             meshes: true,
+            ball_tree: true,
             footprint: true,
             face_count: None,
         }
@@ -170,7 +182,8 @@ impl TraceDefs {
     /// Every valid combination (each geometry with the cell schemes and
     /// transport kinds it allows, every optional part on and off, the faces
     /// counted at run time and as a constant 12, the cell rules on and off,
-    /// cone tracing on and off where there are balls or tubes).
+    /// cone tracing on and off where there are balls or tubes, the ball
+    /// tree on and off where there are balls).
     #[must_use]
     pub fn all() -> Vec<Self> {
         let mut out = Vec::new();
@@ -184,9 +197,9 @@ impl TraceDefs {
             (Geometry::Spherical, false, CellScheme::Hashed),
         ];
         for (geometry, translations_only, cells) in bases {
-            for bits in 0..512u32 {
+            for bits in 0..1024u32 {
                 let on = |k: u32| bits & (1 << k) != 0;
-                if on(8) && !(on(2) || on(3)) {
+                if (on(8) && !(on(2) || on(3))) || (on(9) && !on(2)) {
                     continue;
                 }
                 out.push(TraceDefs {
@@ -202,6 +215,7 @@ impl TraceDefs {
                     face_count: on(6).then_some(12),
                     cell_rules: on(7),
                     footprint: on(8),
+                    ball_tree: on(9),
                 });
             }
         }
@@ -237,6 +251,7 @@ impl TraceDefs {
             (self.tubes, "TUBES"),
             (self.lights, "LIGHTS"),
             (self.meshes, "MESHES"),
+            (self.ball_tree, "BALL_TREE"),
             (self.footprint, "FOOTPRINT"),
         ] {
             if on {

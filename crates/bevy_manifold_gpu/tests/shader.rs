@@ -24,9 +24,10 @@ fn validate(module: &naga::Module) -> Result<(), String> {
 #[test]
 fn every_specialisation_composes_and_validates() {
     let all = TraceDefs::all();
-    // 8 switches per base, and cone tracing where there are balls or
-    // tubes (three quarters of them).
-    assert_eq!(all.len(), 7 * (256 + 192));
+    // 6 switches per base, each way; then of balls and tubes: neither (1
+    // way), tubes only (cone tracing on and off: 2), balls only (cone
+    // tracing and the ball tree on and off: 4), both (4).
+    assert_eq!(all.len(), 7 * 64 * (1 + 2 + 4 + 4));
     for defs in &all {
         let module = compose(defs).unwrap_or_else(|e| panic!("{:?}: {e}", defs.names()));
         validate(&module).unwrap_or_else(|e| panic!("{:?}: {e}", defs.names()));
