@@ -258,6 +258,7 @@ struct SceneBuffers {
     lights: Buffer,
     instances: Buffer,
     mesh_data: Buffer,
+    groups: Buffer,
     /// Bumped whenever a buffer is made anew (the views' bind groups then
     /// are made again).
     made: u64,
@@ -340,8 +341,8 @@ const MIN_BUFFER: u64 = 256;
 fn scene_buffer(device: &RenderDevice, label: &'static str, data: &[u8], stats: &mut ManifoldUploads) -> Buffer {
     stats.bytes += data.len() as u64;
     let (size, usage) = match uniform_binding(label) {
-        // A uniform array (the faces, tubes and lights: BINDINGS) is always
-        // its declared length, so every space and scene fits in place.
+        // A uniform array (faces, tubes, lights, face groups: BINDINGS) is
+        // always its declared length, so every space and scene fits in place.
         Some(b) => (b.bytes_for(data.len()), b.usage()),
         // Room to grow (a power of two), so the next space or scene that
         // fits is written in place and keeps the bind group (see
@@ -372,7 +373,7 @@ fn scene_buffer(device: &RenderDevice, label: &'static str, data: &[u8], stats: 
 /// with a larger buffer holding it; true when replaced (the view's bind
 /// group must then be made again). Writing in place lets a view whose
 /// space or scene changes keep its buffers and bind group instead of
-/// making nine new GPU objects per change. The shader reads only the
+/// making ten new GPU objects per change. The shader reads only the
 /// counts in the params, so a buffer larger than its data is harmless.
 fn write_or_grow(
     device: &RenderDevice,
@@ -407,9 +408,9 @@ fn space_buffers(device: &RenderDevice, s: &GpuSpace, stats: &mut ManifoldUpload
     )
 }
 
-/// The objects' buffers, first made: balls, tubes, lights, instances and
-/// the meshes' data.
-fn object_buffers(device: &RenderDevice, o: &GpuObjects, stats: &mut ManifoldUploads) -> [Buffer; 5] {
+/// The objects' buffers, first made: balls, tubes, lights, instances,
+/// the meshes' data and the face groups.
+fn object_buffers(device: &RenderDevice, o: &GpuObjects, stats: &mut ManifoldUploads) -> [Buffer; 6] {
     stats.objects += 1;
     [
         scene_buffer(device, "manifold_balls", bytemuck::cast_slice(&o.balls), stats),
@@ -417,6 +418,7 @@ fn object_buffers(device: &RenderDevice, o: &GpuObjects, stats: &mut ManifoldUpl
         scene_buffer(device, "manifold_lights", bytemuck::cast_slice(&o.lights), stats),
         scene_buffer(device, "manifold_instances", bytemuck::cast_slice(&o.instances), stats),
         scene_buffer(device, "manifold_mesh_data", bytemuck::cast_slice(&o.mesh_data), stats),
+        scene_buffer(device, "manifold_groups", bytemuck::cast_slice(&o.groups), stats),
     ]
 }
 
@@ -584,7 +586,7 @@ pub fn prepare_manifold_views(
         }
         let shared = cache.scenes.entry(view.root).or_insert_with(|| {
             let (faces, cell_table) = space_buffers(&device, space, stats);
-            let [balls, tubes, lights, instances, mesh_data] = object_buffers(&device, objects, stats);
+            let [balls, tubes, lights, instances, mesh_data, groups] = object_buffers(&device, objects, stats);
             SceneBuffers {
                 space: space.clone(),
                 objects: objects.clone(),
@@ -595,6 +597,7 @@ pub fn prepare_manifold_views(
                 lights,
                 instances,
                 mesh_data,
+                groups,
                 made: 0,
             }
         });
@@ -686,15 +689,18 @@ pub fn prepare_manifold_views(
             device.create_bind_group(
                 "manifold_trace",
                 &pipeline_cache.get_bind_group_layout(&pipeline.layout),
-                &BindGroupEntries::sequential((
-                    entry.params_buffer.as_entire_binding(),
-                    shared.faces.as_entire_binding(),
-                    shared.balls.as_entire_binding(),
-                    shared.tubes.as_entire_binding(),
-                    shared.lights.as_entire_binding(),
-                    shared.cell_table.as_entire_binding(),
-                    shared.instances.as_entire_binding(),
-                    shared.mesh_data.as_entire_binding(),
+                // BINDINGS' numbers; 8, the compute entries' output, is
+                // not bound here.
+                &BindGroupEntries::with_indices((
+                    (0, entry.params_buffer.as_entire_binding()),
+                    (1, shared.faces.as_entire_binding()),
+                    (2, shared.balls.as_entire_binding()),
+                    (3, shared.tubes.as_entire_binding()),
+                    (4, shared.lights.as_entire_binding()),
+                    (5, shared.cell_table.as_entire_binding()),
+                    (6, shared.instances.as_entire_binding()),
+                    (7, shared.mesh_data.as_entire_binding()),
+                    (9, shared.groups.as_entire_binding()),
                 )),
             )
         });
@@ -804,6 +810,13 @@ fn update_scene_buffers(
             &mut shared.instances,
             "manifold_instances",
             bytemuck::cast_slice(&o.instances),
+            stats,
+        ) | write_or_grow(
+            device,
+            queue,
+            &mut shared.groups,
+            "manifold_groups",
+            bytemuck::cast_slice(&o.groups),
             stats,
         );
         // A moved instance changes its matrix, not its mesh: the BVHs

@@ -101,12 +101,6 @@ struct Params {
     // y, z): nearest_object walks only these of a segment's near faces.
     // WGSL only (GpuParams::occupied).
     occupied: vec4<u32>,
-    // FlatScene::groups: groups[f] is where face f's group starts in the
-    // balls, tubes and instances (x, y, z); the entry after the last face
-    // (at most 32) holds their counts. Objects before groups[0] carry no
-    // face mask and are tested on every segment (render.wgsl's
-    // nearest_object).
-    groups: array<vec4<u32>, 33>,
 }
 
 // Rust twin: GpuFace in crates/bevy_manifold_gpu/src/layout.rs.
@@ -225,6 +219,12 @@ const MAX_TUBES: u32 = 378u;
 @group(0) @binding(7) var<storage, read> mesh_data: array<vec4<u32>>;
 // The compute entries' output.
 @group(0) @binding(8) var<storage, read_write> pixels: array<Pixel>;
+// FlatScene::groups (GpuObjects::groups in Rust): groups[f] is where face
+// f's group starts in the balls, tubes and instances (x, y, z); the entry
+// after the last face (at most 32) holds their counts. Objects before
+// groups[0] carry no face mask and are tested on every segment. Read by
+// render.wgsl's nearest_object.
+@group(0) @binding(9) var<uniform> groups: array<vec4<u32>, 33>;
 
 // The params a walk reads at every segment or object, read once per
 // invocation by cache_params: lavapipe reads a storage buffer one lane at

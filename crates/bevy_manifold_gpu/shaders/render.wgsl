@@ -17,7 +17,7 @@
 // and the shading is done once, after the walk, not inside it.
 #define_import_path bevy_manifold::render
 
-#import bevy_manifold::bindings::{params, cached, cache_params, balls, tubes, lights, faces, face_count, Pixel, EDGE_ID, FLAG_NO_EARLY_STOP, FOG_CUT, LIGHT_AT_HIT, WALL_OBJECT}
+#import bevy_manifold::bindings::{params, groups, cached, cache_params, balls, tubes, lights, faces, face_count, Pixel, EDGE_ID, FLAG_NO_EARLY_STOP, FOG_CUT, LIGHT_AT_HIT, WALL_OBJECT}
 #import bevy_manifold::geometry::{form, normalize_point, normalize_tangent, project_tangent, distance, chart_to_distance, sphere_area}
 #import bevy_manifold::step::{Ray, normal_from, near_faces, may_hit}
 #import bevy_manifold::cells::cell_id
@@ -306,11 +306,11 @@ fn near_groups(near: u32) -> u32 {
 
 // The index range of the group of the first face left in `rest`, which it
 // takes out: kind 0 balls, 1 tubes, 2 mesh instances (the x, y, z of
-// params.groups). Rust: the ranges after the first of FaceGroups::ranges.
+// groups). Rust: the ranges after the first of FaceGroups::ranges.
 fn next_group(rest: ptr<function, u32>, kind: u32) -> vec2<u32> {
     let f = firstTrailingBit(*rest);
     *rest &= *rest - 1u;
-    return vec2<u32>(params.groups[f][kind], params.groups[f + 1u][kind]);
+    return vec2<u32>(groups[f][kind], groups[f + 1u][kind]);
 }
 
 // True when two cell points g o name the same copy of the domain.
@@ -443,7 +443,7 @@ fn consider_ball(ray: Ray, t_end: f32, near: u32, i: u32) {
 #endif
 }
 
-// The balls with no face mask (0..params.groups[0].x): only those in the
+// The balls with no face mask (0..groups[0].x): only those in the
 // leaves of the ball tree (params.ball_tree in mesh_data) whose boxes,
 // padded by the balls' growth under FOOTPRINT, the segment's chart image,
 // from a = o/o_w to e/e_w, meets; every one when culling is off, an end
@@ -475,7 +475,7 @@ fn interior_balls(ray: Ray, t_end: f32, near: u32) {
 
 // Every ball with no face mask, in order.
 fn every_interior_ball(ray: Ray, t_end: f32, near: u32) {
-    let interior = params.groups[0].x;
+    let interior = groups[0].x;
     for (var i = 0u; i < interior; i++) {
         consider_ball(ray, t_end, near, i);
     }
@@ -574,9 +574,9 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
     // then the group of each near face, in order. Each kind's loop runs
     // over the ranges next_group hands out; `rest_*` holds the near faces
     // not yet walked whose group is not empty (cached.occupied: an empty
-    // group's range is two storage reads for nothing; Rust's empty ranges
+    // group's range is two reads for nothing; Rust's empty ranges
     // cost nothing, so it has no twin).
-    let groups = near_groups(near);
+    let grouped = near_groups(near);
 #ifdef BALLS
     // A cone grows balls further: their own near faces.
     var ball_near = near;
@@ -596,8 +596,8 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
     }
 #endif
 #ifdef TUBES
-    var rest_tubes = groups & cached.occupied.y;
-    var tubes_range = vec2<u32>(0u, params.groups[0].y);
+    var rest_tubes = grouped & cached.occupied.y;
+    var tubes_range = vec2<u32>(0u, groups[0].y);
     loop {
         for (var i = tubes_range.x; i < tubes_range.y; i++) {
             consider_tube(ray, t_end, near, i);
@@ -609,8 +609,8 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
     }
 #endif
 #ifdef MESHES
-    var rest_meshes = groups & cached.occupied.z;
-    var meshes_range = vec2<u32>(0u, params.groups[0].z);
+    var rest_meshes = grouped & cached.occupied.z;
+    var meshes_range = vec2<u32>(0u, groups[0].z);
     loop {
         for (var i = meshes_range.x; i < meshes_range.y; i++) {
             consider_instance(ray, t_end, cell_point, near, i);

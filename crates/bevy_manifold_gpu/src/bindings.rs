@@ -107,9 +107,14 @@ use std::mem::size_of;
 /// this many. The tubes' uniform array holds this many.
 pub const MAX_TUBES: usize = 3 * MAX_FACES - 6;
 
+/// The entries of the face groups' uniform array: one per face up to 32,
+/// and one for the counts.
+pub const GROUPS: usize = 33;
+
 /// Group 0, in binding order: the params, then faces, balls,
 /// tubes, lights, the cell table, mesh instances and mesh data (read by
-/// every entry), and `pixels`, the compute entries' output.
+/// every entry), `pixels`, the compute entries' output, and the face
+/// groups (read by every entry; after `pixels` as it came later).
 ///
 /// The params are a read-only storage buffer, not a uniform: with them in
 /// a uniform, lavapipe (Mesa 22.3.6) grew the process by about 0.9 MB a
@@ -133,8 +138,14 @@ pub const MAX_TUBES: usize = 3 * MAX_FACES - 6;
 /// the leak above; these arrays did not grow the process over 80 headless
 /// renders, nor the explorer's soak beyond its pipelines.
 ///
+/// The face groups (`GpuObjects::groups`: where each face's objects start,
+/// and the tubes' edge table) are a uniform array of 33 entries, 528
+/// bytes. In the params they were read per lane at every group a segment
+/// walked; as a uniform the default scene at 8 levels traced 2-8% faster
+/// on lavapipe, and 80 headless renders did not grow the process.
+///
 /// The compute stage binds six storage buffers.
-pub const BINDINGS: [Binding; 9] = [
+pub const BINDINGS: [Binding; 10] = [
     binding(0, "params", Storage, size_of::<GpuParams>()),
     uniform_array(1, "faces", size_of::<GpuFace>(), MAX_FACES),
     binding(2, "balls", Storage, size_of::<GpuBall>()),
@@ -144,6 +155,7 @@ pub const BINDINGS: [Binding; 9] = [
     binding(6, "instances", Storage, size_of::<GpuInstance>()),
     binding(7, "mesh_data", Storage, size_of::<[u32; 4]>()),
     binding(8, "pixels", StorageReadWrite, size_of::<GpuPixel>()),
+    uniform_array(9, "groups", size_of::<[u32; 4]>(), GROUPS),
 ];
 
 /// The bytes of the largest uniform binding: what an adapter's

@@ -110,8 +110,6 @@ pub struct GpuParams {
     /// groups cost no reads (WGSL only; the CPU's empty ranges cost
     /// nothing).
     pub occupied: [u32; 4],
-    /// [`GpuObjects::groups`].
-    pub groups: [[u32; 4]; 33],
 }
 
 /// WGSL twin: `Face` in `shaders/bindings.wgsl`.
@@ -286,10 +284,12 @@ pub struct GpuObjects {
     /// `FaceTables::chart_stretch` and `FlatScene::footprint_cap`: what
     /// cone tracing grows objects with.
     pub cone: [f32; 4],
-    /// `FlatScene::groups`: entry `f` holds where face `f`'s group starts
-    /// in the balls, tubes and instances (x, y, z); the entry after the
-    /// last face (at most 32) holds their counts, as do the ones after it.
-    pub groups: [[u32; 4]; 33],
+    /// `FlatScene::groups`, the `groups` uniform array
+    /// ([`crate::bindings::BINDINGS`]): entry `f` holds where face `f`'s
+    /// group starts in the balls, tubes and instances (x, y, z); the entry
+    /// after the last face (at most 32) holds their counts, as do the
+    /// ones after it.
+    pub groups: [[u32; 4]; crate::bindings::GROUPS],
 }
 
 /// The per-frame view: where the camera is and what the frame looks like.
@@ -575,7 +575,7 @@ impl GpuObjects {
 }
 
 /// [`GpuObjects::groups`] of a prepared scene.
-fn pack_groups(prep: &FlatScene<f32>) -> [[u32; 4]; 33] {
+fn pack_groups(prep: &FlatScene<f32>) -> [[u32; 4]; crate::bindings::GROUPS] {
     let g = &prep.groups;
     let counts = [prep.balls.len(), prep.tubes.len(), prep.instances.len()].map(|n| n as u32);
     let at = |starts: &[u32], f: usize, count: u32| starts.get(f).copied().unwrap_or(count);
@@ -591,7 +591,7 @@ fn pack_groups(prep: &FlatScene<f32>) -> [[u32; 4]; 33] {
 
 /// Per kind (balls, tubes, instances), the faces below 32 whose group in
 /// `groups` is not empty, as bits (`GpuParams::occupied`).
-fn occupied(groups: &[[u32; 4]; 33]) -> [u32; 4] {
+fn occupied(groups: &[[u32; 4]; crate::bindings::GROUPS]) -> [u32; 4] {
     let mut out = [0; 4];
     for f in 0..32 {
         for (k, word) in out.iter_mut().take(3).enumerate() {
@@ -724,7 +724,6 @@ impl GpuParams {
             frustum: view.frustum.unwrap_or([0.0; 4]),
             cone: [view.footprint, objects.cone[0], packed.near_scale, objects.cone[1]],
             occupied: occupied(&objects.groups),
-            groups: objects.groups,
         }
     }
 }

@@ -335,6 +335,7 @@ impl GpuTracer {
         let table = bound(5, bytemuck::cast_slice(&gpu.space.cell_table));
         let instances = bound(6, bytemuck::cast_slice(&gpu.objects.instances));
         let mesh_data = bound(7, bytemuck::cast_slice(&gpu.objects.mesh_data));
+        let groups = bound(9, bytemuck::cast_slice(&gpu.objects.groups));
         let pixels = d.create_buffer(&wgpu::BufferDescriptor {
             label: Some("pixels"),
             size: (count.max(1) * std::mem::size_of::<GpuPixel>()) as u64,
@@ -342,7 +343,7 @@ impl GpuTracer {
             mapped_at_creation: false,
         });
         let entries: Vec<wgpu::BindGroupEntry> = [
-            &params, &faces, &balls, &tubes, &lights, &table, &instances, &mesh_data, &pixels,
+            &params, &faces, &balls, &tubes, &lights, &table, &instances, &mesh_data, &pixels, &groups,
         ]
         .into_iter()
         .enumerate()

@@ -7,7 +7,7 @@
 //! a segment walks only the groups of the faces it comes near.
 //!
 //! WGSL twin: `nearest_object` in `bevy_manifold_gpu`'s
-//! `shaders/render.wgsl` walks the same groups (from `Params::groups`);
+//! `shaders/render.wgsl` walks the same groups (from the `groups` uniform);
 //! `near_faces` and `may_hit` are in `shaders/step.wgsl`.
 
 use super::scene::Scene;
