@@ -324,3 +324,74 @@ fn a_balls_chart_box_holds_it_and_touches_it() {
         }
     }
 }
+
+/// The edge walk hands out, for any near faces, exactly the tubes whose
+/// edge's two faces are near (and those with no edge bits), once each and
+/// in their sorted order: checked against a scan of every tube, whose
+/// edge bits are checked against the domain's own edge list. Every tube a
+/// segment may hit (its whole mask near) is among them. In every space,
+/// the 52-face domain included, whose faces fold onto 32 bits.
+#[test]
+fn the_edge_walk_finds_the_tubes_of_the_near_edges() {
+    let mut rng = Rng(41);
+    for (name, space) in spaces() {
+        let prep = FlatScene::<f64>::new(&space, &Scene::default_for(&space));
+        let g = &prep.groups;
+        let bit = |f: usize| 1u32 << (f % 32);
+        // Each tube's edge bits are those of the polyhedron edge it runs
+        // along (found by its ends), or 0 for a folded repeat.
+        let mut keys = std::collections::HashSet::new();
+        for t in prep.tubes.iter().filter(|t| t.edge != 0) {
+            assert!(keys.insert(t.edge), "{name}: two tubes with edge bits {:b}", t.edge);
+        }
+        for t in &prep.tubes {
+            let edge = space
+                .edges()
+                .iter()
+                .find(|e| {
+                    let [a, b] = e.vertices.map(|v| space.vertices()[v].point);
+                    (a - t.segment.a).length() < 1e-9 && (b - t.segment.b).length() < 1e-9
+                })
+                .unwrap_or_else(|| panic!("{name}: a tube is on no edge"));
+            let faces = bit(edge.faces[0]) | bit(edge.faces[1]);
+            assert!(
+                t.edge == faces || t.edge == 0,
+                "{name}: edge bits {:b}, faces {faces:b}",
+                t.edge
+            );
+            assert_eq!(t.edge & !t.face_mask, 0, "{name}: edge bits outside the mask");
+            if t.edge == 0 {
+                assert!(
+                    keys.contains(&faces) || t.face_mask & faces != faces,
+                    "{name}: a tube lost its key"
+                );
+            }
+        }
+        if space.faces().len() <= 32 {
+            assert!(
+                prep.tubes.iter().all(|t| t.edge != 0),
+                "{name}: every edge has its own key"
+            );
+        }
+        let mut nears = vec![ALL_FACES, 0];
+        nears.extend(
+            (0..200).map(|_| (rng.next_f64() * 2f64.powi(32)) as u32 | (rng.next_f64() * 2f64.powi(32)) as u32),
+        );
+        for f in 0..space.faces().len().min(32) {
+            nears.push(1 << f);
+            nears.push(!(1 << f));
+        }
+        for near in nears {
+            let walked: Vec<usize> = FaceGroups::edge_walk(&g.tubes, &g.edges, near).collect();
+            let scanned: Vec<usize> = (0..prep.tubes.len())
+                .filter(|&i| prep.tubes[i].edge & !near == 0)
+                .collect();
+            assert_eq!(walked, scanned, "{name}: near {near:032b}");
+            for (i, t) in prep.tubes.iter().enumerate() {
+                if may_hit(t.face_mask, near) {
+                    assert!(walked.contains(&i), "{name}: tube {i} may be hit but is not walked");
+                }
+            }
+        }
+    }
+}

@@ -222,8 +222,9 @@ const MAX_TUBES: u32 = 378u;
 // FlatScene::groups (GpuObjects::groups in Rust): groups[f] is where face
 // f's group starts in the balls, tubes and instances (x, y, z); the entry
 // after the last face (at most 32) holds their counts. Objects before
-// groups[0] carry no face mask and are tested on every segment. Read by
-// render.wgsl's nearest_object.
+// groups[0] carry no face mask (tubes: no edge bits) and are tested on
+// every segment. w: the tubes' edge table (FaceGroups::edges) of face f.
+// Read by render.wgsl's nearest_object.
 @group(0) @binding(9) var<uniform> groups: array<vec4<u32>, 33>;
 
 // The params a walk reads at every segment or object, read once per

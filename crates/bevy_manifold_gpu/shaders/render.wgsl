@@ -305,12 +305,45 @@ fn near_groups(near: u32) -> u32 {
 }
 
 // The index range of the group of the first face left in `rest`, which it
-// takes out: kind 0 balls, 1 tubes, 2 mesh instances (the x, y, z of
-// groups). Rust: the ranges after the first of FaceGroups::ranges.
+// takes out: kind 0 balls, 2 mesh instances (the x and z of groups).
+// Rust: the ranges after the first of FaceGroups::ranges.
 fn next_group(rest: ptr<function, u32>, kind: u32) -> vec2<u32> {
     let f = firstTrailingBit(*rest);
     *rest &= *rest - 1u;
     return vec2<u32>(groups[f][kind], groups[f + 1u][kind]);
+}
+
+// Where a walk of the tubes' edge table stands (Rust: the iterator
+// FaceGroups::edge_walk returns): the face f whose edges it walks, the
+// near faces g it has still to take across them (bits), and the near faces
+// after f whose groups hold tubes.
+struct EdgeWalk {
+    f: u32,
+    pending: u32,
+    rest: u32,
+}
+
+// Moves the walk on to the next face with an edge to a near face, if f has
+// none left; true when there is one. Rust: the iterator's next.
+fn edge_walk_next(walk: ptr<function, EdgeWalk>, near: u32) -> bool {
+    loop {
+        if (*walk).pending != 0u || (*walk).rest == 0u {
+            break;
+        }
+        (*walk).f = firstTrailingBit((*walk).rest);
+        (*walk).rest &= (*walk).rest - 1u;
+        (*walk).pending = groups[(*walk).f].w & near;
+    }
+    return (*walk).pending != 0u;
+}
+
+// The tube of the walk's next edge, f to the lowest g pending, which it
+// takes out: in f's group, after as many tubes as f has edge bits below g.
+fn edge_walk_tube(walk: ptr<function, EdgeWalk>) -> u32 {
+    let g = firstTrailingBit((*walk).pending);
+    (*walk).pending &= (*walk).pending - 1u;
+    let edges = groups[(*walk).f].w;
+    return groups[(*walk).f].y + countOneBits(edges & ((1u << g) - 1u));
 }
 
 // True when two cell points g o name the same copy of the domain.
@@ -570,12 +603,13 @@ fn consider_instance(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32, i: 
 // nearest_object or segment_layers.
 fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit {
     best = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
-    // The groups walked (Rust: FaceGroups::ranges): the unmasked objects,
-    // then the group of each near face, in order. Each kind's loop runs
-    // over the ranges next_group hands out; `rest_*` holds the near faces
-    // not yet walked whose group is not empty (cached.occupied: an empty
-    // group's range is two reads for nothing; Rust's empty ranges
-    // cost nothing, so it has no twin).
+    // Balls and mesh instances: the groups walked (Rust: FaceGroups::
+    // ranges), the unmasked objects, then the group of each near face, in
+    // order. Each kind's loop runs over the ranges next_group hands out;
+    // `rest_*` holds the near faces not yet walked whose group is not
+    // empty (cached.occupied: an empty group's range is two reads for
+    // nothing; Rust's empty ranges cost nothing, so it has no twin).
+    // Tubes: the edge walk.
     let grouped = near_groups(near);
 #ifdef BALLS
     // A cone grows balls further: their own near faces.
@@ -596,16 +630,25 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
     }
 #endif
 #ifdef TUBES
-    var rest_tubes = grouped & cached.occupied.y;
-    var tubes_range = vec2<u32>(0u, groups[0].y);
+    // The tubes with no edge bits, then for each near face f the tube of
+    // each edge it shares with a near face g (Rust: FaceGroups::
+    // edge_walk; the edge table is groups[f].w). One pass a tube, the
+    // test after the body: the loop lasts as long as its SIMD group's
+    // longest walk.
+    let unmasked_tubes = groups[0].y;
+    for (var i = 0u; i < unmasked_tubes; i++) {
+        consider_tube(ray, t_end, near, i);
+    }
+    var edge_walk = EdgeWalk(0u, 0u, grouped & cached.occupied.y);
+    var more_tubes = edge_walk_next(&edge_walk, near);
     loop {
-        for (var i = tubes_range.x; i < tubes_range.y; i++) {
-            consider_tube(ray, t_end, near, i);
+        if more_tubes {
+            consider_tube(ray, t_end, near, edge_walk_tube(&edge_walk));
         }
-        if rest_tubes == 0u {
-            break;
+        more_tubes = edge_walk_next(&edge_walk, near);
+        continuing {
+            break if !more_tubes;
         }
-        tubes_range = next_group(&rest_tubes, 1u);
     }
 #endif
 #ifdef MESHES

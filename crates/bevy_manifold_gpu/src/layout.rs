@@ -286,7 +286,8 @@ pub struct GpuObjects {
     pub cone: [f32; 4],
     /// `FlatScene::groups`, the `groups` uniform array
     /// ([`crate::bindings::BINDINGS`]): entry `f` holds where face `f`'s
-    /// group starts in the balls, tubes and instances (x, y, z); the entry
+    /// group starts in the balls, tubes and instances (x, y, z) and the
+    /// tubes' edge table of face `f` (w, `FaceGroups::edges`); the entry
     /// after the last face (at most 32) holds their counts, as do the
     /// ones after it.
     pub groups: [[u32; 4]; crate::bindings::GROUPS],
@@ -584,7 +585,7 @@ fn pack_groups(prep: &FlatScene<f32>) -> [[u32; 4]; crate::bindings::GROUPS] {
             at(&g.balls, f, counts[0]),
             at(&g.tubes, f, counts[1]),
             at(&g.instances, f, counts[2]),
-            0,
+            g.edges.get(f).copied().unwrap_or(0),
         ]
     })
 }

@@ -4,7 +4,9 @@
 //! domain lie near ([`face_mask`]); a segment tests it only when it comes
 //! near all of them ([`super::step::near_faces`], [`super::step::may_hit`]),
 //! and objects are kept in groups by their first face ([`FaceGroups`]) so
-//! a segment walks only the groups of the faces it comes near.
+//! a segment walks only the groups of the faces it comes near; an edge
+//! tube, only where both its edge's faces are near
+//! ([`FaceGroups::edge_walk`]).
 //!
 //! WGSL twin: `nearest_object` in `bevy_manifold_gpu`'s
 //! `shaders/render.wgsl` walks the same groups (from the `groups` uniform);
@@ -91,7 +93,8 @@ pub(super) fn cull_distance(g: Geometry, scene: &Scene) -> f64 {
 }
 
 /// Where each face's group of objects starts, per kind. Objects are
-/// sorted by their mask's first face, unmasked ones first: the group of
+/// sorted by their mask's first face (tubes: their edge bits'), unmasked
+/// ones first: the group of
 /// face `f` is `starts[f]..starts[f + 1]` (faces 0 to 31, or fewer), and
 /// the unmasked objects, tested on every segment, are `0..starts[0]`.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -102,19 +105,66 @@ pub struct FaceGroups {
     pub tubes: Vec<u32>,
     /// Group starts in the mesh instances.
     pub instances: Vec<u32>,
+    /// The edge table of the tubes, which are grouped by their edge's
+    /// faces ([`super::FlatTube::edge`]) rather than their mask: per face
+    /// `f` (up to 32), bit `g` set where `f`'s group holds the tube of
+    /// the edge of faces `f` and `g` (`g == f` where two faces fold onto
+    /// one bit). A group is sorted by `g`, so that tube is the one after
+    /// as many as `f`'s bits below `g` ([`FaceGroups::edge_walk`]).
+    pub edges: Vec<u32>,
 }
 
 impl FaceGroups {
     /// Sorts `items` (stably) by their mask's first face, unmasked first,
-    /// and returns the group starts for a domain of `faces` faces: one per
-    /// face up to 32, and then the count.
+    /// then by the mask, and returns the group starts for a domain of
+    /// `faces` faces: one per face up to 32, and then the count.
     pub fn sort<T>(items: &mut [T], faces: usize, mask: impl Fn(&T) -> u32) -> Vec<u32> {
         let key = |m: u32| if m == 0 { 0 } else { 1 + m.trailing_zeros() };
-        items.sort_by_key(|x| key(mask(x)));
+        items.sort_by_key(|x| (key(mask(x)), mask(x)));
         let groups = faces.min(32) as u32;
         (0..=groups)
             .map(|f| items.iter().take_while(|x| key(mask(x)) <= f).count() as u32)
             .collect()
+    }
+
+    /// [`FaceGroups::edges`] of tubes whose edge bits, in their sorted
+    /// order, are `keys`, in a domain of `faces` faces.
+    pub fn edge_table(keys: impl Iterator<Item = u32>, faces: usize) -> Vec<u32> {
+        let mut out = vec![0; faces.min(32)];
+        for k in keys.filter(|&k| k != 0) {
+            out[k.trailing_zeros() as usize] |= 1 << (31 - k.leading_zeros());
+        }
+        out
+    }
+
+    /// The tubes (their indices) a segment near the faces `near` walks,
+    /// given the tubes' group starts and [`FaceGroups::edges`]: those
+    /// with no edge bits, then for each near face `f` in order the tube of
+    /// each edge it shares with a near face `g`, in the order of `g`. So
+    /// only the tubes whose edge's two faces are near, in their sorted
+    /// order.
+    ///
+    /// ```
+    /// use bevy_manifold_core::trace::FaceGroups;
+    /// // Three faces; tubes on edges {0, 1}, {0, 2}, {1, 2}, sorted.
+    /// let starts = [0, 2, 3, 3];
+    /// let edges = [0b110, 0b100, 0];
+    /// let walk = |near| FaceGroups::edge_walk(&starts, &edges, near).collect::<Vec<_>>();
+    /// assert_eq!(walk(0b111), [0, 1, 2]);
+    /// assert_eq!(walk(0b101), [1]);
+    /// assert_eq!(walk(0b110), [2]);
+    /// assert!(walk(0b001).is_empty());
+    /// ```
+    pub fn edge_walk<'a>(starts: &'a [u32], edges: &'a [u32], near: u32) -> impl Iterator<Item = usize> + 'a {
+        let unmasked = 0..starts.first().map_or(0, |&s| s as usize);
+        let pairs = edges
+            .iter()
+            .enumerate()
+            .filter(move |&(f, _)| near & (1 << f) != 0)
+            .flat_map(move |(f, &e)| {
+                bits(e & near).map(move |g| starts[f] as usize + (e & ((1u32 << g) - 1)).count_ones() as usize)
+            });
+        unmasked.chain(pairs)
     }
 
     /// The index ranges of `starts` (a kind's group starts) a segment near
@@ -130,6 +180,17 @@ impl FaceGroups {
                 .map(move |f| starts[f] as usize..starts[f + 1] as usize),
         )
     }
+}
+
+/// The set bits of `x`, lowest first.
+fn bits(mut x: u32) -> impl Iterator<Item = u32> {
+    core::iter::from_fn(move || {
+        (x != 0).then(|| {
+            let b = x.trailing_zeros();
+            x &= x - 1;
+            b
+        })
+    })
 }
 
 /// Bigger than any chart coordinate of a domain: the box of a ball whose

@@ -48,6 +48,12 @@ pub struct FlatTube<R: Real> {
     /// The faces it lies near, as [`FlatBall::face_mask`]: the two whose
     /// planes hold its edge.
     pub face_mask: u32,
+    /// Its edge's two faces as bits (`f % 32`, one bit where two faces
+    /// fold onto it): what the tubes are grouped and looked up by
+    /// ([`FaceGroups::edges`]). 0 where these are not all in `face_mask`
+    /// or an earlier tube has the same bits: the tube is then tested on
+    /// every segment.
+    pub edge: u32,
 }
 
 /// A light in the tracer's precision.
@@ -160,7 +166,8 @@ pub struct FlatScene<R: Real> {
     /// Balls, ghosts included, and the vertex joints of the edge tubes,
     /// sorted into [`FaceGroups`] (unmasked first).
     pub balls: Vec<FlatBall<R>>,
-    /// Edge tubes, sorted into [`FaceGroups`].
+    /// Edge tubes, sorted into [`FaceGroups`] by their edge bits
+    /// ([`FlatTube::edge`]).
     pub tubes: Vec<FlatTube<R>>,
     /// `k` of the edge tubes.
     pub tube_k: R,
@@ -288,7 +295,14 @@ impl<R: Real> FlatScene<R> {
                     },
                     color: PALETTE[cycle_of[e] % PALETTE.len()],
                     face_mask: face_mask(space, &[a, b], r, reach),
+                    edge: (1 << (edge.faces[0] % 32)) | (1 << (edge.faces[1] % 32)),
                 });
+            }
+            let mut keys = std::collections::HashSet::new();
+            for t in &mut tubes {
+                if t.edge & !t.face_mask != 0 || !keys.insert(t.edge) {
+                    t.edge = 0;
+                }
             }
             for (i, v) in space.vertices().iter().enumerate() {
                 // A joint takes the colour of the first edge that ends there.
@@ -321,8 +335,9 @@ impl<R: Real> FlatScene<R> {
         let faces = space.faces().len();
         let groups = FaceGroups {
             balls: FaceGroups::sort(&mut balls, faces, |b| b.face_mask),
-            tubes: FaceGroups::sort(&mut tubes, faces, |t| t.face_mask),
+            tubes: FaceGroups::sort(&mut tubes, faces, |t| t.edge),
             instances: FaceGroups::sort(&mut instances, faces, |i| i.face_mask),
+            edges: FaceGroups::edge_table(tubes.iter().map(|t| t.edge), faces),
         };
         let interior = &mut balls[..groups.balls[0] as usize];
         let ball_tree = if interior.len() >= MIN_BALL_TREE {

@@ -649,11 +649,13 @@ enum Candidate {
 /// objects whose faces the segment does not come near (`near_balls` for
 /// balls, `near` for the others, from [`near_faces`]: a cone grows balls
 /// further) are left out: only the groups of near faces are walked
-/// ([`FaceGroups`]); and of the balls with no face mask only those in the
-/// leaves of [`FlatScene::ball_tree`] whose boxes, padded by `pad`, the
-/// segment's chart image meets ([`tree_leaves`]), or all of them where
-/// there is no tree (fewer than [`super::MIN_BALL_TREE`]). WGSL twin: the loops of
-/// `nearest_object` in `shaders/render.wgsl`.
+/// ([`FaceGroups`]), of the tubes only those whose edge's two faces are
+/// near ([`FaceGroups::edge_walk`]); and of the balls with no face mask
+/// only those in the leaves of [`FlatScene::ball_tree`] whose boxes,
+/// padded by `pad`, the segment's chart image meets ([`tree_leaves`]), or
+/// all of them where there is no tree (fewer than
+/// [`super::MIN_BALL_TREE`]). WGSL twin: the loops of `nearest_object` in
+/// `shaders/render.wgsl`.
 fn each_candidate<R: Real>(
     prep: &FlatScene<R>,
     ray: &Ray<R>,
@@ -672,9 +674,7 @@ fn each_candidate<R: Real>(
         None => interior.for_each(|i| visit(Candidate::Ball(i))),
     }
     ranges.flatten().for_each(|i| visit(Candidate::Ball(i)));
-    FaceGroups::ranges(&groups.tubes, near)
-        .flatten()
-        .for_each(|i| visit(Candidate::Tube(i)));
+    FaceGroups::edge_walk(&groups.tubes, &groups.edges, near).for_each(|i| visit(Candidate::Tube(i)));
     FaceGroups::ranges(&groups.instances, near)
         .flatten()
         .for_each(|i| visit(Candidate::Instance(i)));
