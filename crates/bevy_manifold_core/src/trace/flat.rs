@@ -50,8 +50,10 @@ pub struct FlatTube<R: Real> {
     pub face_mask: u32,
     /// Its edge's two faces as bits (`f % 32`, one bit where two faces
     /// fold onto it): what the tubes are grouped and looked up by
-    /// ([`FaceGroups::edges`]). 0 where these are not all in `face_mask`
-    /// or an earlier tube has the same bits: the tube is then tested on
+    /// ([`FaceGroups::edges`]), each bits once. Where an earlier tube has
+    /// the same bits (a domain of more than 32 faces folds two edges onto
+    /// them), one of its two bits alone, if free; 0 where none is free or
+    /// the bits are not all in `face_mask`: the tube is then tested on
     /// every segment.
     pub edge: u32,
 }
@@ -298,11 +300,17 @@ impl<R: Real> FlatScene<R> {
                     edge: (1 << (edge.faces[0] % 32)) | (1 << (edge.faces[1] % 32)),
                 });
             }
+            // Each key once: a tube whose edge bits an earlier one took
+            // (two edges folded onto the same bits) is found by one of
+            // them alone, if that is free, else tested on every segment.
             let mut keys = std::collections::HashSet::new();
             for t in &mut tubes {
-                if t.edge & !t.face_mask != 0 || !keys.insert(t.edge) {
-                    t.edge = 0;
-                }
+                let own = t.edge;
+                let alone = [1 << own.trailing_zeros(), 1 << (31 - own.leading_zeros())];
+                t.edge = core::iter::once(own)
+                    .chain(alone)
+                    .find(|&k| k & !t.face_mask == 0 && keys.insert(k))
+                    .unwrap_or(0);
             }
             for (i, v) in space.vertices().iter().enumerate() {
                 // A joint takes the colour of the first edge that ends there.
