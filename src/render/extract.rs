@@ -99,7 +99,6 @@ pub fn extract_manifold_views(
         let tint = shading.copied().unwrap_or_default().tint();
         let levels = mc.levels.min(crate::trace::MAX_LEVELS);
         let mut defs = TraceDefs::for_scene(space.space(), scene.scene(), tint.is_some())
-            .for_levels(space.space(), levels)
             .for_rule(space.rule())
             .for_footprint(footprint);
         defs.fog = fog.is_some();

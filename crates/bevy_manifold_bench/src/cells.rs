@@ -92,7 +92,7 @@ pub fn run(width: u32, height: u32, runs: u32) -> Result<(), String> {
                 cell_colors: true,
                 ..TraceSettings::default()
             };
-            let defs = TraceDefs::for_scene(&space, &scene, true).for_levels(&space, levels);
+            let defs = TraceDefs::for_scene(&space, &scene, true);
             let hashed = TraceDefs {
                 cells: GpuCellScheme::Hashed,
                 ..defs

@@ -434,7 +434,7 @@ impl GpuTracer {
     /// # Errors
     /// As [`GpuTracer::render`].
     pub fn drift(&mut self, space: &Space, scene: &Scene, settings: &TraceSettings) -> Result<Vec<RayDrift>, GpuError> {
-        let defs = TraceDefs::for_scene(space, &Scene::empty(), false).for_levels(space, settings.levels);
+        let defs = TraceDefs::for_scene(space, &Scene::empty(), false);
         let raw = self.dispatch(space, scene, settings, defs, "drift")?;
         Ok(raw
             .iter()
@@ -775,7 +775,6 @@ const WARM_UP: std::time::Duration = std::time::Duration::from_millis(250);
 /// fragment entry alike).
 fn scene_defs(space: &Space, scene: &Scene, settings: &TraceSettings) -> TraceDefs {
     TraceDefs::for_scene(space, scene, settings.cell_colors)
-        .for_levels(space, settings.levels)
         .for_rule(&settings.cell_rule)
         .for_footprint(settings.footprint)
 }

@@ -67,15 +67,20 @@ pub struct TraceDefs {
     /// shader's `footprint.wgsl`), only where there are balls or tubes
     /// to fade ([`TraceDefs::for_footprint`]).
     pub footprint: bool,
-    /// `FACE_COUNT` (a value def), for long walks only
-    /// ([`TraceDefs::for_levels`]): the domain's faces as a constant, so
-    /// every loop over the faces has a constant trip count and is unrolled.
-    /// This keeps long walks whole on lavapipe, which ends all loops of an
-    /// invocation once they have taken 65,535 iterations between them
-    /// (Mesa's `LP_MAX_TGSI_LOOP_ITERATIONS`): with the faces looped at run
-    /// time a 12-face walk was cut after 1638 transports. `None` (the
-    /// faces counted at run time, `params.face_count`) otherwise, so that
-    /// the pipelines do not multiply by the spaces' face counts.
+    /// `FACE_COUNT` (a value def, [`TraceDefs::for_scene`]): the domain's
+    /// faces as a constant, so every loop over the faces has a constant
+    /// trip count and is unrolled, and each face is read at a constant
+    /// index. lavapipe reads a uniform at a run-time index with a gather,
+    /// one lane at a time, and at a constant one with a single load: with
+    /// the faces counted at run time the default scene traced 13-17%
+    /// slower (BENCHMARKS.md, "Branches on lavapipe"). It also keeps long
+    /// walks whole on lavapipe, which ends all loops of an invocation once
+    /// they have taken 65,535 iterations between them (Mesa's
+    /// `LP_MAX_TGSI_LOOP_ITERATIONS`): with the faces looped at run time a
+    /// 12-face walk was cut after 1638 transports. The price: a pipeline
+    /// per face count (the explorer's soak compiles more of them). `None`
+    /// (the faces counted at run time, `params.face_count`) only in the
+    /// generic pipeline and where a caller clears it.
     pub face_count: Option<u32>,
 }
 
@@ -110,7 +115,7 @@ impl TraceDefs {
             // ghost copy or a vertex joint lies near a face).
             ball_tree: scene.balls.len() >= bevy_manifold_core::trace::MIN_BALL_TREE,
             footprint: false,
-            face_count: None,
+            face_count: Some(face_count(space)),
         }
     }
 
@@ -127,26 +132,6 @@ impl TraceDefs {
     #[must_use]
     pub fn for_footprint(mut self, on: bool) -> Self {
         self.footprint = on && (self.balls || self.tubes);
-        self
-    }
-
-    /// These defs for walks of up to `levels` transports in `space`: with
-    /// [`TraceDefs::face_count`] set where the face loops alone could
-    /// reach lavapipe's shared limit of 65,535 loop iterations
-    /// ([`LONG_WALK_FACE_STEPS`] face tests or more).
-    ///
-    /// ```
-    /// use bevy_manifold_core::prelude::*;
-    /// use bevy_manifold_gpu::TraceDefs;
-    /// let sw = catalog::seifert_weber();
-    /// let defs = TraceDefs::for_scene(&sw, &Scene::empty(), false);
-    /// assert_eq!(defs.for_levels(&sw, 64).face_count, None);
-    /// assert_eq!(defs.for_levels(&sw, 10_000).face_count, Some(12));
-    /// ```
-    #[must_use]
-    pub fn for_levels(mut self, space: &Space, levels: u32) -> Self {
-        let faces = face_count(space);
-        self.face_count = (u64::from(levels) * u64::from(faces) >= LONG_WALK_FACE_STEPS).then_some(faces);
         self
     }
 
@@ -266,12 +251,6 @@ impl TraceDefs {
         n
     }
 }
-
-/// Face tests per walk (levels times faces) from which the face loops get
-/// a constant trip count ([`TraceDefs::for_levels`]): 2^13, well under
-/// lavapipe's 65,535 loop iterations once the other loops of a pass
-/// (objects, lights, BVH nodes) are counted too.
-pub const LONG_WALK_FACE_STEPS: u64 = 1 << 13;
 
 /// The faces of `space`'s domain as the shader's `FACE_COUNT` (at most
 /// [`bevy_manifold_core::space::MAX_FACES`], which a loaded space never
