@@ -88,7 +88,7 @@ fn walker_step(walk: ptr<function, Walker>, face: u32, end: Ray) {
     }
     (*walk).ray = transport_or_raw(face, end);
     (*walk).entered = faces[face].partner;
-    (*walk).cell = (*walk).cell * faces[face].crossing;
+    (*walk).cell = cross_cell((*walk).cell, face);
 #ifdef CELLS_FINITE
     (*walk).index = cell_table[(*walk).index * face_count() + faces[face].partner];
 #endif
@@ -100,6 +100,27 @@ fn walker_step(walk: ptr<function, Walker>, face: u32, end: Ray) {
     }
 #endif
     (*walk).levels += 1u;
+}
+
+// The cell across `face` from `cell`: cell * T_face^-1, as Walker::step
+// multiplies (Rust multiplies whole matrices). In E3 both are affine (last
+// row 0, 0, 0, 1, exactly, in f32 too), so only the sums whose terms are
+// not all exactly 0 are made; under TRANSLATIONS_ONLY the linear part
+// stays the identity and only the translation moves. The same numbers,
+// without 64 multiplies and 16 lane-by-lane reads a transport in a
+// shader where every lane may cross a different face.
+fn cross_cell(cell: mat4x4<f32>, face: u32) -> mat4x4<f32> {
+#ifdef TRANSLATIONS_ONLY
+    var out = cell;
+    out[3] = vec4<f32>(cell[3].xyz + faces[face].crossing[3].xyz, 1.0);
+    return out;
+#else ifdef GEOMETRY_EUCLIDEAN
+    let m = faces[face].crossing;
+    let lin = mat3x3<f32>(cell[0].xyz, cell[1].xyz, cell[2].xyz);
+    return mat4x4<f32>(vec4<f32>(lin * m[0].xyz, 0.0), vec4<f32>(lin * m[1].xyz, 0.0), vec4<f32>(lin * m[2].xyz, 0.0), vec4<f32>(lin * m[3].xyz + cell[3].xyz, 1.0));
+#else
+    return cell * faces[face].crossing;
+#endif
 }
 
 // One segment walked, as trace_ray's on_step sees it (Rust: PathStep).
@@ -126,7 +147,7 @@ fn next_cell_id(walk: Walker, face: u32) -> vec2<u32> {
     }
     return cell_id(walk.cell, cell_table[walk.index * face_count() + faces[face].partner]);
 #else
-    return cell_id(walk.cell * faces[face].crossing, 0u);
+    return cell_id(cross_cell(walk.cell, face), 0u);
 #endif
 }
 #endif
