@@ -240,10 +240,13 @@ const PALETTE: [[f32; 3]; 10] = [
 
 /// Fewest balls with no face mask for which [`FlatScene::ball_tree`] is
 /// built. Below it a segment tests each of them, which costs less than
-/// walking a tree: with the default scene's one interior ball, a frame at
-/// 8 levels took 0-5% less on lavapipe without its one-node tree (whose
-/// nodes the GPU reads from a storage buffer, one SIMD lane at a time).
-pub const MIN_BALL_TREE: usize = 8;
+/// walking a tree, whose nodes the GPU reads from a storage buffer one
+/// SIMD lane at a time: on lavapipe (`bench balls`, torus, 320x180, 8
+/// levels) 8 balls took 49.6 ms with the tree and 42.8 without it (the
+/// tree's walk compiled in but not taken), 16 balls 30.8 with it and 40.1
+/// without. Scenes with fewer balls do not compile the walk at all
+/// (`BALL_TREE` in `bevy_manifold_gpu`).
+pub const MIN_BALL_TREE: usize = 16;
 
 /// Most copies of one object kept as ghosts (a huge ball in a small
 /// domain would otherwise ask for thousands).
