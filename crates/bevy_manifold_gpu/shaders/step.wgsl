@@ -32,7 +32,27 @@ struct Exit {
 // Where a ray crosses a face (see Exit); NO_FACE when it leaves by none.
 fn exit_face(ray: Ray, skip: u32) -> Exit {
     var best = Exit(NO_FACE, 0.0);
-    for (var i = 0u; i < face_count(); i++) {
+#ifdef FACE_COUNT
+    // In chunks of FACE_CHUNK with constant bounds (see FACE_CHUNK).
+    let n = face_count();
+    best = exit_faces_in(ray, skip, best, 0u, min(n, FACE_CHUNK));
+    best = exit_faces_in(ray, skip, best, FACE_CHUNK, min(n, 2u * FACE_CHUNK));
+    best = exit_faces_in(ray, skip, best, 2u * FACE_CHUNK, min(n, 3u * FACE_CHUNK));
+    best = exit_faces_in(ray, skip, best, 3u * FACE_CHUNK, min(n, 4u * FACE_CHUNK));
+    best = exit_faces_in(ray, skip, best, 4u * FACE_CHUNK, min(n, 5u * FACE_CHUNK));
+    best = exit_faces_in(ray, skip, best, 5u * FACE_CHUNK, min(n, 6u * FACE_CHUNK));
+    best = exit_faces_in(ray, skip, best, 6u * FACE_CHUNK, min(n, 7u * FACE_CHUNK));
+    best = exit_faces_in(ray, skip, best, 7u * FACE_CHUNK, min(n, 8u * FACE_CHUNK));
+#else
+    best = exit_faces_in(ray, skip, best, 0u, face_count());
+#endif
+    return best;
+}
+
+// The faces lo to hi - 1 of exit_face's loop, after `best`.
+fn exit_faces_in(ray: Ray, skip: u32, best_in: Exit, lo: u32, hi: u32) -> Exit {
+    var best = best_in;
+    for (var i = lo; i < hi; i++) {
         let n = faces[i].plane;
         let no = dot(n, ray.origin);
         let nd = dot(n, ray.dir);
@@ -48,6 +68,13 @@ fn exit_face(ray: Ray, skip: u32) -> Exit {
     }
     return best;
 }
+
+// The most faces one of exit_face's and near_faces' loops takes under
+// FACE_COUNT: the faces come in up to 8 chunks (MAX_FACES / 16), each a
+// loop with constant bounds, which LLVM unrolls (it left a 52-face loop
+// rolled, and lavapipe then gathers each plane lane by lane). WGSL only:
+// Rust loops over the faces once.
+const FACE_CHUNK: u32 = 16u;
 
 // Every face bit. Rust twin: ALL_FACES.
 const ALL_FACES: u32 = 0xffffffffu;
@@ -70,7 +97,27 @@ fn near_faces(ray: Ray, t_end: f32, within: f32) -> u32 {
     let wa = ray.origin.w;
     let wb = (ray.origin + ray.dir * t_end).w;
     var near = ALL_FACES;
-    for (var i = 0u; i < face_count(); i++) {
+#ifdef FACE_COUNT
+    // In chunks of FACE_CHUNK with constant bounds (see FACE_CHUNK).
+    let n = face_count();
+    near = near_faces_in(ray, t_end, within, wa, wb, near, 0u, min(n, FACE_CHUNK));
+    near = near_faces_in(ray, t_end, within, wa, wb, near, FACE_CHUNK, min(n, 2u * FACE_CHUNK));
+    near = near_faces_in(ray, t_end, within, wa, wb, near, 2u * FACE_CHUNK, min(n, 3u * FACE_CHUNK));
+    near = near_faces_in(ray, t_end, within, wa, wb, near, 3u * FACE_CHUNK, min(n, 4u * FACE_CHUNK));
+    near = near_faces_in(ray, t_end, within, wa, wb, near, 4u * FACE_CHUNK, min(n, 5u * FACE_CHUNK));
+    near = near_faces_in(ray, t_end, within, wa, wb, near, 5u * FACE_CHUNK, min(n, 6u * FACE_CHUNK));
+    near = near_faces_in(ray, t_end, within, wa, wb, near, 6u * FACE_CHUNK, min(n, 7u * FACE_CHUNK));
+    near = near_faces_in(ray, t_end, within, wa, wb, near, 7u * FACE_CHUNK, min(n, 8u * FACE_CHUNK));
+#else
+    near = near_faces_in(ray, t_end, within, wa, wb, near, 0u, face_count());
+#endif
+    return near;
+}
+
+// The faces lo to hi - 1 of near_faces' loop, from `near_in`.
+fn near_faces_in(ray: Ray, t_end: f32, within: f32, wa: f32, wb: f32, near_in: u32, lo: u32, hi: u32) -> u32 {
+    var near = near_in;
+    for (var i = lo; i < hi; i++) {
         // n . o and n . d for this ray; the end's value from them.
         let sa = dot(faces[i].plane, ray.origin);
         let sd = dot(faces[i].plane, ray.dir);

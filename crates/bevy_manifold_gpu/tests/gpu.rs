@@ -626,6 +626,59 @@ fn kept_tables_draw_what_fresh_ones_do() {
     assert_ne!(cells[4], cells[5], "x = 2.5 is in another copy");
 }
 
+/// Every face of a domain of more than 16 faces, which the shader's face
+/// loops take in chunks of 16 (`FACE_CHUNK` in `step.wgsl`), is crossed
+/// on the GPU where the CPU f64 reference crosses it: the ray from the
+/// centre through each face's middle (away from every edge), one level,
+/// ends in the same cell, the one across that face, a different cell for
+/// each face. In the Weeks manifold and Seifert-Weber's 52-face domain.
+fn every_face_of_large_domains_is_crossed_on_the_gpu() {
+    use glam::{DMat3, DMat4, DQuat, DVec3};
+    let mut gpu = tracer();
+    let (x, y, z) = bevy_manifold_test_support::stress::FIFTY_TWO_FACES;
+    let weeks = bevy_manifold_core::space::library::by_name("weeks")
+        .expect("library")
+        .dirichlet_domain()
+        .expect("builds");
+    let sw52 = bevy_manifold_test_support::stress::seifert_weber_about(x, y, z).expect("builds");
+    for (name, space) in [("weeks", weeks), ("seifert-weber/52", sw52)] {
+        assert!(space.faces().len() > 16, "{name}: {} faces", space.faces().len());
+        let settings = TraceSettings {
+            width: 1,
+            height: 1,
+            levels: 1,
+            ..TraceSettings::default()
+        };
+        let mut cells = std::collections::HashSet::new();
+        for f in 0..space.faces().len() {
+            let towards = bevy_manifold_test_support::stress::face_middle(&space, f)
+                .truncate()
+                .normalize();
+            let mut scene = Scene::empty();
+            scene.camera.isometry = DMat4::from_mat3(DMat3::from_quat(DQuat::from_rotation_arc(DVec3::NEG_Z, towards)));
+            let g = gpu
+                .render(&space, &scene, &settings)
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
+            let c = render::<f64>(&space, &scene, &settings);
+            assert_eq!(
+                c.pixels[0].levels, 1,
+                "{name}, face {f}: the reference crosses one face"
+            );
+            assert_eq!(g.pixels[0].levels, 1, "{name}, face {f}: the GPU crosses one face");
+            assert_eq!(
+                g.pixels[0].cell, c.pixels[0].cell,
+                "{name}, face {f}: another cell than the reference's"
+            );
+            cells.insert(c.pixels[0].cell);
+        }
+        assert_eq!(
+            cells.len(),
+            space.faces().len(),
+            "{name}: each face leads to its own neighbour"
+        );
+    }
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [],
     gpu: [
@@ -642,5 +695,6 @@ bevy_manifold_test_support::test_main! {
         the_fragment_entry_draws_what_the_compute_entry_computes,
         a_light_on_the_hit_point_is_lit_head_on_on_the_gpu,
         the_last_of_the_most_lights_lights_the_gpu_scene,
+        every_face_of_large_domains_is_crossed_on_the_gpu,
     ],
 }
