@@ -16,11 +16,12 @@
 // write-back unchanged).
 #define_import_path bevy_manifold::bindings
 
-// The domain's faces: params.face_count (read once, `cached`), or for
-// long walks the value def FACE_COUNT (TraceDefs::for_levels), a constant,
-// so every loop over the faces has a constant trip count and is unrolled.
-// On lavapipe a run-time bound cut long walks: it ends all loops of an
-// invocation after 65,535 iterations between them.
+// The domain's faces: the value def FACE_COUNT (TraceDefs::face_count,
+// set for every scene), a constant, so every loop over the faces has a
+// constant trip count and is unrolled (in chunks: step.wgsl's FACE_CHUNK)
+// and reads each face at a constant index; else params.face_count (read
+// once, `cached`). On lavapipe a run-time bound also cut long walks: it
+// ends all loops of an invocation after 65,535 iterations between them.
 fn face_count() -> u32 {
 #ifdef FACE_COUNT
     return #{FACE_COUNT}u;
