@@ -49,17 +49,18 @@ fn exit_face(ray: Ray, skip: u32) -> Exit {
     return best;
 }
 
-// The faces lo to hi - 1 of exit_face's loop, after `best`.
+// The faces lo to hi - 1 of exit_face's loop, after `best`. The entered
+// face is left out by the condition, not by a `continue` as in Rust: a
+// continue some lanes take makes lavapipe step `i` under a mask, so the
+// unrolled loop's index is no longer a constant and each plane is read
+// lane by lane (the 52-face frame with nothing to hit: 11% slower).
 fn exit_faces_in(ray: Ray, skip: u32, best_in: Exit, lo: u32, hi: u32) -> Exit {
     var best = best_in;
     for (var i = lo; i < hi; i++) {
         let n = faces[i].plane;
         let no = dot(n, ray.origin);
         let nd = dot(n, ray.dir);
-        if i == skip {
-            continue;
-        }
-        if nd > 0.0 {
+        if i != skip && nd > 0.0 {
             let t = max(-no / nd, 0.0);
             if best.face == NO_FACE || t < best.t {
                 best = Exit(i, t);
