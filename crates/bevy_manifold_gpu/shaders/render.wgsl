@@ -175,8 +175,7 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
     cone_has_front = false;
 #endif
     let passes = max_passes();
-#ifdef FOOTPRINT
-#else
+#ifndef FOOTPRINT
     var hit = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
 #endif
     for (var pass_index = 0u; pass_index < passes; pass_index++) {
@@ -273,8 +272,7 @@ fn trace_pixel(i: u32, j: u32) -> Pixel {
             break;
         }
     }
-#ifdef FOOTPRINT
-#else
+#ifndef FOOTPRINT
     if hit.kind != 0u {
         let dist = walk.travelled + chart_to_distance(hit.t);
         let cid = cell_id(walk.cell, walk.index);
