@@ -120,12 +120,9 @@ fn init_trace_pipeline(
         );
         return;
     };
-    let uniform = bevy_manifold_gpu::bindings::largest_uniform();
-    let allowed = device.limits().max_uniform_buffer_binding_size;
-    if allowed < uniform {
-        error!(
-            "bevy_manifold: the tracer binds a uniform array of {uniform} bytes and this device allows {allowed}; manifold cameras will not render"
-        );
+    if let Some(why) = bevy_manifold_gpu::bindings::uniform_limit_error(device.limits().max_uniform_buffer_binding_size)
+    {
+        error!("bevy_manifold: {why}; manifold cameras will not render");
         return;
     }
     commands.insert_resource(pipeline::TracePipeline::new(shader.entry.clone(), fullscreen.clone()));

@@ -179,6 +179,22 @@ pub const fn largest_uniform() -> u64 {
     largest as u64
 }
 
+/// Why an adapter whose `max_uniform_buffer_binding_size` is `allowed`
+/// cannot bind the tracer's uniform arrays, or `None` when it can: the
+/// check the headless runner and the render pass both make.
+///
+/// ```
+/// use bevy_manifold_gpu::bindings::{largest_uniform, uniform_limit_error};
+/// assert_eq!(uniform_limit_error(65_536), None);
+/// assert!(uniform_limit_error(largest_uniform() - 1).unwrap().contains("30240 bytes"));
+/// ```
+#[must_use]
+pub fn uniform_limit_error(allowed: u64) -> Option<String> {
+    let uniform = largest_uniform();
+    (allowed < uniform)
+        .then(|| format!("the tracer binds a uniform array of {uniform} bytes; this adapter allows {allowed}"))
+}
+
 /// The bindings the render pass binds (every one the fragment entry reads).
 pub fn render_bindings() -> impl Iterator<Item = &'static Binding> {
     BINDINGS.iter().filter(|b| !b.compute_only)

@@ -66,14 +66,13 @@ impl GpuTracer {
                 ),
             });
         }
-        let uniform = crate::bindings::largest_uniform();
-        let allowed = adapter.limits().max_uniform_buffer_binding_size;
-        if allowed < uniform {
+        if let Some(message) = crate::bindings::uniform_limit_error(adapter.limits().max_uniform_buffer_binding_size) {
             return Err(GpuError::NoDevice {
                 adapter: info.name.clone(),
-                message: format!("the tracer binds a uniform array of {uniform} bytes; this adapter allows {allowed}"),
+                message,
             });
         }
+        let uniform = crate::bindings::largest_uniform();
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("bevy_manifold tracer"),
             required_limits: wgpu::Limits {
