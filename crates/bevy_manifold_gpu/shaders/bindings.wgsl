@@ -191,13 +191,15 @@ struct Pixel {
     cell_hi: u32,
 }
 
-// The most faces, lights and edge tubes the uniform arrays hold. Rust
-// twins: bevy_manifold_core's MAX_FACES and MAX_LIGHTS, and MAX_TUBES in
+// The most faces, lights and edge tubes the uniform arrays hold, and the
+// face groups' entries. Rust twins: bevy_manifold_core's MAX_FACES and
+// MAX_LIGHTS, and MAX_TUBES and GROUPS in
 // crates/bevy_manifold_gpu/src/bindings.rs (BINDINGS' capacities, which
 // the contract test holds to these lengths).
 const MAX_FACES: u32 = 128u;
 const MAX_LIGHTS: u32 = 64u;
 const MAX_TUBES: u32 = 378u;
+const GROUPS: u32 = 33u;
 
 // A read-only storage buffer, not a uniform: see BINDINGS in
 // crates/bevy_manifold_gpu/src/bindings.rs (with a uniform, lavapipe's
@@ -226,7 +228,7 @@ const MAX_TUBES: u32 = 378u;
 // groups[0] carry no face mask (tubes: no edge bits) and are tested on
 // every segment. w: the tubes' edge table (FaceGroups::edges) of face f.
 // Read by render.wgsl's nearest_object.
-@group(0) @binding(9) var<uniform> groups: array<vec4<u32>, 33>;
+@group(0) @binding(9) var<uniform> groups: array<vec4<u32>, GROUPS>;
 
 // The params a walk reads at every segment or object, read once per
 // invocation by cache_params: lavapipe reads a storage buffer one lane at
