@@ -259,6 +259,7 @@ struct SceneBuffers {
     instances: Buffer,
     mesh_data: Buffer,
     groups: Buffer,
+    ball_nodes: Buffer,
     /// Bumped whenever a buffer is made anew (the views' bind groups then
     /// are made again).
     made: u64,
@@ -409,8 +410,8 @@ fn space_buffers(device: &RenderDevice, s: &GpuSpace, stats: &mut ManifoldUpload
 }
 
 /// The objects' buffers, first made: balls, tubes, lights, instances,
-/// the meshes' data and the face groups.
-fn object_buffers(device: &RenderDevice, o: &GpuObjects, stats: &mut ManifoldUploads) -> [Buffer; 6] {
+/// the meshes' data, the face groups and the ball tree's nodes.
+fn object_buffers(device: &RenderDevice, o: &GpuObjects, stats: &mut ManifoldUploads) -> [Buffer; 7] {
     stats.objects += 1;
     [
         scene_buffer(device, "manifold_balls", bytemuck::cast_slice(&o.balls), stats),
@@ -419,6 +420,12 @@ fn object_buffers(device: &RenderDevice, o: &GpuObjects, stats: &mut ManifoldUpl
         scene_buffer(device, "manifold_instances", bytemuck::cast_slice(&o.instances), stats),
         scene_buffer(device, "manifold_mesh_data", bytemuck::cast_slice(&o.mesh_data), stats),
         scene_buffer(device, "manifold_groups", bytemuck::cast_slice(&o.groups), stats),
+        scene_buffer(
+            device,
+            "manifold_ball_nodes",
+            bytemuck::cast_slice(&o.ball_nodes),
+            stats,
+        ),
     ]
 }
 
@@ -428,7 +435,15 @@ fn object_buffers(device: &RenderDevice, o: &GpuObjects, stats: &mut ManifoldUpl
 /// CPU twin: the scene a headless render packs (`FlatScene::new` with the
 /// camera's word).
 fn flat_scene(space: &Space, scene: &crate::drawables::ManifoldScene, cell: &CellElement) -> FlatScene<f32> {
-    FlatScene::<f32>::new(space, scene.scene()).in_cell(space, cell)
+    let prep = FlatScene::<f32>::new(space, scene.scene()).in_cell(space, cell);
+    let most = bevy_manifold_gpu::bindings::MAX_BALLS;
+    if prep.balls.len() > most {
+        warn!(
+            "the manifold scene makes {} balls (ghost copies and edge joints included); the GPU draws the first {most}",
+            prep.balls.len()
+        );
+    }
+    prep
 }
 
 /// The off-centre frustum of a view's projection `p` (an OpenXR eye's),
@@ -586,7 +601,8 @@ pub fn prepare_manifold_views(
         }
         let shared = cache.scenes.entry(view.root).or_insert_with(|| {
             let (faces, cell_table) = space_buffers(&device, space, stats);
-            let [balls, tubes, lights, instances, mesh_data, groups] = object_buffers(&device, objects, stats);
+            let [balls, tubes, lights, instances, mesh_data, groups, ball_nodes] =
+                object_buffers(&device, objects, stats);
             SceneBuffers {
                 space: space.clone(),
                 objects: objects.clone(),
@@ -598,6 +614,7 @@ pub fn prepare_manifold_views(
                 instances,
                 mesh_data,
                 groups,
+                ball_nodes,
                 made: 0,
             }
         });
@@ -701,6 +718,7 @@ pub fn prepare_manifold_views(
                     (6, shared.instances.as_entire_binding()),
                     (7, shared.mesh_data.as_entire_binding()),
                     (9, shared.groups.as_entire_binding()),
+                    (10, shared.ball_nodes.as_entire_binding()),
                 )),
             )
         });
@@ -817,6 +835,13 @@ fn update_scene_buffers(
             &mut shared.groups,
             "manifold_groups",
             bytemuck::cast_slice(&o.groups),
+            stats,
+        ) | write_or_grow(
+            device,
+            queue,
+            &mut shared.ball_nodes,
+            "manifold_ball_nodes",
+            bytemuck::cast_slice(&o.ball_nodes),
             stats,
         );
         // A moved instance changes its matrix, not its mesh: the BVHs

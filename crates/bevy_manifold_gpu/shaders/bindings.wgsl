@@ -79,17 +79,16 @@ struct Params {
     // FaceTables::near_scale * FlatScene::near_reach: the bound of
     // near_faces' test (step.wgsl); infinite when nothing is culled.
     near_reach: f32,
-    // FlatScene::ball_tree, in mesh_data: where its nodes start, and how
-    // many (0: no balls without a face mask). render.wgsl's
-    // interior_balls walks it.
-    ball_tree: u32,
+    pad_a: u32,
+    // How many nodes of the ball tree ball_nodes holds (0: no tree).
+    // render.wgsl's interior_balls walks it.
     ball_tree_nodes: u32,
     // FOOTPRINT: FaceTables::chart_stretch, what the ball tree's boxes are
     // padded by per unit of growth, and FlatScene::footprint_cap, the
     // widest a pixel's cone grows.
     chart_stretch: f32,
     footprint_cap: f32,
-    pad: u32,
+    pad_b: u32,
     // An off-centre frustum (Frustum::half_extent_and_centre): half width,
     // half height, centre x, centre y, in slopes; all zero for the
     // symmetric one of tan_half_fov and the image's aspect.
@@ -130,7 +129,9 @@ struct Ball {
     face_mask: u32,
     // FlatBall::glow: shown at least albedo * glow, lit or not.
     glow: f32,
-    pad: array<u32, 1>,
+    // One word, not array<u32, 1>: a uniform array's element needs a
+    // 16-byte stride.
+    pad: u32,
 }
 
 // Rust twin: GpuTube in crates/bevy_manifold_gpu/src/layout.rs (the
@@ -191,15 +192,18 @@ struct Pixel {
     cell_hi: u32,
 }
 
-// The most faces, lights and edge tubes the uniform arrays hold, and the
-// face groups' entries. Rust twins: bevy_manifold_core's MAX_FACES and
-// MAX_LIGHTS, and MAX_TUBES and GROUPS in
+// The most faces, lights, balls, edge tubes and ball tree nodes the
+// uniform arrays hold, and the face groups' entries. Rust twins:
+// bevy_manifold_core's MAX_FACES and MAX_LIGHTS, and MAX_BALLS,
+// MAX_TUBES, GROUPS and MAX_BALL_NODES in
 // crates/bevy_manifold_gpu/src/bindings.rs (BINDINGS' capacities, which
 // the contract test holds to these lengths).
 const MAX_FACES: u32 = 128u;
 const MAX_LIGHTS: u32 = 64u;
+const MAX_BALLS: u32 = 1024u;
 const MAX_TUBES: u32 = 378u;
 const GROUPS: u32 = 33u;
+const MAX_BALL_NODES: u32 = 1024u;
 
 // A read-only storage buffer, not a uniform: see BINDINGS in
 // crates/bevy_manifold_gpu/src/bindings.rs (with a uniform, lavapipe's
@@ -209,7 +213,7 @@ const GROUPS: u32 = 33u;
 // Uniform arrays, full size whatever the space: lavapipe reads a storage
 // buffer one lane at a time, a uniform by a gather.
 @group(0) @binding(1) var<uniform> faces: array<Face, MAX_FACES>;
-@group(0) @binding(2) var<storage, read> balls: array<Ball>;
+@group(0) @binding(2) var<uniform> balls: array<Ball, MAX_BALLS>;
 @group(0) @binding(3) var<uniform> tubes: array<Tube, MAX_TUBES>;
 @group(0) @binding(4) var<uniform> lights: array<Light, MAX_LIGHTS>;
 // CELLS_FINITE: table[k * face_count + f] = index of element k * T_f.
@@ -217,8 +221,7 @@ const GROUPS: u32 = 33u;
 #ifdef MESHES
 @group(0) @binding(6) var<storage, read> instances: array<Instance>;
 #endif
-// Per mesh: BVH nodes, vertices, triangles, texels (bvh.wgsl reads them);
-// then the nodes of the ball tree (params.ball_tree).
+// Per mesh: BVH nodes, vertices, triangles, texels (bvh.wgsl reads them).
 @group(0) @binding(7) var<storage, read> mesh_data: array<vec4<u32>>;
 // The compute entries' output.
 @group(0) @binding(8) var<storage, read_write> pixels: array<Pixel>;
@@ -229,6 +232,12 @@ const GROUPS: u32 = 33u;
 // every segment. w: the tubes' edge table (FaceGroups::edges) of face f.
 // Read by render.wgsl's nearest_object.
 @group(0) @binding(9) var<uniform> groups: array<vec4<u32>, GROUPS>;
+// FlatScene::ball_tree (GpuObjects::ball_nodes in Rust), two words a
+// node: the box's min (bits) and the skip link (BallTree::skip); the
+// box's max and, for a leaf, its first ball | its ball count << 16 (0 for
+// an inner node, whose left child is the next node). params.
+// ball_tree_nodes nodes; render.wgsl's ball_tree_leaves walks them.
+@group(0) @binding(10) var<uniform> ball_nodes: array<vec4<u32>, 2 * MAX_BALL_NODES>;
 
 // The params a walk reads at every segment or object, read once per
 // invocation by cache_params: lavapipe reads a storage buffer one lane at
@@ -243,7 +252,6 @@ struct CachedParams {
     fog_density: f32,
     near_reach: f32,
     tube_k: f32,
-    ball_tree: u32,
     ball_tree_nodes: u32,
 }
 var<private> cached: CachedParams;
@@ -251,7 +259,7 @@ var<private> cached: CachedParams;
 // Fills `cached` from params. Every entry point calls it (through
 // trace_pixel or ray_drift) before anything reads `cached`.
 fn cache_params() {
-    cached = CachedParams(params.occupied, params.face_count, params.flags, params.levels, params.max_distance, params.fog_density, params.near_reach, params.tube_k, params.ball_tree, params.ball_tree_nodes);
+    cached = CachedParams(params.occupied, params.face_count, params.flags, params.levels, params.max_distance, params.fog_density, params.near_reach, params.tube_k, params.ball_tree_nodes);
 }
 
 // Pixel::object of a domain edge (a tube). Rust twin: EDGE_ID in

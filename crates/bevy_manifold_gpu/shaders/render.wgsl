@@ -26,7 +26,7 @@
 #import bevy_manifold::step::hit_ball
 #endif
 #ifdef BALL_TREE
-#import bevy_manifold::bindings::{mesh_data, BVH_STACK, FLAG_NO_CULL}
+#import bevy_manifold::bindings::{ball_nodes, FLAG_NO_CULL}
 #import bevy_manifold::bvh::{hit_box, safe_inverse}
 #endif
 #ifdef TUBES
@@ -475,7 +475,7 @@ fn consider_ball(ray: Ray, t_end: f32, near: u32, i: u32) {
 }
 
 // The balls with no face mask (0..groups[0].x): only those in the
-// leaves of the ball tree (params.ball_tree in mesh_data) whose boxes,
+// leaves of the ball tree (ball_nodes) whose boxes,
 // padded by the balls' growth under FOOTPRINT, the segment's chart image,
 // from a = o/o_w to e/e_w, meets; every one when culling is off, an end
 // is at the chart's horizon, or there is no tree (fewer than
@@ -516,32 +516,31 @@ fn every_interior_ball(ray: Ray, t_end: f32, near: u32) {
 // The walk of the ball tree for interior_balls, compiled only under
 // BALL_TREE (a scene with MIN_BALL_TREE balls or more): lavapipe runs a
 // branch's body, under a mask, whether or not any lane takes it, so with
-// it compiled into every scene the walk, its 40-word stack cleared, cost
-// every segment of every frame (a fifth of the default scene's frame).
+// it compiled into every scene the walk cost every segment of every frame
+// (a fifth of the default scene's frame). By the skip links, with no
+// stack (a per-lane array lavapipe reads and writes lane by lane), from
+// the ball_nodes uniform: into the next node after an inner node whose
+// box is met, past the subtree otherwise; always forward, so at most
+// cached.ball_tree_nodes passes. Rust twin: tree_leaves in
+// crates/bevy_manifold_core/src/trace/cull.rs.
 fn ball_tree_leaves(ray: Ray, t_end: f32, near: u32, a: vec3<f32>, d: vec3<f32>, pad: f32) {
     let inv_d = safe_inverse(d);
-    var stack: array<u32, BVH_STACK>;
-    var top = 1u;
-    stack[0] = 0u;
-    // Every node is visited at most once: a hard bound on the loop.
-    for (var guard = 0u; guard < cached.ball_tree_nodes && top > 0u; guard++) {
-        top -= 1u;
-        let index = stack[top];
-        let w0 = mesh_data[cached.ball_tree + 2u * index];
-        let w1 = mesh_data[cached.ball_tree + 2u * index + 1u];
-        if hit_box(a, inv_d, bitcast<vec3<f32>>(w0.xyz) - pad, bitcast<vec3<f32>>(w1.xyz) + pad, 1.0) < 0.0 {
-            continue;
+    var i = 0u;
+    loop {
+        if i >= cached.ball_tree_nodes {
+            break;
         }
-        if w1.w > 0u {
-            for (var i = w0.w; i < w0.w + w1.w; i++) {
-                consider_ball(ray, t_end, near, i);
+        let w0 = ball_nodes[2u * i];
+        let w1 = ball_nodes[2u * i + 1u];
+        let met = hit_box(a, inv_d, bitcast<vec3<f32>>(w0.xyz) - pad, bitcast<vec3<f32>>(w1.xyz) + pad, 1.0) >= 0.0;
+        let first = w1.w & 0xffffu;
+        let count = w1.w >> 16u;
+        if met && count > 0u {
+            for (var b = first; b < first + count; b++) {
+                consider_ball(ray, t_end, near, b);
             }
-        } else if top + 2u <= BVH_STACK {
-            // The right child under the left, so the left is walked first.
-            stack[top] = w0.w;
-            stack[top + 1u] = index + 1u;
-            top += 2u;
         }
+        i = select(max(w0.w, i + 1u), i + 1u, met && count == 0u);
     }
 }
 #endif

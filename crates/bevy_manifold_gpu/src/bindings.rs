@@ -107,6 +107,21 @@ use std::mem::size_of;
 /// this many. The tubes' uniform array holds this many.
 pub const MAX_TUBES: usize = 3 * MAX_FACES - 6;
 
+/// The most balls (ghost copies and vertex joints included) the balls'
+/// uniform array holds: 48 KiB of [`GpuBall`]. A scene of up to 254
+/// balls stays well within it unless its balls are large against the
+/// domain (each of those has a ghost across every face it reaches); past
+/// it the headless runner refuses the scene and the render pass draws the
+/// first this many.
+pub const MAX_BALLS: usize = 1024;
+
+/// The most nodes of the ball tree (`FlatScene::ball_tree`) the
+/// `ball_nodes` uniform array holds (two words of four `u32` each, 32
+/// KiB). A larger tree is not sent: the GPU then tests every ball with
+/// no face mask, as the CPU would with culling off (the image is the
+/// same).
+pub const MAX_BALL_NODES: usize = 1024;
+
 /// The entries of the face groups' uniform array: one per face up to 32,
 /// and one for the counts.
 pub const GROUPS: usize = 33;
@@ -133,10 +148,14 @@ pub const GROUPS: usize = 33;
 /// gather. With these three uniform and the walk's params read once per
 /// invocation (`cache_params` in the WGSL), the default scene at 8 levels
 /// traced 1.13-1.32x faster on lavapipe (see BENCHMARKS.md, "Uniform arrays
-/// on lavapipe"). The balls stay storage: their count has no small bound
-/// (a ball may have up to 256 ghost copies). The params stay storage for
-/// the leak above; these arrays did not grow the process over 80 headless
-/// renders, nor the explorer's soak beyond its pipelines.
+/// on lavapipe"). The params stay storage for the leak above; these arrays
+/// did not grow the process over 80 headless renders, nor the explorer's
+/// soak beyond its pipelines.
+///
+/// The balls ([`MAX_BALLS`]) and the ball tree's nodes
+/// ([`MAX_BALL_NODES`], `ball_nodes`, binding 10) are uniform arrays too:
+/// a swarm of 128 balls traced about 1.4x faster than from storage
+/// buffers (BENCHMARKS.md, "Balls in uniforms").
 ///
 /// The face groups (`GpuObjects::groups`: where each face's objects start,
 /// and the tubes' edge table) are a uniform array of 33 entries, 528
@@ -144,11 +163,11 @@ pub const GROUPS: usize = 33;
 /// walked; as a uniform the default scene at 8 levels traced 2-8% faster
 /// on lavapipe, and 80 headless renders did not grow the process.
 ///
-/// The compute stage binds six storage buffers.
-pub const BINDINGS: [Binding; 10] = [
+/// The compute stage binds five storage buffers.
+pub const BINDINGS: [Binding; 11] = [
     binding(0, "params", Storage, size_of::<GpuParams>()),
     uniform_array(1, "faces", size_of::<GpuFace>(), MAX_FACES),
-    binding(2, "balls", Storage, size_of::<GpuBall>()),
+    uniform_array(2, "balls", size_of::<GpuBall>(), MAX_BALLS),
     uniform_array(3, "tubes", size_of::<GpuTube>(), MAX_TUBES),
     uniform_array(4, "lights", size_of::<GpuLight>(), MAX_LIGHTS),
     binding(5, "cell_table", Storage, size_of::<u32>()),
@@ -156,14 +175,15 @@ pub const BINDINGS: [Binding; 10] = [
     binding(7, "mesh_data", Storage, size_of::<[u32; 4]>()),
     binding(8, "pixels", StorageReadWrite, size_of::<GpuPixel>()),
     uniform_array(9, "groups", size_of::<[u32; 4]>(), GROUPS),
+    uniform_array(10, "ball_nodes", size_of::<[u32; 4]>(), 2 * MAX_BALL_NODES),
 ];
 
 /// The bytes of the largest uniform binding: what an adapter's
 /// `max_uniform_buffer_binding_size` must reach for the tracer to bind
-/// (the tubes, 30,240 bytes; WebGPU's default limit is 65,536).
+/// (the balls, 49,152 bytes; WebGPU's default limit is 65,536).
 ///
 /// ```
-/// assert_eq!(bevy_manifold_gpu::bindings::largest_uniform(), 378 * 80);
+/// assert_eq!(bevy_manifold_gpu::bindings::largest_uniform(), 1024 * 48);
 /// ```
 #[must_use]
 pub const fn largest_uniform() -> u64 {
@@ -186,7 +206,7 @@ pub const fn largest_uniform() -> u64 {
 /// ```
 /// use bevy_manifold_gpu::bindings::{largest_uniform, uniform_limit_error};
 /// assert_eq!(uniform_limit_error(65_536), None);
-/// assert!(uniform_limit_error(largest_uniform() - 1).unwrap().contains("30240 bytes"));
+/// assert!(uniform_limit_error(largest_uniform() - 1).unwrap().contains("49152 bytes"));
 /// ```
 #[must_use]
 pub fn uniform_limit_error(allowed: u64) -> Option<String> {

@@ -85,17 +85,16 @@ pub struct GpuParams {
     /// `FaceTables::near_scale` times `FlatScene::near_reach`: the bound
     /// of `near_faces`' test.
     pub near_reach: f32,
-    /// [`GpuObjects::ball_tree`]: where the ball tree's nodes start in
-    /// the mesh data...
-    pub ball_tree: u32,
-    /// ... and how many there are.
+    /// Padding.
+    pub pad_a: u32,
+    /// How many nodes [`GpuObjects::ball_nodes`] holds (0: no tree).
     pub ball_tree_nodes: u32,
     /// Cone tracing: `FaceTables::chart_stretch`...
     pub chart_stretch: f32,
     /// ... and `FlatScene::footprint_cap`.
     pub footprint_cap: f32,
     /// Padding to 16 bytes.
-    pub pad: u32,
+    pub pad_b: u32,
     /// An off-centre frustum, `[half width, half height, centre x, centre
     /// y]` in slopes ([`bevy_manifold_core::trace::Frustum`]); all zero
     /// for the symmetric frustum of `tan_half_fov` and the image's aspect.
@@ -149,8 +148,8 @@ pub struct GpuBall {
     pub face_mask: u32,
     /// `FlatBall::glow`.
     pub glow: f32,
-    /// Padding to 16 bytes.
-    pub pad: [u32; 1],
+    /// Padding to 16 bytes (one word: the balls are a uniform array).
+    pub pad: u32,
 }
 
 /// WGSL twin: `Tube` in `shaders/bindings.wgsl`.
@@ -267,13 +266,16 @@ pub struct GpuObjects {
     pub lights: Vec<GpuLight>,
     /// Mesh instances, ghosts included (at least one element).
     pub instances: Vec<GpuInstance>,
-    /// The meshes' BVH nodes, vertices, triangles and texels, then the
-    /// nodes of `FlatScene::ball_tree`, as words of four `u32` (floats by
-    /// their bits; at least one word).
+    /// The meshes' BVH nodes, vertices, triangles and texels, as words
+    /// of four `u32` (floats by their bits; at least one word).
     pub mesh_data: Vec<[u32; 4]>,
-    /// Where the ball tree's nodes start in `mesh_data` (two words each,
-    /// as a mesh's BVH nodes), and how many there are.
-    pub ball_tree: [u32; 2],
+    /// The nodes of `FlatScene::ball_tree`, two words each (the
+    /// `ball_nodes` uniform array: see `shaders/bindings.wgsl`); empty
+    /// when there is no tree, or it has more than
+    /// [`crate::bindings::MAX_BALL_NODES`] nodes or the scene more than
+    /// [`crate::bindings::MAX_BALLS`] balls (the GPU then tests every
+    /// ball with no face mask).
+    pub ball_nodes: Vec<[u32; 4]>,
     /// How many of each are real: balls, tubes, lights, instances.
     pub counts: [u32; 4],
     /// `k` of the edge tubes.
@@ -506,13 +508,14 @@ impl GpuObjects {
     /// Packs the objects of a prepared scene.
     #[must_use]
     pub fn pack(prep: &FlatScene<f32>) -> Self {
-        let (instances, mut mesh_data) = pack_meshes(prep);
-        let ball_tree = [mesh_data.len() as u32, prep.ball_tree.len() as u32];
-        push_nodes(&mut mesh_data, &prep.ball_tree);
+        let (instances, mesh_data) = pack_meshes(prep);
         GpuObjects {
+            // At most MAX_BALLS, the uniform array's length (the runner
+            // refuses a scene with more).
             balls: non_empty(
                 prep.balls
                     .iter()
+                    .take(crate::bindings::MAX_BALLS)
                     .map(|b| GpuBall {
                         center: v(b.center),
                         color: b.color,
@@ -520,7 +523,7 @@ impl GpuObjects {
                         id: b.id,
                         face_mask: b.face_mask,
                         glow: b.glow,
-                        pad: [0; 1],
+                        pad: 0,
                     })
                     .collect(),
             ),
@@ -555,9 +558,9 @@ impl GpuObjects {
             ),
             instances: non_empty(instances),
             mesh_data: non_empty(mesh_data),
-            ball_tree,
+            ball_nodes: pack_ball_tree(prep),
             counts: [
-                prep.balls.len() as u32,
+                prep.balls.len().min(crate::bindings::MAX_BALLS) as u32,
                 prep.tubes.len().min(crate::bindings::MAX_TUBES) as u32,
                 prep.lights.len().min(bevy_manifold_core::trace::MAX_LIGHTS) as u32,
                 prep.instances.len() as u32,
@@ -575,11 +578,36 @@ impl GpuObjects {
     }
 }
 
-/// [`GpuObjects::groups`] of a prepared scene.
+/// [`GpuObjects::ball_nodes`] of a prepared scene: per node, its box's
+/// min (bits) and skip link, then its max and, for a leaf, its first ball
+/// in the low 16 bits and its ball count in the high 16 (0: an inner
+/// node). None past the arrays' capacities.
+fn pack_ball_tree(prep: &FlatScene<f32>) -> Vec<[u32; 4]> {
+    let tree = &prep.ball_tree;
+    if tree.nodes.len() > crate::bindings::MAX_BALL_NODES || prep.balls.len() > crate::bindings::MAX_BALLS {
+        return Vec::new();
+    }
+    tree.nodes
+        .iter()
+        .zip(&tree.skip)
+        .flat_map(|(n, &skip)| {
+            let leaf = if n.count > 0 { n.first | (n.count << 16) } else { 0 };
+            [bits(n.min, skip), bits(n.max, leaf)]
+        })
+        .collect()
+}
+
+/// [`GpuObjects::groups`] of a prepared scene (the balls' starts clamped
+/// to the balls packed).
 fn pack_groups(prep: &FlatScene<f32>) -> [[u32; 4]; crate::bindings::GROUPS] {
     let g = &prep.groups;
-    let counts = [prep.balls.len(), prep.tubes.len(), prep.instances.len()].map(|n| n as u32);
-    let at = |starts: &[u32], f: usize, count: u32| starts.get(f).copied().unwrap_or(count);
+    let counts = [
+        prep.balls.len().min(crate::bindings::MAX_BALLS),
+        prep.tubes.len(),
+        prep.instances.len(),
+    ]
+    .map(|n| n as u32);
+    let at = |starts: &[u32], f: usize, count: u32| starts.get(f).copied().unwrap_or(count).min(count);
     core::array::from_fn(|f| {
         [
             at(&g.balls, f, counts[0]),
@@ -717,11 +745,11 @@ impl GpuParams {
             projection: view.projection.0,
             eye_offset: view.projection.1,
             near_reach: packed.near_scale * objects.near_reach,
-            ball_tree: objects.ball_tree[0],
-            ball_tree_nodes: objects.ball_tree[1],
+            pad_a: 0,
+            ball_tree_nodes: (objects.ball_nodes.len() / 2) as u32,
             chart_stretch: objects.cone[2],
             footprint_cap: objects.cone[3],
-            pad: 0,
+            pad_b: 0,
             frustum: view.frustum.unwrap_or([0.0; 4]),
             cone: [view.footprint, objects.cone[0], packed.near_scale, objects.cone[1]],
             occupied: occupied(&objects.groups),

@@ -335,6 +335,7 @@ impl GpuTracer {
         let instances = bound(6, bytemuck::cast_slice(&gpu.objects.instances));
         let mesh_data = bound(7, bytemuck::cast_slice(&gpu.objects.mesh_data));
         let groups = bound(9, bytemuck::cast_slice(&gpu.objects.groups));
+        let ball_nodes = bound(10, bytemuck::cast_slice(&gpu.objects.ball_nodes));
         let pixels = d.create_buffer(&wgpu::BufferDescriptor {
             label: Some("pixels"),
             size: (count.max(1) * std::mem::size_of::<GpuPixel>()) as u64,
@@ -342,7 +343,17 @@ impl GpuTracer {
             mapped_at_creation: false,
         });
         let entries: Vec<wgpu::BindGroupEntry> = [
-            &params, &faces, &balls, &tubes, &lights, &table, &instances, &mesh_data, &pixels, &groups,
+            &params,
+            &faces,
+            &balls,
+            &tubes,
+            &lights,
+            &table,
+            &instances,
+            &mesh_data,
+            &pixels,
+            &groups,
+            &ball_nodes,
         ]
         .into_iter()
         .enumerate()
@@ -511,6 +522,13 @@ impl GpuTracer {
         let gpu = GpuScene::pack_in(space, self.packed_space(space, &prep), &prep, settings);
         self.pipeline(defs, entry)?;
         let count = (u64::from(settings.width) * u64::from(settings.height)) as usize;
+        if prep.balls.len() > crate::bindings::MAX_BALLS {
+            return Err(GpuError::Settings(format!(
+                "the scene makes {} balls (ghost copies and edge joints included), more than the {} the GPU tracer holds",
+                prep.balls.len(),
+                crate::bindings::MAX_BALLS
+            )));
+        }
         // Every storage buffer within what the device binds, checked before
         // wgpu would raise a validation error.
         let limit = self.device.limits().max_storage_buffer_binding_size;
@@ -518,7 +536,6 @@ impl GpuTracer {
             ("the pixels", count * std::mem::size_of::<GpuPixel>()),
             ("the meshes", std::mem::size_of_val(&gpu.objects.mesh_data[..])),
             ("the mesh instances", std::mem::size_of_val(&gpu.objects.instances[..])),
-            ("the balls", std::mem::size_of_val(&gpu.objects.balls[..])),
             ("the cell table", std::mem::size_of_val(&gpu.space.cell_table[..])),
         ] {
             if bytes as u64 > limit {

@@ -15,7 +15,7 @@
 use super::scene::Scene;
 use super::step::Ray;
 use crate::geometry::{Geometry, Real};
-use crate::mesh::bvh::{BvhNode, MAX_DEPTH, hit_box, safe_inverse};
+use crate::mesh::bvh::{BvhNode, hit_box, safe_inverse};
 use crate::space::Space;
 use core::ops::Range;
 use glam::DVec4;
@@ -280,34 +280,78 @@ pub fn chart_segment<R: Real>(ray: &Ray<R>, t_end: R) -> Option<([R; 3], [R; 3])
     (a.iter().chain(&d).all(|x| x.is_finite())).then_some((a, d))
 }
 
+/// A hierarchy over the chart boxes of balls ([`ball_box`]), walked
+/// without a stack: `nodes` as [`crate::mesh::bvh`] flattens them (depth
+/// first, an inner node's left child next to it), and per node `skip`,
+/// the index just past its subtree, where a walk goes on when the node's
+/// box is missed or its leaf is done. The GPU walks it the same way from
+/// a uniform array (a per-lane stack and per-lane storage reads cost
+/// lavapipe more than the walk itself).
+///
+/// ```
+/// use bevy_manifold_core::mesh::bvh::BvhNode;
+/// use bevy_manifold_core::trace::BallTree;
+/// let node = |first, count| BvhNode { min: [0.0; 3], first, max: [1.0; 3], count };
+/// // A root whose left child (1) is a leaf and right child (2) an inner
+/// // node over two leaves (3 and 4).
+/// let tree = BallTree::new(vec![node(2, 0), node(0, 1), node(4, 0), node(1, 1), node(2, 1)]);
+/// assert_eq!(tree.skip, [5, 2, 5, 4, 5]);
+/// ```
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BallTree {
+    /// The nodes, as [`crate::mesh::bvh::build_over`] flattens them.
+    pub nodes: Vec<BvhNode>,
+    /// Per node, the index of the first node after its subtree.
+    pub skip: Vec<u32>,
+}
+
+impl BallTree {
+    /// The tree of `nodes`, with each node's skip link.
+    #[must_use]
+    pub fn new(nodes: Vec<BvhNode>) -> Self {
+        let mut skip = vec![nodes.len() as u32; nodes.len()];
+        // (node, the index past its subtree): a left child's is its right
+        // sibling, a right child's its parent's.
+        let mut todo = vec![(0usize, nodes.len() as u32)];
+        while let Some((i, past)) = todo.pop() {
+            let Some(node) = nodes.get(i) else { continue };
+            skip[i] = past;
+            if node.count == 0 && i + 1 < nodes.len() && (node.first as usize) > i {
+                todo.push((i + 1, node.first));
+                todo.push((node.first as usize, past));
+            }
+        }
+        BallTree { nodes, skip }
+    }
+
+    /// True when there is no tree.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+}
+
 /// Calls `visit` with the ball range of every leaf of `tree` (a hierarchy
 /// over chart boxes, [`super::FlatScene::ball_tree`]) whose box, and its
 /// parents', grown by `pad` on every side (cone tracing's growth, 0 for a
 /// ray), the chart segment `a + s d`, `0 <= s <= 1`, meets (the slab
-/// test, `mesh::bvh::hit_box`). Depth first, left child first, with a
-/// bounded stack ([`MAX_DEPTH`], the builder's deepest level).
-/// WGSL twin: the walk of `interior_balls` in `shaders/render.wgsl`.
-pub fn tree_leaves<R: Real>(tree: &[BvhNode], a: [R; 3], d: [R; 3], pad: f32, mut visit: impl FnMut(Range<usize>)) {
-    if tree.is_empty() {
-        return;
-    }
+/// test, `mesh::bvh::hit_box`). Depth first, left child first, by the
+/// skip links: into the next node after an inner node whose box is met,
+/// past the subtree otherwise (always forward, so at most one pass).
+/// WGSL twin: `ball_tree_leaves` in `shaders/render.wgsl`.
+pub fn tree_leaves<R: Real>(tree: &BallTree, a: [R; 3], d: [R; 3], pad: f32, mut visit: impl FnMut(Range<usize>)) {
     let inv_d = safe_inverse(d);
-    let mut stack = [0u32; MAX_DEPTH];
-    let mut top = 1usize;
-    while top > 0 {
-        top -= 1;
-        let index = stack[top] as usize;
-        let node = &tree[index];
+    let mut i = 0;
+    while let Some(node) = tree.nodes.get(i) {
         let (lo, hi) = (node.min.map(|x| x - pad), node.max.map(|x| x + pad));
-        if hit_box(a, inv_d, lo, hi, R::of(1.0)).is_none() {
-            continue;
-        }
-        if node.count > 0 {
+        let met = hit_box(a, inv_d, lo, hi, R::of(1.0)).is_some();
+        if met && node.count > 0 {
             visit(node.first as usize..(node.first + node.count) as usize);
-        } else if top + 2 <= MAX_DEPTH {
-            stack[top] = node.first;
-            stack[top + 1] = index as u32 + 1;
-            top += 2;
         }
+        i = if met && node.count == 0 {
+            i + 1
+        } else {
+            (tree.skip[i] as usize).max(i + 1)
+        };
     }
 }

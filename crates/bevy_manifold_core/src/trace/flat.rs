@@ -2,11 +2,11 @@
 //! the CPU side of what the GPU pass uploads: face planes, pairings,
 //! balls with their ghost copies, edge tubes, lights.
 
-use super::cull::{FaceGroups, ball_box, cull_distance, face_mask, near_reach, near_scale};
+use super::cull::{BallTree, FaceGroups, ball_box, cull_distance, face_mask, near_reach, near_scale};
 use super::scene::Scene;
 use super::step::{Segment, radius_param};
 use crate::geometry::{Geometry, Real, isometry};
-use crate::mesh::bvh::{BvhNode, build_over};
+use crate::mesh::bvh::build_over;
 use crate::mesh::{MeshData, Texture};
 use crate::space::Space;
 use crate::space::cells::CellId;
@@ -199,7 +199,7 @@ pub struct FlatScene<R: Real> {
     /// its chart image meets ([`super::tree_leaves`]). Empty when there
     /// are fewer than [`MIN_BALL_TREE`] such balls: then a segment tests
     /// every one of them.
-    pub ball_tree: Vec<BvhNode>,
+    pub ball_tree: BallTree,
     /// Lights.
     pub lights: Vec<FlatLight<R>>,
     /// Mesh instances, ghosts included, sorted into [`FaceGroups`].
@@ -354,7 +354,7 @@ impl<R: Real> FlatScene<R> {
         let ball_tree = if interior.len() >= MIN_BALL_TREE {
             tree_over_interior(g, interior)
         } else {
-            Vec::new()
+            BallTree::default()
         };
         // With no object masked there is nothing to cull: an infinite reach
         // tells near_faces so before it tests a face.
@@ -400,9 +400,9 @@ impl<R: Real> FlatScene<R> {
 
 /// The hierarchy of [`FlatScene::ball_tree`] over `balls` (those with no
 /// face mask), which it puts in its leaves' order; none for no balls.
-fn tree_over_interior<R: Real>(g: Geometry, balls: &mut [FlatBall<R>]) -> Vec<BvhNode> {
+fn tree_over_interior<R: Real>(g: Geometry, balls: &mut [FlatBall<R>]) -> BallTree {
     if balls.is_empty() {
-        return Vec::new();
+        return BallTree::default();
     }
     let boxes: Vec<_> = balls
         .iter()
@@ -411,7 +411,7 @@ fn tree_over_interior<R: Real>(g: Geometry, balls: &mut [FlatBall<R>]) -> Vec<Bv
     let (tree, order) = build_over(&boxes);
     let sorted: Vec<FlatBall<R>> = order.iter().map(|&i| balls[i as usize]).collect();
     balls.copy_from_slice(&sorted);
-    tree
+    BallTree::new(tree)
 }
 
 impl<R: Real> FlatScene<R> {
