@@ -54,6 +54,37 @@ fn the_bvh_finds_exactly_the_brute_force_nearest_hit() {
     assert!(hits > 30_000 && misses > 10_000, "the rays test both cases");
 }
 
+/// Items far apart leave most of the SAH sweep's bins empty; an empty
+/// bin once made every box joined after it infinite, so no split beat a
+/// leaf and 128 small balls went into 8 leaves of up to 25. Here 64 small
+/// boxes on a 4x4x4 lattice with wide gaps (most of the 12 bins per axis
+/// hold none): the hierarchy must split them down to leaves of at most
+/// LEAF_SIZE, and every item must be in exactly one leaf.
+#[test]
+fn a_hierarchy_over_scattered_items_splits_them_into_small_leaves() {
+    use bevy_manifold_core::mesh::bvh::{LEAF_SIZE, build_over};
+    let items: Vec<([f32; 3], [f32; 3])> = (0..64)
+        .map(|i| {
+            let c = [i % 4, (i / 4) % 4, i / 16].map(|k| k as f32 * 10.0);
+            (c.map(|x| x - 0.1), c.map(|x| x + 0.1))
+        })
+        .collect();
+    let (nodes, order) = build_over(&items);
+    let leaves: Vec<_> = nodes.iter().filter(|n| n.count > 0).collect();
+    assert!(
+        leaves.iter().all(|n| n.count as usize <= LEAF_SIZE),
+        "leaf sizes {:?}",
+        leaves.iter().map(|n| n.count).collect::<Vec<_>>()
+    );
+    assert!(leaves.len() >= 64 / LEAF_SIZE, "{} leaves", leaves.len());
+    let mut seen: Vec<u32> = leaves
+        .iter()
+        .flat_map(|n| order[n.first as usize..(n.first + n.count) as usize].to_vec())
+        .collect();
+    seen.sort_unstable();
+    assert_eq!(seen, (0..64).collect::<Vec<u32>>());
+}
+
 #[test]
 fn the_shipped_models_load_with_their_triangles() {
     for (file, triangles) in [("suzanne.glb", 3936), ("left.glb", 2314), ("right.glb", 2314)] {

@@ -53,7 +53,13 @@ impl Aabb {
         }
     }
 
+    /// Grows to hold `o`; an empty `o` (an empty bin of the SAH sweep)
+    /// changes nothing (growing by its corners, infinite, would make
+    /// every box joined after it infinite).
     fn join(&mut self, o: &Aabb) {
+        if o.min.iter().zip(&o.max).any(|(lo, hi)| lo > hi) {
+            return;
+        }
         self.grow(o.min);
         self.grow(o.max);
     }
@@ -88,6 +94,13 @@ pub fn build(mesh: &TriMesh) -> (Vec<BvhNode>, Vec<u32>) {
 /// domain (`trace::cull::ball_box`, `FlatScene::ball_tree`).
 #[must_use]
 pub fn build_over(items: &[([f32; 3], [f32; 3])]) -> (Vec<BvhNode>, Vec<u32>) {
+    build_over_with(items, LEAF_SIZE)
+}
+
+/// [`build_over`] with leaves of up to `leaf_size` items (at least 1)
+/// instead of [`LEAF_SIZE`].
+#[must_use]
+pub fn build_over_with(items: &[([f32; 3], [f32; 3])], leaf_size: usize) -> (Vec<BvhNode>, Vec<u32>) {
     let boxes: Vec<Aabb> = items.iter().map(|&(min, max)| Aabb { min, max }).collect();
     let centres: Vec<[f32; 3]> = boxes
         .iter()
@@ -96,7 +109,7 @@ pub fn build_over(items: &[([f32; 3], [f32; 3])]) -> (Vec<BvhNode>, Vec<u32>) {
     let mut order: Vec<u32> = (0..items.len() as u32).collect();
     let mut nodes = Vec::new();
     // No items: one empty root (min > max), which no ray meets.
-    split(&boxes, &centres, &mut order, 0, &mut nodes, 0);
+    split(&boxes, &centres, &mut order, 0, &mut nodes, (0, leaf_size.max(1)));
     (nodes, order)
 }
 
@@ -108,7 +121,7 @@ fn split(
     order: &mut [u32],
     offset: usize,
     nodes: &mut Vec<BvhNode>,
-    depth: usize,
+    (depth, leaf_size): (usize, usize),
 ) -> u32 {
     let mut bounds = Aabb::EMPTY;
     let mut cbounds = Aabb::EMPTY;
@@ -123,7 +136,7 @@ fn split(
         max: bounds.max,
         count: order.len() as u32,
     });
-    if order.len() <= LEAF_SIZE || depth + 1 >= MAX_DEPTH {
+    if order.len() <= leaf_size || depth + 1 >= MAX_DEPTH {
         return index;
     }
     let Some((axis, cut)) = best_split(boxes, centres, order, &bounds, &cbounds) else {
@@ -144,8 +157,8 @@ fn split(
     let (left, right) = order.split_at_mut(i);
     // The left subtree follows its parent; the parent keeps the right's
     // index.
-    split(boxes, centres, left, offset, nodes, depth + 1);
-    let r = split(boxes, centres, right, offset + i, nodes, depth + 1);
+    split(boxes, centres, left, offset, nodes, (depth + 1, leaf_size));
+    let r = split(boxes, centres, right, offset + i, nodes, (depth + 1, leaf_size));
     let node = &mut nodes[index as usize];
     node.count = 0;
     node.first = r;

@@ -6,7 +6,7 @@ use super::cull::{BallTree, FaceGroups, ball_box, cull_distance, face_mask, near
 use super::scene::Scene;
 use super::step::{Segment, radius_param};
 use crate::geometry::{Geometry, Real, isometry};
-use crate::mesh::bvh::build_over;
+use crate::mesh::bvh::build_over_with;
 use crate::mesh::{MeshData, Texture};
 use crate::space::Space;
 use crate::space::cells::CellId;
@@ -248,6 +248,12 @@ const PALETTE: [[f32; 3]; 10] = [
 /// (`BALL_TREE` in `bevy_manifold_gpu`).
 pub const MIN_BALL_TREE: usize = 16;
 
+/// Most balls in a leaf of [`FlatScene::ball_tree`]: twice a mesh's
+/// [`crate::mesh::bvh::LEAF_SIZE`], as a node costs lavapipe more than a
+/// ball (`bench balls`, torus, 320x180, 8 levels: 128 balls 24.1 ms with
+/// leaves of 4, 23.3 with 8, 25.9 with 1).
+pub const BALL_LEAF_SIZE: usize = 8;
+
 /// Most copies of one object kept as ghosts (a huge ball in a small
 /// domain would otherwise ask for thousands).
 pub const MAX_GHOSTS: usize = 256;
@@ -408,7 +414,7 @@ fn tree_over_interior<R: Real>(g: Geometry, balls: &mut [FlatBall<R>]) -> BallTr
         .iter()
         .map(|b| ball_box(g, R::v4_f64(b.center), b.k.f64()))
         .collect();
-    let (tree, order) = build_over(&boxes);
+    let (tree, order) = build_over_with(&boxes, BALL_LEAF_SIZE);
     let sorted: Vec<FlatBall<R>> = order.iter().map(|&i| balls[i as usize]).collect();
     balls.copy_from_slice(&sorted);
     BallTree::new(tree)
