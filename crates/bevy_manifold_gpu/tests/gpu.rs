@@ -679,6 +679,60 @@ fn every_face_of_large_domains_is_crossed_on_the_gpu() {
     }
 }
 
+/// A scene whose balls make more copies than the balls' uniform array
+/// holds (254 large balls in the torus, each with a ghost across every
+/// face it reaches) is refused by name, not drawn wrong or panicking; the
+/// same tracer then draws the default scene exactly as a fresh one does.
+fn too_many_ball_copies_are_refused_by_name() {
+    use bevy_manifold_core::trace::{Ball, FlatScene};
+    use bevy_manifold_gpu::bindings::MAX_BALLS;
+    let space = catalog::by_name("torus").expect("catalog");
+    let mut scene = Scene::default_for(&space);
+    let mut rng = bevy_manifold_test_support::Rng(5);
+    while scene.balls.len() < 254 {
+        scene.balls.push(Ball {
+            center: rng.ray_inside(&space).origin,
+            radius: 0.9 * space.inradius(),
+            color: [0.5, 0.5, 0.5],
+            glow: 0.0,
+        });
+    }
+    let prep = FlatScene::<f32>::new(&space, &scene);
+    let copies = prep.balls.len();
+    assert!(copies > MAX_BALLS, "the scene makes only {copies} balls");
+    // What the render pass uploads (it draws the first MAX_BALLS, with a
+    // warning): no group reaches past them.
+    let packed = bevy_manifold_gpu::layout::GpuObjects::pack(&prep);
+    assert_eq!(packed.balls.len(), MAX_BALLS);
+    assert!(
+        packed.groups.iter().all(|g| g[0] as usize <= MAX_BALLS),
+        "{:?}",
+        packed.groups
+    );
+    let settings = TraceSettings {
+        width: 32,
+        height: 18,
+        levels: 2,
+        ..TraceSettings::default()
+    };
+    let mut gpu = tracer();
+    let err = gpu
+        .render(&space, &scene, &settings)
+        .expect_err("too many balls")
+        .to_string();
+    assert!(
+        err.contains(&format!("{copies} balls")) && err.contains(&MAX_BALLS.to_string()),
+        "{err}"
+    );
+    let plain = Scene::default_for(&space);
+    let after = gpu.render(&space, &plain, &settings).expect("render");
+    let fresh = tracer().render(&space, &plain, &settings).expect("render");
+    assert_eq!(
+        after.pixels, fresh.pixels,
+        "the refused scene changed what the tracer draws"
+    );
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [],
     gpu: [
@@ -696,5 +750,6 @@ bevy_manifold_test_support::test_main! {
         a_light_on_the_hit_point_is_lit_head_on_on_the_gpu,
         the_last_of_the_most_lights_lights_the_gpu_scene,
         every_face_of_large_domains_is_crossed_on_the_gpu,
+        too_many_ball_copies_are_refused_by_name,
     ],
 }
