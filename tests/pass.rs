@@ -993,6 +993,58 @@ fn a_cone_traced_view_is_the_cpu_cone_trace_and_nearer_supersampling() {
     }
 }
 
+/// A scene whose balls make more copies than the GPU holds (254 large
+/// balls in the torus: past `bevy_manifold_gpu::bindings::MAX_BALLS` with
+/// their ghosts) is drawn, its first `MAX_BALLS` copies, with no
+/// validation error; the same app then draws the default scene as the
+/// headless tracer does.
+fn a_scene_past_the_gpus_ball_copies_is_drawn_and_the_next_scene_is_right() {
+    let mut app = headless_app(true);
+    let image = target(&mut app, W, H);
+    let space = catalog::by_name("torus").expect("catalog");
+    let mut crowd = Scene::default_for(&space);
+    let mut rng = bevy_manifold_test_support::Rng(5);
+    while crowd.balls.len() < 254 {
+        crowd.balls.push(bevy_manifold::trace::Ball {
+            center: rng.ray_inside(&space).origin,
+            radius: 1.2 * space.inradius(),
+            color: [0.5, 0.5, 0.5],
+            glow: 0.5,
+        });
+    }
+    let copies = FlatScene::<f32>::new(&space, &crowd).balls.len();
+    // Past what even a 64 KiB uniform binding would hold (1365 balls), so
+    // that uploading them all could not bind.
+    assert!(copies > 65_536 / 48, "the scene makes only {copies} balls");
+    let camera = (ManifoldCamera { levels: 4, ..default() }, CellShading::Off);
+    let (root, _) = offscreen::spawn_view(&mut app, &space, &crowd, &image, camera);
+    wait_for_pipelines(&mut app);
+    let shown = capture(&mut app, &image);
+    let lit = shown
+        .chunks_exact(4)
+        .filter(|p| p[0] > 8 || p[1] > 8 || p[2] > 8)
+        .count();
+    assert!(lit > (W * H / 4) as usize, "the crowd is drawn ({lit} lit pixels)");
+    app.world_mut().entity_mut(root).despawn();
+    app.update();
+    let (root, _) = spawn_view(&mut app, &space, &image, false, false);
+    wait_for_pipelines(&mut app);
+    let shown = capture(&mut app, &image);
+    let scene = gathered_scene(&app, &space, root, false);
+    let settings = TraceSettings {
+        width: W,
+        height: H,
+        levels: 8,
+        ..TraceSettings::default()
+    };
+    let compute = GpuTracer::new()
+        .expect("adapter")
+        .render(&space, &scene, &settings)
+        .expect("headless trace");
+    let agreement = rgba8_agreement(&shown, &compute, 1);
+    assert!(agreement >= 0.995, "after the crowd the pass agrees on {agreement}");
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [],
     gpu: [
@@ -1010,5 +1062,6 @@ bevy_manifold_test_support::test_main! {
         a_view_at_half_scale_is_the_half_size_trace_upscaled_bilinearly,
         an_adaptive_scale_lowers_the_pixels_traced_when_frames_are_slow,
         a_still_view_accumulates_jittered_samples_then_stops_tracing,
+        a_scene_past_the_gpus_ball_copies_is_drawn_and_the_next_scene_is_right,
     ],
 }
