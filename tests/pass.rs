@@ -77,6 +77,30 @@ fn gathered_scene(app: &App, space: &Space, root: Entity, fog: bool) -> Scene {
     scene
 }
 
+/// A new view of the default scene of `space` into `image` (with fog and
+/// per-cell shading as asked): its root, what the pass shows, and the
+/// scene the app gathered, which the tracers trace.
+fn shown_default_scene(
+    app: &mut App,
+    space: &Space,
+    image: &Handle<Image>,
+    (fog, cells): (bool, bool),
+) -> (Entity, Vec<u8>, Scene) {
+    let (root, _) = spawn_view(app, space, image, fog, cells);
+    wait_for_pipelines(app);
+    let shown = capture(app, image);
+    let scene = gathered_scene(app, space, root, fog);
+    (root, shown, scene)
+}
+
+/// The pixels of an RGBA8 image brighter than 8 in some channel.
+fn lit_pixels(shown: &[u8]) -> usize {
+    shown
+        .chunks_exact(4)
+        .filter(|p| p[0] > 8 || p[1] > 8 || p[2] > 8)
+        .count()
+}
+
 /// What the pass showed (`shown`) of a scene with a ball and two meshes
 /// (object ids 2 and 3) against the headless compute trace (within 1/255)
 /// and the CPU f64 reference (within 2/255), at 8 levels: the meshes'
@@ -107,10 +131,7 @@ fn the_pass_draws_what_the_tracer_computes_in_every_space() {
         let space = catalog::by_name(name).expect("catalog");
         // Fog and per-cell shading on every other space.
         let (fog, cells) = (i % 2 == 1, i % 2 == 1);
-        let (root, _) = spawn_view(&mut app, &space, &image, fog, cells);
-        wait_for_pipelines(&mut app);
-        let shown = capture(&mut app, &image);
-        let scene = gathered_scene(&app, &space, root, fog);
+        let (root, shown, scene) = shown_default_scene(&mut app, &space, &image, (fog, cells));
         let reference = Scene::default_for(&space);
         assert_eq!(
             scene.balls, reference.balls,
@@ -129,10 +150,7 @@ fn the_pass_draws_what_the_tracer_computes_in_every_space() {
         let cpu = render::<f64>(&space, &scene, &settings);
         let vs_compute = rgba8_agreement(&shown, &compute, 1);
         let vs_cpu = rgba8_agreement(&shown, &cpu, 2);
-        let lit = shown
-            .chunks_exact(4)
-            .filter(|p| p[0] > 8 || p[1] > 8 || p[2] > 8)
-            .count();
+        let lit = lit_pixels(&shown);
         eprintln!(
             "{name:<22} fog {fog:<5} cells {cells:<5}: pass vs headless compute (±1/255): {:.3}%, vs CPU f64 (±2/255): {:.3}%, {lit} lit pixels",
             vs_compute * 100.0,
@@ -279,13 +297,12 @@ fn a_viewport_shows_the_same_trace_as_a_whole_target() {
             same += usize::from(pa == pb);
         }
     }
-    let lit = |img: &[u8]| img.chunks_exact(4).filter(|p| p[0] > 8 || p[1] > 8 || p[2] > 8).count();
     assert_eq!(
         same,
         64 * 48,
         "the inset viewport differs from the whole-target trace (lit pixels: whole {}, inset target {})",
-        lit(&a),
-        lit(&b)
+        lit_pixels(&a),
+        lit_pixels(&b)
     );
 }
 
@@ -383,10 +400,7 @@ fn an_adaptive_scale_lowers_the_pixels_traced_when_frames_are_slow() {
     );
     app.update();
     let shown = capture(&mut app, &image);
-    let lit = shown
-        .chunks_exact(4)
-        .filter(|p| p[0] > 8 || p[1] > 8 || p[2] > 8)
-        .count();
+    let lit = lit_pixels(&shown);
     assert!(lit > (W * H / 4) as usize, "the view still shows the space ({lit} lit)");
     // A quarter of the pixels along each side: the quarter-size CPU
     // trace, upscaled.
@@ -1019,18 +1033,11 @@ fn a_scene_past_the_gpus_ball_copies_is_drawn_and_the_next_scene_is_right() {
     let camera = (ManifoldCamera { levels: 4, ..default() }, CellShading::Off);
     let (root, _) = offscreen::spawn_view(&mut app, &space, &crowd, &image, camera);
     wait_for_pipelines(&mut app);
-    let shown = capture(&mut app, &image);
-    let lit = shown
-        .chunks_exact(4)
-        .filter(|p| p[0] > 8 || p[1] > 8 || p[2] > 8)
-        .count();
+    let lit = lit_pixels(&capture(&mut app, &image));
     assert!(lit > (W * H / 4) as usize, "the crowd is drawn ({lit} lit pixels)");
     app.world_mut().entity_mut(root).despawn();
     app.update();
-    let (root, _) = spawn_view(&mut app, &space, &image, false, false);
-    wait_for_pipelines(&mut app);
-    let shown = capture(&mut app, &image);
-    let scene = gathered_scene(&app, &space, root, false);
+    let (_, shown, scene) = shown_default_scene(&mut app, &space, &image, (false, false));
     let settings = TraceSettings {
         width: W,
         height: H,
