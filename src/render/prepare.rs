@@ -265,6 +265,21 @@ struct SceneBuffers {
     made: u64,
 }
 
+impl SceneBuffers {
+    /// The objects' buffers, in [`object_data`]'s order.
+    fn objects_mut(&mut self) -> [&mut Buffer; 7] {
+        [
+            &mut self.balls,
+            &mut self.tubes,
+            &mut self.lights,
+            &mut self.instances,
+            &mut self.mesh_data,
+            &mut self.groups,
+            &mut self.ball_nodes,
+        ]
+    }
+}
+
 /// One view's own buffer (its params) and its bind group.
 struct ViewBuffers {
     /// The root whose [`SceneBuffers`] the bind group binds, and their
@@ -409,24 +424,25 @@ fn space_buffers(device: &RenderDevice, s: &GpuSpace, stats: &mut ManifoldUpload
     )
 }
 
-/// The objects' buffers, first made: balls, tubes, lights, instances,
-/// the meshes' data, the face groups and the ball tree's nodes.
+/// The objects' data, each with the label of its buffer, in
+/// [`SceneBuffers::objects_mut`]'s order: balls, tubes, lights,
+/// instances, the meshes' data, the face groups and the ball tree's nodes.
+fn object_data(o: &GpuObjects) -> [(&'static str, &[u8]); 7] {
+    [
+        ("manifold_balls", bytemuck::cast_slice(&o.balls)),
+        ("manifold_tubes", bytemuck::cast_slice(&o.tubes)),
+        ("manifold_lights", bytemuck::cast_slice(&o.lights)),
+        ("manifold_instances", bytemuck::cast_slice(&o.instances)),
+        ("manifold_mesh_data", bytemuck::cast_slice(&o.mesh_data)),
+        ("manifold_groups", bytemuck::cast_slice(&o.groups)),
+        ("manifold_ball_nodes", bytemuck::cast_slice(&o.ball_nodes)),
+    ]
+}
+
+/// The objects' buffers, first made ([`object_data`]'s order).
 fn object_buffers(device: &RenderDevice, o: &GpuObjects, stats: &mut ManifoldUploads) -> [Buffer; 7] {
     stats.objects += 1;
-    [
-        scene_buffer(device, "manifold_balls", bytemuck::cast_slice(&o.balls), stats),
-        scene_buffer(device, "manifold_tubes", bytemuck::cast_slice(&o.tubes), stats),
-        scene_buffer(device, "manifold_lights", bytemuck::cast_slice(&o.lights), stats),
-        scene_buffer(device, "manifold_instances", bytemuck::cast_slice(&o.instances), stats),
-        scene_buffer(device, "manifold_mesh_data", bytemuck::cast_slice(&o.mesh_data), stats),
-        scene_buffer(device, "manifold_groups", bytemuck::cast_slice(&o.groups), stats),
-        scene_buffer(
-            device,
-            "manifold_ball_nodes",
-            bytemuck::cast_slice(&o.ball_nodes),
-            stats,
-        ),
-    ]
+    object_data(o).map(|(label, data)| scene_buffer(device, label, data, stats))
 }
 
 /// The scene's objects seen from the camera's cell `cell`: the objects
@@ -800,61 +816,13 @@ fn update_scene_buffers(
     }
     if !Arc::ptr_eq(&shared.objects, objects) {
         stats.objects += 1;
-        let o = &**objects;
-        grew |= write_or_grow(
-            device,
-            queue,
-            &mut shared.balls,
-            "manifold_balls",
-            bytemuck::cast_slice(&o.balls),
-            stats,
-        ) | write_or_grow(
-            device,
-            queue,
-            &mut shared.tubes,
-            "manifold_tubes",
-            bytemuck::cast_slice(&o.tubes),
-            stats,
-        ) | write_or_grow(
-            device,
-            queue,
-            &mut shared.lights,
-            "manifold_lights",
-            bytemuck::cast_slice(&o.lights),
-            stats,
-        ) | write_or_grow(
-            device,
-            queue,
-            &mut shared.instances,
-            "manifold_instances",
-            bytemuck::cast_slice(&o.instances),
-            stats,
-        ) | write_or_grow(
-            device,
-            queue,
-            &mut shared.groups,
-            "manifold_groups",
-            bytemuck::cast_slice(&o.groups),
-            stats,
-        ) | write_or_grow(
-            device,
-            queue,
-            &mut shared.ball_nodes,
-            "manifold_ball_nodes",
-            bytemuck::cast_slice(&o.ball_nodes),
-            stats,
-        );
         // A moved instance changes its matrix, not its mesh: the BVHs
         // stay uploaded.
-        if shared.objects.mesh_data != o.mesh_data {
-            grew |= write_or_grow(
-                device,
-                queue,
-                &mut shared.mesh_data,
-                "manifold_mesh_data",
-                bytemuck::cast_slice(&o.mesh_data),
-                stats,
-            );
+        let same_meshes = shared.objects.mesh_data == objects.mesh_data;
+        for (slot, (label, data)) in shared.objects_mut().into_iter().zip(object_data(objects)) {
+            if !(same_meshes && label == "manifold_mesh_data") {
+                grew |= write_or_grow(device, queue, slot, label, data, stats);
+            }
         }
         shared.objects = objects.clone();
     }

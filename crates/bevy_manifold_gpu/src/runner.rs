@@ -519,9 +519,6 @@ impl GpuTracer {
     ) -> Result<Bound, GpuError> {
         settings.check().map_err(GpuError::Settings)?;
         let prep = FlatScene::<f32>::new(space, scene);
-        let gpu = GpuScene::pack_in(space, self.packed_space(space, &prep), &prep, settings);
-        self.pipeline(defs, entry)?;
-        let count = (u64::from(settings.width) * u64::from(settings.height)) as usize;
         if prep.balls.len() > crate::bindings::MAX_BALLS {
             return Err(GpuError::Settings(format!(
                 "the scene makes {} balls (ghost copies and edge joints included), more than the {} the GPU tracer holds",
@@ -529,6 +526,9 @@ impl GpuTracer {
                 crate::bindings::MAX_BALLS
             )));
         }
+        let gpu = GpuScene::pack_in(space, self.packed_space(space, &prep), &prep, settings);
+        self.pipeline(defs, entry)?;
+        let count = (u64::from(settings.width) * u64::from(settings.height)) as usize;
         // Every storage buffer within what the device binds, checked before
         // wgpu would raise a validation error.
         let limit = self.device.limits().max_storage_buffer_binding_size;
