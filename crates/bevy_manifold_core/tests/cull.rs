@@ -6,7 +6,7 @@
 use bevy_manifold_core::geometry::Real;
 use bevy_manifold_core::prelude::*;
 use bevy_manifold_core::trace::step::{ALL_FACES, Ray, hit_ball, hit_tube, may_hit, near_faces};
-use bevy_manifold_core::trace::{FaceGroups, FlatScene, Walker, chart_segment, tree_leaves};
+use bevy_manifold_core::trace::{Candidate, FaceGroups, FlatScene, Walker, chart_segment, each_candidate, tree_leaves};
 use bevy_manifold_test_support::Rng;
 use bevy_manifold_test_support::stress::{self, face_middle};
 use glam::DVec4;
@@ -65,7 +65,8 @@ struct Counts {
 }
 
 /// Walks random rays segment by segment; on each, every ball and tube the
-/// segment hits (tested by brute force) must pass `may_hit`.
+/// segment hits (tested by brute force) must pass `may_hit` and be among
+/// the objects `each_candidate` hands the tracer, each once.
 fn check_segments<R: Real>(name: &str, space: &Space, prep: &FlatScene<R>, rng: &mut Rng, counts: &mut Counts) {
     let g = space.geometry();
     let zero = R::of(0.0);
@@ -85,6 +86,11 @@ fn check_segments<R: Real>(name: &str, space: &Space, prep: &FlatScene<R>, rng: 
                 &walk.ray,
                 t_end,
             );
+            // What the tracer tests on this segment.
+            let mut handed = std::collections::HashSet::new();
+            each_candidate(prep, &walk.ray, t_end, ([near; 2], true), 0.0, |c| {
+                assert!(handed.insert(c), "{name}: {c:?} handed out twice");
+            });
             let mut check = |mask: u32, hit: Option<R>, what: &str| {
                 counts.tests += 1;
                 let shown = may_hit(mask, near);
@@ -100,8 +106,15 @@ fn check_segments<R: Real>(name: &str, space: &Space, prep: &FlatScene<R>, rng: 
                     );
                 }
             };
-            for b in &prep.balls {
-                check(b.face_mask, hit_ball(g, &walk.ray, b.center, b.k, zero), "a ball");
+            for (i, b) in prep.balls.iter().enumerate() {
+                let hit = hit_ball(g, &walk.ray, b.center, b.k, zero);
+                check(b.face_mask, hit, "a ball");
+                if hit.is_some_and(|t| t <= t_end) {
+                    assert!(
+                        handed.contains(&Candidate::Ball(i)),
+                        "{name}: ball {i} is hit but not tested"
+                    );
+                }
             }
             // The ball tree: every ball with no mask that the segment
             // hits is in a leaf the walk visits.
@@ -130,12 +143,15 @@ fn check_segments<R: Real>(name: &str, space: &Space, prep: &FlatScene<R>, rng: 
                     );
                 }
             }
-            for tube in &prep.tubes {
-                check(
-                    tube.face_mask,
-                    hit_tube(g, &walk.ray, &tube.segment, prep.tube_k, zero),
-                    "a tube",
-                );
+            for (i, tube) in prep.tubes.iter().enumerate() {
+                let hit = hit_tube(g, &walk.ray, &tube.segment, prep.tube_k, zero);
+                check(tube.face_mask, hit, "a tube");
+                if hit.is_some_and(|t| t <= t_end) {
+                    assert!(
+                        handed.contains(&Candidate::Tube(i)),
+                        "{name}: tube {i} is hit but not tested"
+                    );
+                }
             }
             let Some(f) = face else { break };
             let end = bevy_manifold_core::trace::step::advance(g, &walk.ray, t_end);
@@ -211,11 +227,22 @@ fn images_are_the_same_with_culling_on_and_off() {
     for (name, space) in spaces() {
         let mut scenes = scenes(&space);
         scenes.push(("paper", Scene::paper_default(&space)));
+        // Cone tracing too on the default scene: its balls, joints
+        // included, are culled by wider near faces than its tubes. In f64
+        // only: in f32 a few pixels of lens-5-2's cone image differ (3 of
+        // 6,144, before the joints rode on tubes as after), not yet
+        // explained.
+        let cones = scenes
+            .iter()
+            .filter(|(what, _)| *what == "default")
+            .map(|(_, s)| ("cones", s.clone()));
+        let scenes: Vec<_> = scenes.iter().cloned().chain(cones.collect::<Vec<_>>()).collect();
         for (what, scene) in scenes {
             let on = TraceSettings {
                 width: 96,
                 height: 64,
                 levels: 8,
+                footprint: what == "cones",
                 ..TraceSettings::default()
             };
             let off = TraceSettings {
@@ -234,6 +261,9 @@ fn images_are_the_same_with_culling_on_and_off() {
                     render::<f32>(&space, &scene, &off),
                 ),
             ] {
+                if what == "cones" && precision == "f32" {
+                    continue;
+                }
                 let differ = a.pixels.iter().zip(&b.pixels).filter(|(p, q)| p != q).count();
                 assert_eq!(
                     differ, 0,
@@ -394,6 +424,86 @@ fn the_edge_walk_finds_the_tubes_of_the_near_edges() {
                     assert!(walked.contains(&i), "{name}: tube {i} may be hit but is not walked");
                 }
             }
+        }
+    }
+}
+
+/// Vertex joints ride on tubes (`FlatTube::joint`): each joint at most
+/// once, on a tube along an edge that ends at it (found by geometry, the
+/// tube's end points), after every face group; and for any faces a
+/// segment comes near, every ball that may be hit there is in a walked
+/// group or carried by a walked tube. In Seifert-Weber's dodecahedron
+/// (20 vertices, 30 edges) every joint rides on a tube, so no ball is
+/// left in a face group.
+#[test]
+fn every_joint_a_segment_may_hit_is_walked_with_a_tube() {
+    let mut rng = Rng(43);
+    for (name, space) in spaces() {
+        let prep = FlatScene::<f64>::new(&space, &Scene::default_for(&space));
+        let g = &prep.groups;
+        let grouped = *g.balls.last().expect("starts") as usize;
+        let mut carried = vec![false; prep.balls.len()];
+        for t in &prep.tubes {
+            let Some(j) = t.joint else { continue };
+            assert!(
+                j >= grouped && j < prep.balls.len(),
+                "{name}: joint {j} inside the groups"
+            );
+            assert!(!carried[j], "{name}: joint {j} on two tubes");
+            carried[j] = true;
+            let joint = &prep.balls[j];
+            assert_eq!(
+                joint.id,
+                bevy_manifold_core::trace::EDGE_ID,
+                "{name}: a carried ball is not a joint"
+            );
+            let at_end = [t.segment.a, t.segment.b]
+                .iter()
+                .any(|&end| (end - joint.center).length() < 1e-9);
+            assert!(at_end, "{name}: joint {j} is not at an end of its tube");
+            assert_eq!(
+                t.edge & !joint.face_mask,
+                0,
+                "{name}: the tube's edge bits outside the joint's mask"
+            );
+        }
+        assert!(
+            carried[grouped..].iter().all(|&c| c),
+            "{name}: a ball after the groups that no tube carries"
+        );
+        let mut nears = vec![ALL_FACES, 0];
+        nears.extend(
+            (0..300).map(|_| (rng.next_f64() * 2f64.powi(32)) as u32 | (rng.next_f64() * 2f64.powi(32)) as u32),
+        );
+        for v in space.vertices() {
+            // The faces at a vertex, as the segments passing it see them.
+            let at: u32 = space
+                .faces()
+                .iter()
+                .enumerate()
+                .filter(|(_, f)| {
+                    bevy_manifold_core::geometry::plane::signed_distance(space.geometry(), f.plane, v.point).abs()
+                        < 1e-9
+                })
+                .fold(0, |m, (i, _)| m | 1 << (i % 32));
+            nears.push(at);
+        }
+        for near in nears {
+            let mut walked: Vec<usize> = FaceGroups::ranges(&g.balls, near).flatten().collect();
+            walked.extend(FaceGroups::edge_walk(&g.tubes, &g.edges, near).filter_map(|t| prep.tubes[t].joint));
+            for (i, b) in prep.balls.iter().enumerate() {
+                if may_hit(b.face_mask, near) {
+                    assert!(
+                        walked.contains(&i),
+                        "{name}: ball {i} may be hit near {near:032b} but is not walked"
+                    );
+                }
+            }
+        }
+        if name == "seifert-weber" {
+            assert_eq!(prep.balls.len(), 21, "{name}: the ball and 20 joints");
+            assert_eq!(grouped, 1, "{name}: only the central ball in the groups");
+            assert!(g.balls.iter().all(|&s| s == 1), "{name}: {:?}", g.balls);
         }
     }
 }

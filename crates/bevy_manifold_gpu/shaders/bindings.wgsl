@@ -143,8 +143,13 @@ struct Tube {
     b: vec4<f32>,
     e_b: vec4<f32>,
     color: vec3<f32>,
-    // The two faces whose planes hold its edge (FlatTube::faces).
+    // The two faces whose planes hold its edge (FlatTube::face_mask).
     face_mask: u32,
+    // The vertex joint tested after it (FlatTube::joint), or NO_JOINT.
+    joint: u32,
+    pad_a: u32,
+    pad_b: u32,
+    pad_c: u32,
 }
 
 // Rust twin: GpuInstance in crates/bevy_manifold_gpu/src/layout.rs. A mesh
@@ -273,6 +278,10 @@ const FLAG_NO_CULL: u32 = 4u;
 // No face: a ray that entered by none, or leaves by none (S3, no face
 // within a quarter turn). Rust: None, or usize::MAX for Walker::entered.
 const NO_FACE: u32 = 0xffffffffu;
+
+// A tube that carries no vertex joint. Rust: None, or NO_JOINT in
+// crates/bevy_manifold_gpu/src/layout.rs.
+const NO_JOINT: u32 = 0xffffffffu;
 
 // The object id of a wall. Rust: rule::WALL_OBJECT.
 const WALL_OBJECT: u32 = 0xfffffffeu;

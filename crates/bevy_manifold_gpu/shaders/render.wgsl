@@ -2,8 +2,9 @@
 // on each segment of its walk, and the shading at the hit.
 //
 // Rust twin: crates/bevy_manifold_core/src/trace/render.rs (camera_ray,
-// trace_ray as trace_pixel, Hit, nearest_object with each_candidate's
-// walk, segment_layers, cone_layer, shade).
+// trace_ray as trace_pixel, Hit, nearest_object, segment_layers,
+// cone_layer, shade) and cull.rs (each_candidate, the walk over the
+// objects in nearest_object here).
 //
 // Shader defs read: FOG (early stop, fog colour), BALLS, TUBES, MESHES
 // (which objects are tested and shaded), CELL_COLORS, LIGHTS, CELL_RULES
@@ -17,7 +18,7 @@
 // and the shading is done once, after the walk, not inside it.
 #define_import_path bevy_manifold::render
 
-#import bevy_manifold::bindings::{params, groups, cached, cache_params, balls, tubes, lights, faces, face_count, Pixel, EDGE_ID, FLAG_NO_EARLY_STOP, FOG_CUT, LIGHT_AT_HIT, WALL_OBJECT}
+#import bevy_manifold::bindings::{params, groups, cached, cache_params, balls, tubes, lights, faces, face_count, Pixel, EDGE_ID, FLAG_NO_EARLY_STOP, FOG_CUT, LIGHT_AT_HIT, WALL_OBJECT, NO_JOINT}
 #import bevy_manifold::geometry::{form, normalize_point, normalize_tangent, project_tangent, distance, chart_to_distance, sphere_area}
 #import bevy_manifold::step::{Ray, normal_from, near_faces, may_hit}
 #import bevy_manifold::cells::cell_id
@@ -567,6 +568,19 @@ fn consider_tube(ray: Ray, t_end: f32, near: u32, i: u32) {
     }
 #endif
 }
+
+// Tube i (near the faces `near`), then the vertex joint it carries (near
+// `ball_near`; FlatTube::joint). Rust: the tube and ball arms, as
+// each_candidate hands them out.
+fn consider_edge(ray: Ray, t_end: f32, near: u32, ball_near: u32, i: u32) {
+    consider_tube(ray, t_end, near, i);
+#ifdef BALLS
+    let joint = tubes[i].joint;
+    if joint != NO_JOINT {
+        consider_ball(ray, t_end, ball_near, joint);
+    }
+#endif
+}
 #endif
 
 #ifdef MESHES
@@ -596,7 +610,8 @@ fn consider_instance(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32, i: 
 // segment does not come near (`near`, from near_faces; under FOOTPRINT
 // balls their own, near_balls) are not tested,
 // nor balls with no face mask in the leaves of the ball tree the segment
-// does not meet (interior_balls). Rust: each_candidate, and
+// does not meet (interior_balls); a vertex joint a tube carries is tested
+// after its tube (consider_edge). Rust: each_candidate (cull.rs), and
 // nearest_object or segment_layers.
 fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit {
     best = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
@@ -632,17 +647,23 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
     // edge_walk; the edge table is groups[f].w). One pass a tube, the
     // test after the body: the loop lasts as long as its SIMD group's
     // longest walk.
+    // Walked by the balls' near faces, which hold `near`, for the
+    // joints the tubes carry.
+    var edge_near = near;
+#ifdef FOOTPRINT
+    edge_near = near_balls;
+#endif
     let unmasked_tubes = groups[0].y;
     for (var i = 0u; i < unmasked_tubes; i++) {
-        consider_tube(ray, t_end, near, i);
+        consider_edge(ray, t_end, near, edge_near, i);
     }
-    var edge_walk = EdgeWalk(0u, 0u, grouped & cached.occupied.y);
-    var more_tubes = edge_walk_next(&edge_walk, near);
+    var edge_walk = EdgeWalk(0u, 0u, near_groups(edge_near) & cached.occupied.y);
+    var more_tubes = edge_walk_next(&edge_walk, edge_near);
     loop {
         if more_tubes {
-            consider_tube(ray, t_end, near, edge_walk_tube(&edge_walk));
+            consider_edge(ray, t_end, near, edge_near, edge_walk_tube(&edge_walk));
         }
-        more_tubes = edge_walk_next(&edge_walk, near);
+        more_tubes = edge_walk_next(&edge_walk, edge_near);
         continuing {
             break if !more_tubes;
         }

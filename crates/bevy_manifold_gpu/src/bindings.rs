@@ -140,7 +140,7 @@ pub const GROUPS: usize = 33;
 /// not show it). Read from a storage buffer the same shader stays flat.
 ///
 /// The faces, the edge tubes and the lights are uniform arrays of fixed
-/// length ([`MAX_FACES`], [`MAX_TUBES`], [`MAX_LIGHTS`]: 20,480, 30,240
+/// length ([`MAX_FACES`], [`MAX_TUBES`], [`MAX_LIGHTS`]: 20,480, 36,288
 /// and 2,048 bytes, within WebGPU's default 64 KiB per binding; the runner
 /// and the pass refuse an adapter below [`largest_uniform`]). lavapipe
 /// (Mesa 22.3.6) reads a storage buffer one SIMD lane at a time, each lane

@@ -168,6 +168,15 @@ pub struct GpuTube {
     pub color: [f32; 3],
     /// `FlatTube::face_mask`.
     pub face_mask: u32,
+    /// `FlatTube::joint`: the index of the vertex joint tested after this
+    /// tube, or [`NO_JOINT`].
+    pub joint: u32,
+    /// Padding to 16 bytes.
+    pub pad_a: u32,
+    /// Padding.
+    pub pad_b: u32,
+    /// Padding.
+    pub pad_c: u32,
 }
 
 /// WGSL twin: `Instance` in `shaders/bindings.wgsl`: one placement of a mesh, with offsets into
@@ -341,6 +350,10 @@ pub const FLAG_NO_RENORMALIZE: u32 = 2;
 /// [`GpuParams::flags`]: every object tested on every segment
 /// (`TraceSettings::cull` off).
 pub const FLAG_NO_CULL: u32 = 4;
+
+/// [`GpuTube::joint`] of a tube that carries no vertex joint (or one past
+/// the balls packed). WGSL twin: `NO_JOINT` in `shaders/bindings.wgsl`.
+pub const NO_JOINT: u32 = u32::MAX;
 
 /// The flags that say how `settings` differs from normal tracing.
 #[must_use]
@@ -540,6 +553,13 @@ impl GpuObjects {
                         e_b: v(tb.segment.e_b),
                         color: tb.color,
                         face_mask: tb.face_mask,
+                        joint: tb
+                            .joint
+                            .filter(|&j| j < crate::bindings::MAX_BALLS)
+                            .map_or(NO_JOINT, |j| j as u32),
+                        pad_a: 0,
+                        pad_b: 0,
+                        pad_c: 0,
                     })
                     .collect(),
             ),
@@ -607,7 +627,9 @@ fn pack_groups(prep: &FlatScene<f32>) -> [[u32; 4]; crate::bindings::GROUPS] {
         prep.instances.len(),
     ]
     .map(|n| n as u32);
-    let at = |starts: &[u32], f: usize, count: u32| starts.get(f).copied().unwrap_or(count).min(count);
+    // Past the last face, the last start (the balls' is not their count
+    // when tubes carry joints, FlatTube::joint).
+    let at = |starts: &[u32], f: usize, count: u32| starts.get(f).or(starts.last()).copied().unwrap_or(0).min(count);
     core::array::from_fn(|f| {
         [
             at(&g.balls, f, counts[0]),

@@ -11,7 +11,7 @@ use bevy_manifold_core::mesh::bvh::MAX_DEPTH;
 use bevy_manifold_core::trace::step::ALL_FACES;
 use bevy_manifold_core::trace::{EDGE_ID, FOG_CUT, LIGHT_AT_HIT};
 use bevy_manifold_gpu::bindings::{BINDINGS, BindingKind};
-use bevy_manifold_gpu::layout::{GpuBall, GpuFace, GpuInstance, GpuLight, GpuParams, GpuPixel, GpuTube};
+use bevy_manifold_gpu::layout::{GpuBall, GpuFace, GpuInstance, GpuLight, GpuParams, GpuPixel, GpuTube, NO_JOINT};
 use bevy_manifold_gpu::{
     FLAG_NO_CULL, FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE, GpuCellScheme, GpuTracer, SHADER_IMPORTS, TRACE_WGSL,
     TraceDefs, WgslModule, undecorated,
@@ -47,7 +47,7 @@ fn rust_layouts() -> Vec<RustLayout> {
         }),
         rust_layout!(GpuFace => "Face" { plane, pairing, crossing, partner, pad_a, pad_b, pad_c }),
         rust_layout!(GpuBall => "Ball" { center, color, k, id, face_mask, glow, pad }),
-        rust_layout!(GpuTube => "Tube" { a, e, b, e_b, color, face_mask }),
+        rust_layout!(GpuTube => "Tube" { a, e, b, e_b, color, face_mask, joint, pad_a, pad_b, pad_c }),
         rust_layout!(GpuInstance => "Instance" {
             to_local, center, color, k, nodes, vertices, triangles, id, texture, tex_width, tex_height,
             node_count, attached, face_mask, pad, home,
@@ -193,6 +193,7 @@ fn the_shared_constants_are_equal_on_both_sides() {
         naga::Literal::U32(FLAG_NO_RENORMALIZE)
     );
     assert_eq!(constant(&module, "FLAG_NO_CULL"), naga::Literal::U32(FLAG_NO_CULL));
+    assert_eq!(constant(&module, "NO_JOINT"), naga::Literal::U32(NO_JOINT));
     assert_eq!(constant(&module, "ALL_FACES"), naga::Literal::U32(ALL_FACES));
     assert_eq!(constant(&module, "BVH_STACK"), naga::Literal::U32(MAX_DEPTH as u32));
     assert_eq!(constant(&module, "FOG_CUT"), naga::Literal::F32(FOG_CUT as f32));

@@ -6,12 +6,15 @@
 //! and objects are kept in groups by their first face ([`FaceGroups`]) so
 //! a segment walks only the groups of the faces it comes near; an edge
 //! tube, only where both its edge's faces are near
-//! ([`FaceGroups::edge_walk`]).
+//! ([`FaceGroups::edge_walk`]), and with it the vertex joint it carries
+//! ([`super::FlatTube::joint`]). [`each_candidate`] hands out what a
+//! segment tests.
 //!
 //! WGSL twin: `nearest_object` in `bevy_manifold_gpu`'s
 //! `shaders/render.wgsl` walks the same groups (from the `groups` uniform);
 //! `near_faces` and `may_hit` are in `shaders/step.wgsl`.
 
+use super::flat::FlatScene;
 use super::scene::Scene;
 use super::step::Ray;
 use crate::geometry::{Geometry, Real};
@@ -354,4 +357,64 @@ pub fn tree_leaves<R: Real>(tree: &BallTree, a: [R; 3], d: [R; 3], pad: f32, mut
             (tree.skip[i] as usize).max(i + 1)
         };
     }
+}
+
+/// One object a segment may meet, as [`each_candidate`] hands them out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Candidate {
+    /// An index into [`FlatScene::balls`].
+    Ball(usize),
+    /// An index into [`FlatScene::tubes`].
+    Tube(usize),
+    /// An index into [`FlatScene::instances`].
+    Instance(usize),
+}
+
+/// Hands `visit` each object a segment of `ray` ending at `t_end` may
+/// meet, in a fixed order: balls, tubes, mesh instances. With `cull`,
+/// objects whose faces the segment does not come near (`near_balls` for
+/// balls, `near` for the others, from [`super::step::near_faces`]: a cone grows balls
+/// further) are left out: only the groups of near faces are walked
+/// ([`FaceGroups`]), of the tubes only those whose edge's two faces are
+/// near ([`FaceGroups::edge_walk`]), each with the vertex joint it
+/// carries ([`super::FlatTube::joint`]), so walked by `near_balls`; and
+/// of the balls with no face mask
+/// only those in the leaves of [`FlatScene::ball_tree`] whose boxes,
+/// padded by `pad`, the segment's chart image meets ([`tree_leaves`]), or
+/// all of them where there is no tree (fewer than
+/// [`super::MIN_BALL_TREE`]). Without `cull` (and with `near_balls` and
+/// `near` all faces) every object is handed out once. The tracer
+/// (`trace_ray`) tests exactly these; whoever visits them still checks
+/// each one's face mask ([`super::step::may_hit`]). WGSL twin: the loops
+/// of `nearest_object` in `shaders/render.wgsl`.
+pub fn each_candidate<R: Real>(
+    prep: &FlatScene<R>,
+    ray: &Ray<R>,
+    t_end: R,
+    ([near_balls, near], cull): ([u32; 2], bool),
+    pad: f32,
+    mut visit: impl FnMut(Candidate),
+) {
+    let groups = &prep.groups;
+    let mut ranges = FaceGroups::ranges(&groups.balls, near_balls);
+    let interior = ranges.next().unwrap_or_default();
+    match chart_segment(ray, t_end).filter(|_| cull && pad.is_finite() && !prep.ball_tree.is_empty()) {
+        Some((a, d)) => tree_leaves(&prep.ball_tree, a, d, pad, |leaf| {
+            leaf.for_each(|i| visit(Candidate::Ball(i)))
+        }),
+        None => interior.for_each(|i| visit(Candidate::Ball(i))),
+    }
+    ranges.flatten().for_each(|i| visit(Candidate::Ball(i)));
+    // The tubes a segment near the faces `near_balls` walks: those near
+    // `near` among them (near_balls holds near), each followed by the
+    // vertex joint it carries.
+    for i in FaceGroups::edge_walk(&groups.tubes, &groups.edges, near_balls) {
+        visit(Candidate::Tube(i));
+        if let Some(j) = prep.tubes[i].joint {
+            visit(Candidate::Ball(j));
+        }
+    }
+    FaceGroups::ranges(&groups.instances, near)
+        .flatten()
+        .for_each(|i| visit(Candidate::Instance(i)));
 }

@@ -56,6 +56,14 @@ pub struct FlatTube<R: Real> {
     /// the bits are not all in `face_mask`: the tube is then tested on
     /// every segment.
     pub edge: u32,
+    /// The vertex joint tested right after this tube (an index into
+    /// [`FlatScene::balls`], after every face group): one at an end of
+    /// its edge whose face mask holds the tube's edge bits, so that a
+    /// segment near all of the joint's faces walks this tube
+    /// ([`FaceGroups::edge_walk`]). Each joint rides on at most one
+    /// tube, and a tube carries at most one (a matching of joints to
+    /// tubes); the joints no tube carries stay in the balls' face groups.
+    pub joint: Option<usize>,
 }
 
 /// A light in the tracer's precision.
@@ -166,7 +174,9 @@ pub struct FlatScene<R: Real> {
     /// The faces' planes and pairings (and the geometry).
     pub faces: FaceTables<R>,
     /// Balls, ghosts included, and the vertex joints of the edge tubes,
-    /// sorted into [`FaceGroups`] (unmasked first).
+    /// sorted into [`FaceGroups`] (unmasked first); after the last group,
+    /// the joints that ride on a tube ([`FlatTube::joint`]), which only
+    /// their tube's walk tests.
     pub balls: Vec<FlatBall<R>>,
     /// Edge tubes, sorted into [`FaceGroups`] by their edge bits
     /// ([`FlatTube::edge`]).
@@ -282,6 +292,8 @@ impl<R: Real> FlatScene<R> {
             }
         }
         let mut tubes = Vec::new();
+        // The vertex joints that ride on a tube (FlatTube::joint).
+        let mut carried = Vec::new();
         let mut tube_k = R::of(0.0);
         if let Some(r) = scene.edge_radius {
             tube_k = R::of(radius_param(g, r));
@@ -307,6 +319,7 @@ impl<R: Real> FlatScene<R> {
                     color: PALETTE[cycle_of[e] % PALETTE.len()],
                     face_mask: face_mask(space, &[a, b], r, reach),
                     edge: (1 << (edge.faces[0] % 32)) | (1 << (edge.faces[1] % 32)),
+                    joint: None,
                 });
             }
             // Each key once: a tube whose edge bits an earlier one took
@@ -321,6 +334,7 @@ impl<R: Real> FlatScene<R> {
                     .find(|&k| k & !t.face_mask == 0 && keys.insert(k))
                     .unwrap_or(0);
             }
+            let mut joints = Vec::new();
             for (i, v) in space.vertices().iter().enumerate() {
                 // A joint takes the colour of the first edge that ends there.
                 let color = space
@@ -328,7 +342,7 @@ impl<R: Real> FlatScene<R> {
                     .iter()
                     .position(|e| e.vertices.contains(&i))
                     .map_or([1.0; 3], |e| PALETTE[cycle_of[e] % PALETTE.len()]);
-                balls.push(FlatBall {
+                joints.push(FlatBall {
                     center: R::v4_of(v.point),
                     k: tube_k,
                     color,
@@ -336,6 +350,20 @@ impl<R: Real> FlatScene<R> {
                     id: EDGE_ID,
                     face_mask: face_mask(space, &[v.point], r, reach),
                 });
+            }
+            let ends: Vec<[usize; 2]> = space.edges().iter().map(|e| e.vertices).collect();
+            let masks: Vec<u32> = joints.iter().map(|j| j.face_mask).collect();
+            let carrier = joint_carriers(&ends, &tubes.iter().map(|t| t.edge).collect::<Vec<_>>(), &masks);
+            for (v, joint) in joints.into_iter().enumerate() {
+                match carrier[v] {
+                    // Numbered among the carried joints for now; placed
+                    // after the face groups below.
+                    Some(t) => {
+                        tubes[t].joint = Some(carried.len());
+                        carried.push(joint);
+                    }
+                    None => balls.push(joint),
+                }
             }
         }
         let lights = scene
@@ -356,6 +384,12 @@ impl<R: Real> FlatScene<R> {
             instances: FaceGroups::sort(&mut instances, faces, |i| i.face_mask),
             edges: FaceGroups::edge_table(tubes.iter().map(|t| t.edge), faces),
         };
+        // The carried joints after every group, where only their tubes
+        // lead.
+        for t in &mut tubes {
+            t.joint = t.joint.map(|k| balls.len() + k);
+        }
+        balls.extend(carried);
         let interior = &mut balls[..groups.balls[0] as usize];
         let ball_tree = if interior.len() >= MIN_BALL_TREE {
             tree_over_interior(g, interior)
@@ -402,6 +436,55 @@ impl<R: Real> FlatScene<R> {
         }
         .in_cell(space, &space.cell_of_word(&scene.camera.cell))
     }
+}
+
+/// Which tube carries each vertex joint ([`FlatTube::joint`]), for
+/// tubes along edges with ends `ends` (vertex indices) and edge bits
+/// `keys`, and joints (one per vertex) with face masks `masks`: a tube
+/// may carry a joint at one of its ends whose mask is not 0 and holds the
+/// tube's edge bits (then a segment near all of the joint's faces walks
+/// the tube). At most one joint a tube: a matching of joints to tubes,
+/// grown by augmenting paths (Kuhn), so that every joint is carried where
+/// any matching carries them all (a vertex of a convex polyhedron has
+/// three edges or more, a tube two ends: Hall's condition holds when the
+/// masks do not exclude a tube). `None` for a joint left to the groups.
+fn joint_carriers(ends: &[[usize; 2]], keys: &[u32], masks: &[u32]) -> Vec<Option<usize>> {
+    let mut tubes_at = vec![Vec::new(); masks.len()];
+    for (t, (e, &key)) in ends.iter().zip(keys).enumerate() {
+        for &v in e {
+            if masks.get(v).is_some_and(|&m| m != 0 && key & !m == 0) && !tubes_at[v].contains(&t) {
+                tubes_at[v].push(t);
+            }
+        }
+    }
+    let mut joint_on = vec![None; ends.len()];
+    for v in 0..masks.len() {
+        let mut seen = vec![false; ends.len()];
+        augment(v, &tubes_at, &mut joint_on, &mut seen);
+    }
+    let mut carrier = vec![None; masks.len()];
+    for (t, v) in joint_on.iter().enumerate() {
+        if let Some(v) = *v {
+            carrier[v] = Some(t);
+        }
+    }
+    carrier
+}
+
+/// One augmenting path from joint `v` for [`joint_carriers`]: true when
+/// `v` found a tube, freeing one taken if need be.
+fn augment(v: usize, tubes_at: &[Vec<usize>], joint_on: &mut [Option<usize>], seen: &mut [bool]) -> bool {
+    for &t in &tubes_at[v] {
+        if seen[t] {
+            continue;
+        }
+        seen[t] = true;
+        if joint_on[t].is_none_or(|w| augment(w, tubes_at, joint_on, seen)) {
+            joint_on[t] = Some(v);
+            return true;
+        }
+    }
+    false
 }
 
 /// The hierarchy of [`FlatScene::ball_tree`] over `balls` (those with no

@@ -43,7 +43,9 @@ mod walk;
 
 pub use accumulate::{accumulate, sample_offset};
 pub use cast::{CastBall, CastHit, CastWall, cast_balls, cast_with_rule};
-pub use cull::{BallTree, FaceGroups, UNBOUNDED, ball_box, chart_segment, near_reach, tree_leaves};
+pub use cull::{
+    BallTree, Candidate, FaceGroups, UNBOUNDED, ball_box, chart_segment, each_candidate, near_reach, tree_leaves,
+};
 pub use drift::{RayDrift, ray_drift};
 pub use flat::{
     EDGE_ID, FaceTables, FlatBall, FlatInstance, FlatLight, FlatScene, FlatTube, MIN_BALL_TREE, ghost_centres,

@@ -8,7 +8,7 @@
 /// WGSL twin: `FOG_CUT` in `shaders/bindings.wgsl`.
 pub const FOG_CUT: f64 = 5.541_263_545_158_426;
 
-use super::cull::{FaceGroups, chart_segment, tree_leaves};
+use super::cull::{Candidate, each_candidate};
 use super::flat::{EDGE_ID, FlatInstance, FlatScene, same_cell_point};
 use super::footprint::{
     Approach, BALL_GROWTH, Inflation, Layers, SEGMENT_LAYERS, ball_approach, coverage, grown_reach, normal_at_offset,
@@ -634,50 +634,6 @@ impl<R: Real> Hit<R> {
             Hit::Mesh(i, _) => prep.instances[i].id,
         }
     }
-}
-
-/// One object a segment may meet, as [`each_candidate`] hands them out.
-#[derive(Clone, Copy, Debug)]
-enum Candidate {
-    Ball(usize),
-    Tube(usize),
-    Instance(usize),
-}
-
-/// Hands `visit` each object a segment of `ray` ending at `t_end` may
-/// meet, in a fixed order: balls, tubes, mesh instances. With `cull`,
-/// objects whose faces the segment does not come near (`near_balls` for
-/// balls, `near` for the others, from [`near_faces`]: a cone grows balls
-/// further) are left out: only the groups of near faces are walked
-/// ([`FaceGroups`]), of the tubes only those whose edge's two faces are
-/// near ([`FaceGroups::edge_walk`]); and of the balls with no face mask
-/// only those in the leaves of [`FlatScene::ball_tree`] whose boxes,
-/// padded by `pad`, the segment's chart image meets ([`tree_leaves`]), or
-/// all of them where there is no tree (fewer than
-/// [`super::MIN_BALL_TREE`]). WGSL twin: the loops of `nearest_object` in
-/// `shaders/render.wgsl`.
-fn each_candidate<R: Real>(
-    prep: &FlatScene<R>,
-    ray: &Ray<R>,
-    t_end: R,
-    ([near_balls, near], cull): ([u32; 2], bool),
-    pad: f32,
-    mut visit: impl FnMut(Candidate),
-) {
-    let groups = &prep.groups;
-    let mut ranges = FaceGroups::ranges(&groups.balls, near_balls);
-    let interior = ranges.next().unwrap_or_default();
-    match chart_segment(ray, t_end).filter(|_| cull && pad.is_finite() && !prep.ball_tree.is_empty()) {
-        Some((a, d)) => tree_leaves(&prep.ball_tree, a, d, pad, |leaf| {
-            leaf.for_each(|i| visit(Candidate::Ball(i)))
-        }),
-        None => interior.for_each(|i| visit(Candidate::Ball(i))),
-    }
-    ranges.flatten().for_each(|i| visit(Candidate::Ball(i)));
-    FaceGroups::edge_walk(&groups.tubes, &groups.edges, near).for_each(|i| visit(Candidate::Tube(i)));
-    FaceGroups::ranges(&groups.instances, near)
-        .flatten()
-        .for_each(|i| visit(Candidate::Instance(i)));
 }
 
 /// True when a mesh instance can be hit on a segment near `near` seen
