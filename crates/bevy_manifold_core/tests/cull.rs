@@ -6,7 +6,9 @@
 use bevy_manifold_core::geometry::Real;
 use bevy_manifold_core::prelude::*;
 use bevy_manifold_core::trace::step::{ALL_FACES, Ray, hit_ball, hit_tube, may_hit, near_faces};
-use bevy_manifold_core::trace::{Candidate, FaceGroups, FlatScene, Walker, chart_segment, each_candidate, tree_leaves};
+use bevy_manifold_core::trace::{
+    Candidate, FaceGroups, FlatScene, Walker, chart_segment, each_candidate, tree_leaves, unkeyed_edges,
+};
 use bevy_manifold_test_support::Rng;
 use bevy_manifold_test_support::stress::{self, face_middle};
 use glam::DVec4;
@@ -461,15 +463,23 @@ fn every_joint_a_segment_may_hit_is_walked_with_a_tube() {
                 .iter()
                 .any(|&end| (end - joint.center).length() < 1e-9);
             assert!(at_end, "{name}: joint {j} is not at an end of its tube");
+            // So that a segment near all of the joint's faces walks the
+            // tube, keyed (its edge bits) or not (its mask).
             assert_eq!(
-                t.edge & !joint.face_mask,
+                t.face_mask & !joint.face_mask,
                 0,
-                "{name}: the tube's edge bits outside the joint's mask"
+                "{name}: the tube's faces outside the joint's mask"
             );
         }
         assert!(
             carried[grouped..].iter().all(|&c| c),
             "{name}: a ball after the groups that no tube carries"
+        );
+        let unkeyed = prep.tubes.iter().filter(|t| t.edge == 0).count();
+        assert_eq!(unkeyed_edges(&space, &Scene::default_for(&space)), unkeyed, "{name}");
+        assert!(
+            space.faces().len() > 32 || unkeyed == 0,
+            "{name}: an unkeyed tube in 32 faces or fewer"
         );
         let mut nears = vec![ALL_FACES, 0];
         nears.extend(
@@ -490,7 +500,13 @@ fn every_joint_a_segment_may_hit_is_walked_with_a_tube() {
         }
         for near in nears {
             let mut walked: Vec<usize> = FaceGroups::ranges(&g.balls, near).flatten().collect();
-            walked.extend(FaceGroups::edge_walk(&g.tubes, &g.edges, near).filter_map(|t| prep.tubes[t].joint));
+            // The tubes with no edge bits are walked where their faces are
+            // near (each_candidate).
+            walked.extend(
+                FaceGroups::edge_walk(&g.tubes, &g.edges, near)
+                    .filter(|&t| prep.tubes[t].edge != 0 || may_hit(prep.tubes[t].face_mask, near))
+                    .filter_map(|t| prep.tubes[t].joint),
+            );
             for (i, b) in prep.balls.iter().enumerate() {
                 if may_hit(b.face_mask, near) {
                     assert!(

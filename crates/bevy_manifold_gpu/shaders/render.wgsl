@@ -9,7 +9,8 @@
 // Shader defs read: FOG (early stop, fog colour), BALLS, TUBES, MESHES
 // (which objects are tested and shaded), CELL_COLORS, LIGHTS, CELL_RULES
 // (hidden cells, walls), FOOTPRINT (cone tracing: footprint.wgsl),
-// BALL_TREE (the walk of the ball tree); GEOMETRY_*, TRANSLATIONS_ONLY,
+// BALL_TREE (the walk of the ball tree), MANY_UNKEYED_TUBES (the loop over
+// the tubes with no edge bits past the first 32); GEOMETRY_*, TRANSLATIONS_ONLY,
 // CELLS_* through the imports.
 //
 // Written for lavapipe too, which runs the body of every branch under a
@@ -313,13 +314,35 @@ fn next_group(rest: ptr<function, u32>, kind: u32) -> vec2<u32> {
 }
 
 // Where a walk of the tubes' edge table stands (Rust: the iterator
-// FaceGroups::edge_walk returns): the face f whose edges it walks, the
-// near faces g it has still to take across them (bits), and the near faces
-// after f whose groups hold tubes.
+// FaceGroups::edge_walk returns): the face f whose edges it walks (or
+// UNMASKED_TUBES first), the near faces g it has still to take across
+// them (bits; for UNMASKED_TUBES the tubes themselves), and the near
+// faces after f whose groups hold tubes.
 struct EdgeWalk {
     f: u32,
     pending: u32,
     rest: u32,
+}
+
+// EdgeWalk::f while the walk takes the tubes with no edge bits (those
+// before groups[0].y), from a bit per tube.
+const UNMASKED_TUBES: u32 = 32u;
+
+// A walk that first takes the tubes with no edge bits whose faces are all
+// in `near` (of the first 32; MANY_UNKEYED_TUBES tests the others each
+// in turn), then the tubes of the near faces in `rest`. A bit per tube
+// rather than a loop over them: lavapipe runs a tube's test for every
+// lane when any lane takes it, and a loop's body whatever its count
+// (Seifert-Weber's 52-face domain has 5 such tubes: 228-238 ms a frame
+// with the loop, 182-183 with the bits; BENCHMARKS.md). Rust:
+// each_candidate leaves them out alike.
+fn edge_walk_new(near: u32, rest: u32) -> EdgeWalk {
+    var unmasked = 0u;
+    let n = min(groups[0].y, 32u);
+    for (var i = 0u; i < n; i++) {
+        unmasked |= select(0u, 1u << i, may_hit(tubes[i].face_mask, near));
+    }
+    return EdgeWalk(UNMASKED_TUBES, unmasked, rest);
 }
 
 // Moves the walk on to the next face with an edge to a near face, if f has
@@ -337,12 +360,13 @@ fn edge_walk_next(walk: ptr<function, EdgeWalk>, near: u32) -> bool {
 }
 
 // The tube of the walk's next edge, f to the lowest g pending, which it
-// takes out: in f's group, after as many tubes as f has edge bits below g.
+// takes out: in f's group, after as many tubes as f has edge bits below g
+// (for UNMASKED_TUBES, tube g).
 fn edge_walk_tube(walk: ptr<function, EdgeWalk>) -> u32 {
     let g = firstTrailingBit((*walk).pending);
     (*walk).pending &= (*walk).pending - 1u;
     let edges = groups[(*walk).f].w;
-    return groups[(*walk).f].y + countOneBits(edges & ((1u << g) - 1u));
+    return select(groups[(*walk).f].y + countOneBits(edges & ((1u << g) - 1u)), g, (*walk).f == UNMASKED_TUBES);
 }
 
 // True when two cell points g o name the same copy of the domain.
@@ -642,8 +666,8 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
     }
 #endif
 #ifdef TUBES
-    // The tubes with no edge bits, then for each near face f the tube of
-    // each edge it shares with a near face g (Rust: FaceGroups::
+    // The tubes with no edge bits whose faces are near, then for each near
+    // face f the tube of each edge it shares with a near face g (Rust: FaceGroups::
     // edge_walk; the edge table is groups[f].w). One pass a tube, the
     // test after the body: the loop lasts as long as its SIMD group's
     // longest walk.
@@ -653,11 +677,17 @@ fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit
 #ifdef FOOTPRINT
     edge_near = near_balls;
 #endif
+#ifdef MANY_UNKEYED_TUBES
+    // Past the first 32 tubes with no edge bits (a domain of many more
+    // faces than 32), each in turn. Compiled only where there are such
+    // tubes: the loop cost the 12- and 52-face frames 10 ms each even
+    // where it took no pass.
     let unmasked_tubes = groups[0].y;
-    for (var i = 0u; i < unmasked_tubes; i++) {
+    for (var i = 32u; i < unmasked_tubes; i++) {
         consider_edge(ray, t_end, near, edge_near, i);
     }
-    var edge_walk = EdgeWalk(0u, 0u, near_groups(edge_near) & cached.occupied.y);
+#endif
+    var edge_walk = edge_walk_new(edge_near, near_groups(edge_near) & cached.occupied.y);
     var more_tubes = edge_walk_next(&edge_walk, edge_near);
     loop {
         if more_tubes {

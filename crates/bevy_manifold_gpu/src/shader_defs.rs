@@ -63,6 +63,13 @@ pub struct TraceDefs {
     /// every scene a fifth to two fifths of its frame (BENCHMARKS.md,
     /// "Branches on lavapipe").
     pub ball_tree: bool,
+    /// `MANY_UNKEYED_TUBES`: more than 32 edge tubes have no edge bits
+    /// ([`bevy_manifold_core::trace::unkeyed_edges`], only in a domain of
+    /// more than 32 faces), so a loop tests those past the first 32,
+    /// which the walk takes by their masks. A def: the loop, compiled in
+    /// but taking no pass, cost Seifert-Weber's 12- and 52-face frames
+    /// 10 ms each on lavapipe.
+    pub many_unkeyed_tubes: bool,
     /// `FOOTPRINT`: cone tracing (`TraceSettings::footprint`, the
     /// shader's `footprint.wgsl`), only where there are balls or tubes
     /// to fade ([`TraceDefs::for_footprint`]).
@@ -114,6 +121,7 @@ impl TraceDefs {
             // The interior balls, those a tree holds, are scene balls (a
             // ghost copy or a vertex joint lies near a face).
             ball_tree: scene.balls.len() >= bevy_manifold_core::trace::MIN_BALL_TREE,
+            many_unkeyed_tubes: bevy_manifold_core::trace::unkeyed_edges(space, scene) > 32,
             footprint: false,
             face_count: Some(face_count(space)),
         }
@@ -159,6 +167,7 @@ impl TraceDefs {
             lights: true,
             meshes: true,
             ball_tree: true,
+            many_unkeyed_tubes: true,
             footprint: true,
             face_count: None,
         }
@@ -168,7 +177,9 @@ impl TraceDefs {
     /// transport kinds it allows, every optional part on and off, the faces
     /// counted at run time and as a constant 12, the cell rules on and off,
     /// cone tracing on and off where there are balls or tubes, the ball
-    /// tree on and off where there are balls).
+    /// tree on and off where there are balls; the loop over unkeyed tubes
+    /// with the tubes where cell colours are on, so that it is checked on
+    /// and off without doubling the list).
     #[must_use]
     pub fn all() -> Vec<Self> {
         let mut out = Vec::new();
@@ -201,6 +212,7 @@ impl TraceDefs {
                     cell_rules: on(7),
                     footprint: on(8),
                     ball_tree: on(9),
+                    many_unkeyed_tubes: on(3) && on(0),
                 });
             }
         }
@@ -237,6 +249,7 @@ impl TraceDefs {
             (self.lights, "LIGHTS"),
             (self.meshes, "MESHES"),
             (self.ball_tree, "BALL_TREE"),
+            (self.many_unkeyed_tubes, "MANY_UNKEYED_TUBES"),
             (self.footprint, "FOOTPRINT"),
         ] {
             if on {

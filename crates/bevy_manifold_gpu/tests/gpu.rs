@@ -679,6 +679,57 @@ fn every_face_of_large_domains_is_crossed_on_the_gpu() {
     }
 }
 
+/// Every edge tube of Seifert-Weber's 52-face domain, keyed by its two
+/// faces' bits, by one of them, or (5 of its 150 tubes, where two edges
+/// fold onto the same bits) by none, is drawn on the GPU where the CPU
+/// f64 reference draws it: the ray from the centre through the middle of
+/// each edge (no central ball) meets the edges' object in the first cell,
+/// at the reference's distance. A walk that drops a tube shows here,
+/// where a whole image hides it (a dropped unkeyed tube changed 1 pixel
+/// of 65,536).
+fn every_tube_of_a_large_domain_is_hit_on_the_gpu() {
+    use bevy_manifold_core::trace::{EDGE_ID, FlatScene};
+    use glam::{DMat3, DMat4, DQuat, DVec3};
+    let mut gpu = tracer();
+    let (x, y, z) = bevy_manifold_test_support::stress::FIFTY_TWO_FACES;
+    let space = bevy_manifold_test_support::stress::seifert_weber_about(x, y, z).expect("builds");
+    let mut scene = Scene::default_for(&space);
+    scene.balls.clear();
+    let prep = FlatScene::<f64>::new(&space, &scene);
+    assert!(
+        prep.tubes.iter().any(|t| t.edge == 0),
+        "the domain has tubes with no edge bits"
+    );
+    let settings = TraceSettings {
+        width: 1,
+        height: 1,
+        levels: 2,
+        ..TraceSettings::default()
+    };
+    for (i, edge) in space.edges().iter().enumerate() {
+        let [a, b] = edge.vertices.map(|v| space.vertices()[v].point);
+        let middle = space.geometry().normalize_point::<f64>(a + b);
+        let towards = middle.truncate().normalize();
+        scene.camera.isometry = DMat4::from_mat3(DMat3::from_quat(DQuat::from_rotation_arc(DVec3::NEG_Z, towards)));
+        let g = gpu.render(&space, &scene, &settings).expect("render").pixels[0];
+        let c = render::<f64>(&space, &scene, &settings).pixels[0];
+        assert!(
+            c.object == EDGE_ID && c.levels == 0,
+            "edge {i}: the reference sees {} at level {}",
+            c.object,
+            c.levels
+        );
+        assert!(
+            g.object == EDGE_ID && g.levels == 0 && (g.distance - c.distance).abs() <= 1e-4 * c.distance.max(1.0),
+            "edge {i}: the GPU sees {} at level {}, distance {} (the reference {})",
+            g.object,
+            g.levels,
+            g.distance,
+            c.distance
+        );
+    }
+}
+
 /// A scene whose balls make more copies than the balls' uniform array
 /// holds (254 large balls in the torus, each with a ghost across every
 /// face it reaches) is refused by name, not drawn wrong or panicking; the
@@ -750,6 +801,7 @@ bevy_manifold_test_support::test_main! {
         a_light_on_the_hit_point_is_lit_head_on_on_the_gpu,
         the_last_of_the_most_lights_lights_the_gpu_scene,
         every_face_of_large_domains_is_crossed_on_the_gpu,
+        every_tube_of_a_large_domain_is_hit_on_the_gpu,
         too_many_ball_copies_are_refused_by_name,
     ],
 }

@@ -16,7 +16,7 @@
 
 use super::flat::FlatScene;
 use super::scene::Scene;
-use super::step::Ray;
+use super::step::{Ray, may_hit};
 use crate::geometry::{Geometry, Real};
 use crate::mesh::bvh::{BvhNode, hit_box, safe_inverse};
 use crate::space::Space;
@@ -407,8 +407,12 @@ pub fn each_candidate<R: Real>(
     ranges.flatten().for_each(|i| visit(Candidate::Ball(i)));
     // The tubes a segment near the faces `near_balls` walks: those near
     // `near` among them (near_balls holds near), each followed by the
-    // vertex joint it carries.
-    for i in FaceGroups::edge_walk(&groups.tubes, &groups.edges, near_balls) {
+    // vertex joint it carries. Of the tubes with no edge bits, only those
+    // whose faces are all near (the GPU, of the first 32 only).
+    let unkeyed = groups.tubes.first().map_or(0, |&s| s as usize);
+    let walked = FaceGroups::edge_walk(&groups.tubes, &groups.edges, near_balls)
+        .filter(|&i| i >= unkeyed || may_hit(prep.tubes[i].face_mask, near_balls));
+    for i in walked {
         visit(Candidate::Tube(i));
         if let Some(j) = prep.tubes[i].joint {
             visit(Candidate::Ball(j));

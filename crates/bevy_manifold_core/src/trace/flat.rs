@@ -53,14 +53,15 @@ pub struct FlatTube<R: Real> {
     /// ([`FaceGroups::edges`]), each bits once. Where an earlier tube has
     /// the same bits (a domain of more than 32 faces folds two edges onto
     /// them), one of its two bits alone, if free; 0 where none is free or
-    /// the bits are not all in `face_mask`: the tube is then tested on
-    /// every segment.
+    /// the bits are not all in `face_mask` ([`unkeyed_edges`]): the tube
+    /// is then walked on every segment that comes near all the faces of
+    /// its mask.
     pub edge: u32,
     /// The vertex joint tested right after this tube (an index into
     /// [`FlatScene::balls`], after every face group): one at an end of
-    /// its edge whose face mask holds the tube's edge bits, so that a
-    /// segment near all of the joint's faces walks this tube
-    /// ([`FaceGroups::edge_walk`]). Each joint rides on at most one
+    /// its edge whose face mask holds the tube's, so that a segment near
+    /// all of the joint's faces walks this tube
+    /// ([`super::each_candidate`]). Each joint rides on at most one
     /// tube, and a tube carries at most one (a matching of joints to
     /// tubes); the joints no tube carries stay in the balls' face groups.
     pub joint: Option<usize>,
@@ -303,6 +304,8 @@ impl<R: Real> FlatScene<R> {
                     cycle_of[e] = c;
                 }
             }
+            let masks = edge_masks(space, r, reach);
+            let keys = edge_keys(space, &masks);
             for (e, edge) in space.edges().iter().enumerate() {
                 let a = space.vertices()[edge.vertices[0]].point;
                 let b = space.vertices()[edge.vertices[1]].point;
@@ -317,22 +320,10 @@ impl<R: Real> FlatScene<R> {
                         e_b: R::v4_of(eb),
                     },
                     color: PALETTE[cycle_of[e] % PALETTE.len()],
-                    face_mask: face_mask(space, &[a, b], r, reach),
-                    edge: (1 << (edge.faces[0] % 32)) | (1 << (edge.faces[1] % 32)),
+                    face_mask: masks[e],
+                    edge: keys[e],
                     joint: None,
                 });
-            }
-            // Each key once: a tube whose edge bits an earlier one took
-            // (two edges folded onto the same bits) is found by one of
-            // them alone, if that is free, else tested on every segment.
-            let mut keys = std::collections::HashSet::new();
-            for t in &mut tubes {
-                let own = t.edge;
-                let alone = [1 << own.trailing_zeros(), 1 << (31 - own.leading_zeros())];
-                t.edge = core::iter::once(own)
-                    .chain(alone)
-                    .find(|&k| k & !t.face_mask == 0 && keys.insert(k))
-                    .unwrap_or(0);
             }
             let mut joints = Vec::new();
             for (i, v) in space.vertices().iter().enumerate() {
@@ -352,8 +343,8 @@ impl<R: Real> FlatScene<R> {
                 });
             }
             let ends: Vec<[usize; 2]> = space.edges().iter().map(|e| e.vertices).collect();
-            let masks: Vec<u32> = joints.iter().map(|j| j.face_mask).collect();
-            let carrier = joint_carriers(&ends, &tubes.iter().map(|t| t.edge).collect::<Vec<_>>(), &masks);
+            let joint_masks: Vec<u32> = joints.iter().map(|j| j.face_mask).collect();
+            let carrier = joint_carriers(&ends, &masks, &joint_masks);
             for (v, joint) in joints.into_iter().enumerate() {
                 match carrier[v] {
                     // Numbered among the carried joints for now; placed
@@ -438,21 +429,71 @@ impl<R: Real> FlatScene<R> {
     }
 }
 
+/// The face masks ([`FlatTube::face_mask`]) of the tubes of radius `r`
+/// along the edges of `space`, in the edges' order, for masks of `reach`.
+fn edge_masks(space: &Space, r: f64, reach: f64) -> Vec<u32> {
+    let point = |v: usize| space.vertices()[v].point;
+    space
+        .edges()
+        .iter()
+        .map(|e| face_mask(space, &[point(e.vertices[0]), point(e.vertices[1])], r, reach))
+        .collect()
+}
+
+/// The edge bits ([`FlatTube::edge`]) of tubes along the edges of
+/// `space` with face masks `masks`: each key once. A tube whose edge
+/// bits an earlier one took (two edges folded onto the same bits) is
+/// found by one of them alone, if that is free, else it has none.
+fn edge_keys(space: &Space, masks: &[u32]) -> Vec<u32> {
+    let mut keys = HashSet::new();
+    space
+        .edges()
+        .iter()
+        .zip(masks)
+        .map(|(edge, &mask)| {
+            let own: u32 = (1 << (edge.faces[0] % 32)) | (1 << (edge.faces[1] % 32));
+            let alone = [1 << own.trailing_zeros(), 1 << (31 - own.leading_zeros())];
+            core::iter::once(own)
+                .chain(alone)
+                .find(|&k| k & !mask == 0 && keys.insert(k))
+                .unwrap_or(0)
+        })
+        .collect()
+}
+
+/// How many of `scene`'s edge tubes in `space` have no edge bits
+/// ([`FlatTube::edge`] 0): those a segment walks whatever faces it comes
+/// near. None in a domain of 32 faces or fewer, where each edge's two
+/// faces have bits of their own (and its two faces hold both its ends, so
+/// its mask has them), nor in a scene without edges. The GPU tests the
+/// first 32 of them by their masks and compiles a loop over the others
+/// only where there are more (`bevy_manifold_gpu`'s
+/// `TraceDefs::many_unkeyed_tubes`).
+#[must_use]
+pub fn unkeyed_edges(space: &Space, scene: &Scene) -> usize {
+    let Some(r) = scene.edge_radius else { return 0 };
+    if space.faces().len() <= 32 {
+        return 0;
+    }
+    let masks = edge_masks(space, r, cull_distance(space.geometry(), scene));
+    edge_keys(space, &masks).iter().filter(|&&k| k == 0).count()
+}
+
 /// Which tube carries each vertex joint ([`FlatTube::joint`]), for
-/// tubes along edges with ends `ends` (vertex indices) and edge bits
-/// `keys`, and joints (one per vertex) with face masks `masks`: a tube
+/// tubes along edges with ends `ends` (vertex indices) and face masks
+/// `tube_masks`, and joints (one per vertex) with face masks `masks`: a tube
 /// may carry a joint at one of its ends whose mask is not 0 and holds the
-/// tube's edge bits (then a segment near all of the joint's faces walks
-/// the tube). At most one joint a tube: a matching of joints to tubes,
+/// tube's (so its edge bits too: a segment near all of the joint's faces
+/// walks the tube, keyed or not). At most one joint a tube: a matching of joints to tubes,
 /// grown by augmenting paths (Kuhn), so that every joint is carried where
 /// any matching carries them all (a vertex of a convex polyhedron has
 /// three edges or more, a tube two ends: Hall's condition holds when the
 /// masks do not exclude a tube). `None` for a joint left to the groups.
-fn joint_carriers(ends: &[[usize; 2]], keys: &[u32], masks: &[u32]) -> Vec<Option<usize>> {
+fn joint_carriers(ends: &[[usize; 2]], tube_masks: &[u32], masks: &[u32]) -> Vec<Option<usize>> {
     let mut tubes_at = vec![Vec::new(); masks.len()];
-    for (t, (e, &key)) in ends.iter().zip(keys).enumerate() {
+    for (t, (e, &tube)) in ends.iter().zip(tube_masks).enumerate() {
         for &v in e {
-            if masks.get(v).is_some_and(|&m| m != 0 && key & !m == 0) && !tubes_at[v].contains(&t) {
+            if masks.get(v).is_some_and(|&m| m != 0 && tube & !m == 0) && !tubes_at[v].contains(&t) {
                 tubes_at[v].push(t);
             }
         }
