@@ -407,10 +407,7 @@ fn the_edge_walk_finds_the_tubes_of_the_near_edges() {
                 "{name}: every edge has its own two bits"
             );
         }
-        let mut nears = vec![ALL_FACES, 0];
-        nears.extend(
-            (0..200).map(|_| (rng.next_f64() * 2f64.powi(32)) as u32 | (rng.next_f64() * 2f64.powi(32)) as u32),
-        );
+        let mut nears = near_sets(&mut rng, 200);
         for f in 0..space.faces().len().min(32) {
             nears.push(1 << f);
             nears.push(!(1 << f));
@@ -481,10 +478,7 @@ fn every_joint_a_segment_may_hit_is_walked_with_a_tube() {
             space.faces().len() > 32 || unkeyed == 0,
             "{name}: an unkeyed tube in 32 faces or fewer"
         );
-        let mut nears = vec![ALL_FACES, 0];
-        nears.extend(
-            (0..300).map(|_| (rng.next_f64() * 2f64.powi(32)) as u32 | (rng.next_f64() * 2f64.powi(32)) as u32),
-        );
+        let mut nears = near_sets(&mut rng, 300);
         for v in space.vertices() {
             // The faces at a vertex, as the segments passing it see them.
             let at: u32 = space
@@ -522,4 +516,12 @@ fn every_joint_a_segment_may_hit_is_walked_with_a_tube() {
             assert!(g.balls.iter().all(|&s| s == 1), "{name}: {:?}", g.balls);
         }
     }
+}
+
+/// Sets of near faces to walk with: all, none, and `n` random ones (each
+/// bit set with probability 3/4).
+fn near_sets(rng: &mut Rng, n: usize) -> Vec<u32> {
+    let mut nears = vec![ALL_FACES, 0];
+    nears.extend((0..n).map(|_| (rng.next_f64() * 2f64.powi(32)) as u32 | (rng.next_f64() * 2f64.powi(32)) as u32));
+    nears
 }
