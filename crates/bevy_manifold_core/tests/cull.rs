@@ -230,10 +230,7 @@ fn images_are_the_same_with_culling_on_and_off() {
         let mut scenes = scenes(&space);
         scenes.push(("paper", Scene::paper_default(&space)));
         // Cone tracing too on the default scene: its balls, joints
-        // included, are culled by wider near faces than its tubes. In f64
-        // only: in f32 a few pixels of lens-5-2's cone image differ (3 of
-        // 6,144, before the joints rode on tubes as after), not yet
-        // explained.
+        // included, are culled by wider near faces than its tubes.
         let cones = scenes
             .iter()
             .filter(|(what, _)| *what == "default")
@@ -263,9 +260,6 @@ fn images_are_the_same_with_culling_on_and_off() {
                     render::<f32>(&space, &scene, &off),
                 ),
             ] {
-                if what == "cones" && precision == "f32" {
-                    continue;
-                }
                 let differ = a.pixels.iter().zip(&b.pixels).filter(|(p, q)| p != q).count();
                 assert_eq!(
                     differ, 0,

@@ -169,3 +169,45 @@ fn cones_along_rays_through_vertices_edges_and_faces_stay_finite() {
         }
     }
 }
+
+/// Where a ray comes nearest a flat only a quarter turn away (S3: the
+/// ray runs along the flat's plane, so its nearest point is at the
+/// chart's horizon), the approach is the start's own distance, at the
+/// start, not the least distance placed at the start: a tube there must
+/// not cover the start. The start's distance comes from its coordinates
+/// off the flat's plane (the flat is the great circle in the x-w plane).
+#[test]
+fn an_approach_a_quarter_turn_away_is_the_starts_own() {
+    use bevy_manifold_core::trace::footprint::approach;
+    use bevy_manifold_core::trace::step::Ray;
+    let g = Geometry::Spherical;
+    for phi in [0.05f64, 0.25, 0.6, 1.2] {
+        for precision in ["f64", "f32"] {
+            let o = DVec4::new(0.0, phi.sin(), 0.0, phi.cos());
+            let d = DVec4::new(1.0, 0.0, 0.0, 0.0);
+            let (a, e) = (DVec4::W, DVec4::X);
+            let start = o.y * o.y + o.z * o.z;
+            let (lambda, t) = if precision == "f64" {
+                let near = approach::<f64>(g, &Ray { origin: o, dir: d }, a, e);
+                (near.lambda, near.t)
+            } else {
+                let f = |v: DVec4| v.as_vec4();
+                let near = approach::<f32>(
+                    g,
+                    &Ray {
+                        origin: f(o),
+                        dir: f(d),
+                    },
+                    f(a),
+                    f(e),
+                );
+                (f64::from(near.lambda), f64::from(near.t))
+            };
+            assert_eq!(t, 0.0, "{precision} phi {phi}");
+            assert!(
+                (lambda - start).abs() <= 1e-6 * start.max(1e-3),
+                "{precision} phi {phi}: lambda {lambda}, the start's sin^2 {start}"
+            );
+        }
+    }
+}

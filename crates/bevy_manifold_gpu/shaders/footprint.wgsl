@@ -160,8 +160,10 @@ fn approach(ray: Ray, a: vec4<f32>, e: vec4<f32>) -> Approach {
     let lambda = select(p, det / q, q > 0.0);
     let lead = q;
 #endif
-    let t = select(0.0, -m / lead, abs(lead) > 1.1920929e-7);
-    return Approach(lambda, t);
+    // As Rust: where the touching quadratic cannot place the least value,
+    // the start's own value, at the start.
+    let placed = abs(lead) > 1.1920929e-7;
+    return Approach(select(p, lambda, placed), select(0.0, -m / lead, placed));
 }
 
 // The least distance of an approach (Rust: Approach::gap).

@@ -293,7 +293,17 @@ pub fn approach<R: Real>(g: Geometry, ray: &Ray<R>, a: R::V4, e: R::V4) -> Appro
             (lambda, q - lambda)
         }
     };
-    let t = if lead.abs() > R::EPSILON { -m / lead } else { zero };
+    // Where the least value is not at a finite chart parameter the
+    // touching quadratic can place (its leading coefficient lost to
+    // rounding: the ray all but parallel to the flat, or nearest it a
+    // quarter turn away in S3), the start's own value, at the start. (The
+    // least value with t 0 passed a lens space's start 0.25 from an edge's
+    // faces as within its tube, in f32.)
+    let (lambda, t) = if lead.abs() > R::EPSILON {
+        (lambda, -m / lead)
+    } else {
+        (p, zero)
+    };
     Approach { lambda, t }
 }
 
