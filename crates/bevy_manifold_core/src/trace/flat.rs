@@ -251,12 +251,11 @@ const PALETTE: [[f32; 3]; 10] = [
 
 /// Fewest balls with no face mask for which [`FlatScene::ball_tree`] is
 /// built. Below it a segment tests each of them, which costs less than
-/// walking a tree, whose nodes the GPU reads from a storage buffer one
-/// SIMD lane at a time: on lavapipe (`bench balls`, torus, 320x180, 8
-/// levels) 8 balls took 49.6 ms with the tree and 42.8 without it (the
-/// tree's walk compiled in but not taken), 16 balls 30.8 with it and 40.1
-/// without. Scenes with fewer balls do not compile the walk at all
-/// (`BALL_TREE` in `bevy_manifold_gpu`).
+/// walking a tree, whose nodes the GPU gathers lane by lane: on lavapipe
+/// (torus, 320x180, 8 levels, BENCHMARKS.md) 8 balls took 33.3-37.8 ms
+/// with a tree and 26.3-27.1 without, 16 balls 17.1-17.2 with it and
+/// 21.2-21.3 without. Scenes with fewer balls do not compile the walk at
+/// all (`BALL_TREE` in `bevy_manifold_gpu`).
 pub const MIN_BALL_TREE: usize = 16;
 
 /// Most balls in a leaf of [`FlatScene::ball_tree`]: twice a mesh's
