@@ -25,7 +25,7 @@ use bevy::prelude::*;
 ///   render exactly as before.
 ///
 /// The camera controller is separate and optional:
-/// [`crate::camera_controller::FlyCameraPlugin`].
+/// `camera_controller::FlyCameraPlugin` (feature `fly_camera`).
 ///
 /// One setting: the schedule the placement systems and the scene
 /// gathering run in (`PostUpdate` by default; a game that moves entities

@@ -3,7 +3,7 @@
 //! A tour is a space, a camera path through keyframes and legs
 //! ([`path`]: a spline on the isometry group, exact in every geometry and
 //! across face pairings), settings that change along the way (levels, fog,
-//! Suzanne, the cell rules) and captions. [`file`] reads and writes the
+//! Suzanne, the cell rules) and captions. [`file`](mod@file) reads and writes the
 //! JSON format (`assets/tours/*.tour.json`); [`Tour::frame`] is the camera,
 //! settings and caption at any time, what the explorer plays, the
 //! `tour render` command traces frame by frame, and the plugin's

@@ -834,7 +834,7 @@ fn segment_layers<R: Real>(
 }
 
 /// A light nearer a hit than this (`|tangent towards it|^2`) is on the hit
-/// point: [`toward_light`] lights it along the normal.
+/// point: `toward_light` lights it along the normal.
 /// WGSL twin: `LIGHT_AT_HIT` in `shaders/bindings.wgsl`.
 pub const LIGHT_AT_HIT: f64 = 1e-10;
 

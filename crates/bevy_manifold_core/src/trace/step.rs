@@ -49,7 +49,7 @@ pub const ALL_FACES: u32 = u32::MAX;
 /// The faces the segment `o + t d`, `0 <= t <= t_end`, of a ray inside the
 /// domain comes near: bit `i % 32` is set when some point of it may be
 /// within the reach of face `i`'s plane (faces from 32 on fold onto the
-/// bits as in [`super::cull`]'s masks: a bit is set when any of its faces
+/// bits as in the culling masks ([`super::FlatBall::face_mask`]): a bit is set when any of its faces
 /// is near), the reach given by
 /// `reach` (`sinh r`, `sin r` or `r` of the distance `r`, see
 /// `FlatScene::near_reach`) times the space's `near_scale`
