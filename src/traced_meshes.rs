@@ -85,7 +85,7 @@ pub struct CameraBody;
 
 /// A [`TriMesh`] as a Bevy triangle-list mesh (positions, normals, UVs,
 /// `u32` indices), kept in the main world so the tracer can read it back:
-/// how the crate's built-in models ([`crate::trace::builtin`])
+/// how the crate's built-in models (`trace::builtin`, feature `gltf`)
 /// become `Mesh3d` assets without an asset folder.
 #[must_use]
 pub fn bevy_mesh(mesh: &TriMesh) -> Mesh {
