@@ -569,17 +569,21 @@ pub fn prepare_manifold_views(
             Some(ManifoldRenderScale(view.scale).traced_size(viewport)).filter(|t| *t != viewport || accumulate);
         let samples = msaa.map_or(1, Msaa::samples);
         let encode_srgb = camera.compositing_space == Some(CompositingSpace::Srgb);
+        // What the packed objects decide (TraceDefs::for_objects).
+        let defs = packed
+            .get(view.root)
+            .map_or(view.defs, |(_, o)| view.defs.for_objects(o));
         // Traced into textures of its own: linear colour, one sample; the
         // upscale encodes and writes the view target's samples.
         let key = match traced {
             Some(_) => TracePipelineKey {
-                defs: view.defs,
+                defs,
                 format: HISTORY_FORMAT,
                 samples: 1,
                 encode_srgb: false,
             },
             None => TracePipelineKey {
-                defs: view.defs,
+                defs,
                 format: extracted.target_format,
                 samples,
                 encode_srgb,

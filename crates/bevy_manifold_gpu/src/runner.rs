@@ -527,6 +527,7 @@ impl GpuTracer {
             )));
         }
         let gpu = GpuScene::pack_in(space, self.packed_space(space, &prep), &prep, settings);
+        let defs = defs.for_objects(&gpu.objects);
         self.pipeline(defs, entry)?;
         let count = (u64::from(settings.width) * u64::from(settings.height)) as usize;
         // Every storage buffer within what the device binds, checked before
@@ -696,9 +697,9 @@ impl GpuTracer {
         scene: &Scene,
         settings: &TraceSettings,
     ) -> Result<Vec<u8>, GpuError> {
-        let defs = scene_defs(space, scene, settings);
         let prep = FlatScene::<f32>::new(space, scene);
         let gpu = GpuScene::pack_in(space, self.packed_space(space, &prep), &prep, settings);
+        let defs = scene_defs(space, scene, settings).for_objects(&gpu.objects);
         self.fragment_pipeline(defs)?;
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let (bind, _) = self.upload(&gpu, 1);

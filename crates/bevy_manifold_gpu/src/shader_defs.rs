@@ -64,11 +64,12 @@ pub struct TraceDefs {
     /// "Branches on lavapipe").
     pub ball_tree: bool,
     /// `MANY_UNKEYED_TUBES`: more than 32 edge tubes have no edge bits
-    /// ([`bevy_manifold_core::trace::unkeyed_edges`], only in a domain of
-    /// more than 32 faces), so a loop tests those past the first 32,
-    /// which the walk takes by their masks. A def: the loop, compiled in
-    /// but taking no pass, cost Seifert-Weber's 12- and 52-face frames
-    /// 10 ms each on lavapipe.
+    /// (`FlatTube::edge` 0, only in a domain of more than 32 faces), so a
+    /// loop tests those past the first 32, which the walk takes by their
+    /// masks. Known once the scene is packed: [`TraceDefs::for_objects`]
+    /// sets it, and the headless runner and the render pass call it. A
+    /// def: the loop, compiled in but taking no pass, cost Seifert-Weber's
+    /// 12- and 52-face frames 10 ms each on lavapipe.
     pub many_unkeyed_tubes: bool,
     /// `FOOTPRINT`: cone tracing (`TraceSettings::footprint`, the
     /// shader's `footprint.wgsl`), only where there are balls or tubes
@@ -121,7 +122,7 @@ impl TraceDefs {
             // The interior balls, those a tree holds, are scene balls (a
             // ghost copy or a vertex joint lies near a face).
             ball_tree: scene.balls.len() >= bevy_manifold_core::trace::MIN_BALL_TREE,
-            many_unkeyed_tubes: bevy_manifold_core::trace::unkeyed_edges(space, scene) > 32,
+            many_unkeyed_tubes: false,
             footprint: false,
             face_count: Some(face_count(space)),
         }
@@ -140,6 +141,15 @@ impl TraceDefs {
     #[must_use]
     pub fn for_footprint(mut self, on: bool) -> Self {
         self.footprint = on && (self.balls || self.tubes);
+        self
+    }
+
+    /// These defs for the packed `objects`: `MANY_UNKEYED_TUBES` where
+    /// more than 32 tubes have no edge bits (the tubes before the first
+    /// face group).
+    #[must_use]
+    pub fn for_objects(mut self, objects: &crate::layout::GpuObjects) -> Self {
+        self.many_unkeyed_tubes = objects.groups[0][1] > 32;
         self
     }
 

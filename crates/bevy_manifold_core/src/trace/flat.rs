@@ -53,9 +53,9 @@ pub struct FlatTube<R: Real> {
     /// ([`FaceGroups::edges`]), each bits once. Where an earlier tube has
     /// the same bits (a domain of more than 32 faces folds two edges onto
     /// them), one of its two bits alone, if free; 0 where none is free or
-    /// the bits are not all in `face_mask` ([`unkeyed_edges`]): the tube
-    /// is then walked on every segment that comes near all the faces of
-    /// its mask.
+    /// the bits are not all in `face_mask` (only in a domain of more than
+    /// 32 faces): the tube is then walked on every segment that comes near
+    /// all the faces of its mask.
     pub edge: u32,
     /// The vertex joint tested right after this tube (an index into
     /// [`FlatScene::balls`], after every face group): one at an end of
@@ -458,24 +458,6 @@ fn edge_keys(space: &Space, masks: &[u32]) -> Vec<u32> {
                 .unwrap_or(0)
         })
         .collect()
-}
-
-/// How many of `scene`'s edge tubes in `space` have no edge bits
-/// ([`FlatTube::edge`] 0): those a segment walks whatever faces it comes
-/// near. None in a domain of 32 faces or fewer, where each edge's two
-/// faces have bits of their own (and its two faces hold both its ends, so
-/// its mask has them), nor in a scene without edges. The GPU tests the
-/// first 32 of them by their masks and compiles a loop over the others
-/// only where there are more (`bevy_manifold_gpu`'s
-/// `TraceDefs::many_unkeyed_tubes`).
-#[must_use]
-pub fn unkeyed_edges(space: &Space, scene: &Scene) -> usize {
-    let Some(r) = scene.edge_radius else { return 0 };
-    if space.faces().len() <= 32 {
-        return 0;
-    }
-    let masks = edge_masks(space, r, cull_distance(space.geometry(), scene));
-    edge_keys(space, &masks).iter().filter(|&&k| k == 0).count()
 }
 
 /// Which tube carries each vertex joint ([`FlatTube::joint`]), for

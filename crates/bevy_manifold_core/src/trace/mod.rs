@@ -49,7 +49,7 @@ pub use cull::{
 pub use drift::{RayDrift, ray_drift};
 pub use flat::{
     EDGE_ID, FaceTables, FlatBall, FlatInstance, FlatLight, FlatScene, FlatTube, MIN_BALL_TREE, ghost_centres,
-    ghost_elements, same_cell_point, unkeyed_edges,
+    ghost_elements, same_cell_point,
 };
 pub use flow::{Flowed, flow};
 pub use footprint::{Layers, pixel_half_angle};
