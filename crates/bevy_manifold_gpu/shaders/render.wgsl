@@ -334,7 +334,7 @@ const UNMASKED_TUBES: u32 = 32u;
 // rather than a loop over them: lavapipe runs a tube's test for every
 // lane when any lane takes it, and a loop's body whatever its count
 // (Seifert-Weber's 52-face domain has 5 such tubes: 228-238 ms a frame
-// with the loop, 182-183 with the bits; BENCHMARKS.md). Rust:
+// with the loop, 182-187 with the bits; BENCHMARKS.md). Rust:
 // each_candidate leaves them out alike.
 fn edge_walk_new(near: u32, rest: u32) -> EdgeWalk {
     var unmasked = 0u;
