@@ -237,12 +237,13 @@ const MAX_BALL_NODES: u32 = 1024u;
 // every segment. w: the tubes' edge table (FaceGroups::edges) of face f.
 // Read by render.wgsl's nearest_object.
 @group(0) @binding(9) var<uniform> groups: array<vec4<u32>, GROUPS>;
-// FlatScene::ball_tree (GpuObjects::ball_nodes in Rust), two words a
-// node: the box's min (bits) and the skip link (BallTree::skip); the
-// box's max and, for a leaf, its first ball | its ball count << 16 (0 for
-// an inner node, whose left child is the next node). params.
-// ball_tree_nodes nodes; render.wgsl's ball_tree_leaves walks them.
-@group(0) @binding(10) var<uniform> ball_nodes: array<vec4<u32>, 2 * MAX_BALL_NODES>;
+// FlatScene::ball_tree (GpuObjects::ball_nodes in Rust): the frame of
+// the packed boxes, BallTree::origin and BallTree::step (bits, xyz), then
+// params.ball_tree_nodes nodes, one word each (BallTree::words): per axis
+// the box's sides in 16-bit steps from the origin, low and high halves;
+// then the link, an inner node's skip or LEAF_LINK | its first ball | its
+// ball count << 16. render.wgsl's ball_tree_leaves walks them.
+@group(0) @binding(10) var<uniform> ball_nodes: array<vec4<u32>, MAX_BALL_NODES + 2u>;
 
 // The params a walk reads at every segment or object, read once per
 // invocation by cache_params: lavapipe reads a storage buffer one lane at
@@ -282,6 +283,10 @@ const NO_FACE: u32 = 0xffffffffu;
 // A tube that carries no vertex joint. Rust: None, or NO_JOINT in
 // crates/bevy_manifold_gpu/src/layout.rs.
 const NO_JOINT: u32 = 0xffffffffu;
+
+// Set in a ball tree node's link for a leaf (ball_nodes). Rust twin:
+// LEAF_LINK in crates/bevy_manifold_core/src/trace/ball_tree.rs.
+const LEAF_LINK: u32 = 0x80000000u;
 
 // The object id of a wall. Rust: rule::WALL_OBJECT.
 const WALL_OBJECT: u32 = 0xfffffffeu;

@@ -28,8 +28,9 @@
 #import bevy_manifold::step::hit_ball
 #endif
 #ifdef BALL_TREE
-#import bevy_manifold::bindings::{ball_nodes, FLAG_NO_CULL}
+#import bevy_manifold::bindings::{ball_nodes, FLAG_NO_CULL, LEAF_LINK}
 #import bevy_manifold::bvh::{hit_box, safe_inverse}
+#import bevy_manifold::ball_tree::tree_box
 #endif
 #ifdef TUBES
 #import bevy_manifold::step::{hit_tube, foot_on_line}
@@ -514,8 +515,8 @@ fn meet_ball(ray: Ray, t_end: f32, i: u32) {
 // is at the chart's horizon, or there is no tree (fewer than
 // MIN_BALL_TREE such balls, Rust's flat.rs; not compiled at all without
 // BALL_TREE). Rust twin: chart_segment and tree_leaves in
-// crates/bevy_manifold_core/src/trace/cull.rs, as each_candidate calls
-// them.
+// crates/bevy_manifold_core/src/trace/ball_tree.rs, as each_candidate
+// (cull.rs) calls them.
 fn interior_balls(ray: Ray, t_end: f32, near: u32) {
 #ifdef BALL_TREE
     let o = ray.origin;
@@ -552,28 +553,33 @@ fn every_interior_ball(ray: Ray, t_end: f32, near: u32) {
 // it compiled into every scene the walk cost every segment of every frame
 // (a fifth of the default scene's frame). By the skip links, with no
 // stack (a per-lane array lavapipe reads and writes lane by lane), from
-// the ball_nodes uniform: into the next node after an inner node whose
-// box is met, past the subtree otherwise; always forward, so at most
+// the ball_nodes uniform, one word a node (each word a lane reads is a
+// gather: two a node took the 128-ball frames 5-12% longer): into the
+// next node after a leaf or an inner node whose box is met, to the inner
+// node's skip link otherwise; always forward, so at most
 // cached.ball_tree_nodes passes. Rust twin: tree_leaves in
-// crates/bevy_manifold_core/src/trace/cull.rs.
+// crates/bevy_manifold_core/src/trace/ball_tree.rs.
 fn ball_tree_leaves(ray: Ray, t_end: f32, near: u32, a: vec3<f32>, d: vec3<f32>, pad: f32) {
     let inv_d = safe_inverse(d);
+    let origin = bitcast<vec3<f32>>(ball_nodes[0].xyz);
+    let step = bitcast<vec3<f32>>(ball_nodes[1].xyz);
     var i = 0u;
     loop {
         if i >= cached.ball_tree_nodes {
             break;
         }
-        let w0 = ball_nodes[2u * i];
-        let w1 = ball_nodes[2u * i + 1u];
-        let met = hit_box(a, inv_d, bitcast<vec3<f32>>(w0.xyz) - pad, bitcast<vec3<f32>>(w1.xyz) + pad, 1.0) >= 0.0;
-        let first = w1.w & 0xffffu;
-        let count = w1.w >> 16u;
+        let word = ball_nodes[2u + i];
+        let box = tree_box(word, origin, step);
+        let met = hit_box(a, inv_d, box[0] - pad, box[1] + pad, 1.0) >= 0.0;
+        let leaf = (word.w & LEAF_LINK) != 0u;
+        let first = word.w & 0xffffu;
+        let count = select(0u, (word.w >> 16u) & 0x7fffu, leaf);
         if met && count > 0u {
             for (var b = first; b < first + count; b++) {
                 meet_ball(ray, t_end, b);
             }
         }
-        i = select(max(w0.w, i + 1u), i + 1u, met && count == 0u);
+        i = select(max(first, i + 1u), i + 1u, met || leaf);
     }
 }
 #endif

@@ -116,8 +116,8 @@ pub const MAX_TUBES: usize = 3 * MAX_FACES - 6;
 pub const MAX_BALLS: usize = 1024;
 
 /// The most nodes of the ball tree (`FlatScene::ball_tree`) the
-/// `ball_nodes` uniform array holds (two words of four `u32` each, 32
-/// KiB). A larger tree is not sent: the GPU then tests every ball with
+/// `ball_nodes` uniform array holds (one word of four `u32` each, after
+/// the two of the boxes' frame: 16 KiB). A larger tree is not sent: the GPU then tests every ball with
 /// no face mask, as the CPU would with culling off (the image is the
 /// same).
 pub const MAX_BALL_NODES: usize = 1024;
@@ -176,7 +176,7 @@ pub const BINDINGS: [Binding; 11] = [
     binding(7, "mesh_data", Storage, size_of::<[u32; 4]>()),
     binding(8, "pixels", StorageReadWrite, size_of::<GpuPixel>()),
     uniform_array(9, "groups", size_of::<[u32; 4]>(), GROUPS),
-    uniform_array(10, "ball_nodes", size_of::<[u32; 4]>(), 2 * MAX_BALL_NODES),
+    uniform_array(10, "ball_nodes", size_of::<[u32; 4]>(), MAX_BALL_NODES + 2),
 ];
 
 /// The bytes of the largest uniform binding: what an adapter's

@@ -278,8 +278,9 @@ pub struct GpuObjects {
     /// The meshes' BVH nodes, vertices, triangles and texels, as words
     /// of four `u32` (floats by their bits; at least one word).
     pub mesh_data: Vec<[u32; 4]>,
-    /// The nodes of `FlatScene::ball_tree`, two words each (the
-    /// `ball_nodes` uniform array: see `shaders/bindings.wgsl`); empty
+    /// The frame of `FlatScene::ball_tree`'s packed boxes, two words, then
+    /// its nodes, one word each (`BallTree::words`; the `ball_nodes`
+    /// uniform array: see `shaders/bindings.wgsl`); empty
     /// when there is no tree, or it has more than
     /// [`crate::bindings::MAX_BALL_NODES`] nodes or the scene more than
     /// [`crate::bindings::MAX_BALLS`] balls (the GPU then tests every
@@ -598,22 +599,21 @@ impl GpuObjects {
     }
 }
 
-/// [`GpuObjects::ball_nodes`] of a prepared scene: per node, its box's
-/// min (bits) and skip link, then its max and, for a leaf, its first ball
-/// in the low 16 bits and its ball count in the high 16 (0: an inner
-/// node). None past the arrays' capacities.
+/// [`GpuObjects::ball_nodes`] of a prepared scene: the frame of the
+/// packed boxes (`BallTree::origin`, then `BallTree::step`, as bits),
+/// then one word a node (`BallTree::words`). None past the arrays'
+/// capacities, or where the tree has no words.
 fn pack_ball_tree(prep: &FlatScene<f32>) -> Vec<[u32; 4]> {
     let tree = &prep.ball_tree;
-    if tree.nodes.len() > crate::bindings::MAX_BALL_NODES || prep.balls.len() > crate::bindings::MAX_BALLS {
+    if tree.is_empty()
+        || tree.words.len() > crate::bindings::MAX_BALL_NODES
+        || prep.balls.len() > crate::bindings::MAX_BALLS
+    {
         return Vec::new();
     }
-    tree.nodes
-        .iter()
-        .zip(&tree.skip)
-        .flat_map(|(n, &skip)| {
-            let leaf = if n.count > 0 { n.first | (n.count << 16) } else { 0 };
-            [bits(n.min, skip), bits(n.max, leaf)]
-        })
+    [bits(tree.origin, 0), bits(tree.step, 0)]
+        .into_iter()
+        .chain(tree.words.iter().copied())
         .collect()
 }
 
@@ -768,7 +768,7 @@ impl GpuParams {
             eye_offset: view.projection.1,
             near_reach: packed.near_scale * objects.near_reach,
             pad_a: 0,
-            ball_tree_nodes: (objects.ball_nodes.len() / 2) as u32,
+            ball_tree_nodes: objects.ball_nodes.len().saturating_sub(2) as u32,
             chart_stretch: objects.cone[2],
             footprint_cap: objects.cone[3],
             pad_b: 0,

@@ -74,10 +74,10 @@ macro_rules! wgsl {
 /// order naga_oil's composer needs; Bevy resolves them by their
 /// `#define_import_path`, `bevy_manifold::<name>`). Each is the WGSL twin
 /// of a Rust file: `bindings` of [`layout`], `geometry`, `step`, `cells`,
-/// `rules` (of the core's `space/rule.rs`), `bvh`, `mesh_hit`, `walk`,
-/// `render`, `drift`, `output` and `footprint` of the core's files of the
-/// same names.
-pub const SHADER_IMPORTS: [WgslModule; 12] = [
+/// `rules` (of the core's `space/rule.rs`), `bvh`, `mesh_hit`,
+/// `ball_tree`, `walk`, `render`, `drift`, `output` and `footprint` of the
+/// core's files of the same names.
+pub const SHADER_IMPORTS: [WgslModule; 13] = [
     wgsl!("output"),
     wgsl!("bindings"),
     wgsl!("geometry"),
@@ -87,6 +87,7 @@ pub const SHADER_IMPORTS: [WgslModule; 12] = [
     wgsl!("rules"),
     wgsl!("bvh"),
     wgsl!("mesh_hit"),
+    wgsl!("ball_tree"),
     wgsl!("walk"),
     wgsl!("render"),
     wgsl!("drift"),

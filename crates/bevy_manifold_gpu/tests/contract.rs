@@ -194,6 +194,10 @@ fn the_shared_constants_are_equal_on_both_sides() {
     );
     assert_eq!(constant(&module, "FLAG_NO_CULL"), naga::Literal::U32(FLAG_NO_CULL));
     assert_eq!(constant(&module, "NO_JOINT"), naga::Literal::U32(NO_JOINT));
+    assert_eq!(
+        constant(&module, "LEAF_LINK"),
+        naga::Literal::U32(bevy_manifold_core::trace::LEAF_LINK)
+    );
     assert_eq!(constant(&module, "ALL_FACES"), naga::Literal::U32(ALL_FACES));
     assert_eq!(constant(&module, "BVH_STACK"), naga::Literal::U32(MAX_DEPTH as u32));
     assert_eq!(constant(&module, "FOG_CUT"), naga::Literal::F32(FOG_CUT as f32));

@@ -2,7 +2,8 @@
 //! the CPU side of what the GPU pass uploads: face planes, pairings,
 //! balls with their ghost copies, edge tubes, lights.
 
-use super::cull::{BallTree, FaceGroups, ball_box, cull_distance, face_mask, near_reach, near_scale};
+use super::ball_tree::{BallTree, ball_box};
+use super::cull::{FaceGroups, cull_distance, face_mask, near_reach, near_scale};
 use super::scene::Scene;
 use super::step::{Segment, radius_param};
 use crate::geometry::{Geometry, Real, isometry};

@@ -28,6 +28,7 @@
 //! ```
 
 mod accumulate;
+mod ball_tree;
 mod cast;
 mod cull;
 mod drift;
@@ -42,10 +43,9 @@ pub mod step;
 mod walk;
 
 pub use accumulate::{accumulate, sample_offset};
+pub use ball_tree::{BallTree, LEAF_LINK, UNBOUNDED, ball_box, chart_segment, tree_leaves};
 pub use cast::{CastBall, CastHit, CastWall, cast_balls, cast_with_rule};
-pub use cull::{
-    BallTree, Candidate, FaceGroups, UNBOUNDED, ball_box, chart_segment, each_candidate, near_reach, tree_leaves,
-};
+pub use cull::{Candidate, FaceGroups, each_candidate, near_reach};
 pub use drift::{RayDrift, ray_drift};
 pub use flat::{
     EDGE_ID, FaceTables, FlatBall, FlatInstance, FlatLight, FlatScene, FlatTube, MIN_BALL_TREE, ghost_centres,

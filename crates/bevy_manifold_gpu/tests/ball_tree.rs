@@ -1,0 +1,168 @@
+//! The ball tree's packed boxes as the GPU decodes them (`tree_box` in
+//! `shaders/ball_tree.wgsl`) against the CPU's (`BallTree::node_box`) and
+//! against the boxes they pack: each GPU box holds its node's box and is
+//! the CPU's within a quarter step (the two may round differently, e.g.
+//! by a fused multiply-add). The walk's culling rests on the first: a box
+//! that shrank on the GPU alone would drop the rays that graze its balls,
+//! a few pixels no image comparison is sure to catch.
+//!
+//! Without a GPU adapter this test is listed as ignored; under CI (`CI`
+//! set) a missing adapter is a failure.
+
+use bevy_manifold_core::mesh::bvh::build_over_with;
+use bevy_manifold_core::trace::BallTree;
+use bevy_manifold_gpu::{GpuTracer, SHADER_IMPORTS, WgslModule};
+use bevy_manifold_test_support::Rng;
+
+/// Decodes every node after the two words of the frame.
+const PROBE: WgslModule = WgslModule {
+    path: "bevy_manifold/tests/ball_tree_probe.wgsl",
+    source: "
+#import bevy_manifold::ball_tree::tree_box
+
+@group(0) @binding(0) var<storage, read> words: array<vec4<u32>>;
+@group(0) @binding(1) var<storage, read_write> boxes: array<vec4<f32>>;
+
+@compute @workgroup_size(64, 1, 1)
+fn decode(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x + 2u >= arrayLength(&words) {
+        return;
+    }
+    let origin = bitcast<vec3<f32>>(words[0].xyz);
+    let step = bitcast<vec3<f32>>(words[1].xyz);
+    let b = tree_box(words[id.x + 2u], origin, step);
+    boxes[2u * id.x] = vec4<f32>(b[0], 0.0);
+    boxes[2u * id.x + 1u] = vec4<f32>(b[1], 0.0);
+}
+",
+};
+
+/// The frames tried, as the core's test: (centre, spread, box size).
+const FRAMES: [(f64, f64, f64); 4] = [
+    (0.0, 0.8, 0.05),
+    (0.3, 20.0, 1.5),
+    (1000.0, 0.01, 0.001),
+    (-3.0e4, 2.0, 0.02),
+];
+
+/// The GPU's boxes of `words` (the frame's two words, then the nodes').
+fn decode_on_the_gpu(words: &[[u32; 4]]) -> Vec<[f32; 4]> {
+    use wgpu::util::DeviceExt;
+    let module = GpuTracer::compose_modules(&SHADER_IMPORTS, PROBE, &[], &[]).expect("the probe composes");
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let adapter =
+        pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default())).expect("an adapter");
+    let (device, queue) =
+        pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor::default())).expect("a device");
+    let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("ball tree probe"),
+        source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
+    });
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("ball tree probe"),
+        layout: None,
+        module: &shader,
+        entry_point: Some("decode"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("words"),
+        contents: bytemuck::cast_slice(words),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let nodes = words.len() - 2;
+    let size = (nodes * 2 * 16) as u64;
+    let output = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("boxes"),
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let readback = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("ball tree probe"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: input.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: output.as_entire_binding(),
+            },
+        ],
+    });
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups((nodes as u32).div_ceil(64), 1, 1);
+    }
+    encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, size);
+    queue.submit([encoder.finish()]);
+    readback.map_async(wgpu::MapMode::Read, .., |r| r.expect("the boxes map"));
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .expect("the device finishes");
+    bytemuck::cast_slice(&readback.get_mapped_range(..)).to_vec()
+}
+
+fn the_gpu_decodes_packed_boxes_as_the_cpu_and_they_hold_their_nodes() {
+    let mut rng = Rng(53);
+    for (at, spread, size) in FRAMES {
+        let items: Vec<([f32; 3], [f32; 3])> = (0..254)
+            .map(|_| {
+                let c = rng.in_box(spread).map(|x| x + at);
+                let h = [0; 3].map(|_| size * (0.05 + rng.next_f64()));
+                (
+                    [0, 1, 2].map(|k| (c[k] - h[k]) as f32),
+                    [0, 1, 2].map(|k| (c[k] + h[k]) as f32),
+                )
+            })
+            .collect();
+        let tree = BallTree::new(build_over_with(&items, 8).0);
+        assert!(!tree.is_empty(), "frame at {at}: packed");
+        let words: Vec<[u32; 4]> = [tree.origin, tree.step]
+            .map(|v| [v[0].to_bits(), v[1].to_bits(), v[2].to_bits(), 0])
+            .into_iter()
+            .chain(tree.words.iter().copied())
+            .collect();
+        let gpu = decode_on_the_gpu(&words);
+        for (i, (node, word)) in tree.nodes.iter().zip(&tree.words).enumerate() {
+            let cpu = tree.node_box(word);
+            let (lo, hi) = (gpu[2 * i], gpu[2 * i + 1]);
+            for k in 0..3 {
+                let quarter = 0.25 * tree.step[k];
+                assert!(
+                    lo[k] <= node.min[k] && hi[k] >= node.max[k],
+                    "frame at {at}: node {i} axis {k}: the GPU's box {}..{} misses the node's {}..{}",
+                    lo[k],
+                    hi[k],
+                    node.min[k],
+                    node.max[k]
+                );
+                assert!(
+                    (lo[k] - cpu.0[k]).abs() <= quarter && (hi[k] - cpu.1[k]).abs() <= quarter,
+                    "frame at {at}: node {i} axis {k}: GPU {}..{}, CPU {}..{}",
+                    lo[k],
+                    hi[k],
+                    cpu.0[k],
+                    cpu.1[k]
+                );
+            }
+        }
+    }
+}
+
+bevy_manifold_test_support::test_main! {
+    cpu: [],
+    gpu: [the_gpu_decodes_packed_boxes_as_the_cpu_and_they_hold_their_nodes],
+}
