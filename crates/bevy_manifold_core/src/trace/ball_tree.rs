@@ -243,24 +243,33 @@ impl BallTree {
 /// `a + s d`, `0 <= s <= 1`, meets (the slab test, `mesh::bvh::hit_box`).
 /// Depth first, left child first: into the next node after a leaf or an
 /// inner node whose box is met, to the inner node's skip link otherwise
-/// (always forward, so at most one pass). WGSL twin: `ball_tree_leaves`
-/// in `shaders/render.wgsl`.
+/// (always forward, so at most one pass). Two loops, as on the GPU: down
+/// to the next met leaf, then its balls (there, lanes that found a leaf
+/// wait for the others and test their leaves together). WGSL twin:
+/// `ball_tree_leaves` in `shaders/render.wgsl`.
 pub fn tree_leaves<R: Real>(tree: &BallTree, a: [R; 3], d: [R; 3], pad: f32, mut visit: impl FnMut(Range<usize>)) {
     let inv_d = safe_inverse(d);
     let mut i = 0;
-    while let Some(word) = tree.words.get(i) {
-        let (lo, hi) = tree.node_box(word);
-        let met = hit_box(a, inv_d, lo.map(|x| x - pad), hi.map(|x| x + pad), R::of(1.0)).is_some();
-        let leaf = word[3] & LEAF_LINK != 0;
-        let first = word[3] & 0xffff;
-        let count = if leaf { (word[3] >> 16) & 0x7fff } else { 0 };
-        if met && count > 0 {
-            visit(first as usize..(first + count) as usize);
+    loop {
+        // Down to the next met leaf: its balls, or none past the end.
+        let mut balls = None;
+        while let Some(word) = tree.words.get(i) {
+            let (lo, hi) = tree.node_box(word);
+            let met = hit_box(a, inv_d, lo.map(|x| x - pad), hi.map(|x| x + pad), R::of(1.0)).is_some();
+            let leaf = word[3] & LEAF_LINK != 0;
+            i = if met || leaf {
+                i + 1
+            } else {
+                ((word[3] & 0xffff) as usize).max(i + 1)
+            };
+            if met && leaf {
+                let (first, count) = (word[3] & 0xffff, (word[3] >> 16) & 0x7fff);
+                balls = Some(first as usize..(first + count) as usize);
+                break;
+            }
         }
-        i = if met || leaf {
-            i + 1
-        } else {
-            (first as usize).max(i + 1)
-        };
+        // Then its balls.
+        let Some(balls) = balls else { break };
+        visit(balls);
     }
 }
