@@ -251,17 +251,20 @@ const PALETTE: [[f32; 3]; 10] = [
 ];
 
 /// Fewest balls with no face mask for which [`FlatScene::ball_tree`] is
-/// built: one leaf's worth ([`BALL_LEAF_SIZE`]). Below it a segment tests
-/// each of them. Since the walk tests its leaves' balls after walking
-/// down to them, a tree of 8 and 12 balls costs no more than testing
-/// each: on lavapipe (320x180, 8 levels, over the one-ball frame, two
-/// runs each; BENCHMARKS.md, "MIN_BALL_TREE after the two-loop walk")
-/// 12 balls took 1.35-1.48x in the torus with a tree and 1.79-2.18x
-/// without, Seifert-Weber 1.45-1.47x and 1.36-1.68x, Poincare 1.38-1.59x
-/// and 1.37-1.64x; 8 balls 1.32-1.43x with it and 1.17-1.74x without.
-/// Scenes with fewer balls do not compile the walk at all (`BALL_TREE` in
+/// built: more than one leaf's worth ([`BALL_LEAF_SIZE`]), so the root
+/// has children. Below it a segment tests each of them. Since the walk
+/// tests its leaves' balls after walking down to them, a tree of 12 balls
+/// costs less than testing each: on lavapipe (320x180, 8 levels, over the
+/// one-ball frame, two runs each; BENCHMARKS.md, "MIN_BALL_TREE after the
+/// two-loop walk") 12 balls took 1.35-1.48x in the torus with a tree and
+/// 1.79-2.18x without, Seifert-Weber 1.45-1.47x and 1.36-1.68x, Poincare
+/// 1.38-1.59x and 1.37-1.64x. A tree of one leaf (8 balls) tests the same
+/// balls after one more box, and when it was the first scene its pipeline
+/// traced, lavapipe's specialisation on that scene's uniforms left the
+/// frame 2-3x slower (`bench balls`, 8 balls: 31.5-46.8 ms). Scenes with
+/// fewer balls do not compile the walk at all (`BALL_TREE` in
 /// `bevy_manifold_gpu`).
-pub const MIN_BALL_TREE: usize = 8;
+pub const MIN_BALL_TREE: usize = BALL_LEAF_SIZE + 1;
 
 /// Most balls in a leaf of [`FlatScene::ball_tree`]: twice a mesh's
 /// [`crate::mesh::bvh::LEAF_SIZE`], as a node costs lavapipe more than a
