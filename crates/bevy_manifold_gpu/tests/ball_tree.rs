@@ -11,8 +11,10 @@
 
 use bevy_manifold_core::mesh::bvh::build_over_with;
 use bevy_manifold_core::trace::BallTree;
-use bevy_manifold_gpu::{GpuTracer, SHADER_IMPORTS, WgslModule};
+use bevy_manifold_gpu::WgslModule;
 use bevy_manifold_test_support::Rng;
+
+mod probe;
 
 /// Decodes every node after the two words of the frame.
 const PROBE: WgslModule = WgslModule {
@@ -47,72 +49,16 @@ const FRAMES: [(f64, f64, f64); 4] = [
 
 /// The GPU's boxes of `words` (the frame's two words, then the nodes').
 fn decode_on_the_gpu(words: &[[u32; 4]]) -> Vec<[f32; 4]> {
-    use wgpu::util::DeviceExt;
-    let module = GpuTracer::compose_modules(&SHADER_IMPORTS, PROBE, &[], &[]).expect("the probe composes");
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-    let adapter =
-        pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default())).expect("an adapter");
-    let (device, queue) =
-        pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor::default())).expect("a device");
-    let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("ball tree probe"),
-        source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
-    });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("ball tree probe"),
-        layout: None,
-        module: &shader,
-        entry_point: Some("decode"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("words"),
-        contents: bytemuck::cast_slice(words),
-        usage: wgpu::BufferUsages::STORAGE,
-    });
     let nodes = words.len() - 2;
-    let size = (nodes * 2 * 16) as u64;
-    let output = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("boxes"),
-        size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let readback = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("readback"),
-        size,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("ball tree probe"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: output.as_entire_binding(),
-            },
-        ],
-    });
-    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-    {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bind, &[]);
-        pass.dispatch_workgroups((nodes as u32).div_ceil(64), 1, 1);
-    }
-    encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, size);
-    queue.submit([encoder.finish()]);
-    readback.map_async(wgpu::MapMode::Read, .., |r| r.expect("the boxes map"));
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .expect("the device finishes");
-    bytemuck::cast_slice(&readback.get_mapped_range(..)).to_vec()
+    let bytes = probe::run(
+        PROBE,
+        &[],
+        "decode",
+        &[(0, bytemuck::cast_slice(words))],
+        (1, (nodes * 2 * 16) as u64),
+        nodes as u32,
+    );
+    bytemuck::pod_collect_to_vec(&bytes)
 }
 
 fn the_gpu_decodes_packed_boxes_as_the_cpu_and_they_hold_their_nodes() {
