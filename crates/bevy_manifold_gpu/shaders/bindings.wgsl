@@ -293,9 +293,6 @@ const WALL_OBJECT: u32 = 0xfffffffeu;
 
 // CELLS_TABLE: a cell beyond the table. Rust: ball::OUTSIDE.
 const CELL_OUTSIDE: u32 = 0xffffffffu;
-// The BVH walk's stack depth. Rust twin: MAX_DEPTH in
-// crates/bevy_manifold_core/src/mesh/bvh.rs.
-const BVH_STACK: u32 = 40u;
 // ln 255 (the f32 nearest it): once fog_density * distance passes it, fog
 // has left less than 1/255 of an object's light and the ray may stop.
 // Rust twin: FOG_CUT in crates/bevy_manifold_core/src/trace/render.rs.

@@ -2,9 +2,8 @@
 // mesh data, the slab test, Moller-Trumbore, and the BVH walk.
 //
 // Rust twin: crates/bevy_manifold_core/src/mesh/bvh.rs (MeshHit,
-// hit_triangle, hit_box, safe_inverse, hit_mesh; MAX_DEPTH is BVH_STACK in
-// bindings.wgsl). The packing of mesh_data is GpuObjects::mesh_data in
-// crates/bevy_manifold_gpu/src/layout.rs.
+// hit_triangle, hit_box, safe_inverse, hit_mesh). The packing of mesh_data
+// is GpuObjects::mesh_data in crates/bevy_manifold_gpu/src/layout.rs.
 //
 // Shader defs read: MESHES (the mesh part: compiled in only with meshes).
 // The slab test and its inverse serve the ball tree too (render.wgsl's
@@ -13,12 +12,13 @@
 
 #import bevy_manifold::bindings::mesh_data
 #ifdef MESHES
-#import bevy_manifold::bindings::{Instance, BVH_STACK}
+#import bevy_manifold::bindings::Instance
 #endif
 
-// mesh_data holds, per mesh: BVH nodes (two words each: min.xyz and
-// first, max.xyz and count; an inner node's left child is the next node,
-// `first` its right child), vertices (two words: position.xyz and u,
+// mesh_data holds, per mesh: BVH nodes (two words each: min.xyz and,
+// for a leaf, its first triangle, for an inner node its skip link, the
+// node past its subtree (MeshData::skip); max.xyz and count; an inner
+// node's left child is the next node), vertices (two words: position.xyz and u,
 // normal.xyz and v), triangles (one word: three vertex indices) and
 // texels (four RGBA8 per word). Floats are stored as their bits.
 fn data_vec3(i: u32) -> vec3<f32> {
@@ -80,64 +80,49 @@ fn triangle_corner(inst: Instance, tri: vec4<u32>, k: u32) -> vec3<f32> {
     return data_vec3(inst.vertices + 2u * tri[k]);
 }
 
-// The nearest hit through the hierarchy, nearer child first. (Rust loops
-// while the stack is not empty; here node_count also bounds the loop.)
+// The nearest hit through the hierarchy by the skip links, without a
+// stack (a per-lane array lavapipe reads and writes lane by lane): down
+// to the next leaf whose box the ray meets within the nearest hit so far,
+// then that leaf's triangles. Two loops, so lanes that found a leaf wait
+// for the others and test their leaves together. The paper's scene
+// (Suzanne, the hands) at 320x180, 8 levels, traced in 53-56 ms in the
+// torus, against 82-84 with the ordered walk and its stack
+// (BENCHMARKS.md, "Meshes by skip links"). Always forward, so at most
+// node_count passes.
 fn hit_mesh(inst: Instance, o: vec3<f32>, d: vec3<f32>, s_max: f32) -> MeshHit {
     let inv_d = safe_inverse(d);
     var best = MeshHit(-1.0, 0u, 0.0, 0.0);
     var limit = s_max;
-    var stack: array<u32, BVH_STACK>;
-    var top = 1u;
-    stack[0] = 0u;
-    // Every node is visited at most once: a hard bound on the loop.
-    for (var guard = 0u; guard < inst.node_count && top > 0u; guard++) {
-        top -= 1u;
-        let index = stack[top];
-        let w0 = mesh_data[inst.nodes + 2u * index];
-        let w1 = mesh_data[inst.nodes + 2u * index + 1u];
-        if hit_box(o, inv_d, bitcast<vec3<f32>>(w0.xyz), bitcast<vec3<f32>>(w1.xyz), limit) < 0.0 {
-            continue;
+    var i = 0u;
+    loop {
+        // Down to the next met leaf: its triangles, or none past the end.
+        var first = 0u;
+        var count = 0u;
+        loop {
+            if i >= inst.node_count {
+                break;
+            }
+            let w0 = mesh_data[inst.nodes + 2u * i];
+            let w1 = mesh_data[inst.nodes + 2u * i + 1u];
+            let met = hit_box(o, inv_d, bitcast<vec3<f32>>(w0.xyz), bitcast<vec3<f32>>(w1.xyz), limit) >= 0.0;
+            let leaf = w1.w > 0u;
+            i = select(max(w0.w, i + 1u), i + 1u, met || leaf);
+            if met && leaf {
+                first = w0.w;
+                count = w1.w;
+                break;
+            }
         }
-        if w1.w > 0u {
-            for (var t = w0.w; t < w0.w + w1.w; t++) {
-                let tri = mesh_data[inst.triangles + t];
-                let h = hit_triangle(o, d, triangle_corner(inst, tri, 0u), triangle_corner(inst, tri, 1u), triangle_corner(inst, tri, 2u));
-                if h.x >= 0.0 && h.x <= limit {
-                    limit = h.x;
-                    best = MeshHit(h.x, t, h.y, h.z);
-                }
-            }
-            continue;
+        if count == 0u {
+            break;
         }
-        // Push the farther child first so the nearer is walked first.
-        let l = index + 1u;
-        let r = w0.w;
-        let lw0 = mesh_data[inst.nodes + 2u * l];
-        let lw1 = mesh_data[inst.nodes + 2u * l + 1u];
-        let rw0 = mesh_data[inst.nodes + 2u * r];
-        let rw1 = mesh_data[inst.nodes + 2u * r + 1u];
-        let nl = hit_box(o, inv_d, bitcast<vec3<f32>>(lw0.xyz), bitcast<vec3<f32>>(lw1.xyz), limit);
-        let nr = hit_box(o, inv_d, bitcast<vec3<f32>>(rw0.xyz), bitcast<vec3<f32>>(rw1.xyz), limit);
-        if nl >= 0.0 && nr >= 0.0 {
-            let first = select(r, l, nl <= nr);
-            let second = select(l, r, nl <= nr);
-            if top < BVH_STACK {
-                stack[top] = second;
-                top += 1u;
-            }
-            if top < BVH_STACK {
-                stack[top] = first;
-                top += 1u;
-            }
-        } else if nl >= 0.0 {
-            if top < BVH_STACK {
-                stack[top] = l;
-                top += 1u;
-            }
-        } else if nr >= 0.0 {
-            if top < BVH_STACK {
-                stack[top] = r;
-                top += 1u;
+        // Then its triangles.
+        for (var t = first; t < first + count; t++) {
+            let tri = mesh_data[inst.triangles + t];
+            let h = hit_triangle(o, d, triangle_corner(inst, tri, 0u), triangle_corner(inst, tri, 1u), triangle_corner(inst, tri, 2u));
+            if h.x >= 0.0 && h.x <= limit {
+                limit = h.x;
+                best = MeshHit(h.x, t, h.y, h.z);
             }
         }
     }

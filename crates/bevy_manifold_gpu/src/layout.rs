@@ -658,11 +658,12 @@ fn bits(v: [f32; 3], w: u32) -> [u32; 4] {
     [v[0].to_bits(), v[1].to_bits(), v[2].to_bits(), w]
 }
 
-/// Appends hierarchy nodes as two words each: min and `first`, max and
-/// `count` (`shaders/bvh.wgsl` reads them so).
-fn push_nodes(data: &mut Vec<[u32; 4]>, nodes: &[BvhNode]) {
-    for n in nodes {
-        data.push(bits(n.min, n.first));
+/// Appends a mesh's hierarchy nodes as two words each: min and, for a
+/// leaf, its first triangle, for an inner node its skip link
+/// (`MeshData::skip`); max and `count` (`shaders/bvh.wgsl` reads them so).
+fn push_nodes(data: &mut Vec<[u32; 4]>, nodes: &[BvhNode], skip: &[u32]) {
+    for (n, &past) in nodes.iter().zip(skip) {
+        data.push(bits(n.min, if n.count > 0 { n.first } else { past }));
         data.push(bits(n.max, n.count));
     }
 }
@@ -675,7 +676,7 @@ fn pack_meshes(prep: &FlatScene<f32>) -> (Vec<GpuInstance>, Vec<[u32; 4]>) {
     let mut offsets = Vec::new();
     for m in &prep.meshes {
         let nodes = data.len() as u32;
-        push_nodes(&mut data, &m.nodes);
+        push_nodes(&mut data, &m.nodes, &m.skip);
         let vertices = data.len() as u32;
         let mesh = &m.mesh;
         for i in 0..mesh.positions.len() {

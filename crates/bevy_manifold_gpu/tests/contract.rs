@@ -7,7 +7,6 @@
 //! the check fail, so the check itself is known to bite.
 
 use bevy_manifold_core::geometry::Geometry;
-use bevy_manifold_core::mesh::bvh::MAX_DEPTH;
 use bevy_manifold_core::trace::step::ALL_FACES;
 use bevy_manifold_core::trace::{EDGE_ID, FOG_CUT, LIGHT_AT_HIT};
 use bevy_manifold_gpu::bindings::{BINDINGS, BindingKind};
@@ -199,7 +198,6 @@ fn the_shared_constants_are_equal_on_both_sides() {
         naga::Literal::U32(bevy_manifold_core::trace::LEAF_LINK)
     );
     assert_eq!(constant(&module, "ALL_FACES"), naga::Literal::U32(ALL_FACES));
-    assert_eq!(constant(&module, "BVH_STACK"), naga::Literal::U32(MAX_DEPTH as u32));
     assert_eq!(constant(&module, "FOG_CUT"), naga::Literal::F32(FOG_CUT as f32));
     assert_eq!(FOG_CUT, 255f64.ln(), "FOG_CUT is ln 255");
     assert_eq!(

@@ -1,8 +1,9 @@
 //! A bounding-volume hierarchy over a mesh's triangles, built on the CPU
-//! with the surface-area heuristic (binned), flattened so the shader can
-//! walk it with a bounded stack. Traversal and the ray/triangle test here
-//! are the twins of `hit_box`, `hit_triangle` and `hit_mesh` in
-//! `bevy_manifold_gpu`'s `shaders/bvh.wgsl`.
+//! with the surface-area heuristic (binned), flattened depth first with a
+//! skip link per node ([`skip_links`]) so a walk needs no stack.
+//! Traversal and the ray/triangle test here are the twins of `hit_box`,
+//! `hit_triangle` and `hit_mesh` in `bevy_manifold_gpu`'s
+//! `shaders/bvh.wgsl`.
 //!
 //! Rays are affine here: `o + s d` in the object's local chart, `s >= 0`
 //! (the tracer converts its chart parameter, see `trace::mesh_ray`).
@@ -12,8 +13,7 @@ use crate::geometry::Real;
 
 /// Most triangles in a leaf.
 pub const LEAF_SIZE: usize = 4;
-/// Deepest level the builder makes; the traversal stack holds this many
-/// entries, so no mesh can overflow it.
+/// Deepest level the builder makes.
 pub const MAX_DEPTH: usize = 40;
 /// Bins per axis of the SAH sweep.
 const BINS: usize = 12;
@@ -316,56 +316,76 @@ pub fn safe_inverse<R: Real>(d: [R; 3]) -> [R; 3] {
     })
 }
 
-/// The nearest hit through the hierarchy: nearer child first, a bounded
-/// stack of [`MAX_DEPTH`] entries.
+/// Per node of a flattened hierarchy (depth first, an inner node's left
+/// child next to it and `first` its right child), the index of the first
+/// node after its subtree: where a walk goes on when the node's box is
+/// missed. A leaf's is the next node.
+///
+/// ```
+/// use bevy_manifold_core::mesh::bvh::{BvhNode, skip_links};
+/// let node = |first, count| BvhNode { min: [0.0; 3], first, max: [1.0; 3], count };
+/// // A root whose left child (1) is a leaf and right child (2) an inner
+/// // node over two leaves (3 and 4).
+/// let nodes = [node(2, 0), node(0, 1), node(4, 0), node(1, 1), node(2, 1)];
+/// assert_eq!(skip_links(&nodes), [5, 2, 5, 4, 5]);
+/// ```
+#[must_use]
+pub fn skip_links(nodes: &[BvhNode]) -> Vec<u32> {
+    let mut skip = vec![nodes.len() as u32; nodes.len()];
+    // (node, the index past its subtree): a left child's is its right
+    // sibling, a right child's its parent's.
+    let mut todo = vec![(0usize, nodes.len() as u32)];
+    while let Some((i, past)) = todo.pop() {
+        let Some(node) = nodes.get(i) else { continue };
+        skip[i] = past;
+        if node.count == 0 && i + 1 < nodes.len() && (node.first as usize) > i {
+            todo.push((i + 1, node.first));
+            todo.push((node.first as usize, past));
+        }
+    }
+    skip
+}
+
+/// The nearest hit through the hierarchy, by the skip links
+/// ([`MeshData::skip`]), without a stack: down to the next leaf whose box
+/// the ray meets within the nearest hit so far, then that leaf's
+/// triangles, in the nodes' order (depth first, left child first). Two
+/// loops, as on the GPU, where lanes that found a leaf wait for the
+/// others and test their leaves together; a per-lane stack costs lavapipe
+/// a gather and a scatter a push (BENCHMARKS.md, "Meshes by skip links").
+/// On a tie the later triangle in that order is kept.
 #[must_use]
 pub fn hit_mesh<R: Real>(mesh: &MeshData, o: [R; 3], d: [R; 3], s_max: R) -> Option<MeshHit<R>> {
     let inv_d = safe_inverse(d);
     let mut best: Option<MeshHit<R>> = None;
     let mut limit = s_max;
-    let mut stack = [0u32; MAX_DEPTH];
-    let mut top = 1usize;
-    while top > 0 {
-        top -= 1;
-        let stack_index = stack[top];
-        let node = &mesh.nodes[stack_index as usize];
-        if hit_box(o, inv_d, node.min, node.max, limit).is_none() {
-            continue;
+    let mut i = 0;
+    loop {
+        // Down to the next met leaf: its triangles, or none past the end.
+        let mut leaf = None;
+        while let Some(node) = mesh.nodes.get(i) {
+            let met = hit_box(o, inv_d, node.min, node.max, limit).is_some();
+            let is_leaf = node.count > 0;
+            i = if met || is_leaf {
+                i + 1
+            } else {
+                (mesh.skip[i] as usize).max(i + 1)
+            };
+            if met && is_leaf {
+                leaf = Some(node.first..node.first + node.count);
+                break;
+            }
         }
-        if node.count > 0 {
-            for t in node.first..node.first + node.count {
-                let [a, b, c] = mesh.mesh.triangles[t as usize].map(|i| of::<R>(mesh.mesh.positions[i as usize]));
-                if let Some((s, u, v)) = hit_triangle(o, d, a, b, c)
-                    && s <= limit
-                {
-                    limit = s;
-                    best = Some(MeshHit { s, triangle: t, u, v });
-                }
+        // Then its triangles.
+        let Some(triangles) = leaf else { break };
+        for t in triangles {
+            let [a, b, c] = mesh.mesh.triangles[t as usize].map(|i| of::<R>(mesh.mesh.positions[i as usize]));
+            if let Some((s, u, v)) = hit_triangle(o, d, a, b, c)
+                && s <= limit
+            {
+                limit = s;
+                best = Some(MeshHit { s, triangle: t, u, v });
             }
-            continue;
-        }
-        // Push the farther child first so the nearer is walked first.
-        let (l, r) = (stack_index + 1, node.first);
-        let near = |i: u32| {
-            let n = &mesh.nodes[i as usize];
-            hit_box(o, inv_d, n.min, n.max, limit)
-        };
-        let (nl, nr) = (near(l), near(r));
-        let push = |stack: &mut [u32; MAX_DEPTH], top: &mut usize, i: u32| {
-            if *top < MAX_DEPTH {
-                stack[*top] = i;
-                *top += 1;
-            }
-        };
-        match (nl, nr) {
-            (Some(a), Some(b)) => {
-                let (first, second) = if a <= b { (l, r) } else { (r, l) };
-                push(&mut stack, &mut top, second);
-                push(&mut stack, &mut top, first);
-            }
-            (Some(_), None) => push(&mut stack, &mut top, l),
-            (None, Some(_)) => push(&mut stack, &mut top, r),
-            (None, None) => {}
         }
     }
     best

@@ -215,6 +215,9 @@ pub struct MeshData {
     pub mesh: TriMesh,
     /// The hierarchy, root first.
     pub nodes: Vec<BvhNode>,
+    /// Per node, the index past its subtree ([`bvh::skip_links`]), where
+    /// the walk goes on when the node's box is missed.
+    pub skip: Vec<u32>,
 }
 
 impl MeshData {
@@ -223,7 +226,8 @@ impl MeshData {
     pub fn build(mut mesh: TriMesh) -> Self {
         let (nodes, order) = bvh::build(&mesh);
         mesh.triangles = order.iter().map(|&i| mesh.triangles[i as usize]).collect();
-        MeshData { mesh, nodes }
+        let skip = bvh::skip_links(&nodes);
+        MeshData { mesh, nodes, skip }
     }
 
     /// [`MeshData::build`] behind an `Arc`, as scenes hold meshes.

@@ -11,7 +11,7 @@
 
 use super::step::Ray;
 use crate::geometry::{Geometry, Real};
-use crate::mesh::bvh::{BvhNode, hit_box, safe_inverse};
+use crate::mesh::bvh::{BvhNode, hit_box, safe_inverse, skip_links};
 use core::ops::Range;
 use glam::DVec4;
 
@@ -162,18 +162,7 @@ impl BallTree {
     /// The tree of `nodes`, with each node's skip link and packed word.
     #[must_use]
     pub fn new(nodes: Vec<BvhNode>) -> Self {
-        let mut skip = vec![nodes.len() as u32; nodes.len()];
-        // (node, the index past its subtree): a left child's is its right
-        // sibling, a right child's its parent's.
-        let mut todo = vec![(0usize, nodes.len() as u32)];
-        while let Some((i, past)) = todo.pop() {
-            let Some(node) = nodes.get(i) else { continue };
-            skip[i] = past;
-            if node.count == 0 && i + 1 < nodes.len() && (node.first as usize) > i {
-                todo.push((i + 1, node.first));
-                todo.push((node.first as usize, past));
-            }
-        }
+        let skip = skip_links(&nodes);
         let mut tree = BallTree {
             nodes,
             skip,
