@@ -5,7 +5,7 @@
 
 use bevy_manifold_core::geometry::{Geometry, isometry};
 use bevy_manifold_core::prelude::*;
-use bevy_manifold_core::space::generators::{GeneratorError, Generators};
+use bevy_manifold_core::space::generators::{self, GeneratorError, Generators};
 use bevy_manifold_core::space::{SpaceFileErrorKind, catalog, library};
 use glam::{DMat4, DVec3, DVec4};
 use std::f64::consts::{PI, TAU};
@@ -116,6 +116,45 @@ fn the_poincare_space_from_two_generators_is_the_catalog_one() {
     for e in built.edges() {
         assert!((e.dihedral.to_degrees() - 120.0).abs() < 1e-9);
     }
+}
+
+/// A generator list far longer than it needs to be builds the same
+/// domain: Seifert-Weber's 12 face pairings and 52 products of two of them
+/// (64 generators, the most a list may have; the products move the
+/// origin up to 4.0, twice a pairing). The search once kept every product
+/// of the elements it expanded, so 128 letters filled it past
+/// `MAX_ELEMENTS` with elements outside its radius, and this discrete
+/// group was refused as "not discrete". Both domains are checked against
+/// the same group given by its pairings alone: the catalog's dodecahedron
+/// about the origin, and the 52-face domain about another point.
+fn redundant_generators_give_the_same_domain() {
+    let sw = catalog::seifert_weber();
+    let pairings: Vec<DMat4> = sw.faces().iter().map(|f| f.pairing).collect();
+    let mut matrices = pairings.clone();
+    for a in 0..12 {
+        for b in 0..12 {
+            if sw.faces()[a].partner != b && matrices.len() < 64 {
+                matrices.push(pairings[a] * pairings[b]);
+            }
+        }
+    }
+    assert_eq!(matrices.len(), generators::MAX_GENERATORS);
+    let (x, y, z) = bevy_manifold_test_support::stress::FIFTY_TWO_FACES;
+    let about = bevy_manifold_test_support::stress::seifert_weber_about(x, y, z).expect("52 faces");
+    for (point, reference) in [
+        (None, &sw),
+        (Some([x, y, z, (1.0 + x * x + y * y + z * z).sqrt()]), &about),
+    ] {
+        let mut gens = Generators::of_geometry("seifert-weber, 64 generators", Geometry::Hyperbolic, matrices.clone())
+            .expect("isometries");
+        gens.set_basepoint(point).expect("a point");
+        let built = gens
+            .dirichlet_domain()
+            .unwrap_or_else(|e| panic!("about {point:?}: {e}"));
+        same_shape(&built, reference);
+        assert_eq!(built.first_homology().expect("homology").to_string(), "Z/5 + Z/5 + Z/5");
+    }
+    assert_eq!(about.faces().len(), 52);
 }
 
 fn the_flat_library_has_the_right_volumes_and_homology() {
@@ -527,6 +566,7 @@ bevy_manifold_test_support::test_main_requiring! {
         the_spherical_library_has_the_right_volumes_orders_and_homology,
         lens_spaces_that_are_the_same_manifold_give_the_same_domain,
         the_poincare_space_from_two_generators_is_the_catalog_one,
+        redundant_generators_give_the_same_domain,
         the_flat_library_has_the_right_volumes_and_homology,
         the_weeks_manifold_has_the_published_volume_and_homology,
         the_shipped_library_files_are_the_library,

@@ -119,13 +119,17 @@ struct Element {
     /// right (`usize::MAX` for the identity).
     parent: usize,
     letter: usize,
-    /// Its products with every letter are in the list.
-    expanded: bool,
+    /// The `expand` of the last [`Search::grow`] that took its products
+    /// with every letter: those that move the origin at most that much
+    /// are in the list (`-inf`: none taken yet).
+    expanded_to: f64,
 }
 
 struct Search<'a> {
     g: Geometry,
     letters: &'a [DMat4],
+    /// The most any letter moves the origin.
+    step: f64,
     elements: Vec<Element>,
     grid: HashMap<[i64; 4], Vec<usize>>,
 }
@@ -195,16 +199,25 @@ impl Search<'_> {
         }
     }
 
-    /// Extends the search to every product reachable through elements that
-    /// move the origin at most `expand` (continuing where it stopped).
+    /// Extends the search to every product that moves the origin at most
+    /// `expand`, reachable through elements that do too (continuing where
+    /// it stopped). Products farther out are not kept: each expanded
+    /// element would otherwise add up to one per letter just outside, so
+    /// that a long generator list filled the list with them (Seifert-Weber
+    /// from 64 generators, its 12 pairings and 52 products of two: over
+    /// `MAX_ELEMENTS` within a radius of 4.0 and refused as not discrete;
+    /// 465 elements kept now). An element whose products were cut off is
+    /// expanded again when `expand` grows.
     fn grow(&mut self, expand: f64, generators: usize, manifold: bool) -> Result<(), Failure> {
         let mut k = 0;
         while k < self.elements.len() {
-            if self.elements[k].displacement > expand || self.elements[k].expanded {
+            let e = &self.elements[k];
+            let done = e.expanded_to >= expand || e.displacement + self.step <= e.expanded_to;
+            if e.displacement > expand || done {
                 k += 1;
                 continue;
             }
-            self.elements[k].expanded = true;
+            self.elements[k].expanded_to = expand;
             for (l, letter) in self.letters.iter().enumerate() {
                 let m = isometry::orthonormalize(self.g, self.elements[k].m * *letter);
                 let p = m.w_axis;
@@ -241,12 +254,15 @@ impl Search<'_> {
                             }
                             .into());
                         }
+                        if displacement > expand {
+                            continue;
+                        }
                         self.push(Element {
                             m,
                             displacement,
                             parent: k,
                             letter: l,
-                            expanded: false,
+                            expanded_to: f64::NEG_INFINITY,
                         });
                         // The elements within a radius are closed under
                         // inversion; the walk might reach g and not g^-1,
@@ -258,7 +274,7 @@ impl Search<'_> {
                                 displacement,
                                 parent: self.elements.len() - 1,
                                 letter: INVERSE,
-                                expanded: false,
+                                expanded_to: f64::NEG_INFINITY,
                             });
                         }
                         if self.elements.len() > MAX_ELEMENTS {
@@ -305,6 +321,7 @@ fn attempt(gens: &Generators, basepoint: Option<DVec4>) -> Result<Space, Failure
     let mut search = Search {
         g,
         letters: &letters,
+        step,
         elements: Vec::new(),
         grid: HashMap::new(),
     };
@@ -313,7 +330,7 @@ fn attempt(gens: &Generators, basepoint: Option<DVec4>) -> Result<Space, Failure
         displacement: 0.0,
         parent: usize::MAX,
         letter: 0,
-        expanded: false,
+        expanded_to: f64::NEG_INFINITY,
     });
     let mut radius = step * 1.001;
     let whole_sphere = core::f64::consts::PI + 1e-9;
