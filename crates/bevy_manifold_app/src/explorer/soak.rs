@@ -76,9 +76,9 @@ pub struct SoakSample {
     pub frame_ms: f32,
     /// Resident memory, in MiB (0 where `/proc/self/statm` is not there).
     pub rss_mib: f64,
-    /// Live GPU objects: buffers, textures, bind groups, render
-    /// pipelines, compute pipelines, shader modules.
-    pub gpu: [isize; 6],
+    /// Live GPU objects, as [`live_gpu_objects`] counts them, in
+    /// [`GPU_COUNTERS`]' order.
+    pub gpu: [isize; GPU_COUNTERS.len()],
     /// Bevy's image and mesh assets alive in the main world.
     pub assets: [usize; 2],
     /// Space switches so far.
@@ -86,25 +86,39 @@ pub struct SoakSample {
 }
 
 /// The CSV header, matching [`SoakSample::csv`].
-pub const CSV_HEADER: &str = "secs,frames,frame_ms,rss_mib,buffers,textures,bind_groups,render_pipelines,compute_pipelines,shader_modules,images,meshes,switches";
+pub const CSV_HEADER: &str = "secs,frames,frame_ms,rss_mib,buffers,texture_views,texture_kib,bind_groups,render_pipelines,compute_pipelines,shader_modules,images,meshes,switches";
+
+/// What [`live_gpu_objects`] counts, in order.
+///
+/// Textures are counted by the memory they hold (KiB), not by number:
+/// wgpu-hal 29's Vulkan backend takes one off its texture count for each
+/// texture it destroys but adds one only for those handed to it from
+/// outside (`create_texture_from_hal`), not for those it creates, so that
+/// count runs below zero and says nothing. Its texture memory is added on
+/// creation and taken off on destruction, so a leaked texture shows there
+/// (a window's swapchain images are not in it).
+pub const GPU_COUNTERS: [&str; 7] = [
+    "buffers",
+    "texture views",
+    "texture KiB",
+    "bind groups",
+    "render pipelines",
+    "compute pipelines",
+    "shader modules",
+];
 
 impl SoakSample {
     /// The sample as a CSV row.
     #[must_use]
     pub fn csv(&self) -> String {
-        let g = self.gpu;
+        let gpu: Vec<String> = self.gpu.iter().map(ToString::to_string).collect();
         format!(
-            "{:.1},{},{:.1},{:.1},{},{},{},{},{},{},{},{},{}",
+            "{:.1},{},{:.1},{:.1},{},{},{},{}",
             self.secs,
             self.frames,
             self.frame_ms,
             self.rss_mib,
-            g[0],
-            g[1],
-            g[2],
-            g[3],
-            g[4],
-            g[5],
+            gpu.join(","),
             self.assets[0],
             self.assets[1],
             self.switches
@@ -124,15 +138,7 @@ pub fn summary(samples: &[SoakSample]) -> String {
         "soak: {:.0} s, {} frames, {} space switches\nresident memory MiB: start {:.1}, end {:.1}, peak {:.1}\n",
         last.secs, last.frames, last.switches, first.rss_mib, last.rss_mib, peak_rss
     );
-    let names = [
-        "buffers",
-        "textures",
-        "bind groups",
-        "render pipelines",
-        "compute pipelines",
-        "shader modules",
-    ];
-    for (k, name) in names.iter().enumerate() {
+    for (k, name) in GPU_COUNTERS.iter().enumerate() {
         let peak = samples.iter().map(|s| s.gpu[k]).max().unwrap_or(0);
         out.push_str(&format!(
             "{name}: start {}, end {}, peak {peak}\n",
@@ -165,14 +171,15 @@ pub fn resident_mib() -> f64 {
     pages * 4096.0 / (1024.0 * 1024.0)
 }
 
-/// Live GPU objects on `device` (wgpu's `counters`), in [`SoakSample::gpu`]'s
+/// Live GPU objects on `device` (wgpu's `counters`), in [`GPU_COUNTERS`]'
 /// order.
 #[must_use]
-pub fn live_gpu_objects(device: &RenderDevice) -> [isize; 6] {
+pub fn live_gpu_objects(device: &RenderDevice) -> [isize; GPU_COUNTERS.len()] {
     let c = device.wgpu_device().get_internal_counters();
     [
         c.hal.buffers.read(),
-        c.hal.textures.read(),
+        c.hal.texture_views.read(),
+        c.hal.texture_memory.read() / 1024,
         c.hal.bind_groups.read(),
         c.hal.render_pipelines.read(),
         c.hal.compute_pipelines.read(),
@@ -353,7 +360,7 @@ fn record(
         frames: soak.frames,
         frame_ms: status.mean_frame_ms().unwrap_or(f32::NAN),
         rss_mib: resident_mib(),
-        gpu: device.map_or([0; 6], |d| live_gpu_objects(&d)),
+        gpu: device.map_or([0; GPU_COUNTERS.len()], |d| live_gpu_objects(&d)),
         assets: [images.len(), meshes.len()],
         switches: status.switches,
     };
@@ -429,12 +436,12 @@ mod tests {
         let at = |secs: f64, rss: f64, buffers: isize| SoakSample {
             secs,
             rss_mib: rss,
-            gpu: [buffers, 0, 0, 0, 0, 0],
+            gpu: [buffers, 0, 0, 0, 0, 0, 0],
             ..SoakSample::default()
         };
         let text = summary(&[at(0.0, 100.0, 7), at(10.0, 250.5, 40), at(20.0, 180.0, 9)]);
         assert!(text.contains("start 100.0, end 180.0, peak 250.5"), "{text}");
         assert!(text.contains("buffers: start 7, end 9, peak 40"), "{text}");
-        assert_eq!(at(1.0, 2.0, 3).csv(), "1.0,0,0.0,2.0,3,0,0,0,0,0,0,0,0");
+        assert_eq!(at(1.0, 2.0, 3).csv(), "1.0,0,0.0,2.0,3,0,0,0,0,0,0,0,0,0");
     }
 }
