@@ -157,6 +157,33 @@ fn redundant_generators_give_the_same_domain() {
     assert_eq!(about.faces().len(), 52);
 }
 
+/// A 5-fold cyclic cover of the Weeks manifold (H1 = Z/5 + Z/5, so its
+/// group maps onto Z/5), built from the kernel's shortest elements
+/// (`stress::cyclic_cover`: 64 generators, computed here from the edge
+/// cycles, not taken from a table) has five times the Weeks manifold's volume, about the origin and about
+/// another point: the kernel is the whole kernel, the domain a
+/// fundamental domain of it, and the volume integration right over 36 or
+/// more faces. A cover is a manifold whatever the basepoint.
+fn a_five_fold_cover_has_five_times_the_volume() {
+    let weeks = build("weeks");
+    let mut cover = bevy_manifold_test_support::stress::cyclic_cover(&weeks, 5, 3.0).expect("H1 maps onto Z/5");
+    assert_eq!(cover.matrices.len(), generators::MAX_GENERATORS);
+    for point in [None, Some([0.1, 0.05, 0.02, (1.0f64 + 0.01 + 0.0025 + 0.0004).sqrt()])] {
+        cover.set_basepoint(point).expect("a point");
+        let s = cover
+            .dirichlet_domain()
+            .unwrap_or_else(|e| panic!("about {point:?}: {e}"));
+        assert!(
+            (s.volume() - 5.0 * weeks.volume()).abs() < 1e-9,
+            "about {point:?}: volume {} against 5 x {}",
+            s.volume(),
+            weeks.volume()
+        );
+        assert!(s.is_manifold());
+        assert!(s.faces().len() > 32, "about {point:?}: {} faces", s.faces().len());
+    }
+}
+
 fn the_flat_library_has_the_right_volumes_and_homology() {
     let hex = 3f64.sqrt() / 2.0;
     // 3-tori: the lattice covolume; the Voronoi cell of the hexagonal
@@ -567,6 +594,7 @@ bevy_manifold_test_support::test_main_requiring! {
         lens_spaces_that_are_the_same_manifold_give_the_same_domain,
         the_poincare_space_from_two_generators_is_the_catalog_one,
         redundant_generators_give_the_same_domain,
+        a_five_fold_cover_has_five_times_the_volume,
         the_flat_library_has_the_right_volumes_and_homology,
         the_weeks_manifold_has_the_published_volume_and_homology,
         the_shipped_library_files_are_the_library,

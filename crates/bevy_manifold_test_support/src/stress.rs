@@ -18,7 +18,7 @@
 
 use bevy_manifold_core::geometry::{Real, isometry};
 use bevy_manifold_core::motion::move_placement;
-use bevy_manifold_core::space::Space;
+use bevy_manifold_core::space::{Generators, Space};
 use bevy_manifold_core::trace::step::Ray;
 use bevy_manifold_core::trace::{Camera, FaceTables, FlatScene, RayDrift, Scene, TraceSettings, camera_ray, ray_drift};
 use glam::{DMat4, DQuat, DVec3, DVec4};
@@ -34,7 +34,7 @@ use rayon::prelude::*;
 /// When the domain does not build, with the reason.
 pub fn seifert_weber_about(x: f64, y: f64, z: f64) -> Result<Space, String> {
     use bevy_manifold_core::geometry::Geometry;
-    use bevy_manifold_core::space::{Generators, catalog};
+    use bevy_manifold_core::space::catalog;
     let sw = catalog::seifert_weber();
     let pairings = sw.faces().iter().map(|f| f.pairing).collect();
     let mut gens =
@@ -48,6 +48,125 @@ pub fn seifert_weber_about(x: f64, y: f64, z: f64) -> Result<Space, String> {
 
 /// Where [`seifert_weber_about`] gives Seifert-Weber 52 faces.
 pub const FIFTY_TWO_FACES: (f64, f64, f64) = (0.2, 0.1, 0.05);
+
+/// A nonzero `v` with `r . v = 0 mod p` for every row `r` of `rows`
+/// (`cols` entries each, `p` prime), by row reduction mod `p`: the first
+/// free column set to 1. `None` when the rows have full rank.
+fn kernel_vector(mut rows: Vec<Vec<i64>>, cols: usize, p: i64) -> Option<Vec<i64>> {
+    let inverse = |a: i64| (1..p).find(|&b| (a * b).rem_euclid(p) == 1);
+    let mut pivots: Vec<usize> = Vec::new();
+    let mut r = 0;
+    for c in 0..cols {
+        let Some(k) = (r..rows.len()).find(|&k| rows[k][c].rem_euclid(p) != 0) else {
+            continue;
+        };
+        rows.swap(r, k);
+        let scale = inverse(rows[r][c].rem_euclid(p))?;
+        for x in &mut rows[r] {
+            *x = (*x * scale).rem_euclid(p);
+        }
+        let pivot = rows[r].clone();
+        for (k, row) in rows.iter_mut().enumerate() {
+            let f = row[c].rem_euclid(p);
+            if k != r && f != 0 {
+                for (x, y) in row.iter_mut().zip(&pivot) {
+                    *x = (*x - f * y).rem_euclid(p);
+                }
+            }
+        }
+        pivots.push(c);
+        r += 1;
+    }
+    let free = (0..cols).find(|c| !pivots.contains(c))?;
+    let mut v = vec![0; cols];
+    v[free] = 1;
+    for (row, &c) in pivots.iter().enumerate() {
+        v[c] = (-rows[row][free]).rem_euclid(p);
+    }
+    Some(v)
+}
+
+/// A `p`-fold cyclic cover of the manifold `space`: the kernel of a
+/// homomorphism of its group onto `Z/p`, as generators (its elements that
+/// move the origin least, one of each pair of inverses, at most
+/// [`bevy_manifold_core::space::generators::MAX_GENERATORS`]), for
+/// [`Generators::dirichlet_domain`]. `None` where the group has no such
+/// homomorphism.
+///
+/// Worked out from the space alone: its group's abelianisation has one
+/// generator per face pair and one relation per edge cycle (the product
+/// of its pairings is the identity in a manifold), so `phi` is any
+/// nonzero vector mod `p` that kills every relation (`p` prime: a vector of the null space of the relations mod `p`); the
+/// group is walked breadth-first through its elements within `reach`
+/// of the origin, `phi` summed along each word, and those with `phi = 0`
+/// kept, the nearest first. Whether they generate the whole kernel is not
+/// checked here: the domain's volume, `p` times the space's, says so.
+#[must_use]
+pub fn cyclic_cover(space: &Space, p: i64, reach: f64) -> Option<Generators> {
+    use bevy_manifold_core::space::generators::MAX_GENERATORS;
+    let g = space.geometry();
+    let faces = space.faces();
+    let pairs: Vec<usize> = (0..faces.len()).filter(|&f| faces[f].partner > f).collect();
+    // Face f's pairing as (generator, sign): the pair's first face is +1.
+    let letter = |f: usize| {
+        let first = f.min(faces[f].partner);
+        let k = pairs.iter().position(|&q| q == first).unwrap_or(0);
+        (k, if f == first { 1 } else { -1 })
+    };
+    let relations: Vec<Vec<i64>> = space
+        .edge_cycles()
+        .iter()
+        .map(|c| {
+            let mut row = vec![0; pairs.len()];
+            for &f in &c.faces {
+                let (k, sign) = letter(f);
+                row[k] += sign * i64::from(c.order.max(1));
+            }
+            row
+        })
+        .collect();
+    let phi = kernel_vector(relations, pairs.len(), p)?;
+    let phi_of = |f: usize| {
+        let (k, sign) = letter(f);
+        (sign * phi[k]).rem_euclid(p)
+    };
+    // Plain products: Gram-Schmidt on an element far from the origin
+    // rounds it by far more than the product did.
+    let key = |m: &DMat4| (m.w_axis.truncate() * 1e6).round().as_i64vec3().to_array();
+    let mut found: Vec<(DMat4, i64, f64)> = vec![(DMat4::IDENTITY, 0, 0.0)];
+    let mut seen: std::collections::HashSet<[i64; 3]> = std::iter::once(key(&DMat4::IDENTITY)).collect();
+    let mut next = 0;
+    while next < found.len() && found.len() < 200_000 {
+        let (m, phi_m, _) = found[next];
+        next += 1;
+        for (f, face) in faces.iter().enumerate() {
+            let n = m * face.pairing;
+            let at = g.distance::<f64>(DVec4::W, n.w_axis);
+            if at <= reach && seen.insert(key(&n)) {
+                found.push((n, (phi_m + phi_of(f)) % p, at));
+            }
+        }
+    }
+    let mut kernel: Vec<(DMat4, f64)> = found
+        .into_iter()
+        .filter(|&(_, phi, at)| phi == 0 && at > 1e-6)
+        .map(|(m, _, at)| (m, at))
+        .collect();
+    kernel.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let mut matrices: Vec<DMat4> = Vec::new();
+    for (m, _) in kernel {
+        let back = isometry::inverse(g, m).w_axis;
+        let twin = |k: &DMat4| {
+            g.distance::<f64>(k.w_axis, back)
+                .min(g.distance::<f64>(k.w_axis, m.w_axis))
+                < 1e-7
+        };
+        if matrices.len() < MAX_GENERATORS && !matrices.iter().any(twin) {
+            matrices.push(m);
+        }
+    }
+    Generators::of_geometry(format!("{}, a {p}-fold cyclic cover", space.name()), g, matrices).ok()
+}
 
 /// The middle of face `i`: the normalised mean of its vertices.
 #[must_use]
