@@ -210,7 +210,7 @@ impl BallTree {
     /// The box of a packed node (one of [`BallTree::words`]): its sides
     /// widened by a step each way, which covers the rounding of the
     /// frame's `f32` sums, so it holds the box it packs. WGSL twin:
-    /// `tree_box` in `shaders/render.wgsl`.
+    /// `tree_box` in `shaders/ball_tree.wgsl`.
     #[must_use]
     pub fn node_box(&self, word: &[u32; 4]) -> ([f32; 3], [f32; 3]) {
         let lo = [0, 1, 2].map(|k| self.origin[k] + ((word[k] & 0xffff) as f32 - 1.0) * self.step[k]);
