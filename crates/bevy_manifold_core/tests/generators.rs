@@ -118,6 +118,12 @@ fn the_poincare_space_from_two_generators_is_the_catalog_one() {
     }
 }
 
+/// The point of the hyperboloid above `(x, y, z)`, as
+/// `stress::seifert_weber_about` lifts its basepoint.
+fn on_hyperboloid(x: f64, y: f64, z: f64) -> [f64; 4] {
+    [x, y, z, (1.0 + x * x + y * y + z * z).sqrt()]
+}
+
 /// A generator list far longer than it needs to be builds the same
 /// domain: Seifert-Weber's 12 face pairings and 52 products of two of them
 /// (64 generators, the most a list may have; the products move the
@@ -141,10 +147,7 @@ fn redundant_generators_give_the_same_domain() {
     assert_eq!(matrices.len(), generators::MAX_GENERATORS);
     let (x, y, z) = bevy_manifold_test_support::stress::FIFTY_TWO_FACES;
     let about = bevy_manifold_test_support::stress::seifert_weber_about(x, y, z).expect("52 faces");
-    for (point, reference) in [
-        (None, &sw),
-        (Some([x, y, z, (1.0 + x * x + y * y + z * z).sqrt()]), &about),
-    ] {
+    for (point, reference) in [(None, &sw), (Some(on_hyperboloid(x, y, z)), &about)] {
         let mut gens = Generators::of_geometry("seifert-weber, 64 generators", Geometry::Hyperbolic, matrices.clone())
             .expect("isometries");
         gens.set_basepoint(point).expect("a point");
@@ -168,7 +171,7 @@ fn a_five_fold_cover_has_five_times_the_volume() {
     let weeks = build("weeks");
     let mut cover = bevy_manifold_test_support::stress::cyclic_cover(&weeks, 5, 3.0).expect("H1 maps onto Z/5");
     assert_eq!(cover.matrices.len(), generators::MAX_GENERATORS);
-    for point in [None, Some([0.1, 0.05, 0.02, (1.0f64 + 0.01 + 0.0025 + 0.0004).sqrt()])] {
+    for point in [None, Some(on_hyperboloid(0.1, 0.05, 0.02))] {
         cover.set_basepoint(point).expect("a point");
         let s = cover
             .dirichlet_domain()

@@ -93,42 +93,30 @@ fn kernel_vector(mut rows: Vec<Vec<i64>>, cols: usize, p: i64) -> Option<Vec<i64
 /// [`Generators::dirichlet_domain`]. `None` where the group has no such
 /// homomorphism.
 ///
-/// Worked out from the space alone: its group's abelianisation has one
-/// generator per face pair and one relation per edge cycle (the product
-/// of its pairings is the identity in a manifold), so `phi` is any
-/// nonzero vector mod `p` that kills every relation (`p` prime: a vector of the null space of the relations mod `p`); the
-/// group is walked breadth-first through its elements within `reach`
-/// of the origin, `phi` summed along each word, and those with `phi = 0`
-/// kept, the nearest first. Whether they generate the whole kernel is not
-/// checked here: the domain's volume, `p` times the space's, says so.
+/// Worked out from the space alone: `phi` is any nonzero vector mod `p`
+/// (`p` prime) that kills every row of its group's abelianisation
+/// ([`Space::abelian_relations`]), found in the null space of those rows
+/// mod `p`; the group is walked breadth-first through its elements within
+/// `reach` of the origin, `phi` summed along each word, and those with
+/// `phi = 0` kept, the nearest first. Whether they generate the whole
+/// kernel is not checked here: the domain's volume, `p` times the
+/// space's, says so.
 #[must_use]
 pub fn cyclic_cover(space: &Space, p: i64, reach: f64) -> Option<Generators> {
     use bevy_manifold_core::space::generators::MAX_GENERATORS;
     let g = space.geometry();
     let faces = space.faces();
-    let pairs: Vec<usize> = (0..faces.len()).filter(|&f| faces[f].partner > f).collect();
-    // Face f's pairing as (generator, sign): the pair's first face is +1.
-    let letter = |f: usize| {
-        let first = f.min(faces[f].partner);
-        let k = pairs.iter().position(|&q| q == first).unwrap_or(0);
-        (k, if f == first { 1 } else { -1 })
-    };
-    let relations: Vec<Vec<i64>> = space
-        .edge_cycles()
+    let relations = space.abelian_relations();
+    // Each entry mod p, so it fits an i64.
+    let rows = relations
+        .rows
         .iter()
-        .map(|c| {
-            let mut row = vec![0; pairs.len()];
-            for &f in &c.faces {
-                let (k, sign) = letter(f);
-                row[k] += sign * i64::from(c.order.max(1));
-            }
-            row
-        })
+        .map(|r| r.iter().map(|&x| x.rem_euclid(i128::from(p)) as i64).collect())
         .collect();
-    let phi = kernel_vector(relations, pairs.len(), p)?;
+    let phi = kernel_vector(rows, relations.generators, p)?;
     let phi_of = |f: usize| {
-        let (k, sign) = letter(f);
-        (sign * phi[k]).rem_euclid(p)
+        let (k, sign) = relations.letters[f];
+        if sign > 0 { phi[k] } else { (p - phi[k]) % p }
     };
     // Plain products: Gram-Schmidt on an element far from the origin
     // rounds it by far more than the product did.

@@ -161,24 +161,55 @@ impl core::fmt::Display for Homology {
     }
 }
 
-/// The abelianised group: one generator per face pair (or mirror), one
-/// relation per edge cycle (its word to the power `k`), `2 g = 0` per mirror.
-/// `None` when the elimination's entries would leave `i128` (see
-/// [`smith_diagonal`]).
-pub(super) fn first_homology(space: &Space) -> Option<Homology> {
+/// The abelianised group of a space's pairings
+/// ([`super::Space::abelian_relations`]): one generator per face pair (or
+/// mirror), one relation per edge cycle (its word to the power `k`, as
+/// exponent sums), `2 g = 0` per mirror.
+///
+/// ```
+/// use bevy_manifold_core::space::catalog;
+/// let torus = catalog::torus(1.0);
+/// let r = torus.abelian_relations();
+/// // Three face pairs; every edge cycle of the cube crosses two pairs
+/// // each way, so every relation is 0 (H1 = Z^3).
+/// assert_eq!(r.generators, 3);
+/// assert!(r.rows.iter().flatten().all(|&x| x == 0));
+/// // A face and its partner are one generator, with opposite signs.
+/// for (f, face) in torus.faces().iter().enumerate() {
+///     assert_eq!(r.letters[f].0, r.letters[face.partner].0);
+///     assert_eq!(r.letters[f].1, -r.letters[face.partner].1);
+/// }
+/// ```
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct AbelianRelations {
+    /// How many generators (columns): one per face pair or mirror.
+    pub generators: usize,
+    /// Per face, its pairing as a generator: the column (that of the
+    /// pair's first face) and the sign (1 for the pair's first face, and
+    /// for a mirror; -1 for its partner).
+    pub letters: Vec<(usize, i128)>,
+    /// One row of `generators` exponent sums per relation: the edge
+    /// cycles' (in [`super::Space::edge_cycles`]' order), then the
+    /// mirrors'.
+    pub rows: Vec<Vec<i128>>,
+}
+
+/// [`AbelianRelations`] of `space`.
+pub(super) fn abelian_relations(space: &Space) -> AbelianRelations {
     let faces = &space.faces;
     let gens: Vec<usize> = (0..faces.len()).filter(|&i| faces[i].partner >= i).collect();
-    let gen_of = |f: usize| -> (usize, i128) {
-        let p = faces[f].partner;
-        let rep = f.min(p);
-        let col = gens.iter().position(|&g| g == rep).unwrap_or(0);
-        (col, if f <= p { 1 } else { -1 })
-    };
+    let letters: Vec<(usize, i128)> = (0..faces.len())
+        .map(|f| {
+            let p = faces[f].partner;
+            let col = gens.iter().position(|&g| g == f.min(p)).unwrap_or(0);
+            (col, if f <= p { 1 } else { -1 })
+        })
+        .collect();
     let mut rows: Vec<Vec<i128>> = Vec::new();
     for c in &space.cycles {
         let mut row = vec![0i128; gens.len()];
         for &f in &c.faces {
-            let (col, s) = gen_of(f);
+            let (col, s) = letters[f];
             row[col] += s * i128::from(c.order.max(1));
         }
         rows.push(row);
@@ -186,12 +217,24 @@ pub(super) fn first_homology(space: &Space) -> Option<Homology> {
     for (i, f) in faces.iter().enumerate() {
         if f.kind == FaceKind::Mirror {
             let mut row = vec![0i128; gens.len()];
-            row[gen_of(i).0] = 2;
+            row[letters[i].0] = 2;
             rows.push(row);
         }
     }
-    let diag = smith_diagonal(rows, gens.len())?;
-    let rank = gens.len() - diag.iter().filter(|&&d| d != 0).count();
+    AbelianRelations {
+        generators: gens.len(),
+        letters,
+        rows,
+    }
+}
+
+/// The first homology of `space`: the Smith normal form of its
+/// [`AbelianRelations`]. `None` when the elimination's entries would
+/// leave `i128` (see [`smith_diagonal`]).
+pub(super) fn first_homology(space: &Space) -> Option<Homology> {
+    let AbelianRelations { generators, rows, .. } = abelian_relations(space);
+    let diag = smith_diagonal(rows, generators)?;
+    let rank = generators - diag.iter().filter(|&&d| d != 0).count();
     let torsion = diag
         .into_iter()
         .filter(|&d| d > 1)

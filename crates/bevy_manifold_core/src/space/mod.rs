@@ -31,7 +31,7 @@ mod polyhedron;
 pub mod rule;
 mod volume;
 
-pub use cycles::{EdgeCycle, Homology};
+pub use cycles::{AbelianRelations, EdgeCycle, Homology};
 pub use error::{DisplayPath, SpaceError, SpaceFileError, SpaceFileErrorKind};
 pub use file::{FaceDesc, SpaceDesc};
 pub use generators::{GeneratorError, Generators, GeneratorsDesc};
@@ -425,6 +425,15 @@ impl Space {
     #[must_use]
     pub fn first_homology(&self) -> Option<Homology> {
         cycles::first_homology(self)
+    }
+
+    /// The abelianised group's generators and relations, from which
+    /// [`Space::first_homology`] is computed: a homomorphism of the group
+    /// onto an abelian group is a choice per generator that every row
+    /// sends to 0.
+    #[must_use]
+    pub fn abelian_relations(&self) -> AbelianRelations {
+        cycles::abelian_relations(self)
     }
 
     /// Index of the face whose half-space `p` violates most, if any violates
