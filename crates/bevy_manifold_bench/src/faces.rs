@@ -52,11 +52,11 @@ pub(crate) fn spaces() -> Result<Vec<(String, Space)>, String> {
 
 /// GPU and CPU f32 frame times at 8 levels, with nothing to hit (the
 /// transport alone) and with the default scene (a ball, the edges and a
-/// light), per space.
+/// light), per space whose name holds `only`.
 ///
 /// # Errors
 /// No GPU, or a space that does not build.
-pub fn run(width: u32, height: u32, runs: u32) -> Result<(), String> {
+pub fn run(width: u32, height: u32, runs: u32, only: &str) -> Result<(), String> {
     let mut tracer = GpuTracer::new().map_err(|e| e.to_string())?;
     println!(
         "Frame time against face count, {width}x{height}, 8 levels; GPU on {} (the trace alone by the device's clock, median of {runs}), CPU f32 reference (best of {runs})",
@@ -67,6 +67,9 @@ pub fn run(width: u32, height: u32, runs: u32) -> Result<(), String> {
         "space", "geometry", "faces", "GPU empty", "GPU scene", "CPU empty", "CPU scene", "GPU empty/face"
     );
     for (name, space) in spaces()? {
+        if !name.contains(only) {
+            continue;
+        }
         let settings = TraceSettings {
             width,
             height,

@@ -93,7 +93,7 @@ pub enum BenchCommand {
         #[arg(long, default_value_t = 3)]
         runs: u32,
     },
-    /// Frame time against the domain's face count (4 to 20 faces), GPU and
+    /// Frame time against the domain's face count (4 to 56 faces), GPU and
     /// CPU f32, with nothing to hit and with the default scene, 8 levels.
     Faces {
         /// Image width.
@@ -105,6 +105,10 @@ pub enum BenchCommand {
         /// Runs per setting; the best is reported.
         #[arg(long, default_value_t = 3)]
         runs: u32,
+        /// Only the spaces whose name holds this (`seifert-weber/`: the
+        /// 12- and 52-face domains of one manifold).
+        #[arg(long, default_value = "")]
+        only: String,
     },
     /// What culling by near faces saves: GPU and CPU f32, each with
     /// culling off and on, per catalog space at 8 and 16 levels, and issue
@@ -193,7 +197,12 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
         BenchCommand::Specialise(ref args) => specialise::run(args),
         BenchCommand::Meshes { width, height, runs } => meshes::run(width.max(1), height.max(1), runs.max(1)),
         BenchCommand::Cells { width, height, runs } => cells::run(width.max(1), height.max(1), runs.max(1)),
-        BenchCommand::Faces { width, height, runs } => faces::run(width.max(1), height.max(1), runs.max(1)),
+        BenchCommand::Faces {
+            width,
+            height,
+            runs,
+            ref only,
+        } => faces::run(width.max(1), height.max(1), runs.max(1), only),
         BenchCommand::Cull {
             width,
             height,
