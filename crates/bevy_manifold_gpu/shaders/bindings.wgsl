@@ -266,6 +266,47 @@ var<private> cached: CachedParams;
 // trace_pixel or ray_drift) before anything reads `cached`.
 fn cache_params() {
     cached = CachedParams(params.occupied, params.face_count, params.flags, params.levels, params.max_distance, params.fog_density, params.near_reach, params.tube_k, params.ball_tree_nodes);
+#ifdef FACE_COUNT
+    // In chunks of 16 with constant bounds, as step.wgsl's FACE_CHUNK.
+    cache_planes(0u, min(face_count(), 16u));
+    cache_planes(16u, min(face_count(), 32u));
+    cache_planes(32u, min(face_count(), 48u));
+    cache_planes(48u, min(face_count(), 64u));
+    cache_planes(64u, min(face_count(), 80u));
+    cache_planes(80u, min(face_count(), 96u));
+    cache_planes(96u, min(face_count(), 112u));
+    cache_planes(112u, min(face_count(), 128u));
+#endif
+}
+
+#ifdef FACE_COUNT
+// The face planes, copied once per invocation by cache_params, for the
+// loops over every face (step.wgsl's exit_face and near_faces), which
+// read them at constant indices. lavapipe (Mesa 22.3) loads each word of
+// a uniform at a constant index behind its own bounds-check branch; a
+// private array read at a constant index is a plain load. With the
+// planes read from `faces` at every segment, Seifert-Weber's 52-face
+// domain with nothing to hit traced in 122 ms, with this copy in 55-60
+// (BENCHMARKS.md, "Face planes copied once"). WGSL only: Rust reads FaceTables::planes.
+var<private> planes: array<vec4<f32>, #{FACE_COUNT}u>;
+
+// Faces lo to hi - 1 of `planes` from `faces`.
+fn cache_planes(lo: u32, hi: u32) {
+    for (var i = lo; i < hi; i++) {
+        planes[i] = faces[i].plane;
+    }
+}
+#endif
+
+// Face i's plane: from `planes` under FACE_COUNT (i must then be a
+// constant after unrolling, or the private array is read lane by lane),
+// else from `faces`. Rust twin: FaceTables::planes[i].
+fn face_plane(i: u32) -> vec4<f32> {
+#ifdef FACE_COUNT
+    return planes[i];
+#else
+    return faces[i].plane;
+#endif
 }
 
 // Pixel::object of a domain edge (a tube). Rust twin: EDGE_ID in

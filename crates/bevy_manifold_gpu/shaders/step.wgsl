@@ -11,7 +11,7 @@
 // / GEOMETRY_EUCLIDEAN (the quadrics); MESHES through bindings.
 #define_import_path bevy_manifold::step
 
-#import bevy_manifold::bindings::{params, cached, faces, Tube, NO_FACE, FLAG_NO_RENORMALIZE, FLAG_NO_CULL, face_count}
+#import bevy_manifold::bindings::{params, cached, faces, Tube, NO_FACE, FLAG_NO_RENORMALIZE, FLAG_NO_CULL, face_count, face_plane}
 #import bevy_manifold::geometry::{form, normalize_point, normalize_tangent}
 
 // Rust twin: Ray in crates/bevy_manifold_core/src/trace/step.rs.
@@ -57,7 +57,7 @@ fn exit_face(ray: Ray, skip: u32) -> Exit {
 fn exit_faces_in(ray: Ray, skip: u32, best_in: Exit, lo: u32, hi: u32) -> Exit {
     var best = best_in;
     for (var i = lo; i < hi; i++) {
-        let n = faces[i].plane;
+        let n = face_plane(i);
         let no = dot(n, ray.origin);
         let nd = dot(n, ray.dir);
         if i != skip && nd > 0.0 {
@@ -86,9 +86,8 @@ const ALL_FACES: u32 = 0xffffffffu;
 // further): |n . p| / p_w is monotone along the segment, so its ends
 // decide, or a change of sign. Faces from 32 on fold onto bit i % 32, set
 // when any of its faces is near; a segment with no finite end is near
-// all. FLAG_NO_CULL: all near. The planes are read again rather than kept
-// from exit_face: on lavapipe a uniform read is a gather, cheaper than
-// keeping them in a private array indexed at run time (6-13% of a frame).
+// all. FLAG_NO_CULL: all near. The planes come from bindings' `planes`
+// (face_plane), at constant indices once the chunks are unrolled.
 // Rust twin: near_faces in crates/bevy_manifold_core/src/trace/step.rs
 // (takes the planes and the scale apart).
 fn near_faces(ray: Ray, t_end: f32, within: f32) -> u32 {
@@ -120,8 +119,8 @@ fn near_faces_in(ray: Ray, t_end: f32, within: f32, wa: f32, wb: f32, near_in: u
     var near = near_in;
     for (var i = lo; i < hi; i++) {
         // n . o and n . d for this ray; the end's value from them.
-        let sa = dot(faces[i].plane, ray.origin);
-        let sd = dot(faces[i].plane, ray.dir);
+        let sa = dot(face_plane(i), ray.origin);
+        let sd = dot(face_plane(i), ray.dir);
         let sb = sa + t_end * sd;
         let crosses = (sa < 0.0) != (sb < 0.0);
         let is_near = crosses || abs(sa) <= within * wa || abs(sb) <= within * wb;

@@ -81,7 +81,10 @@ pub struct TraceDefs {
     /// index. lavapipe reads a uniform at a run-time index with a gather,
     /// one lane at a time, and at a constant one with a single load: with
     /// the faces counted at run time the default scene traced 13-17%
-    /// slower (BENCHMARKS.md, "Branches on lavapipe"). It also keeps long
+    /// slower (BENCHMARKS.md, "Branches on lavapipe"). The planes are
+    /// also copied once per invocation into a private array of this size
+    /// (`planes` in `bindings.wgsl`), since even the constant-index load
+    /// from a uniform costs a bounds-check branch per word. It also keeps long
     /// walks whole on lavapipe, which ends all loops of an invocation once
     /// they have taken 65,535 iterations between them (Mesa's
     /// `LP_MAX_TGSI_LOOP_ITERATIONS`): with the faces looped at run time a
