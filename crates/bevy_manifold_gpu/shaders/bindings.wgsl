@@ -282,12 +282,15 @@ fn cache_params() {
 #ifdef FACE_COUNT
 // The face planes, copied once per invocation by cache_params, for the
 // loops over every face (step.wgsl's exit_face and near_faces), which
-// read them at constant indices. lavapipe (Mesa 22.3) loads each word of
-// a uniform at a constant index behind its own bounds-check branch; a
-// private array read at a constant index is a plain load. With the
-// planes read from `faces` at every segment, Seifert-Weber's 52-face
-// domain with nothing to hit traced in 122 ms, with this copy in 55-60
-// (BENCHMARKS.md, "Face planes copied once"). WGSL only: Rust reads FaceTables::planes.
+// read them at constant indices. On lavapipe (Mesa 22.3) a plane read
+// from the `faces` uniform, even at a constant index, cost several times
+// its two dot products: padded to 52 planes, the 12-face domain's frame
+// with nothing to hit grew by 15 ms when the 40 extra planes were copies
+// of loaded ones and by 65-80 ms when each was loaded. A private array
+// read at a constant index is a plain load: Seifert-Weber's 52-face
+// domain traced in 122-132 ms before this copy and 54-59 after
+// (BENCHMARKS.md, "Face planes copied once"). WGSL only: Rust reads
+// FaceTables::planes.
 var<private> planes: array<vec4<f32>, #{FACE_COUNT}u>;
 
 // Faces lo to hi - 1 of `planes` from `faces`.

@@ -83,8 +83,8 @@ pub struct TraceDefs {
     /// the faces counted at run time the default scene traced 13-17%
     /// slower (BENCHMARKS.md, "Branches on lavapipe"). The planes are
     /// also copied once per invocation into a private array of this size
-    /// (`planes` in `bindings.wgsl`), since even the constant-index load
-    /// from a uniform costs a bounds-check branch per word. It also keeps long
+    /// (`planes` in `bindings.wgsl`): on lavapipe even a constant-index
+    /// read of the uniform cost several times a private one. It also keeps long
     /// walks whole on lavapipe, which ends all loops of an invocation once
     /// they have taken 65,535 iterations between them (Mesa's
     /// `LP_MAX_TGSI_LOOP_ITERATIONS`): with the faces looped at run time a
