@@ -494,6 +494,22 @@ fn consider_ball(ray: Ray, t_end: f32, near: u32, i: u32) {
 // hands out), which every segment may hit, without reading its mask
 // (Rust's visitor checks the empty mask): 128 balls in the torus at
 // 320x180, 8 levels, took 23.4 ms with the read and 21.9 without.
+// Ball i's centre for its hit test. In H3 it is read in three words, its
+// w made from them as Rust's FlatScene stored it (w = sqrt(1 + x^2 + y^2
+// + z^2), on the hyperboloid): each word a lane reads from `balls` is a
+// gather, and gathering a ball's words, not testing it, is most of what
+// the ball tree costs (BENCHMARKS.md, "Face planes and the ball ratio").
+// In E3 the form leaves w out, so it is never read. Rust twin:
+// ball_center in crates/bevy_manifold_core/src/trace/flat.rs.
+fn ball_center(i: u32) -> vec4<f32> {
+#ifdef GEOMETRY_HYPERBOLIC
+    let c = balls[i].center.xyz;
+    return vec4<f32>(c, sqrt(1.0 + (c.x * c.x + c.y * c.y + c.z * c.z)));
+#else
+    return balls[i].center;
+#endif
+}
+
 fn meet_ball(ray: Ray, t_end: f32, i: u32) {
 #ifdef FOOTPRINT
     let c = cover(1u, i, ball_approach(ray, balls[i].center), met_limit(t_end), grow_k(balls[i].k, cone_grow.ball), balls[i].k);
@@ -501,7 +517,7 @@ fn meet_ball(ray: Ray, t_end: f32, i: u32) {
         keep_met(c.near.t, (1u << 30u) | i);
     }
 #else
-    let t = hit_ball(ray, balls[i].center, balls[i].k, 0.0);
+    let t = hit_ball(ray, ball_center(i), balls[i].k, 0.0);
     if t >= 0.0 && t <= t_end && (best.kind == 0u || t < best.t || (t == best.t && i < best.index)) {
         best = Hit(t, 1u, i, 0u, 0.0, 0.0);
     }

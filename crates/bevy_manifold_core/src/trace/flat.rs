@@ -279,6 +279,20 @@ pub const MAX_GHOSTS: usize = 256;
 /// Most copies of the domain visited while looking for an object's ghosts.
 pub const MAX_GHOST_SEARCH: usize = 8192;
 
+/// A ball's centre `c` (normalised) in precision `R`: in H3 its w made
+/// from x, y and z in `R` (`sqrt(1 + (x^2 + y^2 + z^2))`, the point on the
+/// hyperboloid), which the GPU's ball test does in place of reading w
+/// (one word fewer gathered a ball), so both test the same point; as it
+/// is elsewhere. WGSL twin: `ball_center` in `shaders/render.wgsl`.
+#[must_use]
+pub fn ball_center<R: Real>(g: Geometry, c: DVec4) -> R::V4 {
+    if g != Geometry::Hyperbolic {
+        return R::v4_of(c);
+    }
+    let (x, y, z) = (R::of(c.x), R::of(c.y), R::of(c.z));
+    R::v4(x, y, z, (R::of(1.0) + (x * x + y * y + z * z)).sqrt())
+}
+
 impl<R: Real> FlatScene<R> {
     /// Prepares `scene` in `space` for tracing in precision `R`.
     #[must_use]
@@ -290,7 +304,7 @@ impl<R: Real> FlatScene<R> {
             let k = R::of(radius_param(g, b.radius));
             for center in ghost_centres(space, b.center, b.radius) {
                 balls.push(FlatBall {
-                    center: R::v4_of(center),
+                    center: ball_center::<R>(g, center),
                     k,
                     color: b.color,
                     glow: b.glow,
@@ -341,7 +355,7 @@ impl<R: Real> FlatScene<R> {
                     .position(|e| e.vertices.contains(&i))
                     .map_or([1.0; 3], |e| PALETTE[cycle_of[e] % PALETTE.len()]);
                 joints.push(FlatBall {
-                    center: R::v4_of(v.point),
+                    center: ball_center::<R>(g, v.point),
                     k: tube_k,
                     color,
                     glow: 0.0,
