@@ -279,11 +279,12 @@ pub const MAX_GHOSTS: usize = 256;
 /// Most copies of the domain visited while looking for an object's ghosts.
 pub const MAX_GHOST_SEARCH: usize = 8192;
 
-/// A ball's centre `c` (normalised) in precision `R`: in H3 its w made
+/// A ball's centre `c` (normalised) in precision `R`. In H3 its w is made
 /// from x, y and z in `R` (`sqrt(1 + (x^2 + y^2 + z^2))`, the point on the
-/// hyperboloid), which the GPU's ball test does in place of reading w
-/// (one word fewer gathered a ball), so both test the same point; as it
-/// is elsewhere. WGSL twin: `ball_center` in `shaders/render.wgsl`.
+/// hyperboloid), as the GPU's ball test makes it in place of reading w
+/// (one word fewer gathered a ball), so both test the same point; in E3
+/// and S3 it is `c` as it is. WGSL twin: `ball_center` in
+/// `shaders/render.wgsl`.
 #[must_use]
 pub fn ball_center<R: Real>(g: Geometry, c: DVec4) -> R::V4 {
     if g != Geometry::Hyperbolic {
