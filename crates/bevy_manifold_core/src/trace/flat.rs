@@ -251,26 +251,29 @@ const PALETTE: [[f32; 3]; 10] = [
 ];
 
 /// Fewest balls with no face mask for which [`FlatScene::ball_tree`] is
-/// built: more than one leaf's worth ([`BALL_LEAF_SIZE`]), so the root
-/// has children. Below it a segment tests each of them. Since the walk
-/// tests its leaves' balls after walking down to them, a tree of 12 balls
-/// costs less than testing each: on lavapipe (320x180, 8 levels, over the
-/// one-ball frame, two runs each; BENCHMARKS.md, "MIN_BALL_TREE after the
-/// two-loop walk") 12 balls took 1.35-1.48x in the torus with a tree and
-/// 1.79-2.18x without, Seifert-Weber 1.45-1.47x and 1.36-1.68x, Poincare
-/// 1.38-1.59x and 1.37-1.64x. A tree of one leaf (8 balls) tests the same
-/// balls after one more box, and when it was the first scene its pipeline
-/// traced, lavapipe's specialisation on that scene's uniforms left the
-/// frame 2-3x slower (`bench balls`, 8 balls: 31.5-46.8 ms). Scenes with
-/// fewer balls do not compile the walk at all (`BALL_TREE` in
-/// `bevy_manifold_gpu`).
-pub const MIN_BALL_TREE: usize = BALL_LEAF_SIZE + 1;
+/// built: more than 8, the leaf size this was measured with (two or more
+/// leaves of [`BALL_LEAF_SIZE`] now). Below it a segment tests each of
+/// them. Since the walk tests its leaves' balls after walking down to
+/// them, a tree of 12 balls costs less than testing each: on lavapipe
+/// (320x180, 8 levels, over the one-ball frame, two runs each;
+/// BENCHMARKS.md, "MIN_BALL_TREE after the two-loop walk") 12 balls took
+/// 1.35-1.48x in the torus with a tree and 1.79-2.18x without,
+/// Seifert-Weber 1.45-1.47x and 1.36-1.68x, Poincare 1.38-1.59x and
+/// 1.37-1.64x. A tree of one leaf (8 balls) tests the same balls after
+/// one more box, and when it was the first scene its pipeline traced,
+/// lavapipe's specialisation on that scene's uniforms left the frame 2-3x
+/// slower (`bench balls`, 8 balls: 31.5-46.8 ms). Scenes with fewer balls
+/// do not compile the walk at all (`BALL_TREE` in `bevy_manifold_gpu`).
+pub const MIN_BALL_TREE: usize = 9;
 
-/// Most balls in a leaf of [`FlatScene::ball_tree`]: twice a mesh's
-/// [`crate::mesh::bvh::LEAF_SIZE`], as a node costs lavapipe more than a
-/// ball (`bench balls`, torus, 320x180, 8 levels: 128 balls 24.1 ms with
-/// leaves of 4, 23.3 with 8, 25.9 with 1).
-pub const BALL_LEAF_SIZE: usize = 8;
+/// Most balls in a leaf of [`FlatScene::ball_tree`], as a mesh's
+/// ([`crate::mesh::bvh::LEAF_SIZE`]). A leaf's balls cost the GPU more
+/// than its nodes: each ball test gathers the ball's words lane by lane
+/// (BENCHMARKS.md, "Leaves of four balls"). `bench balls --only seifert
+/// --runs 7`, 320x180, 8 levels, 100 balls, four runs of each build
+/// alternated: 20.4-22.8 ms with leaves of 4 against 21.8-24.4 with 8;
+/// leaves of 2, 3, 5 and 6 were no better than 4.
+pub const BALL_LEAF_SIZE: usize = 4;
 
 /// Most copies of one object kept as ghosts (a huge ball in a small
 /// domain would otherwise ask for thousands).
