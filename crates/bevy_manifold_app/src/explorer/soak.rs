@@ -376,6 +376,20 @@ fn record(
     }
 }
 
+/// `Ok` when every one of `meshes` is a file under `assets`; otherwise
+/// the first that is not, with the folder looked in: a soak that loaded
+/// no mesh would measure nothing of what meshes hold, and Bevy only logs
+/// a missing asset and goes on.
+pub fn check_meshes(assets: &std::path::Path, meshes: &[String]) -> Result<(), String> {
+    match meshes.iter().find(|m| !assets.join(m).is_file()) {
+        None => Ok(()),
+        Some(m) => Err(format!(
+            "soak: the mesh {m} is not in {} (--assets names the folder that holds models/)",
+            assets.display()
+        )),
+    }
+}
+
 /// Runs the explorer in its window under the soak script (settings are
 /// not saved). Without a display or a GPU adapter it says so and exits
 /// with an error: a soak needs the real thing.
@@ -385,6 +399,10 @@ pub fn run_soak(options: &SoakOptions) -> AppExit {
         return AppExit::error();
     }
     let assets = std::path::absolute(&options.assets).unwrap_or_else(|_| options.assets.clone());
+    if let Err(why) = check_meshes(&assets, &options.meshes) {
+        eprintln!("error: {why}");
+        return AppExit::error();
+    }
     println!(
         "soak: {} s, a step every {} s, a sample every {} s, meshes from {}; writing {}",
         options.duration.as_secs(),
@@ -406,6 +424,23 @@ pub fn run_soak(options: &SoakOptions) -> AppExit {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_soak_names_a_mesh_its_asset_folder_lacks() {
+        let meshes = SoakOptions::default().meshes;
+        let repo_assets = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets");
+        assert_eq!(check_meshes(&repo_assets, &meshes), Ok(()));
+        let empty = std::env::temp_dir().join(format!("bevy_manifold_soak_{}", std::process::id()));
+        std::fs::create_dir_all(&empty).unwrap();
+        let why = check_meshes(&empty, &meshes).unwrap_err();
+        assert!(why.contains("models/suzanne.glb"), "{why}");
+        assert!(why.contains(&empty.display().to_string()), "{why}");
+        // A folder, not a file, by the mesh's name is not a mesh either.
+        std::fs::create_dir_all(empty.join("models/suzanne.glb")).unwrap();
+        let why = check_meshes(&empty, &meshes).unwrap_err();
+        assert!(why.contains("models/suzanne.glb"), "{why}");
+        std::fs::remove_dir_all(&empty).unwrap();
+    }
 
     #[test]
     fn the_script_visits_every_space_with_every_cell_mode_in_range() {
