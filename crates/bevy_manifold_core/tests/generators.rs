@@ -229,6 +229,39 @@ fn seifert_weber_builds_about_points_near_its_centre() {
     }
 }
 
+/// The Weeks manifold from its domain's face pairings, about basepoints
+/// far from that domain's centre (1.9 and 2.1 from it), where the words
+/// to the elements are long and their matrices' entries large. The search once
+/// re-orthonormalised every product, which rounds such an element by far
+/// more than the product does, and refused both points: "an element
+/// moves the basepoint by only 1.172e-7" and "2.447e-7". Each domain is
+/// one of the same manifold: the published volume and H1 = Z/5 + Z/5.
+fn the_weeks_manifold_builds_about_far_basepoints() {
+    let weeks = build("weeks");
+    let pairings: Vec<DMat4> = weeks.faces().iter().map(|f| f.pairing).collect();
+    for (x, y, z) in [
+        (
+            -1.706_374_949_671_634_5,
+            -1.872_605_655_408_364,
+            2.064_597_997_701_417_5,
+        ),
+        (2.249_794_827_398_045, -2.334_625_139_932_584_6, -2.253_919_203_950_801),
+    ] {
+        let mut gens = Generators::of_geometry("weeks", Geometry::Hyperbolic, pairings.clone()).expect("isometries");
+        gens.set_basepoint(Some(on_hyperboloid(x, y, z))).expect("a point");
+        let s = gens
+            .dirichlet_domain()
+            .unwrap_or_else(|e| panic!("about ({x}, {y}, {z}): {e}"));
+        assert!(
+            (s.volume() - 0.942_707_362_776_927_7).abs() < 1e-9,
+            "about ({x}, {y}, {z}): volume {}",
+            s.volume()
+        );
+        assert!(s.is_manifold());
+        assert_eq!(s.first_homology().expect("homology").to_string(), "Z/5 + Z/5");
+    }
+}
+
 fn the_flat_library_has_the_right_volumes_and_homology() {
     let hex = 3f64.sqrt() / 2.0;
     // 3-tori: the lattice covolume; the Voronoi cell of the hexagonal
@@ -640,6 +673,7 @@ bevy_manifold_test_support::test_main_requiring! {
         the_poincare_space_from_two_generators_is_the_catalog_one,
         redundant_generators_give_the_same_domain,
         a_five_fold_cover_has_five_times_the_volume,
+        the_weeks_manifold_builds_about_far_basepoints,
         seifert_weber_builds_about_points_near_its_centre,
         the_flat_library_has_the_right_volumes_and_homology,
         the_weeks_manifold_has_the_published_volume_and_homology,

@@ -219,7 +219,18 @@ impl Search<'_> {
             }
             self.elements[k].expanded_to = expand;
             for (l, letter) in self.letters.iter().enumerate() {
-                let m = isometry::orthonormalize(self.g, self.elements[k].m * *letter);
+                // A plain product, not re-orthonormalised: Gram-Schmidt
+                // on an element far from the origin (entries of size S)
+                // rounds its frame by about eps S^3, far more than the
+                // product did (eps S^2), and the next product carries
+                // that into its image of the basepoint. The fourth power
+                // of a generator of a 5-fold cover of Seifert-Weber
+                // (entries near 1500) came out 5e-7 off the plain
+                // product; products that were the identity then missed it
+                // by 1.2e-7 to 7e-7 and were refused as "an element moves
+                // the basepoint by only ..." (the Weeks manifold about
+                // far basepoints, in tests/generators.rs).
+                let m = self.elements[k].m * *letter;
                 let p = m.w_axis;
                 if !m.is_finite() {
                     return Err(GeneratorError::NotDiscrete {
@@ -267,7 +278,8 @@ impl Search<'_> {
                         // The elements within a radius are closed under
                         // inversion; the walk might reach g and not g^-1,
                         // whose bisector holds the partner face.
-                        let inverse = isometry::orthonormalize(self.g, isometry::inverse(self.g, m));
+                        // (Exact in H3 and S3, J m^T J: nothing to round.)
+                        let inverse = isometry::inverse(self.g, m);
                         if self.find(inverse.w_axis).is_none() {
                             self.push(Element {
                                 m: inverse,
