@@ -25,20 +25,32 @@ use glam::{DMat4, DQuat, DVec3, DVec4};
 use rayon::prelude::*;
 
 /// Seifert-Weber's own face pairings taken as generators, and their
-/// Dirichlet domain about the chart point `(x, y, z)` lifted onto the
-/// hyperboloid: the same manifold with another domain. About the origin
-/// it is the dodecahedron (12 faces); about `(0.2, 0.1, 0.05)` it has 52
-/// faces, more than the 32 bits of a face mask (`trace::cull`).
+/// Dirichlet domain about the point of the hyperboloid over `(x, y, z)`:
+/// the same manifold with another domain ([`domain_about`]). About the
+/// origin it is the dodecahedron (12 faces); about `(0.2, 0.1, 0.05)` it
+/// has 52 faces, more than the 32 bits of a face mask (`trace::cull`).
 ///
 /// # Errors
 /// When the domain does not build, with the reason.
 pub fn seifert_weber_about(x: f64, y: f64, z: f64) -> Result<Space, String> {
+    domain_about(&bevy_manifold_core::space::catalog::seifert_weber(), x, y, z)
+}
+
+/// A hyperbolic `space`'s own face pairings taken as generators, and
+/// their Dirichlet domain about the point of the hyperboloid over
+/// `(x, y, z)`, `(x, y, z, sqrt(1 + x^2 + y^2 + z^2))` (the origin's own
+/// domain for the origin).
+///
+/// # Errors
+/// When `space` is not hyperbolic, or the domain does not build, with
+/// the reason.
+pub fn domain_about(space: &Space, x: f64, y: f64, z: f64) -> Result<Space, String> {
     use bevy_manifold_core::geometry::Geometry;
-    use bevy_manifold_core::space::catalog;
-    let sw = catalog::seifert_weber();
-    let pairings = sw.faces().iter().map(|f| f.pairing).collect();
-    let mut gens =
-        Generators::of_geometry("seifert-weber", Geometry::Hyperbolic, pairings).map_err(|e| e.to_string())?;
+    if space.geometry() != Geometry::Hyperbolic {
+        return Err(format!("{} is not hyperbolic", space.name()));
+    }
+    let pairings = space.faces().iter().map(|f| f.pairing).collect();
+    let mut gens = Generators::of_geometry(space.name(), Geometry::Hyperbolic, pairings).map_err(|e| e.to_string())?;
     let w = (1.0 + x * x + y * y + z * z).sqrt();
     let at = (x, y, z) != (0.0, 0.0, 0.0);
     gens.set_basepoint(at.then_some([x, y, z, w]))
