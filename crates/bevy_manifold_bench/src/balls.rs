@@ -18,9 +18,9 @@ use bevy_manifold::prelude::*;
 use bevy_manifold_gpu::GpuTracer;
 use bevy_manifold_test_support::stress::swarm;
 
-/// Ball counts timed: 1 to 254 (the scene's ids stop at 254), with the
-/// issue's own 100.
-const COUNTS: [usize; 10] = [1, 2, 4, 8, 16, 32, 64, 100, 128, 254];
+/// Ball counts timed by default: 1 to 254 (the scene's ids stop at 254),
+/// with the issue's own 100.
+pub const COUNTS: [usize; 10] = [1, 2, 4, 8, 16, 32, 64, 100, 128, 254];
 
 /// The swarm of `n` balls in `space`: the default scene's light and
 /// camera, no edges, its one ball and `n - 1` more.
@@ -32,11 +32,11 @@ fn scene(space: &Space, n: usize) -> Scene {
 
 /// Prints, per space and ball count, GPU and CPU f32 frame times with
 /// culling off and on, best of `runs`, for the spaces whose name holds
-/// `only`.
+/// `only`, for each of `counts` (ascending, from 1).
 ///
 /// # Errors
 /// No GPU adapter, or a space that does not build.
-pub fn run(width: u32, height: u32, levels: u32, runs: u32, only: &str) -> Result<(), String> {
+pub fn run(width: u32, height: u32, levels: u32, runs: u32, only: &str, counts: &[usize]) -> Result<(), String> {
     let mut tracer = GpuTracer::new().map_err(|e| e.to_string())?;
     println!(
         "Frame time against traced balls, {width}x{height}, {levels} levels; GPU on {} (the trace alone by the device's clock, median of {runs}), CPU f32 reference on {} threads (best of {runs}); ms",
@@ -66,7 +66,7 @@ pub fn run(width: u32, height: u32, levels: u32, runs: u32, only: &str) -> Resul
         let mut one = [0.0; 2];
         // Per segment: GPU all, GPU cull, CPU cull; of the one-ball scene.
         let mut one_per_segment = [0.0; 3];
-        for n in COUNTS {
+        for &n in counts {
             let scene = scene(&space, n);
             let mut gpu = [0.0; 2];
             let mut cpu = [0.0; 2];

@@ -146,6 +146,11 @@ pub enum BenchCommand {
         /// Only the spaces whose name holds this.
         #[arg(long, default_value = "")]
         only: String,
+        /// Only these ball counts (comma-separated; each from 1 to 254),
+        /// instead of 1 to 254 in doublings and 100. The ratios are over
+        /// the one-ball scene, which is always timed.
+        #[arg(long, value_delimiter = ',')]
+        counts: Vec<usize>,
     },
     /// Anti-aliasing by accumulation: PSNR of 1, 4, 8, 16 accumulated
     /// samples against a 16-samples-per-pixel reference per space at 8
@@ -215,7 +220,15 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
             levels,
             runs,
             ref only,
-        } => balls::run(width.max(1), height.max(1), levels.clamp(1, 64), runs.max(1), only),
+            ref counts,
+        } => balls::run(
+            width.max(1),
+            height.max(1),
+            levels.clamp(1, 64),
+            runs.max(1),
+            only,
+            &ball_counts(counts)?,
+        ),
         BenchCommand::Compare(ref args) => compare::run(args),
         BenchCommand::Aa { width, height, frames } => aa::run(width.max(1), height.max(1), frames.max(1)),
         BenchCommand::Stereo {
@@ -229,6 +242,26 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
             stereo::run(scales, runs.max(1), only)
         }
     }
+}
+
+/// The ball counts `bench balls --counts` asks for, ascending, with the
+/// one-ball scene the ratios divide by; [`balls::COUNTS`] when none.
+///
+/// # Errors
+/// A count outside 1 to 254 (the swarm's ids stop at 254).
+fn ball_counts(counts: &[usize]) -> Result<Vec<usize>, String> {
+    if let Some(n) = counts.iter().find(|&&n| !(1..=254).contains(&n)) {
+        return Err(format!("--counts: each must be from 1 to 254, got {n}"));
+    }
+    let mut out = if counts.is_empty() {
+        balls::COUNTS.to_vec()
+    } else {
+        counts.to_vec()
+    };
+    out.push(1);
+    out.sort_unstable();
+    out.dedup();
+    Ok(out)
 }
 
 /// Best wall time of `runs` calls of `f`, in ms, after one untimed call
@@ -313,5 +346,21 @@ impl Progress {
             eprintln!();
         }
         let _ = std::io::stderr().flush();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ball_counts;
+
+    #[test]
+    fn ball_counts_add_the_one_ball_scene_in_order_and_refuse_out_of_range() {
+        assert_eq!(ball_counts(&[100, 16, 100]), Ok(vec![1, 16, 100]));
+        assert_eq!(ball_counts(&[1]), Ok(vec![1]));
+        assert_eq!(ball_counts(&[]).expect("default").len(), 10);
+        for bad in [0, 255] {
+            let e = ball_counts(&[16, bad]).expect_err("out of range");
+            assert!(e.contains("--counts") && e.contains(&bad.to_string()), "{e}");
+        }
     }
 }
