@@ -426,7 +426,7 @@ fn space_buffers(device: &RenderDevice, s: &GpuSpace, stats: &mut ManifoldUpload
 
 /// The objects' data, each with the label of its buffer, in
 /// [`SceneBuffers::objects_mut`]'s order: balls, tubes, lights,
-/// instances, the meshes' data, the face groups and the ball tree's nodes.
+/// instances, the meshes' data, the face groups and the ball tree's leaves.
 fn object_data(o: &GpuObjects) -> [(&'static str, &[u8]); 7] {
     [
         ("manifold_balls", bytemuck::cast_slice(&o.balls)),

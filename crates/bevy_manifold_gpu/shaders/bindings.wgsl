@@ -80,9 +80,9 @@ struct Params {
     // near_faces' test (step.wgsl); infinite when nothing is culled.
     near_reach: f32,
     pad_a: u32,
-    // How many nodes of the ball tree ball_nodes holds (0: no tree).
-    // render.wgsl's interior_balls walks it.
-    ball_tree_nodes: u32,
+    // How many leaves of the ball tree ball_nodes holds (0: no tree).
+    // ball_tree.wgsl's cache_leaves reads them.
+    ball_leaves: u32,
     // FOOTPRINT: FaceTables::chart_stretch, what the ball tree's boxes are
     // padded by per unit of growth, and FlatScene::footprint_cap, the
     // widest a pixel's cone grows.
@@ -197,10 +197,10 @@ struct Pixel {
     cell_hi: u32,
 }
 
-// The most faces, lights, balls, edge tubes and ball tree nodes the
+// The most faces, lights, balls, edge tubes and ball tree leaves the
 // uniform arrays hold, and the face groups' entries. Rust twins:
 // bevy_manifold_core's MAX_FACES and MAX_LIGHTS, and MAX_BALLS,
-// MAX_TUBES, GROUPS and MAX_BALL_NODES in
+// MAX_TUBES, GROUPS and MAX_BALL_LEAVES in
 // crates/bevy_manifold_gpu/src/bindings.rs (BINDINGS' capacities, which
 // the contract test holds to these lengths).
 const MAX_FACES: u32 = 128u;
@@ -208,7 +208,7 @@ const MAX_LIGHTS: u32 = 64u;
 const MAX_BALLS: u32 = 1024u;
 const MAX_TUBES: u32 = 378u;
 const GROUPS: u32 = 33u;
-const MAX_BALL_NODES: u32 = 1024u;
+const MAX_BALL_LEAVES: u32 = 64u;
 
 // A read-only storage buffer, not a uniform: see BINDINGS in
 // crates/bevy_manifold_gpu/src/bindings.rs (with a uniform, lavapipe's
@@ -239,11 +239,11 @@ const MAX_BALL_NODES: u32 = 1024u;
 @group(0) @binding(9) var<uniform> groups: array<vec4<u32>, GROUPS>;
 // FlatScene::ball_tree (GpuObjects::ball_nodes in Rust): the frame of
 // the packed boxes, BallTree::origin and BallTree::step (bits, xyz), then
-// params.ball_tree_nodes nodes, one word each (BallTree::words): per axis
+// params.ball_leaves leaves, one word each (BallTree::words): per axis
 // the box's sides in 16-bit steps from the origin, low and high halves;
-// then the link, an inner node's skip or LEAF_LINK | its first ball | its
-// ball count << 16. render.wgsl's ball_tree_leaves walks them.
-@group(0) @binding(10) var<uniform> ball_nodes: array<vec4<u32>, MAX_BALL_NODES + 2u>;
+// then its first ball | its ball count << 16. ball_tree.wgsl's
+// cache_leaves reads them.
+@group(0) @binding(10) var<uniform> ball_nodes: array<vec4<u32>, MAX_BALL_LEAVES + 2u>;
 
 // The params a walk reads at every segment or object, read once per
 // invocation by cache_params: lavapipe reads a storage buffer one lane at
@@ -258,14 +258,14 @@ struct CachedParams {
     fog_density: f32,
     near_reach: f32,
     tube_k: f32,
-    ball_tree_nodes: u32,
+    ball_leaves: u32,
 }
 var<private> cached: CachedParams;
 
 // Fills `cached` from params. Every entry point calls it (through
 // trace_pixel or ray_drift) before anything reads `cached`.
 fn cache_params() {
-    cached = CachedParams(params.occupied, params.face_count, params.flags, params.levels, params.max_distance, params.fog_density, params.near_reach, params.tube_k, params.ball_tree_nodes);
+    cached = CachedParams(params.occupied, params.face_count, params.flags, params.levels, params.max_distance, params.fog_density, params.near_reach, params.tube_k, params.ball_leaves);
 #ifdef FACE_COUNT
     // In chunks of 16 with constant bounds, as step.wgsl's FACE_CHUNK.
     cache_planes(0u, min(face_count(), 16u));
@@ -327,10 +327,6 @@ const NO_FACE: u32 = 0xffffffffu;
 // A tube that carries no vertex joint. Rust: None, or NO_JOINT in
 // crates/bevy_manifold_gpu/src/layout.rs.
 const NO_JOINT: u32 = 0xffffffffu;
-
-// Set in a ball tree node's link for a leaf (ball_nodes). Rust twin:
-// LEAF_LINK in crates/bevy_manifold_core/src/trace/ball_tree.rs.
-const LEAF_LINK: u32 = 0x80000000u;
 
 // The object id of a wall. Rust: rule::WALL_OBJECT.
 const WALL_OBJECT: u32 = 0xfffffffeu;

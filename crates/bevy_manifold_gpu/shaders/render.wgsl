@@ -9,7 +9,7 @@
 // Shader defs read: FOG (early stop, fog colour), BALLS, TUBES, MESHES
 // (which objects are tested and shaded), CELL_COLORS, LIGHTS, CELL_RULES
 // (hidden cells, walls), FOOTPRINT (cone tracing: footprint.wgsl),
-// BALL_TREE (the walk of the ball tree), MANY_UNKEYED_TUBES (the loop over
+// BALL_TREE (the test of the ball tree's leaves, BALL_LEAVES of them), MANY_UNKEYED_TUBES (the loop over
 // the tubes with no edge bits past the first 32); GEOMETRY_*, TRANSLATIONS_ONLY,
 // CELLS_* through the imports.
 //
@@ -28,9 +28,9 @@
 #import bevy_manifold::step::hit_ball
 #endif
 #ifdef BALL_TREE
-#import bevy_manifold::bindings::{ball_nodes, FLAG_NO_CULL, LEAF_LINK}
+#import bevy_manifold::bindings::{ball_nodes, FLAG_NO_CULL}
 #import bevy_manifold::bvh::{hit_box, safe_inverse}
-#import bevy_manifold::ball_tree::tree_box
+#import bevy_manifold::ball_tree::{cache_leaves, leaf_lo, leaf_hi}
 #endif
 #ifdef TUBES
 #import bevy_manifold::step::{hit_tube, foot_on_line}
@@ -172,6 +172,9 @@ fn object_id(hit: Hit) -> u32 {
 // FOOTPRINT each segment's layers, front to back.
 fn trace_pixel(i: u32, j: u32) -> Pixel {
     cache_params();
+#ifdef BALL_TREE
+    cache_leaves();
+#endif
     var walk = walker_new(view_ray(i, j), params.camera_cell, params.camera_cell_index);
 #ifdef FOOTPRINT
     cone_layers = Layers(vec3<f32>(0.0), 1.0, 0u);
@@ -506,8 +509,8 @@ fn ball_center(i: u32) -> vec4<f32> {
 #endif
 }
 
-// consider_ball for a ball with no face mask (one the ball tree's walk
-// hands out), which every segment may hit, without reading its mask
+// consider_ball for a ball with no face mask (one the ball tree hands
+// out), which every segment may hit, without reading its mask
 // (Rust's visitor checks the empty mask): 128 balls in the torus at
 // 320x180, 8 levels, took 23.4 ms with the read and 21.9 without.
 fn meet_ball(ray: Ray, t_end: f32, i: u32) {
@@ -530,7 +533,8 @@ fn meet_ball(ray: Ray, t_end: f32, i: u32) {
 // from a = o/o_w to e/e_w, meets; every one when culling is off, an end
 // is at the chart's horizon, or there is no tree (fewer than
 // MIN_BALL_TREE such balls, Rust's flat.rs; not compiled at all without
-// BALL_TREE). Rust twin: chart_segment and tree_leaves in
+// BALL_TREE), or more leaves than the pipeline's BALL_LEAVES (one compiled
+// for an earlier scene). Rust twin: chart_segment and tree_leaves in
 // crates/bevy_manifold_core/src/trace/ball_tree.rs, as each_candidate
 // (cull.rs) calls them.
 fn interior_balls(ray: Ray, t_end: f32, near: u32) {
@@ -544,7 +548,7 @@ fn interior_balls(ray: Ray, t_end: f32, near: u32) {
 #ifdef FOOTPRINT
     pad = cone_grow.w * BALL_GROWTH * params.chart_stretch;
 #endif
-    if (cached.flags & FLAG_NO_CULL) != 0u || cached.ball_tree_nodes == 0u || !(t_end < 3.0e38) || !(o.w > 0.0) || !(e.w > 0.0) || !finite || !(pad < 3.0e38) {
+    if (cached.flags & FLAG_NO_CULL) != 0u || cached.ball_leaves == 0u || cached.ball_leaves > #{BALL_LEAVES}u || !(t_end < 3.0e38) || !(o.w > 0.0) || !(e.w > 0.0) || !finite || !(pad < 3.0e38) {
         every_interior_ball(ray, t_end, near);
         return;
     }
@@ -563,59 +567,63 @@ fn every_interior_ball(ray: Ray, t_end: f32, near: u32) {
 }
 
 #ifdef BALL_TREE
-// The walk of the ball tree for interior_balls, compiled only under
+// The test of the ball tree for interior_balls, compiled only under
 // BALL_TREE (a scene with MIN_BALL_TREE balls or more): lavapipe runs a
 // branch's body, under a mask, whether or not any lane takes it, so with
-// it compiled into every scene the walk cost every segment of every frame
-// (a fifth of the default scene's frame). By the skip links, with no
-// stack (a per-lane array lavapipe reads and writes lane by lane), from
-// the ball_nodes uniform, one word a node (each word a lane reads is a
-// gather: two a node took the 128-ball frames 5-12% longer): into the
-// next node after a leaf or an inner node whose box is met, to the inner
-// node's skip link otherwise; always forward, so at most
-// cached.ball_tree_nodes passes.
-//
-// Two loops, one inside the other: the inner one goes down to the next
-// leaf whose box is met, and the outer one tests that leaf's balls. In one
-// loop, a pass tested a leaf's balls, for every lane, whenever any lane
-// was at a met leaf, so each lane paid for the others' leaves; now the
-// lanes that found a leaf wait for the rest and test their leaves
-// together. 128 balls at 320x180, 8 levels: torus 19.4 ms to 16.9,
-// Seifert-Weber 31.1 to 26.1, Poincare 25.5 to 20.2 (BENCHMARKS.md, "The
-// leaves' balls after the walk down"). Rust twin: tree_leaves in
-// crates/bevy_manifold_core/src/trace/ball_tree.rs.
+// it compiled into every scene it cost every segment of every frame. First
+// every leaf's box (cache_leaves' private arrays, at constant indices once
+// the chunks are unrolled: a plain vector test each, no gather), each met
+// leaf a bit of `met`; then the met leaves' balls, lowest leaf first, in a
+// loop that ends when every lane's leaves are done. A walk down the tree
+// from the uniform read each node lane by lane: at 320x180, 8 levels,
+// median of six alternated runs, 100 balls took 21.8 ms walked and 20.0
+// with the leaves tested flat in Seifert-Weber, 15.6 and 14.9 in the
+// torus; 254 balls (32 fuller leaves) 21.1 and 25.5 in Seifert-Weber
+// (BENCHMARKS.md, "The ball tree's leaves tested flat"). Rust twin:
+// tree_leaves in crates/bevy_manifold_core/src/trace/ball_tree.rs (which
+// skips halves of the tree by their boxes, handing out the same leaves).
 fn ball_tree_leaves(ray: Ray, t_end: f32, near: u32, a: vec3<f32>, d: vec3<f32>, pad: f32) {
     let inv_d = safe_inverse(d);
-    let origin = bitcast<vec3<f32>>(ball_nodes[0].xyz);
-    let step = bitcast<vec3<f32>>(ball_nodes[1].xyz);
-    var i = 0u;
+    var met = vec2<u32>(0u);
+    met = leaves_met(a, inv_d, pad, met, 0u, min(#{BALL_LEAVES}u, 16u));
+    met = leaves_met(a, inv_d, pad, met, 16u, min(#{BALL_LEAVES}u, 32u));
+    met = leaves_met(a, inv_d, pad, met, 32u, min(#{BALL_LEAVES}u, 48u));
+    met = leaves_met(a, inv_d, pad, met, 48u, min(#{BALL_LEAVES}u, 64u));
     loop {
-        // Down to the next met leaf: its balls, or none past the end.
-        var first = 0u;
-        var count = 0u;
-        loop {
-            if i >= cached.ball_tree_nodes {
-                break;
-            }
-            let word = ball_nodes[2u + i];
-            let box = tree_box(word, origin, step);
-            let met = hit_box(a, inv_d, box[0] - pad, box[1] + pad, 1.0) >= 0.0;
-            let leaf = (word.w & LEAF_LINK) != 0u;
-            i = select(max(word.w & 0xffffu, i + 1u), i + 1u, met || leaf);
-            if met && leaf {
-                first = word.w & 0xffffu;
-                count = (word.w >> 16u) & 0x7fffu;
-                break;
-            }
-        }
-        if count == 0u {
+        if met.x == 0u && met.y == 0u {
             break;
         }
-        // Then its balls.
-        for (var b = first; b < first + count; b++) {
+        // The lowest met leaf, cleared.
+        var l = 0u;
+        if met.x != 0u {
+            l = firstTrailingBit(met.x);
+            met.x &= met.x - 1u;
+        } else {
+            l = 32u + firstTrailingBit(met.y);
+            met.y &= met.y - 1u;
+        }
+        let run = ball_nodes[2u + l].w;
+        let first = run & 0xffffu;
+        for (var b = first; b < first + (run >> 16u); b++) {
             meet_ball(ray, t_end, b);
         }
     }
+}
+
+// Leaves lo to hi - 1 of ball_tree_leaves' test, their bits set in `met`
+// (leaf l: bit l of x below 32, bit l - 32 of y above) where the segment
+// a + s d, 0 <= s <= 1, meets its box grown by pad.
+fn leaves_met(a: vec3<f32>, inv_d: vec3<f32>, pad: f32, met_in: vec2<u32>, lo: u32, hi: u32) -> vec2<u32> {
+    var met = met_in;
+    for (var l = lo; l < hi; l++) {
+        let m = hit_box(a, inv_d, leaf_lo[l] - pad, leaf_hi[l] + pad, 1.0) >= 0.0;
+        if l < 32u {
+            met.x |= select(0u, 1u << l, m);
+        } else {
+            met.y |= select(0u, 1u << (l - 32u), m);
+        }
+    }
+    return met;
 }
 #endif
 #endif

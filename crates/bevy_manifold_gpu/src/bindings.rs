@@ -115,12 +115,11 @@ pub const MAX_TUBES: usize = 3 * MAX_FACES - 6;
 /// first this many.
 pub const MAX_BALLS: usize = 1024;
 
-/// The most nodes of the ball tree (`FlatScene::ball_tree`) the
+/// The most leaves of the ball tree (`FlatScene::ball_tree`) the
 /// `ball_nodes` uniform array holds (one word of four `u32` each, after
-/// the two of the boxes' frame: 16 KiB). A larger tree is not sent: the GPU then tests every ball with
-/// no face mask, as the CPU would with culling off (the image is the
-/// same).
-pub const MAX_BALL_NODES: usize = 1024;
+/// the two of the boxes' frame): the core's
+/// [`bevy_manifold_core::trace::MAX_BALL_LEAVES`], which no tree exceeds.
+pub const MAX_BALL_LEAVES: usize = bevy_manifold_core::trace::MAX_BALL_LEAVES;
 
 /// The entries of the face groups' uniform array: one per face up to 32,
 /// and one for the counts.
@@ -152,8 +151,8 @@ pub const GROUPS: usize = 33;
 /// did not grow the process over 80 headless renders, nor the explorer's
 /// soak beyond its pipelines.
 ///
-/// The balls ([`MAX_BALLS`]) and the ball tree's nodes
-/// ([`MAX_BALL_NODES`], `ball_nodes`, binding 10) are uniform arrays too:
+/// The balls ([`MAX_BALLS`]) and the ball tree's leaves
+/// ([`MAX_BALL_LEAVES`], `ball_nodes`, binding 10) are uniform arrays too:
 /// with them, and the tree walked without a stack, a swarm of 128 balls
 /// in the torus traced in 25.9 ms instead of 46.4 (BENCHMARKS.md, "Balls
 /// in uniforms").
@@ -176,7 +175,7 @@ pub const BINDINGS: [Binding; 11] = [
     binding(7, "mesh_data", Storage, size_of::<[u32; 4]>()),
     binding(8, "pixels", StorageReadWrite, size_of::<GpuPixel>()),
     uniform_array(9, "groups", size_of::<[u32; 4]>(), GROUPS),
-    uniform_array(10, "ball_nodes", size_of::<[u32; 4]>(), MAX_BALL_NODES + 2),
+    uniform_array(10, "ball_nodes", size_of::<[u32; 4]>(), MAX_BALL_LEAVES + 2),
 ];
 
 /// The bytes of the largest uniform binding: what an adapter's

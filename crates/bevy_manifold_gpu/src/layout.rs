@@ -87,8 +87,8 @@ pub struct GpuParams {
     pub near_reach: f32,
     /// Padding.
     pub pad_a: u32,
-    /// How many nodes [`GpuObjects::ball_nodes`] holds (0: no tree).
-    pub ball_tree_nodes: u32,
+    /// How many leaves [`GpuObjects::ball_nodes`] holds (0: no tree).
+    pub ball_leaves: u32,
     /// Cone tracing: `FaceTables::chart_stretch`...
     pub chart_stretch: f32,
     /// ... and `FlatScene::footprint_cap`.
@@ -279,10 +279,10 @@ pub struct GpuObjects {
     /// of four `u32` (floats by their bits; at least one word).
     pub mesh_data: Vec<[u32; 4]>,
     /// The frame of `FlatScene::ball_tree`'s packed boxes, two words, then
-    /// its nodes, one word each (`BallTree::words`; the `ball_nodes`
+    /// its leaves, one word each (`BallTree::words`; the `ball_nodes`
     /// uniform array: see `shaders/bindings.wgsl`); empty
     /// when there is no tree, or it has more than
-    /// [`crate::bindings::MAX_BALL_NODES`] nodes or the scene more than
+    /// [`crate::bindings::MAX_BALL_LEAVES`] leaves or the scene more than
     /// [`crate::bindings::MAX_BALLS`] balls (the GPU then tests every
     /// ball with no face mask).
     pub ball_nodes: Vec<[u32; 4]>,
@@ -601,12 +601,12 @@ impl GpuObjects {
 
 /// [`GpuObjects::ball_nodes`] of a prepared scene: the frame of the
 /// packed boxes (`BallTree::origin`, then `BallTree::step`, as bits),
-/// then one word a node (`BallTree::words`). None past the arrays'
+/// then one word a leaf (`BallTree::words`). None past the arrays'
 /// capacities, or where the tree has no words.
 fn pack_ball_tree(prep: &FlatScene<f32>) -> Vec<[u32; 4]> {
     let tree = &prep.ball_tree;
     if tree.is_empty()
-        || tree.words.len() > crate::bindings::MAX_BALL_NODES
+        || tree.words.len() > crate::bindings::MAX_BALL_LEAVES
         || prep.balls.len() > crate::bindings::MAX_BALLS
     {
         return Vec::new();
@@ -769,7 +769,7 @@ impl GpuParams {
             eye_offset: view.projection.1,
             near_reach: packed.near_scale * objects.near_reach,
             pad_a: 0,
-            ball_tree_nodes: objects.ball_nodes.len().saturating_sub(2) as u32,
+            ball_leaves: objects.ball_nodes.len().saturating_sub(2) as u32,
             chart_stretch: objects.cone[2],
             footprint_cap: objects.cone[3],
             pad_b: 0,

@@ -56,13 +56,25 @@ pub struct TraceDefs {
     /// `MESHES`: triangle meshes through their BVH.
     pub meshes: bool,
     /// `BALL_TREE`: the scene has enough balls for a ball tree
-    /// ([`bevy_manifold_core::trace::MIN_BALL_TREE`]), so the walk of the
-    /// tree is compiled in; without it every interior ball is tested. A
-    /// def, not a run-time branch: lavapipe runs both sides of every
-    /// branch, under masks, so the tree's walk cost every segment of
-    /// every scene a fifth to two fifths of its frame (BENCHMARKS.md,
+    /// ([`bevy_manifold_core::trace::MIN_BALL_TREE`]), so the test of the
+    /// tree's leaves is compiled in; without it every interior ball is
+    /// tested. A def, not a run-time branch: lavapipe runs both sides of
+    /// every branch, under masks, so the tree's walk cost every segment
+    /// of every scene a fifth to two fifths of its frame (BENCHMARKS.md,
     /// "Branches on lavapipe").
     pub ball_tree: bool,
+    /// `BALL_LEAVES` (a value def, under `BALL_TREE`): the leaves of the
+    /// ball tree the pipeline tests, as a constant, so their loop is
+    /// unrolled and each box read at a constant index (`ball_tree.wgsl`).
+    /// The tree's leaves are a power of two
+    /// ([`bevy_manifold_core::trace::leaf_count`]), so a scene whose balls
+    /// come and go (the shooter's shots) compiles a pipeline per doubling,
+    /// at most seven. [`TraceDefs::for_scene`] counts them from the
+    /// scene's balls, at least as many as the tree has, and
+    /// [`TraceDefs::for_objects`] sets the tree's own count. A pipeline
+    /// sent more leaves than this tests every ball (the image is the
+    /// same). 0 without the tree.
+    pub ball_leaves: u32,
     /// `MANY_UNKEYED_TUBES`: more than 32 edge tubes have no edge bits
     /// (`FlatTube::edge` 0, only in a domain of more than 32 faces), so a
     /// loop tests those past the first 32, which the walk takes by their
@@ -105,6 +117,7 @@ impl TraceDefs {
                 .faces()
                 .iter()
                 .all(|f| glam::DMat3::from_mat4(f.pairing).abs_diff_eq(glam::DMat3::IDENTITY, 1e-12));
+        let ball_tree = scene.balls.len() >= bevy_manifold_core::trace::MIN_BALL_TREE;
         TraceDefs {
             geometry,
             translations_only,
@@ -124,7 +137,12 @@ impl TraceDefs {
             meshes: !scene.meshes.is_empty(),
             // The interior balls, those a tree holds, are scene balls (a
             // ghost copy or a vertex joint lies near a face).
-            ball_tree: scene.balls.len() >= bevy_manifold_core::trace::MIN_BALL_TREE,
+            ball_tree,
+            ball_leaves: if ball_tree {
+                bevy_manifold_core::trace::leaf_count(scene.balls.len()) as u32
+            } else {
+                0
+            },
             many_unkeyed_tubes: false,
             footprint: false,
             face_count: Some(face_count(space)),
@@ -149,10 +167,14 @@ impl TraceDefs {
 
     /// These defs for the packed `objects`: `MANY_UNKEYED_TUBES` where
     /// more than 32 tubes have no edge bits (the tubes before the first
-    /// face group).
+    /// face group); `BALL_TREE` where a ball tree was packed, with
+    /// `BALL_LEAVES` its leaves.
     #[must_use]
     pub fn for_objects(mut self, objects: &crate::layout::GpuObjects) -> Self {
         self.many_unkeyed_tubes = objects.groups[0][1] > 32;
+        let leaves = objects.ball_nodes.len().saturating_sub(2);
+        self.ball_tree = leaves > 0;
+        self.ball_leaves = leaves as u32;
         self
     }
 
@@ -180,6 +202,7 @@ impl TraceDefs {
             lights: true,
             meshes: true,
             ball_tree: true,
+            ball_leaves: bevy_manifold_core::trace::MAX_BALL_LEAVES as u32,
             many_unkeyed_tubes: true,
             footprint: true,
             face_count: None,
@@ -225,6 +248,7 @@ impl TraceDefs {
                     cell_rules: on(7),
                     footprint: on(8),
                     ball_tree: on(9),
+                    ball_leaves: if on(9) { 16 } else { 0 },
                     many_unkeyed_tubes: on(3) && on(0),
                 });
             }
@@ -232,10 +256,16 @@ impl TraceDefs {
         out
     }
 
-    /// The value defs: `FACE_COUNT` when set.
+    /// The value defs: `FACE_COUNT` when set, `BALL_LEAVES` with the
+    /// ball tree.
     #[must_use]
     pub fn values(&self) -> Vec<(&'static str, u32)> {
-        self.face_count.map(|n| ("FACE_COUNT", n)).into_iter().collect()
+        let leaves = self.ball_tree.then_some(("BALL_LEAVES", self.ball_leaves));
+        self.face_count
+            .map(|n| ("FACE_COUNT", n))
+            .into_iter()
+            .chain(leaves)
+            .collect()
     }
 
     /// The names of the defs that are on.

@@ -1,22 +1,21 @@
 //! The ball tree's packed boxes as the GPU decodes them (`tree_box` in
 //! `shaders/ball_tree.wgsl`) against the CPU's (`BallTree::node_box`) and
-//! against the boxes they pack: each GPU box holds its node's box and is
+//! against the boxes they pack: each GPU box holds its leaf's box and is
 //! the CPU's within a quarter step (the two may round differently, e.g.
-//! by a fused multiply-add). The walk's culling rests on the first: a box
+//! by a fused multiply-add). The leaves' culling rests on the first: a box
 //! that shrank on the GPU alone would drop the rays that graze its balls,
 //! a few pixels no image comparison is sure to catch.
 //!
 //! Without a GPU adapter this test is listed as ignored; under CI (`CI`
 //! set) a missing adapter is a failure.
 
-use bevy_manifold_core::mesh::bvh::build_over_with;
 use bevy_manifold_core::trace::BallTree;
 use bevy_manifold_gpu::WgslModule;
 use bevy_manifold_test_support::Rng;
 
 mod probe;
 
-/// Decodes every node after the two words of the frame.
+/// Decodes every leaf after the two words of the frame.
 const PROBE: WgslModule = WgslModule {
     path: "bevy_manifold/tests/ball_tree_probe.wgsl",
     source: "
@@ -47,21 +46,21 @@ const FRAMES: [(f64, f64, f64); 4] = [
     (-3.0e4, 2.0, 0.02),
 ];
 
-/// The GPU's boxes of `words` (the frame's two words, then the nodes').
+/// The GPU's boxes of `words` (the frame's two words, then the leaves').
 fn decode_on_the_gpu(words: &[[u32; 4]]) -> Vec<[f32; 4]> {
-    let nodes = words.len() - 2;
+    let leaves = words.len() - 2;
     let bytes = probe::run(
         PROBE,
         &[],
         "decode",
         &[(0, bytemuck::cast_slice(words))],
-        (1, (nodes * 2 * 16) as u64),
-        nodes as u32,
+        (1, (leaves * 2 * 16) as u64),
+        leaves as u32,
     );
     bytemuck::pod_collect_to_vec(&bytes)
 }
 
-fn the_gpu_decodes_packed_boxes_as_the_cpu_and_they_hold_their_nodes() {
+fn the_gpu_decodes_packed_boxes_as_the_cpu_and_they_hold_their_leaves() {
     let mut rng = Rng(53);
     for (at, spread, size) in FRAMES {
         let items: Vec<([f32; 3], [f32; 3])> = (0..254)
@@ -74,22 +73,23 @@ fn the_gpu_decodes_packed_boxes_as_the_cpu_and_they_hold_their_nodes() {
                 )
             })
             .collect();
-        let tree = BallTree::new(build_over_with(&items, 8).0);
+        let tree = BallTree::over(&items).0;
         assert!(!tree.is_empty(), "frame at {at}: packed");
+        assert_eq!(tree.words.len(), 32, "frame at {at}: 254 balls in leaves of up to 8");
         let words: Vec<[u32; 4]> = [tree.origin, tree.step]
             .map(|v| [v[0].to_bits(), v[1].to_bits(), v[2].to_bits(), 0])
             .into_iter()
             .chain(tree.words.iter().copied())
             .collect();
         let gpu = decode_on_the_gpu(&words);
-        for (i, (node, word)) in tree.nodes.iter().zip(&tree.words).enumerate() {
+        for (i, (node, word)) in tree.leaves.iter().zip(&tree.words).enumerate() {
             let cpu = tree.node_box(word);
             let (lo, hi) = (gpu[2 * i], gpu[2 * i + 1]);
             for k in 0..3 {
                 let quarter = 0.25 * tree.step[k];
                 assert!(
                     lo[k] <= node.min[k] && hi[k] >= node.max[k],
-                    "frame at {at}: node {i} axis {k}: the GPU's box {}..{} misses the node's {}..{}",
+                    "frame at {at}: leaf {i} axis {k}: the GPU's box {}..{} misses the leaf's {}..{}",
                     lo[k],
                     hi[k],
                     node.min[k],
@@ -97,7 +97,7 @@ fn the_gpu_decodes_packed_boxes_as_the_cpu_and_they_hold_their_nodes() {
                 );
                 assert!(
                     (lo[k] - cpu.0[k]).abs() <= quarter && (hi[k] - cpu.1[k]).abs() <= quarter,
-                    "frame at {at}: node {i} axis {k}: GPU {}..{}, CPU {}..{}",
+                    "frame at {at}: leaf {i} axis {k}: GPU {}..{}, CPU {}..{}",
                     lo[k],
                     hi[k],
                     cpu.0[k],
@@ -110,5 +110,5 @@ fn the_gpu_decodes_packed_boxes_as_the_cpu_and_they_hold_their_nodes() {
 
 bevy_manifold_test_support::test_main! {
     cpu: [],
-    gpu: [the_gpu_decodes_packed_boxes_as_the_cpu_and_they_hold_their_nodes],
+    gpu: [the_gpu_decodes_packed_boxes_as_the_cpu_and_they_hold_their_leaves],
 }

@@ -42,7 +42,7 @@ fn rust_layouts() -> Vec<RustLayout> {
             camera, camera_cell, fog_color, width, height, levels, face_count, ball_count, tube_count,
             light_count, camera_cell_index, tan_half_fov, max_distance, fog_density, tube_k, origin_x,
             origin_y, near, flags, cell_scale, instance_count, cell_mode, cell_a, cell_b, rule_hidden, rule_hidden_seed, rule_walls, rule_walls_seed,
-            projection, eye_offset, near_reach, pad_a, ball_tree_nodes, chart_stretch, footprint_cap, pad_b, frustum, cone, occupied,
+            projection, eye_offset, near_reach, pad_a, ball_leaves, chart_stretch, footprint_cap, pad_b, frustum, cone, occupied,
         }),
         rust_layout!(GpuFace => "Face" { plane, pairing, crossing, partner, pad_a, pad_b, pad_c }),
         rust_layout!(GpuBall => "Ball" { center, color, k, id, face_mask, glow, pad }),
@@ -193,10 +193,6 @@ fn the_shared_constants_are_equal_on_both_sides() {
     );
     assert_eq!(constant(&module, "FLAG_NO_CULL"), naga::Literal::U32(FLAG_NO_CULL));
     assert_eq!(constant(&module, "NO_JOINT"), naga::Literal::U32(NO_JOINT));
-    assert_eq!(
-        constant(&module, "LEAF_LINK"),
-        naga::Literal::U32(bevy_manifold_core::trace::LEAF_LINK)
-    );
     assert_eq!(constant(&module, "ALL_FACES"), naga::Literal::U32(ALL_FACES));
     assert_eq!(constant(&module, "FOG_CUT"), naga::Literal::F32(FOG_CUT as f32));
     assert_eq!(FOG_CUT, 255f64.ln(), "FOG_CUT is ln 255");

@@ -90,17 +90,10 @@ pub fn build(mesh: &TriMesh) -> (Vec<BvhNode>, Vec<u32>) {
 
 /// Builds a hierarchy over any items given by their boxes (min, max):
 /// the flattened nodes (root first) and the item order the leaves index
-/// into. The mesh's triangles use it, and so do the balls inside the
-/// domain (`trace::cull::ball_box`, `FlatScene::ball_tree`).
+/// into, with leaves of up to [`LEAF_SIZE`] items. The mesh's triangles
+/// use it.
 #[must_use]
 pub fn build_over(items: &[([f32; 3], [f32; 3])]) -> (Vec<BvhNode>, Vec<u32>) {
-    build_over_with(items, LEAF_SIZE)
-}
-
-/// [`build_over`] with leaves of up to `leaf_size` items (at least 1)
-/// instead of [`LEAF_SIZE`].
-#[must_use]
-pub fn build_over_with(items: &[([f32; 3], [f32; 3])], leaf_size: usize) -> (Vec<BvhNode>, Vec<u32>) {
     let boxes: Vec<Aabb> = items.iter().map(|&(min, max)| Aabb { min, max }).collect();
     let centres: Vec<[f32; 3]> = boxes
         .iter()
@@ -109,7 +102,7 @@ pub fn build_over_with(items: &[([f32; 3], [f32; 3])], leaf_size: usize) -> (Vec
     let mut order: Vec<u32> = (0..items.len() as u32).collect();
     let mut nodes = Vec::new();
     // No items: one empty root (min > max), which no ray meets.
-    split(&boxes, &centres, &mut order, 0, &mut nodes, (0, leaf_size.max(1)));
+    split(&boxes, &centres, &mut order, 0, &mut nodes, (0, LEAF_SIZE));
     (nodes, order)
 }
 

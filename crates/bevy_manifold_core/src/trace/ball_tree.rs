@@ -1,17 +1,23 @@
-//! The ball tree: a hierarchy over the chart boxes of the balls with no
-//! face mask ([`super::FlatScene::ball_tree`]), and the walk that hands a
-//! segment the leaves it may meet ([`tree_leaves`]). In the chart where
-//! geodesics are straight (`x/w`, `y/w`, `z/w`) a segment of a ray is a
-//! straight segment ([`chart_segment`]) and a ball's image fits a box
-//! ([`ball_box`]), so the walk is a slab test per node, as for meshes.
+//! The ball tree: the balls with no face mask
+//! ([`super::FlatScene::ball_tree`]) split in halves, and halves of
+//! halves, into a power of two of leaves ([`leaf_count`]), and the test
+//! that hands a segment the leaves it may meet ([`tree_leaves`]). In the
+//! chart where geodesics are straight (`x/w`, `y/w`, `z/w`) a segment of a
+//! ray is a straight segment ([`chart_segment`]) and a ball's image fits a
+//! box ([`ball_box`]), so a leaf is met or not by a slab test of its box,
+//! as a mesh's nodes are. Only the leaves are kept, and every segment
+//! tests every leaf: the GPU tests them at constant indices, a plain
+//! vector test each, where a walk down the tree read each node lane by
+//! lane (BENCHMARKS.md, "The ball tree's leaves tested flat").
 //!
 //! WGSL twin: `interior_balls` and `ball_tree_leaves` in
 //! `bevy_manifold_gpu`'s `shaders/render.wgsl`, which read
-//! [`BallTree::words`] from the `ball_nodes` uniform.
+//! [`BallTree::words`] from the `ball_nodes` uniform, and `cache_leaves`
+//! in `shaders/ball_tree.wgsl`.
 
 use super::step::Ray;
 use crate::geometry::{Geometry, Real};
-use crate::mesh::bvh::{BvhNode, hit_box, safe_inverse, skip_links};
+use crate::mesh::bvh::{BvhNode, hit_box, safe_inverse};
 use core::ops::Range;
 use glam::DVec4;
 
@@ -102,112 +108,179 @@ pub fn chart_segment<R: Real>(ray: &Ray<R>, t_end: R) -> Option<([R; 3], [R; 3])
     (a.iter().chain(&d).all(|x| x.is_finite())).then_some((a, d))
 }
 
-/// Set in a packed node's link word ([`BallTree::words`]) for a leaf.
-pub const LEAF_LINK: u32 = 1 << 31;
+/// The most leaves a ball tree has: the GPU tests each leaf's box on
+/// every segment, whether met or not, so more balls make fuller leaves
+/// rather than more of them (`bevy_manifold_gpu`'s `ball_nodes` uniform
+/// holds this many).
+pub const MAX_BALL_LEAVES: usize = 64;
+
+/// Balls a leaf is filled to, at most, before the leaves double (up to
+/// [`MAX_BALL_LEAVES`]). Every leaf's box costs every segment a slab test,
+/// and every ball of a met leaf a test whose words are gathered lane by
+/// lane. `bench balls`, 320x180, 8 levels, 100 balls, GPU ms, median of
+/// six alternated runs (BENCHMARKS.md, "The ball tree's leaves tested
+/// flat"): leaves of up to 4 (32 leaves) took 15.7 in the torus, 19.2 in
+/// Seifert-Weber and 16.6 in the Poincare sphere; up to 8 (16 leaves)
+/// 14.1, 19.6 and 17.1; up to 16 (8 leaves) was slower in Seifert-Weber
+/// (22.7-24.0 against 19.7-20.8). At 254 balls 64 leaves of 4 were slower
+/// than 32 of 8.
+pub const BALL_LEAF_SIZE: usize = 8;
+
+/// The leaves of a ball tree over `n` balls: the least power of two that
+/// holds them in leaves of [`BALL_LEAF_SIZE`], from 1 to
+/// [`MAX_BALL_LEAVES`]. A power of two, so the GPU compiles one pipeline
+/// per doubling (its `BALL_LEAVES`), not one per ball count.
+///
+/// ```
+/// use bevy_manifold_core::trace::leaf_count;
+/// assert_eq!(leaf_count(9), 2);
+/// assert_eq!(leaf_count(100), 16);
+/// assert_eq!(leaf_count(1000), 64);
+/// ```
+#[must_use]
+pub fn leaf_count(n: usize) -> usize {
+    n.div_ceil(BALL_LEAF_SIZE).next_power_of_two().clamp(1, MAX_BALL_LEAVES)
+}
 
 /// The steps a packed box side is counted in: 16 bits.
 const STEPS: f32 = 65535.0;
 
-/// A hierarchy over the chart boxes of balls ([`ball_box`]), walked
-/// without a stack: `nodes` as [`crate::mesh::bvh`] flattens them (depth
-/// first, an inner node's left child next to it), and per node `skip`,
-/// the index just past its subtree, where a walk goes on when the node's
-/// box is missed. The walk reads each node as one packed word of four
-/// `u32` ([`BallTree::words`]): its box in 16-bit steps of the root's
-/// ([`BallTree::node_box`]) and its link. The GPU walks it the same way
-/// from a uniform array (a per-lane stack and per-lane storage reads cost
-/// lavapipe more than the walk itself, and each word a lane reads is one
-/// more gather: a node of two words took the 128-ball frames 5-12% longer,
-/// BENCHMARKS.md, "Ball tree nodes in one word").
+/// The ball tree's leaves, over the chart boxes of balls ([`ball_box`]):
+/// `leaves`, each the box of a run of balls, in the balls' order, and the
+/// same as the tests read them, one packed word of four `u32` each
+/// ([`BallTree::words`]): the box in 16-bit steps of the frame of all of
+/// them ([`BallTree::node_box`]) and the run of balls. Built by
+/// [`BallTree::over`].
 ///
 /// ```
-/// use bevy_manifold_core::mesh::bvh::BvhNode;
-/// use bevy_manifold_core::trace::{BallTree, LEAF_LINK};
-/// let node = |first, count| BvhNode { min: [0.0; 3], first, max: [1.0; 3], count };
-/// // A root whose left child (1) is a leaf and right child (2) an inner
-/// // node over two leaves (3 and 4).
-/// let tree = BallTree::new(vec![node(2, 0), node(0, 1), node(4, 0), node(1, 1), node(2, 1)]);
-/// assert_eq!(tree.skip, [5, 2, 5, 4, 5]);
-/// // An inner node's link is its skip; a leaf's, its balls.
-/// assert_eq!(tree.words[2][3], 5);
-/// assert_eq!(tree.words[3][3], LEAF_LINK | 1 | (1 << 16));
-/// // Every box holds the unit cube it packs.
-/// let (lo, hi) = tree.node_box(&tree.words[4]);
-/// assert!(lo.iter().all(|&x| x <= 0.0) && hi.iter().all(|&x| x >= 1.0));
+/// use bevy_manifold_core::trace::BallTree;
+/// // Twenty unit boxes along x: four leaves of five.
+/// let boxes: Vec<_> = (0..20).map(|i| ([i as f32, 0.0, 0.0], [i as f32 + 1.0, 1.0, 1.0])).collect();
+/// let (tree, order) = BallTree::over(&boxes);
+/// assert_eq!(tree.leaves.len(), 4);
+/// // The balls in the leaves' order: left to right.
+/// assert_eq!(order, (0..20).collect::<Vec<u32>>());
+/// assert_eq!((tree.leaves[1].first, tree.leaves[1].count), (5, 5));
+/// // A word's last entry is its run of balls, first and count.
+/// assert_eq!(tree.words[1][3], 5 | (5 << 16));
+/// // Every packed box holds the boxes of its leaf, and not much more.
+/// let (lo, hi) = tree.node_box(&tree.words[1]);
+/// assert!(lo[0] <= 5.0 && lo[0] > 4.99 && hi[0] >= 10.0 && hi[0] < 10.01);
 /// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct BallTree {
-    /// The nodes, as [`crate::mesh::bvh::build_over`] flattens them.
-    pub nodes: Vec<BvhNode>,
-    /// Per node, the index of the first node after its subtree.
-    pub skip: Vec<u32>,
-    /// The frame of the packed boxes: the root box's least corner...
+    /// The leaves, in the balls' order: each one's box, `first` ball and
+    /// `count` of balls.
+    pub leaves: Vec<BvhNode>,
+    /// The frame of the packed boxes: the least corner of all leaves...
     pub origin: [f32; 3],
-    /// ...and one step per axis: a 65,535th of the root box's side, or
-    /// 2^-20 of the frame's largest coordinate if that is more, so that
-    /// `f32` rounding in [`BallTree::node_box`] stays below a step.
+    /// ...and one step per axis: a 65,535th of the side of the box of all
+    /// leaves, or 2^-20 of the frame's largest coordinate if that is more,
+    /// so that `f32` rounding in [`BallTree::node_box`] stays below a
+    /// step.
     pub step: [f32; 3],
-    /// Per node, as the walk reads it (one `vec4<u32>` of the GPU's
+    /// Per leaf, as the tests read it (one `vec4<u32>` of the GPU's
     /// `ball_nodes`): for x, y and z, the box's least side in steps from
     /// `origin`, rounded down, in the low 16 bits and its greatest,
-    /// rounded up, in the high 16; then the link: an inner node's `skip`,
-    /// or [`LEAF_LINK`] with a leaf's first ball in the low 16 bits and
-    /// its ball count in bits 16 to 30. Empty, and so no tree
-    /// ([`BallTree::is_empty`]), when there are no nodes, the frame is not
-    /// finite, or an index does not fit its bits.
+    /// rounded up, in the high 16; then the leaf's first ball in the low
+    /// 16 bits and its ball count in the high 16. Empty, and so no tree
+    /// ([`BallTree::is_empty`]), when there are no leaves, the frame is
+    /// not finite, or an index does not fit its bits.
     pub words: Vec<[u32; 4]>,
+    /// The boxes of the tree above the leaves, for the CPU's test only:
+    /// with a power of two of leaves, one less than the leaves, the root
+    /// first and node `i`'s halves at `2i + 1` and `2i + 2` (the leaves
+    /// after them, in order), each the least box holding its halves'
+    /// packed boxes ([`BallTree::node_box`]), so a segment that meets a
+    /// leaf meets every box above it, and [`tree_leaves`] skips a half
+    /// whose box it misses without missing a leaf. Empty otherwise.
+    pub inner: Vec<([f32; 3], [f32; 3])>,
 }
 
 impl BallTree {
-    /// The tree of `nodes`, with each node's skip link and packed word.
+    /// The tree over `boxes` (least and greatest corners, one per ball),
+    /// and the order of the balls its leaves index into: the boxes split
+    /// at the median of their centres along the longest side of the
+    /// centres' bounds, into halves of one or the other size, and each
+    /// half again, until there are [`leaf_count`] leaves. None for no
+    /// boxes.
     #[must_use]
-    pub fn new(nodes: Vec<BvhNode>) -> Self {
-        let skip = skip_links(&nodes);
+    pub fn over(boxes: &[([f32; 3], [f32; 3])]) -> (Self, Vec<u32>) {
+        let mut order: Vec<u32> = (0..boxes.len() as u32).collect();
+        if boxes.is_empty() {
+            return (BallTree::default(), order);
+        }
+        let mut leaves = Vec::with_capacity(leaf_count(boxes.len()));
+        split(boxes, &mut order, 0, leaf_count(boxes.len()), &mut leaves);
+        (BallTree::new(leaves), order)
+    }
+
+    /// The tree of `leaves` (each with its box, `first` ball and `count`),
+    /// with each one's packed word.
+    #[must_use]
+    pub fn new(leaves: Vec<BvhNode>) -> Self {
         let mut tree = BallTree {
-            nodes,
-            skip,
+            leaves,
             ..BallTree::default()
         };
         tree.pack();
         tree
     }
 
-    /// Fills `origin`, `step` and `words` from `nodes` and `skip`, or
-    /// leaves `words` empty where they do not fit.
+    /// Fills `origin`, `step` and `words` from `leaves`, or leaves `words`
+    /// empty where they do not fit.
     fn pack(&mut self) {
-        let Some(root) = self.nodes.first() else { return };
-        let origin = root.min;
-        let step: [f32; 3] = [0, 1, 2].map(|k| {
-            let size = (root.max[k] - root.min[k]) / STEPS;
-            let magnitude = root.min[k].abs().max(root.max[k].abs()) * (1.0 / 1_048_576.0);
-            size.max(magnitude).max(f32::MIN_POSITIVE)
-        });
-        if !origin.iter().chain(&step).all(|x| x.is_finite()) || self.nodes.len() > 0xffff {
+        if self.leaves.is_empty() || self.leaves.len() > 0xffff {
             return;
         }
-        let mut words = Vec::with_capacity(self.nodes.len());
-        for (node, &skip) in self.nodes.iter().zip(&self.skip) {
+        let mut origin = [f32::INFINITY; 3];
+        let mut top = [f32::NEG_INFINITY; 3];
+        for leaf in &self.leaves {
+            for k in 0..3 {
+                origin[k] = origin[k].min(leaf.min[k]);
+                top[k] = top[k].max(leaf.max[k]);
+            }
+        }
+        let step: [f32; 3] = [0, 1, 2].map(|k| {
+            let size = (top[k] - origin[k]) / STEPS;
+            let magnitude = origin[k].abs().max(top[k].abs()) * (1.0 / 1_048_576.0);
+            size.max(magnitude).max(f32::MIN_POSITIVE)
+        });
+        if !origin.iter().chain(&top).chain(&step).all(|x| x.is_finite()) {
+            return;
+        }
+        let mut words = Vec::with_capacity(self.leaves.len());
+        for leaf in &self.leaves {
             let side = |k: usize| {
-                let lo = ((node.min[k] - origin[k]) / step[k]).floor().clamp(0.0, STEPS) as u32;
-                let hi = ((node.max[k] - origin[k]) / step[k]).ceil().clamp(0.0, STEPS) as u32;
+                let lo = ((leaf.min[k] - origin[k]) / step[k]).floor().clamp(0.0, STEPS) as u32;
+                let hi = ((leaf.max[k] - origin[k]) / step[k]).ceil().clamp(0.0, STEPS) as u32;
                 lo | (hi << 16)
             };
-            let link = if node.count > 0 {
-                if node.first > 0xffff || node.count > 0x7fff {
-                    return;
-                }
-                LEAF_LINK | node.first | (node.count << 16)
-            } else {
-                skip
-            };
-            words.push([side(0), side(1), side(2), link]);
+            if leaf.first > 0xffff || leaf.count > 0xffff {
+                return;
+            }
+            words.push([side(0), side(1), side(2), leaf.first | (leaf.count << 16)]);
         }
         self.origin = origin;
         self.step = step;
         self.words = words;
+        let n = self.words.len();
+        if n.is_power_of_two() {
+            let mut boxes: Vec<_> = vec![([0.0; 3], [0.0; 3]); n - 1];
+            boxes.extend(self.words.iter().map(|w| self.node_box(w)));
+            for i in (0..n - 1).rev() {
+                let ((l_lo, l_hi), (r_lo, r_hi)) = (boxes[2 * i + 1], boxes[2 * i + 2]);
+                boxes[i] = (
+                    [0, 1, 2].map(|k| l_lo[k].min(r_lo[k])),
+                    [0, 1, 2].map(|k| l_hi[k].max(r_hi[k])),
+                );
+            }
+            boxes.truncate(n - 1);
+            self.inner = boxes;
+        }
     }
 
-    /// The box of a packed node (one of [`BallTree::words`]): its sides
+    /// The box of a packed leaf (one of [`BallTree::words`]): its sides
     /// widened by a step each way, which covers the rounding of the
     /// frame's `f32` sums, so it holds the box it packs. WGSL twin:
     /// `tree_box` in `shaders/ball_tree.wgsl`.
@@ -218,47 +291,108 @@ impl BallTree {
         (lo, hi)
     }
 
-    /// True when there is no tree to walk (every ball is tested).
+    /// True when there is no tree to test (every ball is tested).
     #[must_use]
     pub fn is_empty(&self) -> bool {
         self.words.is_empty()
     }
 }
 
-/// Calls `visit` with the ball range of every leaf of `tree` (a hierarchy
-/// over chart boxes, [`super::FlatScene::ball_tree`]) whose packed box
-/// ([`BallTree::node_box`]), and its parents', grown by `pad` on every
-/// side (cone tracing's growth, 0 for a ray), the chart segment
-/// `a + s d`, `0 <= s <= 1`, meets (the slab test, `mesh::bvh::hit_box`).
-/// Depth first, left child first: into the next node after a leaf or an
-/// inner node whose box is met, to the inner node's skip link otherwise
-/// (always forward, so at most one pass). Two loops, as on the GPU: down
-/// to the next met leaf, then its balls (there, lanes that found a leaf
-/// wait for the others and test their leaves together). WGSL twin:
-/// `ball_tree_leaves` in `shaders/render.wgsl`.
-pub fn tree_leaves<R: Real>(tree: &BallTree, a: [R; 3], d: [R; 3], pad: f32, mut visit: impl FnMut(Range<usize>)) {
-    let inv_d = safe_inverse(d);
-    let mut i = 0;
-    loop {
-        // Down to the next met leaf: its balls, or none past the end.
-        let mut balls = None;
-        while let Some(word) = tree.words.get(i) {
-            let (lo, hi) = tree.node_box(word);
-            let met = hit_box(a, inv_d, lo.map(|x| x - pad), hi.map(|x| x + pad), R::of(1.0)).is_some();
-            let leaf = word[3] & LEAF_LINK != 0;
-            i = if met || leaf {
-                i + 1
-            } else {
-                ((word[3] & 0xffff) as usize).max(i + 1)
-            };
-            if met && leaf {
-                let (first, count) = (word[3] & 0xffff, (word[3] >> 16) & 0x7fff);
-                balls = Some(first as usize..(first + count) as usize);
-                break;
+/// Splits `order` (balls `first..` of the tree) into `leaves` leaves
+/// (a power of two) at the median of their boxes' centres along the
+/// longest side of the centres' bounds, pushing the leaves in order.
+fn split(boxes: &[([f32; 3], [f32; 3])], order: &mut [u32], first: usize, leaves: usize, out: &mut Vec<BvhNode>) {
+    let centre = |i: u32, k: usize| {
+        let (lo, hi) = boxes[i as usize];
+        0.5 * lo[k] + 0.5 * hi[k]
+    };
+    if leaves <= 1 || order.len() <= 1 {
+        let mut min = [f32::INFINITY; 3];
+        let mut max = [f32::NEG_INFINITY; 3];
+        for &i in order.iter() {
+            let (lo, hi) = boxes[i as usize];
+            for k in 0..3 {
+                min[k] = min[k].min(lo[k]);
+                max[k] = max[k].max(hi[k]);
             }
         }
-        // Then its balls.
-        let Some(balls) = balls else { break };
-        visit(balls);
+        out.push(BvhNode {
+            min,
+            first: first as u32,
+            max,
+            count: order.len() as u32,
+        });
+        return;
+    }
+    let axis = (0..3)
+        .map(|k| {
+            let (lo, hi) = order.iter().fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &i| {
+                (lo.min(centre(i, k)), hi.max(centre(i, k)))
+            });
+            (k, hi - lo)
+        })
+        .fold(
+            (0, f32::NEG_INFINITY),
+            |best, (k, side)| if side > best.1 { (k, side) } else { best },
+        )
+        .0;
+    let half = order.len() / 2;
+    order.select_nth_unstable_by(half, |&a, &b| {
+        centre(a, axis).total_cmp(&centre(b, axis)).then(a.cmp(&b))
+    });
+    let (left, right) = order.split_at_mut(half);
+    left.sort_unstable();
+    right.sort_unstable();
+    split(boxes, left, first, leaves / 2, out);
+    split(boxes, right, first + half, leaves / 2, out);
+}
+
+/// Calls `visit` with the ball range of every leaf of `tree` (over chart
+/// boxes, [`super::FlatScene::ball_tree`]) whose packed box
+/// ([`BallTree::node_box`]), grown by `pad` on every side (cone tracing's
+/// growth, 0 for a ray), the chart segment `a + s d`, `0 <= s <= 1`,
+/// meets (the slab test, `mesh::bvh::hit_box`), in the leaves' order.
+/// The GPU tests every leaf's box before it tests a ball; here a half of
+/// the tree whose box ([`BallTree::inner`]) the segment misses is skipped,
+/// which skips only leaves it misses (the boxes above a leaf hold it, and
+/// the slab test in `f32` meets a box that holds a met one), so the same
+/// leaves come out in the same order. WGSL twin: `ball_tree_leaves` in
+/// `shaders/render.wgsl`.
+pub fn tree_leaves<R: Real>(tree: &BallTree, a: [R; 3], d: [R; 3], pad: f32, mut visit: impl FnMut(Range<usize>)) {
+    let inv_d = safe_inverse(d);
+    let met = |(lo, hi): ([f32; 3], [f32; 3])| {
+        hit_box(a, inv_d, lo.map(|x| x - pad), hi.map(|x| x + pad), R::of(1.0)).is_some()
+    };
+    let n = tree.words.len();
+    if tree.inner.len() + 1 != n {
+        for word in &tree.words {
+            if met(tree.node_box(word)) {
+                let (first, count) = ((word[3] & 0xffff) as usize, (word[3] >> 16) as usize);
+                visit(first..first + count);
+            }
+        }
+        return;
+    }
+    // Depth first, left half first, by a stack of node indices: at most
+    // one pending half a level and the node at hand, 16 for the most
+    // leaves `pack` keeps (2^15).
+    let mut stack = [0usize; 17];
+    let mut top = 1;
+    while top > 0 {
+        top -= 1;
+        let node = stack[top];
+        if node < n - 1 {
+            if met(tree.inner[node]) {
+                stack[top] = 2 * node + 2;
+                stack[top + 1] = 2 * node + 1;
+                top += 2;
+            }
+        } else {
+            let word = &tree.words[node - (n - 1)];
+            if met(tree.node_box(word)) {
+                let (first, count) = ((word[3] & 0xffff) as usize, (word[3] >> 16) as usize);
+                visit(first..first + count);
+            }
+        }
     }
 }

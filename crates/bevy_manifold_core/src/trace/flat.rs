@@ -7,7 +7,6 @@ use super::cull::{FaceGroups, cull_distance, face_mask, near_reach, near_scale};
 use super::scene::Scene;
 use super::step::{Segment, radius_param};
 use crate::geometry::{Geometry, Real, isometry};
-use crate::mesh::bvh::build_over_with;
 use crate::mesh::{MeshData, Texture};
 use crate::space::Space;
 use crate::space::cells::CellId;
@@ -251,29 +250,21 @@ const PALETTE: [[f32; 3]; 10] = [
 ];
 
 /// Fewest balls with no face mask for which [`FlatScene::ball_tree`] is
-/// built: more than 8, the leaf size this was measured with (two or more
-/// leaves of [`BALL_LEAF_SIZE`] now). Below it a segment tests each of
-/// them. Since the walk tests its leaves' balls after walking down to
-/// them, a tree of 12 balls costs less than testing each: on lavapipe
+/// built: more than [`super::BALL_LEAF_SIZE`], so the tree has two leaves
+/// or more ([`super::leaf_count`]); one leaf would test the same balls
+/// after one more box. Below it a segment tests each of them. Measured
+/// when the tree was walked node by node, a tree of 12 balls cost less
+/// than testing each: on lavapipe
 /// (320x180, 8 levels, over the one-ball frame, two runs each;
 /// BENCHMARKS.md, "MIN_BALL_TREE after the two-loop walk") 12 balls took
 /// 1.35-1.48x in the torus with a tree and 1.79-2.18x without,
 /// Seifert-Weber 1.45-1.47x and 1.36-1.68x, Poincare 1.38-1.59x and
-/// 1.37-1.64x. A tree of one leaf (8 balls) tests the same balls after
-/// one more box, and when it was the first scene its pipeline traced,
-/// lavapipe's specialisation on that scene's uniforms left the frame 2-3x
-/// slower (`bench balls`, 8 balls: 31.5-46.8 ms). Scenes with fewer balls
-/// do not compile the walk at all (`BALL_TREE` in `bevy_manifold_gpu`).
+/// 1.37-1.64x. A tree of one leaf (8 balls), when it was the first scene
+/// its pipeline traced, left the frame 2-3x slower (lavapipe specialised
+/// on that scene's uniforms; `bench balls`, 8 balls: 31.5-46.8 ms).
+/// Scenes with fewer balls do not compile the tree's test at all
+/// (`BALL_TREE` in `bevy_manifold_gpu`).
 pub const MIN_BALL_TREE: usize = 9;
-
-/// Most balls in a leaf of [`FlatScene::ball_tree`], as a mesh's
-/// ([`crate::mesh::bvh::LEAF_SIZE`]). A leaf's balls cost the GPU more
-/// than its nodes: each ball test gathers the ball's words lane by lane
-/// (BENCHMARKS.md, "Leaves of four balls"). `bench balls --only seifert
-/// --runs 7`, 320x180, 8 levels, 100 balls, four runs of each build
-/// alternated: 20.4-22.8 ms with leaves of 4 against 21.8-24.4 with 8;
-/// leaves of 2, 3, 5 and 6 were no better than 4.
-pub const BALL_LEAF_SIZE: usize = 4;
 
 /// Most copies of one object kept as ghosts (a huge ball in a small
 /// domain would otherwise ask for thousands).
@@ -545,10 +536,10 @@ fn tree_over_interior<R: Real>(g: Geometry, balls: &mut [FlatBall<R>]) -> BallTr
         .iter()
         .map(|b| ball_box(g, R::v4_f64(b.center), b.k.f64()))
         .collect();
-    let (tree, order) = build_over_with(&boxes, BALL_LEAF_SIZE);
+    let (tree, order) = BallTree::over(&boxes);
     let sorted: Vec<FlatBall<R>> = order.iter().map(|&i| balls[i as usize]).collect();
     balls.copy_from_slice(&sorted);
-    BallTree::new(tree)
+    tree
 }
 
 impl<R: Real> FlatScene<R> {

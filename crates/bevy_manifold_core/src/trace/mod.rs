@@ -43,7 +43,9 @@ pub mod step;
 mod walk;
 
 pub use accumulate::{accumulate, sample_offset};
-pub use ball_tree::{BallTree, LEAF_LINK, UNBOUNDED, ball_box, chart_segment, tree_leaves};
+pub use ball_tree::{
+    BALL_LEAF_SIZE, BallTree, MAX_BALL_LEAVES, UNBOUNDED, ball_box, chart_segment, leaf_count, tree_leaves,
+};
 pub use cast::{CastBall, CastHit, CastWall, cast_balls, cast_with_rule};
 pub use cull::{Candidate, FaceGroups, each_candidate, near_reach};
 pub use drift::{RayDrift, ray_drift};
