@@ -269,14 +269,14 @@ fn the_test_hands_out_every_leaf_a_segment_meets_once() {
 }
 
 #[test]
-fn a_tree_whose_frame_is_not_finite_is_not_walked() {
+fn a_tree_whose_frame_is_not_finite_hands_out_no_leaf() {
     let mut rng = Rng(47);
     let mut items = boxes(&mut rng, 20, 0.0, 1.0, 0.1);
     items[3].1[0] = f32::INFINITY;
     let (tree, _) = BallTree::over(&items);
     assert!(!tree.leaves.is_empty());
     assert!(tree.is_empty(), "no words, so every ball is tested");
-    let mut walked = 0;
-    tree_leaves(&tree, [0.0f64; 3], [1.0, 0.0, 0.0], 0.0, |_| walked += 1);
-    assert_eq!(walked, 0);
+    let mut handed = 0;
+    tree_leaves(&tree, [0.0f64; 3], [1.0, 0.0, 0.0], 0.0, |_| handed += 1);
+    assert_eq!(handed, 0);
 }

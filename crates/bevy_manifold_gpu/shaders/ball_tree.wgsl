@@ -11,7 +11,7 @@
 #define_import_path bevy_manifold::ball_tree
 
 #ifdef BALL_TREE
-#import bevy_manifold::bindings::{ball_nodes, cached}
+#import bevy_manifold::bindings::ball_nodes
 #endif
 
 // The box of a packed leaf `word`, its least and greatest corners: each
@@ -30,9 +30,11 @@ fn tree_box(word: vec4<u32>, origin: vec3<f32>, step: vec3<f32>) -> array<vec3<f
 // have constant trip counts, are unrolled, and read these arrays at
 // constant indices (a plain load; a uniform read at a run-time index is a
 // gather, lane by lane, and even at a constant index costs lavapipe
-// several times a private read: bindings.wgsl's planes). The boxes of
-// leaves past cached.ball_leaves are a point at infinity, which no
-// segment meets. WGSL only: Rust reads BallTree::words.
+// several times a private read: bindings.wgsl's planes). Leaves past
+// cached.ball_leaves (a pipeline compiled for more than this scene has)
+// are decoded from whatever the uniform holds there, and
+// ball_tree_leaves drops their bits. WGSL only: Rust reads
+// BallTree::words.
 var<private> leaf_lo: array<vec3<f32>, #{BALL_LEAVES}u>;
 var<private> leaf_hi: array<vec3<f32>, #{BALL_LEAVES}u>;
 
@@ -49,12 +51,10 @@ fn cache_leaves() {
 fn cache_leaves_in(lo: u32, hi: u32) {
     let origin = bitcast<vec3<f32>>(ball_nodes[0].xyz);
     let step = bitcast<vec3<f32>>(ball_nodes[1].xyz);
-    let far = vec3<f32>(bitcast<f32>(0x7f800000u));
     for (var l = lo; l < hi; l++) {
         let box = tree_box(ball_nodes[2u + l], origin, step);
-        let none = l >= cached.ball_leaves;
-        leaf_lo[l] = select(box[0], far, none);
-        leaf_hi[l] = select(box[1], far, none);
+        leaf_lo[l] = box[0];
+        leaf_hi[l] = box[1];
     }
 }
 #endif

@@ -589,6 +589,11 @@ fn ball_tree_leaves(ray: Ray, t_end: f32, near: u32, a: vec3<f32>, d: vec3<f32>,
     met = leaves_met(a, inv_d, pad, met, 16u, min(#{BALL_LEAVES}u, 32u));
     met = leaves_met(a, inv_d, pad, met, 32u, min(#{BALL_LEAVES}u, 48u));
     met = leaves_met(a, inv_d, pad, met, 48u, min(#{BALL_LEAVES}u, 64u));
+    // Only the leaves the scene has (a pipeline compiled for more decodes
+    // the rest from whatever the uniform holds).
+    let sent = cached.ball_leaves;
+    met.x &= select(0xffffffffu, (1u << sent) - 1u, sent < 32u);
+    met.y &= select(select(0u, (1u << (sent - 32u)) - 1u, sent > 32u), 0xffffffffu, sent >= 64u);
     loop {
         if met.x == 0u && met.y == 0u {
             break;

@@ -121,6 +121,11 @@ pub const MAX_BALLS: usize = 1024;
 /// [`bevy_manifold_core::trace::MAX_BALL_LEAVES`], which no tree exceeds.
 pub const MAX_BALL_LEAVES: usize = bevy_manifold_core::trace::MAX_BALL_LEAVES;
 
+// The shader keeps the met leaves as the 64 bits of a vec2<u32> and tests
+// them in four chunks of 16 (ball_tree_leaves in render.wgsl, cache_leaves
+// in ball_tree.wgsl): more leaves would need both widened.
+const _: () = assert!(MAX_BALL_LEAVES <= 64);
+
 /// The entries of the face groups' uniform array: one per face up to 32,
 /// and one for the counts.
 pub const GROUPS: usize = 33;
@@ -153,9 +158,9 @@ pub const GROUPS: usize = 33;
 ///
 /// The balls ([`MAX_BALLS`]) and the ball tree's leaves
 /// ([`MAX_BALL_LEAVES`], `ball_nodes`, binding 10) are uniform arrays too:
-/// with them, and the tree walked without a stack, a swarm of 128 balls
-/// in the torus traced in 25.9 ms instead of 46.4 (BENCHMARKS.md, "Balls
-/// in uniforms").
+/// with them (and the tree, then walked node by node, without a stack) a
+/// swarm of 128 balls in the torus traced in 25.9 ms instead of 46.4
+/// (BENCHMARKS.md, "Balls in uniforms").
 ///
 /// The face groups (`GpuObjects::groups`: where each face's objects start,
 /// and the tubes' edge table) are a uniform array of 33 entries, 528

@@ -281,8 +281,7 @@ pub struct GpuObjects {
     /// The frame of `FlatScene::ball_tree`'s packed boxes, two words, then
     /// its leaves, one word each (`BallTree::words`; the `ball_nodes`
     /// uniform array: see `shaders/bindings.wgsl`); empty
-    /// when there is no tree, or it has more than
-    /// [`crate::bindings::MAX_BALL_LEAVES`] leaves or the scene more than
+    /// when there is no tree or the scene has more than
     /// [`crate::bindings::MAX_BALLS`] balls (the GPU then tests every
     /// ball with no face mask).
     pub ball_nodes: Vec<[u32; 4]>,

@@ -59,21 +59,22 @@ pub struct TraceDefs {
     /// ([`bevy_manifold_core::trace::MIN_BALL_TREE`]), so the test of the
     /// tree's leaves is compiled in; without it every interior ball is
     /// tested. A def, not a run-time branch: lavapipe runs both sides of
-    /// every branch, under masks, so the tree's walk cost every segment
-    /// of every scene a fifth to two fifths of its frame (BENCHMARKS.md,
-    /// "Branches on lavapipe").
+    /// every branch, under masks, so when the tree was walked, the walk
+    /// compiled into every scene cost every segment a fifth to two fifths
+    /// of its frame (BENCHMARKS.md, "Branches on lavapipe").
     pub ball_tree: bool,
     /// `BALL_LEAVES` (a value def, under `BALL_TREE`): the leaves of the
     /// ball tree the pipeline tests, as a constant, so their loop is
     /// unrolled and each box read at a constant index (`ball_tree.wgsl`).
     /// The tree's leaves are a power of two
     /// ([`bevy_manifold_core::trace::leaf_count`]), so a scene whose balls
-    /// come and go (the shooter's shots) compiles a pipeline per doubling,
-    /// at most seven. [`TraceDefs::for_scene`] counts them from the
+    /// come and go (the shooter's shots) compiles a pipeline per doubling:
+    /// 2 to 64 leaves, six. [`TraceDefs::for_scene`] counts them from the
     /// scene's balls, at least as many as the tree has, and
     /// [`TraceDefs::for_objects`] sets the tree's own count. A pipeline
-    /// sent more leaves than this tests every ball (the image is the
-    /// same). 0 without the tree.
+    /// sent more leaves than this tests every ball, and one sent fewer
+    /// tests only those (the image is the same). 0 without the tree (at
+    /// least 1 in the value def).
     pub ball_leaves: u32,
     /// `MANY_UNKEYED_TUBES`: more than 32 edge tubes have no edge bits
     /// (`FlatTube::edge` 0, only in a domain of more than 32 faces), so a
@@ -167,14 +168,17 @@ impl TraceDefs {
 
     /// These defs for the packed `objects`: `MANY_UNKEYED_TUBES` where
     /// more than 32 tubes have no edge bits (the tubes before the first
-    /// face group); `BALL_TREE` where a ball tree was packed, with
-    /// `BALL_LEAVES` its leaves.
+    /// face group); with `BALL_TREE` on and a ball tree packed,
+    /// `BALL_LEAVES` its leaves. `BALL_TREE` itself stays as it was (a
+    /// scene whose balls lie near faces packs no tree, and the pipeline
+    /// then tests each ball; the generic pipeline keeps every def).
     #[must_use]
     pub fn for_objects(mut self, objects: &crate::layout::GpuObjects) -> Self {
         self.many_unkeyed_tubes = objects.groups[0][1] > 32;
         let leaves = objects.ball_nodes.len().saturating_sub(2);
-        self.ball_tree = leaves > 0;
-        self.ball_leaves = leaves as u32;
+        if self.ball_tree && leaves > 0 {
+            self.ball_leaves = leaves as u32;
+        }
         self
     }
 
@@ -260,7 +264,7 @@ impl TraceDefs {
     /// ball tree.
     #[must_use]
     pub fn values(&self) -> Vec<(&'static str, u32)> {
-        let leaves = self.ball_tree.then_some(("BALL_LEAVES", self.ball_leaves));
+        let leaves = self.ball_tree.then_some(("BALL_LEAVES", self.ball_leaves.max(1)));
         self.face_count
             .map(|n| ("FACE_COUNT", n))
             .into_iter()

@@ -356,8 +356,11 @@ fn split(boxes: &[([f32; 3], [f32; 3])], order: &mut [u32], first: usize, leaves
 /// the tree whose box ([`BallTree::inner`]) the segment misses is skipped,
 /// which skips only leaves it misses (the boxes above a leaf hold it, and
 /// the slab test in `f32` meets a box that holds a met one), so the same
-/// leaves come out in the same order. WGSL twin: `ball_tree_leaves` in
-/// `shaders/render.wgsl`.
+/// leaves come out in the same order as from a test of each leaf. (The
+/// GPU decodes each box within a quarter step of [`BallTree::node_box`],
+/// and holding the leaf's balls either way, so a grazing segment may meet
+/// a leaf on one side only; no ball hit is lost.) WGSL twin:
+/// `ball_tree_leaves` in `shaders/render.wgsl`.
 pub fn tree_leaves<R: Real>(tree: &BallTree, a: [R; 3], d: [R; 3], pad: f32, mut visit: impl FnMut(Range<usize>)) {
     let inv_d = safe_inverse(d);
     let met = |(lo, hi): ([f32; 3], [f32; 3])| {
