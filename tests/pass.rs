@@ -1052,6 +1052,77 @@ fn a_scene_past_the_gpus_ball_copies_is_drawn_and_the_next_scene_is_right() {
     assert!(agreement >= 0.995, "after the crowd the pass agrees on {agreement}");
 }
 
+/// Balls in `space` at `n` points inside its domain (seeded), each a
+/// fifth of the inradius, as entities under `root`; the scene's balls.
+fn spawn_balls(app: &mut App, space: &Space, root: Entity, n: usize, seed: u64) {
+    let mut rng = bevy_manifold_test_support::Rng(seed);
+    let g = space.geometry();
+    for k in 0..n {
+        let centre = rng.ray_inside(space).origin;
+        let hue = k as f32 / n as f32;
+        app.world_mut().spawn((
+            ChildOf(root),
+            Placement::from_isometry(bevy_manifold::geometry::isometry::translation_to(g, centre)),
+            TracedBall::new(
+                0.2 * space.inradius(),
+                Color::linear_rgb(1.0 - hue, 0.3 + 0.6 * hue, 0.4),
+            ),
+        ));
+    }
+}
+
+/// A view whose balls cross a doubling of the ball tree's leaves (as the
+/// shooter's shots do) keeps drawing them: the frames before the pipeline
+/// for the new leaf count is compiled are drawn by the last one (which
+/// tests every ball when the scene has more leaves than it was compiled
+/// for), and show what the headless tracer shows of the new scene. Not
+/// drawn, they would show the scene before (20 balls fewer).
+fn a_view_keeps_drawing_its_balls_while_a_new_leaf_count_compiles() {
+    let mut app = headless_app(true);
+    let image = target(&mut app, W, H);
+    let space = catalog::by_name("torus").expect("catalog");
+    let mut scene = Scene::default_for(&space);
+    scene.edge_radius = None;
+    let camera = (ManifoldCamera { levels: 8, ..default() }, CellShading::Off);
+    let (root, _) = offscreen::spawn_view(&mut app, &space, &scene, &image, camera);
+    // 20 balls and the scene's own: 3 leaves' worth, so 4 leaves.
+    spawn_balls(&mut app, &space, root, 20, 11);
+    wait_for_pipelines(&mut app);
+    let before = capture(&mut app, &image);
+    let leaves = |app: &App| {
+        let prep = FlatScene::<f32>::new(
+            &space,
+            app.world().get::<ManifoldScene>(root).expect("gathered").scene(),
+        );
+        prep.ball_tree.words.len()
+    };
+    assert_eq!(leaves(&app), 4, "the first scene's tree");
+    // 20 more: 8 leaves.
+    spawn_balls(&mut app, &space, root, 20, 12);
+    let shown = capture(&mut app, &image);
+    assert_eq!(leaves(&app), 8, "the second scene's tree");
+    let settings = TraceSettings {
+        width: W,
+        height: H,
+        levels: 8,
+        ..TraceSettings::default()
+    };
+    let mut gpu = GpuTracer::new().expect("adapter");
+    let scene = gathered_scene(&app, &space, root, false);
+    let compute = gpu.render(&space, &scene, &settings).expect("headless trace");
+    let changed = before
+        .chunks_exact(4)
+        .zip(shown.chunks_exact(4))
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(
+        changed > (W * H / 20) as usize,
+        "the new balls cover only {changed} pixels"
+    );
+    let agreement = rgba8_agreement(&shown, &compute, 1);
+    assert!(agreement >= 0.995, "with the new balls the pass agrees on {agreement}");
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [],
     gpu: [
@@ -1070,5 +1141,6 @@ bevy_manifold_test_support::test_main! {
         an_adaptive_scale_lowers_the_pixels_traced_when_frames_are_slow,
         a_still_view_accumulates_jittered_samples_then_stops_tracing,
         a_scene_past_the_gpus_ball_copies_is_drawn_and_the_next_scene_is_right,
+        a_view_keeps_drawing_its_balls_while_a_new_leaf_count_compiles,
     ],
 }

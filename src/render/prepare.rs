@@ -297,8 +297,8 @@ struct ViewBuffers {
     /// Samples accumulated in the history so far.
     samples: u32,
     /// How the view was last drawn: into textures of its own, and the
-    /// trace pipeline.
-    drawn: Option<(bool, CachedRenderPipelineId)>,
+    /// trace pipeline and its key.
+    drawn: Option<(bool, CachedRenderPipelineId, TracePipelineKey)>,
 }
 
 /// Every manifold view's buffers, by render-world view entity, and every
@@ -600,13 +600,28 @@ pub fn prepare_manifold_views(
         // pipeline: until it is compiled the view is drawn the way it was
         // last drawn, if that pipeline is ready, rather than not at all.
         let mut traced = traced;
+        let mut drawn_key = key;
         if pipeline_cache.get_render_pipeline(id).is_none()
-            && let Some((own, last)) = cache.views.get(&entity).and_then(|e| e.drawn)
-            && own != traced.is_some()
+            && let Some((own, last, last_key)) = cache.views.get(&entity).and_then(|e| e.drawn)
             && pipeline_cache.get_render_pipeline(last).is_some()
         {
-            id = last;
-            traced = own.then_some(viewport);
+            if own != traced.is_some() {
+                id = last;
+                drawn_key = last_key;
+                traced = own.then_some(viewport);
+            } else if last_key.defs.same_but_ball_tree(&key.defs)
+                && (TracePipelineKey {
+                    defs: key.defs,
+                    ..last_key
+                }) == key
+            {
+                // Balls came or went across a doubling of the ball tree's
+                // leaves (the shooter's shots): the last pipeline draws
+                // the new scene, testing every ball or only the leaves it
+                // has, until the new one is compiled.
+                id = last;
+                drawn_key = last_key;
+            }
         }
         let Some((space, objects)) = packed.get(view.root) else {
             continue;
@@ -659,7 +674,7 @@ pub fn prepare_manifold_views(
             }
         });
         if pipeline_cache.get_render_pipeline(id).is_some() {
-            entry.drawn = Some((traced.is_some(), id));
+            entry.drawn = Some((traced.is_some(), id, drawn_key));
         }
         // Accumulation: the same view as last frame (params, space and
         // objects, textures) adds a sample, jittered; anything else starts

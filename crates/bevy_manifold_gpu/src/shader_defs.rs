@@ -182,6 +182,31 @@ impl TraceDefs {
         self
     }
 
+    /// True when these defs and `other` differ at most in the ball tree
+    /// (`BALL_TREE`, `BALL_LEAVES`): a pipeline of either draws a scene
+    /// packed for the other, testing every ball (no tree, or more leaves
+    /// than it was compiled for) or only the leaves the scene has. The
+    /// render pass draws with the last pipeline while the one for a new
+    /// leaf count compiles.
+    ///
+    /// ```
+    /// use bevy_manifold_core::prelude::*;
+    /// use bevy_manifold_gpu::TraceDefs;
+    /// let sw = catalog::seifert_weber();
+    /// let defs = TraceDefs::for_scene(&sw, &Scene::default_for(&sw), false);
+    /// let more = TraceDefs { ball_tree: true, ball_leaves: 8, ..defs };
+    /// assert!(defs.same_but_ball_tree(&more));
+    /// assert!(!defs.same_but_ball_tree(&TraceDefs { fog: true, ..more }));
+    /// ```
+    #[must_use]
+    pub fn same_but_ball_tree(&self, other: &TraceDefs) -> bool {
+        TraceDefs {
+            ball_tree: other.ball_tree,
+            ball_leaves: other.ball_leaves,
+            ..*self
+        } == *other
+    }
+
     /// These defs for a space under `rule`: `CELL_RULES` when some rule is
     /// on.
     #[must_use]
