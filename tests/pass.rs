@@ -101,20 +101,31 @@ fn lit_pixels(shown: &[u8]) -> usize {
         .count()
 }
 
+/// The views' size at 8 levels, as the tracers take it.
+fn view_settings() -> TraceSettings {
+    TraceSettings {
+        width: W,
+        height: H,
+        levels: 8,
+        ..TraceSettings::default()
+    }
+}
+
+/// The headless compute trace of `scene` at [`view_settings`].
+fn headless_trace(space: &Space, scene: &Scene) -> bevy_manifold::trace::TraceImage {
+    GpuTracer::new()
+        .expect("adapter")
+        .render(space, scene, &view_settings())
+        .expect("headless trace")
+}
+
 /// What the pass showed (`shown`) of a scene with a ball and two meshes
 /// (object ids 2 and 3) against the headless compute trace (within 1/255)
 /// and the CPU f64 reference (within 2/255), at 8 levels: the meshes'
 /// pixel count on the CPU and the two agreements.
 fn mesh_agreement(space: &Space, scene: &Scene, shown: &[u8]) -> (usize, f64, f64) {
-    let settings = TraceSettings {
-        width: W,
-        height: H,
-        levels: 8,
-        ..TraceSettings::default()
-    };
-    let mut gpu = GpuTracer::new().expect("adapter");
-    let compute = gpu.render(space, scene, &settings).expect("headless trace");
-    let cpu = render::<f64>(space, scene, &settings);
+    let compute = headless_trace(space, scene);
+    let cpu = render::<f64>(space, scene, &view_settings());
     let mesh_pixels = cpu.pixels.iter().filter(|p| (2..=3).contains(&p.object)).count();
     (
         mesh_pixels,
@@ -1101,15 +1112,7 @@ fn a_view_keeps_drawing_its_balls_while_a_new_leaf_count_compiles() {
     spawn_balls(&mut app, &space, root, 20, 12);
     let shown = capture(&mut app, &image);
     assert_eq!(leaves(&app), 8, "the second scene's tree");
-    let settings = TraceSettings {
-        width: W,
-        height: H,
-        levels: 8,
-        ..TraceSettings::default()
-    };
-    let mut gpu = GpuTracer::new().expect("adapter");
-    let scene = gathered_scene(&app, &space, root, false);
-    let compute = gpu.render(&space, &scene, &settings).expect("headless trace");
+    let compute = headless_trace(&space, &gathered_scene(&app, &space, root, false));
     let changed = before
         .chunks_exact(4)
         .zip(shown.chunks_exact(4))
