@@ -1064,30 +1064,36 @@ fn a_scene_past_the_gpus_ball_copies_is_drawn_and_the_next_scene_is_right() {
 }
 
 /// Balls in `space` at `n` points inside its domain (seeded), each a
-/// fifth of the inradius, as entities under `root`; the scene's balls.
-fn spawn_balls(app: &mut App, space: &Space, root: Entity, n: usize, seed: u64) {
+/// tenth of the inradius, as entities under `root`; the scene's balls.
+fn spawn_balls(app: &mut App, space: &Space, root: Entity, n: usize, seed: u64) -> Vec<Entity> {
     let mut rng = bevy_manifold_test_support::Rng(seed);
     let g = space.geometry();
-    for k in 0..n {
-        let centre = rng.ray_inside(space).origin;
-        let hue = k as f32 / n as f32;
-        app.world_mut().spawn((
-            ChildOf(root),
-            Placement::from_isometry(bevy_manifold::geometry::isometry::translation_to(g, centre)),
-            TracedBall::new(
-                0.2 * space.inradius(),
-                Color::linear_rgb(1.0 - hue, 0.3 + 0.6 * hue, 0.4),
-            ),
-        ));
-    }
+    (0..n)
+        .map(|k| {
+            let centre = rng.ray_inside(space).origin;
+            let hue = k as f32 / n as f32;
+            app.world_mut()
+                .spawn((
+                    ChildOf(root),
+                    Placement::from_isometry(bevy_manifold::geometry::isometry::translation_to(g, centre)),
+                    TracedBall::new(
+                        0.1 * space.inradius(),
+                        Color::linear_rgb(1.0 - hue, 0.3 + 0.6 * hue, 0.4),
+                    ),
+                ))
+                .id()
+        })
+        .collect()
 }
 
 /// A view whose balls cross a doubling of the ball tree's leaves (as the
 /// shooter's shots do) keeps drawing them: the frames before the pipeline
-/// for the new leaf count is compiled are drawn by the last one (which
-/// tests every ball when the scene has more leaves than it was compiled
-/// for), and show what the headless tracer shows of the new scene. Not
-/// drawn, they would show the scene before (20 balls fewer).
+/// for the new leaf count is compiled are drawn by the last one, and show
+/// what the headless tracer shows of the new scene. Both ways: 4 leaves
+/// to 8 (the last pipeline, compiled for 4, tests every ball) and then 8
+/// to 2 (the last, compiled for 8, tests the 2 there are, not the 6 left
+/// in its uniform from before, whose balls are gone). Not drawn, the frames would show the scene
+/// before.
 fn a_view_keeps_drawing_its_balls_while_a_new_leaf_count_compiles() {
     let mut app = headless_app(true);
     let image = target(&mut app, W, H);
@@ -1097,7 +1103,7 @@ fn a_view_keeps_drawing_its_balls_while_a_new_leaf_count_compiles() {
     let camera = (ManifoldCamera { levels: 8, ..default() }, CellShading::Off);
     let (root, _) = offscreen::spawn_view(&mut app, &space, &scene, &image, camera);
     // 20 balls and the scene's own: 3 leaves' worth, so 4 leaves.
-    spawn_balls(&mut app, &space, root, 20, 11);
+    let first = spawn_balls(&mut app, &space, root, 20, 11);
     wait_for_pipelines(&mut app);
     let before = capture(&mut app, &image);
     let leaves = |app: &App| {
@@ -1108,22 +1114,34 @@ fn a_view_keeps_drawing_its_balls_while_a_new_leaf_count_compiles() {
         prep.ball_tree.words.len()
     };
     assert_eq!(leaves(&app), 4, "the first scene's tree");
+    let check = |app: &mut App, before: &[u8], want: usize, what: &str| {
+        let shown = capture(app, &image);
+        assert_eq!(leaves(app), want, "{what}: the tree");
+        let compute = headless_trace(&space, &gathered_scene(app, &space, root, false));
+        let changed = before
+            .chunks_exact(4)
+            .zip(shown.chunks_exact(4))
+            .filter(|(a, b)| a != b)
+            .count();
+        let agreement = rgba8_agreement(&shown, &compute, 1);
+        eprintln!(
+            "{what}: {changed} pixels changed, agreement {agreement}, lit {}",
+            lit_pixels(&shown)
+        );
+        assert!(changed > (W * H / 20) as usize, "{what}: only {changed} pixels changed");
+        assert!(agreement >= 0.995, "{what}: the pass agrees on {agreement}");
+        shown
+    };
     // 20 more: 8 leaves.
-    spawn_balls(&mut app, &space, root, 20, 12);
-    let shown = capture(&mut app, &image);
-    assert_eq!(leaves(&app), 8, "the second scene's tree");
-    let compute = headless_trace(&space, &gathered_scene(&app, &space, root, false));
-    let changed = before
-        .chunks_exact(4)
-        .zip(shown.chunks_exact(4))
-        .filter(|(a, b)| a != b)
-        .count();
-    assert!(
-        changed > (W * H / 20) as usize,
-        "the new balls cover only {changed} pixels"
-    );
-    let agreement = rgba8_agreement(&shown, &compute, 1);
-    assert!(agreement >= 0.995, "with the new balls the pass agrees on {agreement}");
+    let second = spawn_balls(&mut app, &space, root, 20, 12);
+    let after = check(&mut app, &before, 8, "20 balls more");
+    // The 8-leaf pipeline compiled, 27 balls fewer: 14, and 9 to 16 of
+    // them away from the faces, 2 leaves.
+    wait_for_pipelines(&mut app);
+    for e in first.into_iter().chain(second.into_iter().take(7)) {
+        app.world_mut().despawn(e);
+    }
+    check(&mut app, &after, 2, "27 balls fewer");
 }
 
 bevy_manifold_test_support::test_main! {
