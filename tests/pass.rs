@@ -1089,10 +1089,10 @@ fn spawn_balls(app: &mut App, space: &Space, root: Entity, n: usize, seed: u64) 
 /// A view whose balls cross a doubling of the ball tree's leaves (as the
 /// shooter's shots do) keeps drawing them: the frames before the pipeline
 /// for the new leaf count is compiled are drawn by the last one, and show
-/// what the headless tracer shows of the new scene. Both ways: 4 leaves
-/// to 8 (the last pipeline, compiled for 4, tests every ball) and then 8
-/// to 2 (the last, compiled for 8, tests the 2 there are, not the 6 left
-/// in its uniform from before, whose balls are gone). Not drawn, the frames would show the scene
+/// what the headless tracer shows of the new scene. Both ways: 8 leaves
+/// to 16 (the last pipeline, compiled for 8, tests every ball) and then
+/// 16 to 4 (the last, compiled for 16, tests the 4 there are, not the 12
+/// left in its uniform from before, whose balls are gone). Not drawn, the frames would show the scene
 /// before.
 fn a_view_keeps_drawing_its_balls_while_a_new_leaf_count_compiles() {
     let mut app = headless_app(true);
@@ -1102,7 +1102,8 @@ fn a_view_keeps_drawing_its_balls_while_a_new_leaf_count_compiles() {
     scene.edge_radius = None;
     let camera = (ManifoldCamera { levels: 8, ..default() }, CellShading::Off);
     let (root, _) = offscreen::spawn_view(&mut app, &space, &scene, &image, camera);
-    // 20 balls and the scene's own: 3 leaves' worth, so 4 leaves.
+    // 20 balls and the scene's own, 17 to 32 of them away from the faces:
+    // 8 leaves (leaf_count).
     let first = spawn_balls(&mut app, &space, root, 20, 11);
     wait_for_pipelines(&mut app);
     let before = capture(&mut app, &image);
@@ -1113,7 +1114,7 @@ fn a_view_keeps_drawing_its_balls_while_a_new_leaf_count_compiles() {
         );
         prep.ball_tree.words.len()
     };
-    assert_eq!(leaves(&app), 4, "the first scene's tree");
+    assert_eq!(leaves(&app), 8, "the first scene's tree");
     let check = |app: &mut App, before: &[u8], want: usize, what: &str| {
         let shown = capture(app, &image);
         assert_eq!(leaves(app), want, "{what}: the tree");
@@ -1132,16 +1133,16 @@ fn a_view_keeps_drawing_its_balls_while_a_new_leaf_count_compiles() {
         assert!(agreement >= 0.995, "{what}: the pass agrees on {agreement}");
         shown
     };
-    // 20 more: 8 leaves.
+    // 20 more: 16 leaves.
     let second = spawn_balls(&mut app, &space, root, 20, 12);
-    let after = check(&mut app, &before, 8, "20 balls more");
-    // The 8-leaf pipeline compiled, 27 balls fewer: 14, and 9 to 16 of
-    // them away from the faces, 2 leaves.
+    let after = check(&mut app, &before, 16, "20 balls more");
+    // The 16-leaf pipeline compiled, 27 balls fewer: 14, and 9 to 16 of
+    // them away from the faces, 4 leaves.
     wait_for_pipelines(&mut app);
     for e in first.into_iter().chain(second.into_iter().take(7)) {
         app.world_mut().despawn(e);
     }
-    check(&mut app, &after, 2, "27 balls fewer");
+    check(&mut app, &after, 4, "27 balls fewer");
 }
 
 bevy_manifold_test_support::test_main! {

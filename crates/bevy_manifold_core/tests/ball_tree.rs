@@ -6,7 +6,7 @@
 //! origin and far from it (where `f32` sums round coarsely).
 
 use bevy_manifold_core::mesh::bvh::{hit_box, safe_inverse};
-use bevy_manifold_core::trace::{BALL_LEAF_SIZE, BallTree, MAX_BALL_LEAVES, leaf_count, tree_leaves};
+use bevy_manifold_core::trace::{BallTree, MAX_BALL_LEAVES, leaf_count, tree_leaves};
 use bevy_manifold_test_support::Rng;
 
 /// `n` boxes of sides up to `size`, centred within `spread` of `at`.
@@ -113,20 +113,33 @@ fn a_packed_leaf_holds_its_box_and_is_a_few_steps_wider() {
 #[test]
 fn the_balls_split_into_a_power_of_two_of_even_leaves() {
     let mut rng = Rng(42);
-    assert_eq!(
-        (leaf_count(8), leaf_count(9), leaf_count(100), leaf_count(254)),
-        (1, 2, 16, 32)
-    );
-    assert_eq!(leaf_count(100_000), MAX_BALL_LEAVES);
+    // Leaves of up to 4 while there are up to 16 of them, then of up to
+    // 8 (16 leaves up to 128 balls, 32 up to 256), then 64.
+    let want = [
+        (1, 1),
+        (4, 1),
+        (5, 2),
+        (8, 2),
+        (9, 4),
+        (16, 4),
+        (17, 8),
+        (64, 16),
+        (65, 16),
+        (128, 16),
+        (129, 32),
+        (256, 32),
+        (257, 64),
+        (100_000, 64),
+    ];
+    for (n, k) in want {
+        assert_eq!(leaf_count(n), k, "{n} balls");
+    }
+    assert_eq!(MAX_BALL_LEAVES, 64);
     for n in [9, 16, 17, 100, 254, 1000] {
         let items = boxes(&mut rng, n, 0.0, 1.0, 0.05);
         let (tree, order) = BallTree::over(&items);
         let k = tree.leaves.len();
-        assert_eq!(
-            k,
-            (n.div_ceil(BALL_LEAF_SIZE)).next_power_of_two().min(MAX_BALL_LEAVES),
-            "{n} balls"
-        );
+        assert_eq!(k, leaf_count(n), "{n} balls");
         let mut sorted = order.clone();
         sorted.sort_unstable();
         assert_eq!(sorted, (0..n as u32).collect::<Vec<_>>(), "{n} balls: each ball once");

@@ -114,32 +114,50 @@ pub fn chart_segment<R: Real>(ray: &Ray<R>, t_end: R) -> Option<([R; 3], [R; 3])
 /// holds this many).
 pub const MAX_BALL_LEAVES: usize = 64;
 
-/// Balls a leaf is filled to, at most, before the leaves double (up to
-/// [`MAX_BALL_LEAVES`]). Every leaf's box costs every segment a slab test,
-/// and every ball of a met leaf a test whose words are gathered lane by
-/// lane. `bench balls`, 320x180, 8 levels, 100 balls, GPU ms, median of
-/// six alternated runs (BENCHMARKS.md, "The ball tree's leaves tested
-/// flat"): leaves of up to 4 (32 leaves) took 15.7 in the torus, 19.2 in
-/// Seifert-Weber and 16.6 in the Poincare sphere; up to 8 (16 leaves)
-/// 14.1, 19.6 and 17.1; up to 16 (8 leaves) was slower in Seifert-Weber
-/// (22.7-24.0 against 19.7-20.8). At 254 balls 64 leaves of 4 were slower
-/// than 32 of 8.
-pub const BALL_LEAF_SIZE: usize = 8;
+/// Balls a leaf is filled to, at most, while the tree has up to
+/// [`SMALL_LEAVES`] leaves: up to 64 balls. Every leaf's box costs every
+/// segment a slab test, and every ball of a met leaf a test whose words
+/// are gathered lane by lane. `bench balls`, 320x180, 8 levels, GPU ms,
+/// four alternated runs (BENCHMARKS.md, "The ball tree's leaves tested
+/// flat"): with leaves of up to 4 rather than 8, Seifert-Weber's 64 balls
+/// (16 leaves, not 8) took 18.9-19.6 against 21.6-23.3, and 32 balls
+/// 17.2-17.5 against 19.4-21.0.
+pub const BALL_LEAF_SIZE: usize = 4;
 
-/// The leaves of a ball tree over `n` balls: the least power of two that
-/// holds them in leaves of [`BALL_LEAF_SIZE`], from 1 to
-/// [`MAX_BALL_LEAVES`]. A power of two, so the GPU compiles one pipeline
-/// per doubling (its `BALL_LEAVES`), not one per ball count.
+/// The leaves up to which they hold [`BALL_LEAF_SIZE`] balls; past them,
+/// leaves fill to [`FULL_LEAF_SIZE`] before they double. At 100 balls,
+/// 16 leaves of up to 8 took 14.1 ms in the torus, 19.6 in Seifert-Weber
+/// and 17.1 in the Poincare sphere (median of six runs) against 15.7,
+/// 19.2 and 16.6 with 32 leaves of up to 4; at 254 balls 64 leaves of 4
+/// were slower than 32 of 8.
+pub const SMALL_LEAVES: usize = 16;
+
+/// Balls a leaf is filled to, at most, past [`SMALL_LEAVES`] leaves (up
+/// to [`MAX_BALL_LEAVES`]; beyond that, fuller). Up to 16 (8 leaves at 100
+/// balls) was slower in Seifert-Weber: 22.7-24.0 ms against 19.7-20.8.
+pub const FULL_LEAF_SIZE: usize = 8;
+
+/// The leaves of a ball tree over `n` balls, a power of two from 1 to
+/// [`MAX_BALL_LEAVES`]: the least that holds them in leaves of
+/// [`BALL_LEAF_SIZE`], at most [`SMALL_LEAVES`], and at least the least
+/// that holds them in leaves of [`FULL_LEAF_SIZE`]. So 4 balls a leaf up
+/// to 64 balls, 16 leaves up to 128, 32 up to 256. A power of two, so the
+/// GPU compiles one pipeline per doubling (its `BALL_LEAVES`), not one per
+/// ball count.
 ///
 /// ```
 /// use bevy_manifold_core::trace::leaf_count;
-/// assert_eq!(leaf_count(9), 2);
+/// assert_eq!(leaf_count(9), 4);
+/// assert_eq!(leaf_count(64), 16);
 /// assert_eq!(leaf_count(100), 16);
+/// assert_eq!(leaf_count(254), 32);
 /// assert_eq!(leaf_count(1000), 64);
 /// ```
 #[must_use]
 pub fn leaf_count(n: usize) -> usize {
-    n.div_ceil(BALL_LEAF_SIZE).next_power_of_two().clamp(1, MAX_BALL_LEAVES)
+    let small = n.div_ceil(BALL_LEAF_SIZE).next_power_of_two().min(SMALL_LEAVES);
+    let full = n.div_ceil(FULL_LEAF_SIZE).next_power_of_two();
+    small.max(full).clamp(1, MAX_BALL_LEAVES)
 }
 
 /// The steps a packed box side is counted in: 16 bits.
@@ -154,18 +172,18 @@ const STEPS: f32 = 65535.0;
 ///
 /// ```
 /// use bevy_manifold_core::trace::BallTree;
-/// // Twenty unit boxes along x: four leaves of five.
-/// let boxes: Vec<_> = (0..20).map(|i| ([i as f32, 0.0, 0.0], [i as f32 + 1.0, 1.0, 1.0])).collect();
+/// // Sixteen unit boxes along x: four leaves of four.
+/// let boxes: Vec<_> = (0..16).map(|i| ([i as f32, 0.0, 0.0], [i as f32 + 1.0, 1.0, 1.0])).collect();
 /// let (tree, order) = BallTree::over(&boxes);
 /// assert_eq!(tree.leaves.len(), 4);
 /// // The balls in the leaves' order: left to right.
-/// assert_eq!(order, (0..20).collect::<Vec<u32>>());
-/// assert_eq!((tree.leaves[1].first, tree.leaves[1].count), (5, 5));
+/// assert_eq!(order, (0..16).collect::<Vec<u32>>());
+/// assert_eq!((tree.leaves[1].first, tree.leaves[1].count), (4, 4));
 /// // A word's last entry is its run of balls, first and count.
-/// assert_eq!(tree.words[1][3], 5 | (5 << 16));
+/// assert_eq!(tree.words[1][3], 4 | (4 << 16));
 /// // Every packed box holds the boxes of its leaf, and not much more.
 /// let (lo, hi) = tree.node_box(&tree.words[1]);
-/// assert!(lo[0] <= 5.0 && lo[0] > 4.99 && hi[0] >= 10.0 && hi[0] < 10.01);
+/// assert!(lo[0] <= 4.0 && lo[0] > 3.99 && hi[0] >= 8.0 && hi[0] < 8.01);
 /// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct BallTree {

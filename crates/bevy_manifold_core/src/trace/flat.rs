@@ -250,11 +250,10 @@ const PALETTE: [[f32; 3]; 10] = [
 ];
 
 /// Fewest balls with no face mask for which [`FlatScene::ball_tree`] is
-/// built: more than [`super::BALL_LEAF_SIZE`], so the tree has two leaves
-/// or more ([`super::leaf_count`]); one leaf would test the same balls
-/// after one more box. Below it a segment tests each of them. Measured
-/// when the tree was walked node by node, a tree of 12 balls cost less
-/// than testing each: on lavapipe
+/// built (into [`super::leaf_count`] leaves, 4 of them at 9 balls).
+/// Below it a segment tests each of them. Not remeasured since the leaves
+/// are tested flat; when the tree was walked node by node, a tree of 12
+/// balls cost less than testing each: on lavapipe
 /// (320x180, 8 levels, over the one-ball frame, two runs each;
 /// BENCHMARKS.md, "MIN_BALL_TREE after the two-loop walk") 12 balls took
 /// 1.35-1.48x in the torus with a tree and 1.79-2.18x without,

@@ -44,7 +44,8 @@ mod walk;
 
 pub use accumulate::{accumulate, sample_offset};
 pub use ball_tree::{
-    BALL_LEAF_SIZE, BallTree, MAX_BALL_LEAVES, UNBOUNDED, ball_box, chart_segment, leaf_count, tree_leaves,
+    BALL_LEAF_SIZE, BallTree, FULL_LEAF_SIZE, MAX_BALL_LEAVES, SMALL_LEAVES, UNBOUNDED, ball_box, chart_segment,
+    leaf_count, tree_leaves,
 };
 pub use cast::{CastBall, CastHit, CastWall, cast_balls, cast_with_rule};
 pub use cull::{Candidate, FaceGroups, each_candidate, near_reach};
