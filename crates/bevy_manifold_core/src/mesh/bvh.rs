@@ -34,14 +34,16 @@ pub struct BvhNode {
     pub count: u32,
 }
 
+/// An axis-aligned box (the ball tree's leaves are joined with it too,
+/// `trace::ball_tree`).
 #[derive(Clone, Copy)]
-struct Aabb {
-    min: [f32; 3],
-    max: [f32; 3],
+pub(crate) struct Aabb {
+    pub(crate) min: [f32; 3],
+    pub(crate) max: [f32; 3],
 }
 
 impl Aabb {
-    const EMPTY: Aabb = Aabb {
+    pub(crate) const EMPTY: Aabb = Aabb {
         min: [f32::INFINITY; 3],
         max: [f32::NEG_INFINITY; 3],
     };
@@ -56,7 +58,7 @@ impl Aabb {
     /// Grows to hold `o`; an empty `o` (an empty bin of the SAH sweep)
     /// changes nothing (growing by its corners, infinite, would make
     /// every box joined after it infinite).
-    fn join(&mut self, o: &Aabb) {
+    pub(crate) fn join(&mut self, o: &Aabb) {
         if o.min.iter().zip(&o.max).any(|(lo, hi)| lo > hi) {
             return;
         }

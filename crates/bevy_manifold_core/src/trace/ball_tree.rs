@@ -17,7 +17,7 @@
 
 use super::step::Ray;
 use crate::geometry::{Geometry, Real};
-use crate::mesh::bvh::{BvhNode, hit_box, safe_inverse};
+use crate::mesh::bvh::{Aabb, BvhNode, hit_box, safe_inverse};
 use core::ops::Range;
 use glam::DVec4;
 
@@ -251,14 +251,7 @@ impl BallTree {
         if self.leaves.is_empty() || self.leaves.len() > 0xffff {
             return;
         }
-        let mut origin = [f32::INFINITY; 3];
-        let mut top = [f32::NEG_INFINITY; 3];
-        for leaf in &self.leaves {
-            for k in 0..3 {
-                origin[k] = origin[k].min(leaf.min[k]);
-                top[k] = top[k].max(leaf.max[k]);
-            }
-        }
+        let (origin, top) = hull(self.leaves.iter().map(|l| (l.min, l.max)));
         let step: [f32; 3] = [0, 1, 2].map(|k| {
             let size = (top[k] - origin[k]) / STEPS;
             let magnitude = origin[k].abs().max(top[k].abs()) * (1.0 / 1_048_576.0);
@@ -287,11 +280,7 @@ impl BallTree {
             let mut boxes: Vec<_> = vec![([0.0; 3], [0.0; 3]); n - 1];
             boxes.extend(self.words.iter().map(|w| self.node_box(w)));
             for i in (0..n - 1).rev() {
-                let ((l_lo, l_hi), (r_lo, r_hi)) = (boxes[2 * i + 1], boxes[2 * i + 2]);
-                boxes[i] = (
-                    [0, 1, 2].map(|k| l_lo[k].min(r_lo[k])),
-                    [0, 1, 2].map(|k| l_hi[k].max(r_hi[k])),
-                );
+                boxes[i] = hull([boxes[2 * i + 1], boxes[2 * i + 2]]);
             }
             boxes.truncate(n - 1);
             self.inner = boxes;
@@ -316,6 +305,16 @@ impl BallTree {
     }
 }
 
+/// The least box holding `boxes` (least and greatest corners), by the
+/// mesh hierarchy's [`Aabb::join`].
+fn hull(boxes: impl IntoIterator<Item = ([f32; 3], [f32; 3])>) -> ([f32; 3], [f32; 3]) {
+    let mut all = Aabb::EMPTY;
+    for (min, max) in boxes {
+        all.join(&Aabb { min, max });
+    }
+    (all.min, all.max)
+}
+
 /// Splits `order` (balls `first..` of the tree) into `leaves` leaves
 /// (a power of two) at the median of their boxes' centres along the
 /// longest side of the centres' bounds, pushing the leaves in order.
@@ -325,15 +324,7 @@ fn split(boxes: &[([f32; 3], [f32; 3])], order: &mut [u32], first: usize, leaves
         0.5 * lo[k] + 0.5 * hi[k]
     };
     if leaves <= 1 || order.len() <= 1 {
-        let mut min = [f32::INFINITY; 3];
-        let mut max = [f32::NEG_INFINITY; 3];
-        for &i in order.iter() {
-            let (lo, hi) = boxes[i as usize];
-            for k in 0..3 {
-                min[k] = min[k].min(lo[k]);
-                max[k] = max[k].max(hi[k]);
-            }
-        }
+        let (min, max) = hull(order.iter().map(|&i| boxes[i as usize]));
         out.push(BvhNode {
             min,
             first: first as u32,
@@ -384,14 +375,16 @@ pub fn tree_leaves<R: Real>(tree: &BallTree, a: [R; 3], d: [R; 3], pad: f32, mut
     let met = |(lo, hi): ([f32; 3], [f32; 3])| {
         hit_box(a, inv_d, lo.map(|x| x - pad), hi.map(|x| x + pad), R::of(1.0)).is_some()
     };
+    // A leaf: its balls, if its box is met.
+    let mut leaf = |word: &[u32; 4]| {
+        if met(tree.node_box(word)) {
+            let (first, count) = ((word[3] & 0xffff) as usize, (word[3] >> 16) as usize);
+            visit(first..first + count);
+        }
+    };
     let n = tree.words.len();
     if tree.inner.len() + 1 != n {
-        for word in &tree.words {
-            if met(tree.node_box(word)) {
-                let (first, count) = ((word[3] & 0xffff) as usize, (word[3] >> 16) as usize);
-                visit(first..first + count);
-            }
-        }
+        tree.words.iter().for_each(leaf);
         return;
     }
     // Depth first, left half first, by a stack of node indices: at most
@@ -409,11 +402,7 @@ pub fn tree_leaves<R: Real>(tree: &BallTree, a: [R; 3], d: [R; 3], pad: f32, mut
                 top += 2;
             }
         } else {
-            let word = &tree.words[node - (n - 1)];
-            if met(tree.node_box(word)) {
-                let (first, count) = ((word[3] & 0xffff) as usize, (word[3] >> 16) as usize);
-                visit(first..first + count);
-            }
+            leaf(&tree.words[node - (n - 1)]);
         }
     }
 }
