@@ -293,3 +293,102 @@ fn the_view_from_a_far_cell_is_the_view_from_home() {
     assert!(same * 1000 >= 999 * a.pixels.len(), "{same} of {}", a.pixels.len());
     assert_ne!(a.pixels[0].cell, b.pixels[0].cell, "the ids are the far cell's");
 }
+
+/// Walks through a table of cells around a far copy name each cell as
+/// the exact product of the crossings does (the arithmetic it replaces),
+/// inside the table and, once a walk leaves it, never again by index.
+#[test]
+fn a_walk_through_the_table_around_a_copy_names_the_exact_products_cells() {
+    use bevy_manifold_core::space::ball::{CellBall, CellsAround, OUTSIDE};
+    use bevy_manifold_core::space::cells::CellScheme;
+    use std::sync::Arc;
+    let s = catalog::seifert_weber();
+    let CellScheme::Exact(exact) = s.cells() else {
+        panic!("exact ids")
+    };
+    let g = &exact.group;
+    // A small table (radius 2 or 3), so that walks of 8 leave it.
+    let ball = Arc::new(CellBall::grow(g, 2000));
+    let mut rng = Rng(41);
+    let (mut inside, mut left) = (0, 0);
+    for _ in 0..40 {
+        let centre = g.element(&random_word(&mut rng, 12, 12)).unwrap();
+        let around = CellsAround::new(ball.clone(), centre.clone());
+        assert_eq!(around.id(g, 0), centre.cell_id());
+        for _ in 0..20 {
+            let (mut e, mut k) = (centre.clone(), 0u32);
+            for _ in 0..8 {
+                let f = rng.below(12);
+                e = g.cross(&e, f).unwrap();
+                if k != OUTSIDE {
+                    k = ball.neighbour(k, s.faces()[f].partner);
+                }
+                if k == OUTSIDE {
+                    left += 1;
+                    continue;
+                }
+                inside += 1;
+                assert_eq!(around.id(g, k), e.cell_id(), "cell {k}");
+                // Asked again, from the kept id.
+                assert_eq!(around.id(g, k), e.cell_id(), "cell {k}, again");
+                assert_eq!(around.element(g, k).unwrap(), e);
+            }
+        }
+    }
+    assert!(inside > 1000 && left > 1000, "{inside} steps inside, {left} outside");
+}
+
+/// The CPU tracer steps through the table of cells around the camera
+/// once a space's table is grown, and multiplies exact elements at every
+/// crossing before: the two name every pixel's cell alike, and so hide
+/// the same cells and stop at the same walls, with the camera far from
+/// the origin copy and rays reaching past the table (radius 4).
+#[test]
+fn rays_through_the_grown_table_see_what_exact_products_see() {
+    use bevy_manifold_core::space::cells::CellScheme;
+    use bevy_manifold_core::space::rule::{CellRule, OnOff, WALL_OBJECT, Walls};
+    let plain = catalog::seifert_weber();
+    let tabled = catalog::seifert_weber();
+    let (CellScheme::Exact(p), CellScheme::Exact(t)) = (plain.cells(), tabled.cells()) else {
+        panic!("exact ids")
+    };
+    let radius = t.ball().radius();
+    assert!(p.grown_ball().is_none(), "a space of its own");
+    let mut scene = Scene::paper_default(&plain);
+    scene.camera.cell = vec![3, 7, 7, 1, 10];
+    for (rule, levels) in [
+        (CellRule::default(), 8),
+        (
+            CellRule {
+                hidden: Some(OnOff {
+                    on_fraction: 0.5,
+                    seed: 3,
+                }),
+                walls: Some(Walls { density: 0.2, seed: 5 }),
+            },
+            8,
+        ),
+    ] {
+        let settings = TraceSettings {
+            width: 64,
+            height: 48,
+            levels,
+            cell_rule: rule,
+            ..TraceSettings::default()
+        };
+        let a = render::<f64>(&plain, &scene, &settings);
+        let b = render::<f64>(&tabled, &scene, &settings);
+        for (i, (x, y)) in a.pixels.iter().zip(&b.pixels).enumerate() {
+            assert_eq!(x.cell, y.cell, "pixel {i}: cell");
+            assert_eq!((x.object, x.levels), (y.object, y.levels), "pixel {i}");
+            assert_eq!(x.color, y.color, "pixel {i}: colour");
+        }
+        let past = a.pixels.iter().filter(|p| p.levels > u32::from(radius)).count();
+        let walls = a.pixels.iter().filter(|p| p.object == WALL_OBJECT).count();
+        eprintln!("{past} pixels past the table's radius {radius}, {walls} on walls");
+        assert!(past > 100, "{past} pixels past the table");
+        if rule.walls.is_some() {
+            assert!(walls > 100, "{walls} wall pixels");
+        }
+    }
+}

@@ -1,6 +1,8 @@
 //! The cells around one cell, as a table a walk steps through by index:
 //! how the GPU tracer knows the exact id of every copy a ray can reach
-//! without exact arithmetic of its own (issue #14).
+//! without exact arithmetic of its own (issue #14), and how the CPU
+//! tracer's rays cross faces near the camera without it
+//! ([`CellsAround`]).
 //!
 //! The ball is grown once, breadth first, around the origin copy: cell
 //! `k` is an exact element `e_k`, and `neighbours[k * faces + f]` the
@@ -24,9 +26,11 @@
 //! ```
 
 use super::cells::CellId;
-use super::exact::{ExactElement, ExactGroup};
+use super::exact::{ExactElement, ExactGroup, TooFar};
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// A neighbour not in the table.
 pub const OUTSIDE: u32 = u32::MAX;
@@ -137,13 +141,115 @@ impl CellBall {
     /// `centre e_k` (far-flagged where the arithmetic ran out).
     #[must_use]
     pub fn ids_around(&self, group: &ExactGroup, centre: &ExactElement) -> Vec<CellId> {
-        self.elements
-            .iter()
-            .map(|e| {
-                group
-                    .compose(centre, e)
-                    .map_or(CellId(CellId::FAR | 1), |g| g.cell_id())
-            })
-            .collect()
+        self.elements.iter().map(|e| id_around(group, centre, e)).collect()
+    }
+
+    /// The index of `e_k T_t`, the cell across face `t`'s partner from
+    /// cell `k` (crossing a face multiplies by its partner's pairing), or
+    /// [`OUTSIDE`]. WGSL twin: `walker_step`'s `CELLS_TABLE` step in
+    /// `shaders/walk.wgsl`.
+    ///
+    /// # Panics
+    /// When `k` is not a cell of the table or `t` not a face.
+    #[must_use]
+    pub fn neighbour(&self, k: u32, t: usize) -> u32 {
+        assert!(t < self.faces, "face {t} of a table of {} faces", self.faces);
+        self.neighbours[k as usize * self.faces + t]
+    }
+
+    /// Cell `k`'s element `e_k`.
+    ///
+    /// # Panics
+    /// When `k` is not a cell of the table.
+    #[must_use]
+    pub fn element(&self, k: u32) -> &ExactElement {
+        &self.elements[k as usize]
+    }
+}
+
+/// The id of `centre e`, far-flagged where the arithmetic runs out.
+fn id_around(group: &ExactGroup, centre: &ExactElement, e: &ExactElement) -> CellId {
+    group
+        .compose(centre, e)
+        .map_or(CellId(CellId::FAR | 1), |g| g.cell_id())
+}
+
+/// A [`CellBall`] centred on one copy `c` (a camera's), as the CPU tracer
+/// walks it: cell `k` is `c e_k`, and its id is made on first ask (one
+/// exact product) and kept, so a frame pays for the cells its rays reach,
+/// not for the whole table ([`CellBall::ids_around`], what the GPU is
+/// sent). A ray steps through the table by index ([`CellBall::neighbour`])
+/// with no exact arithmetic until it leaves it.
+///
+/// ```
+/// use bevy_manifold_core::space::ball::{CellBall, CellsAround};
+/// use bevy_manifold_core::space::{catalog, cells::CellScheme};
+/// use std::sync::Arc;
+/// let sw = catalog::seifert_weber();
+/// let CellScheme::Exact(exact) = sw.cells() else { unreachable!() };
+/// let g = &exact.group;
+/// let ball = Arc::new(CellBall::grow(g, 2000));
+/// let centre = g.element(&[3, 5]).unwrap();
+/// let around = CellsAround::new(ball.clone(), centre.clone());
+/// // Across face 7 from the centre (by the pairing of 7's partner):
+/// let k = ball.neighbour(0, g.partner(7));
+/// assert_eq!(around.id(g, k), g.cross(&centre, 7).unwrap().cell_id());
+/// ```
+#[derive(Debug)]
+pub struct CellsAround {
+    ball: Arc<CellBall>,
+    centre: ExactElement,
+    /// Per cell its id's value, or [`NOT_MADE`].
+    ids: Vec<AtomicU64>,
+}
+
+/// An id not made yet: no exact id has the lattice bit set.
+const NOT_MADE: u64 = u64::MAX;
+
+impl CellsAround {
+    /// The table `ball` around the copy `centre` names.
+    #[must_use]
+    pub fn new(ball: Arc<CellBall>, centre: ExactElement) -> Self {
+        let ids = (0..ball.len()).map(|_| AtomicU64::new(NOT_MADE)).collect();
+        CellsAround { ball, centre, ids }
+    }
+
+    /// The table.
+    #[must_use]
+    pub fn ball(&self) -> &CellBall {
+        &self.ball
+    }
+
+    /// The copy at the table's centre.
+    #[must_use]
+    pub fn centre(&self) -> &ExactElement {
+        &self.centre
+    }
+
+    /// The id of cell `k`, `centre e_k`: made on the first ask, from any
+    /// thread (two threads asking at once both make the same id).
+    ///
+    /// # Panics
+    /// When `k` is not a cell of the table.
+    #[must_use]
+    pub fn id(&self, group: &ExactGroup, k: u32) -> CellId {
+        let slot = &self.ids[k as usize];
+        match slot.load(Ordering::Relaxed) {
+            NOT_MADE => {
+                let id = id_around(group, &self.centre, self.ball.element(k));
+                slot.store(id.0, Ordering::Relaxed);
+                id
+            }
+            made => CellId(made),
+        }
+    }
+
+    /// Cell `k`'s element, `centre e_k`: where a ray leaving the table
+    /// goes on by exact products.
+    ///
+    /// # Errors
+    /// [`TooFar`] past the exact arithmetic's reach.
+    pub fn element(&self, group: &ExactGroup, k: u32) -> Result<ExactElement, TooFar> {
+        group.compose(&self.centre, self.ball.element(k))
     }
 }

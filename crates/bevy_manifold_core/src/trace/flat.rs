@@ -9,11 +9,12 @@ use super::step::{Segment, radius_param};
 use crate::geometry::{Geometry, Real, isometry};
 use crate::mesh::{MeshData, Texture};
 use crate::space::Space;
-use crate::space::cells::CellId;
+use crate::space::ball::CellsAround;
+use crate::space::cells::{CellId, CellScheme};
 use crate::space::element::CellElement;
 use glam::{DMat4, DVec4};
 use std::collections::HashSet;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 /// Object id of the domain's edges (tubes and their vertex joints).
 pub const EDGE_ID: u32 = 255;
@@ -228,6 +229,9 @@ pub struct FlatScene<R: Real> {
     /// The same cell as exactly as the space names it: where the tracer's
     /// exact ids start ([`FlatScene::in_cell`] to place the camera far).
     pub camera_element: CellElement,
+    /// The table of cells around `camera_element`, made on the first ask
+    /// ([`FlatScene::cells_around`]).
+    cells_around: OnceLock<Option<Arc<CellsAround>>>,
     /// `tan(fov_y / 2)`.
     pub tan_half_fov: R,
     /// An off-centre frustum ([`crate::trace::Frustum::half_extent_and_centre`]),
@@ -436,6 +440,7 @@ impl<R: Real> FlatScene<R> {
                 .map(|f| (R::of(f.density), f.color)),
             camera: R::m4_of(camera),
             camera_element: space.cell_of_matrix(&camera_cell),
+            cells_around: OnceLock::new(),
             camera_cell,
             tan_half_fov: R::of((scene.camera.fov_y_degrees.to_radians() / 2.0).tan()),
             frustum: scene.camera.frustum.map(|f| f.half_extent_and_centre().map(R::of)),
@@ -555,6 +560,7 @@ impl<R: Real> FlatScene<R> {
         }
         self.camera_element = space.compose_cells(cell, &self.camera_element);
         self.camera_cell = space.cell_matrix(&self.camera_element);
+        self.cells_around = OnceLock::new();
         // A camera-attached mesh's home (the copy that is the camera's own
         // body) moves with the camera.
         let (g, c) = (space.geometry(), space.cell_matrix(cell));
@@ -564,6 +570,31 @@ impl<R: Real> FlatScene<R> {
             }
         }
         self
+    }
+
+    /// The table of cells around the camera's copy that the CPU tracer's
+    /// rays step through by index ([`crate::space::ball::CellsAround`]),
+    /// where the space's ids are exact and its table has been grown
+    /// ([`crate::space::cells::ExactCells::grown_ball`]: this never grows
+    /// it; the GPU's packing does, and so may the caller, with
+    /// `ExactCells::ball`). Made on the first ask and kept with the scene.
+    /// `None` elsewhere, or when the camera's copy is past `i128` integers
+    /// (about distance 80): rays then multiply exact elements at every
+    /// crossing.
+    #[must_use]
+    pub fn cells_around(&self, space: &Space) -> Option<&Arc<CellsAround>> {
+        self.cells_around
+            .get_or_init(|| {
+                let (CellScheme::Exact(exact), CellElement::Exact(centre)) = (space.cells(), &self.camera_element)
+                else {
+                    return None;
+                };
+                let ball = exact.grown_ball()?;
+                centre
+                    .is_small()
+                    .then(|| Arc::new(CellsAround::new(ball.clone(), centre.clone())))
+            })
+            .as_ref()
     }
 }
 

@@ -32,6 +32,7 @@ mod ball_tree;
 mod cast;
 mod cull;
 mod drift;
+mod exact_cell;
 mod flat;
 mod flow;
 pub mod footprint;

@@ -9,6 +9,7 @@
 pub const FOG_CUT: f64 = 5.541_263_545_158_426;
 
 use super::cull::{Candidate, each_candidate};
+use super::exact_cell::ExactCell;
 use super::flat::{EDGE_ID, FlatInstance, FlatScene, same_cell_point};
 use super::footprint::{
     Approach, BALL_GROWTH, Inflation, Layers, SEGMENT_LAYERS, ball_approach, coverage, grown_reach, normal_at_offset,
@@ -25,7 +26,6 @@ use crate::geometry::{Geometry, Real};
 use crate::mesh::MeshHit;
 use crate::space::Space;
 use crate::space::cells::{CellId, CellTint};
-use crate::space::element::CellElement;
 use crate::space::rule::{CellRule, WALL_COLOR, WALL_OBJECT};
 #[cfg(feature = "parallel")]
 use rayon::prelude::*;
@@ -339,18 +339,11 @@ pub fn trace_ray<R: Real>(
     let max_distance = R::of(settings.max_distance);
     let mut walk = Walker::new(ray, R::m4_of(prep.camera_cell));
     // Where the space's ids are exact, or rules are on, the walk's cell
-    // element (exact where the space's ids are), crossed with the ray;
-    // otherwise the id comes from the walk's matrix.
+    // (by the table around the camera, then by exact elements), crossed
+    // with the ray; otherwise the id comes from the walk's matrix.
     let rule = &settings.cell_rule;
-    let mut exact = match &prep.camera_element {
-        CellElement::Exact(_) => Some(prep.camera_element.clone()),
-        _ if rule.is_active() => Some(prep.camera_element.clone()),
-        _ => None,
-    };
-    let cell_id = |walk: &Walker<R>, exact: &Option<CellElement>| match exact {
-        Some(e) => space.cell_id_of(e),
-        None => space.cells().id_within(&R::m4_f64(walk.cell), R::CELL_HORIZON),
-    };
+    let mut exact = ExactCell::start(space, prep, rule.is_active());
+    let cell_id = |walk: &Walker<R>, exact: &ExactCell| exact.id(space, prep, walk);
     let mut travelled = R::of(0.0);
     let background = prep.fog.map_or([0.0; 3], |(_, c)| c);
     // Cone tracing (settings.footprint): the pixel's half-angle, the
@@ -359,7 +352,7 @@ pub fn trace_ray<R: Real>(
     let beta = settings.footprint.then(|| R::of(pixel_half_angle_of(prep, settings)));
     let mut layers = Layers::default();
     let mut front: Option<TracePixel> = None;
-    let pixel = |color, object, walk: &Walker<R>, exact: &Option<CellElement>, distance: R| TracePixel {
+    let pixel = |color, object, walk: &Walker<R>, exact: &ExactCell, distance: R| TracePixel {
         color,
         object,
         levels: walk.levels,
@@ -479,12 +472,12 @@ pub fn trace_ray<R: Real>(
         }
         // The cell across the face, crossed once: for the wall test, then
         // for the walk.
-        let next = match (face, &exact) {
-            (Some(f), Some(e)) if rule.walls.is_some() => Some(space.cross_cell(e, f)),
+        let next = match face {
+            Some(f) if rule.walls.is_some() && !exact.is_off() => Some(exact.crossed(space, prep, f)),
             _ => None,
         };
         if let (Some(id), Some(n)) = (here, &next)
-            && rule.wall(id, space.cell_id_of(n))
+            && rule.wall(id, n.id(space, prep, &walk))
         {
             let f = face.unwrap_or_default();
             let color = shade_wall(prep, &prep.faces.planes[f], &walk.ray, travelled);
@@ -497,15 +490,17 @@ pub fn trace_ray<R: Real>(
             return (finish(&layers, front, behind), Stop::MaxLevel);
         }
         walk.step(&prep.faces, face, end, settings.renormalize);
-        if let (Some(e), Some(f)) = (&mut exact, face) {
-            *e = next.unwrap_or_else(|| space.cross_cell(e, f));
+        if let Some(f) = face
+            && !exact.is_off()
+        {
+            exact = next.unwrap_or_else(|| exact.crossed(space, prep, f));
         }
         // Past MAX_EXACT_LEVELS crossings a ray is far beyond any table or
         // rule of interest and its exact product grows into big integers
         // (the drift probe's 10^4-transport walks): the walk's matrix
         // names its cells from there, far-flagged beyond the horizon.
         if walk.levels > MAX_EXACT_LEVELS {
-            exact = None;
+            exact = ExactCell::Off;
         }
     }
     let behind = pixel(background, 0, &walk, &exact, travelled);
