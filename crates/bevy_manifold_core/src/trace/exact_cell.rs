@@ -44,18 +44,29 @@ impl ExactCell {
 
     /// The id of the cell, or of the walk's cell for [`ExactCell::Off`].
     pub(crate) fn id<R: Real>(&self, space: &Space, prep: &FlatScene<R>, walk: &Walker<R>) -> CellId {
-        match (self, space.cells(), prep.cells_around(space)) {
-            (ExactCell::Table(k), CellScheme::Exact(exact), Some(around)) => around.id(&exact.group, *k),
-            (ExactCell::Element(e), ..) => space.cell_id_of(e),
-            _ => space.cells().id_within(&R::m4_f64(walk.cell), R::CELL_HORIZON),
+        match self {
+            ExactCell::Table(k) => {
+                if let (CellScheme::Exact(exact), Some(around)) = (space.cells(), prep.cells_around(space)) {
+                    return around.id(&exact.group, *k);
+                }
+            }
+            ExactCell::Element(e) => return space.cell_id_of(e),
+            ExactCell::Off => {}
         }
+        // Off, or a table cell traced with another space than the scene's
+        // (no table there).
+        space.cells().id_within(&R::m4_f64(walk.cell), R::CELL_HORIZON)
     }
 
     /// The cell across `face`: the table's neighbour while there is one,
     /// else the element times the crossing. [`ExactCell::Off`] stays off.
     pub(crate) fn crossed<R: Real>(&self, space: &Space, prep: &FlatScene<R>, face: usize) -> Self {
-        match (self, space.cells(), prep.cells_around(space)) {
-            (ExactCell::Table(k), CellScheme::Exact(exact), Some(around)) => {
+        match self {
+            ExactCell::Table(k) => {
+                let (CellScheme::Exact(exact), Some(around)) = (space.cells(), prep.cells_around(space)) else {
+                    // Traced with another space than the scene's.
+                    return ExactCell::Off;
+                };
                 match around.ball().neighbour(*k, space.faces()[face].partner) {
                     OUTSIDE => {
                         // Exact within reach (the centre is within `i128`,
@@ -69,8 +80,8 @@ impl ExactCell {
                     next => ExactCell::Table(next),
                 }
             }
-            (ExactCell::Element(e), ..) => ExactCell::Element(space.cross_cell(e, face)),
-            _ => ExactCell::Off,
+            ExactCell::Element(e) => ExactCell::Element(space.cross_cell(e, face)),
+            ExactCell::Off => ExactCell::Off,
         }
     }
 
