@@ -356,6 +356,10 @@ fn rays_through_the_grown_table_see_what_exact_products_see() {
     assert!(p.grown_ball().is_none(), "a space of its own");
     let mut scene = Scene::paper_default(&plain);
     scene.camera.cell = vec![3, 7, 7, 1, 10];
+    // One walks the table, the other multiplies.
+    let prep = |s: &Space| bevy_manifold_core::trace::FlatScene::<f64>::new(s, &scene);
+    assert!(prep(&tabled).cells_around(&tabled).is_some());
+    assert!(prep(&plain).cells_around(&plain).is_none());
     for (rule, levels) in [
         (CellRule::default(), 8),
         (
@@ -384,11 +388,53 @@ fn rays_through_the_grown_table_see_what_exact_products_see() {
             assert_eq!(x.color, y.color, "pixel {i}: colour");
         }
         let past = a.pixels.iter().filter(|p| p.levels > u32::from(radius)).count();
+        let within = a
+            .pixels
+            .iter()
+            .filter(|p| (1..=u32::from(radius)).contains(&p.levels))
+            .count();
         let walls = a.pixels.iter().filter(|p| p.object == WALL_OBJECT).count();
-        eprintln!("{past} pixels past the table's radius {radius}, {walls} on walls");
-        assert!(past > 100, "{past} pixels past the table");
+        eprintln!("{within} pixels within the table's radius {radius}, {past} past it, {walls} on walls");
+        assert!(
+            past > 100 && within > 100,
+            "{within} pixels within the table, {past} past"
+        );
         if rule.walls.is_some() {
             assert!(walls > 100, "{walls} wall pixels");
         }
     }
+}
+
+/// A scene's table is its own space's, around its own camera: traced with
+/// another space (whose table has the same size), or with the camera
+/// moved by hand, it hands out no table and the rays multiply exactly.
+#[test]
+fn a_scene_hands_out_its_table_only_for_its_space_and_camera() {
+    use bevy_manifold_core::space::cells::CellScheme;
+    use bevy_manifold_core::trace::{FlatScene, camera_ray, trace_ray};
+    let sw = catalog::seifert_weber();
+    let other = catalog::seifert_weber();
+    for s in [&sw, &other] {
+        let CellScheme::Exact(e) = s.cells() else {
+            panic!("exact ids")
+        };
+        e.ball();
+    }
+    let scene = Scene::paper_default(&sw);
+    let mut prep = FlatScene::<f64>::new(&sw, &scene);
+    assert!(prep.cells_around(&sw).is_some());
+    assert!(prep.cells_around(&other).is_none(), "another space's table");
+    let settings = TraceSettings {
+        width: 16,
+        height: 16,
+        ..TraceSettings::default()
+    };
+    let ray = camera_ray(&prep, 3, 5, 16, 16);
+    let (mine, _) = trace_ray(&sw, &prep, ray, &settings, &mut |_| {});
+    let (theirs, _) = trace_ray(&other, &prep, ray, &settings, &mut |_| {});
+    assert_eq!(mine.cell, theirs.cell, "the same group, multiplied");
+    prep.camera_element = sw.cell_of_word(&[2, 9]);
+    assert!(prep.cells_around(&sw).is_none(), "a camera moved by hand");
+    let moved = prep.clone().in_cell(&sw, &sw.cell_of_word(&[4]));
+    assert!(moved.cells_around(&sw).is_some(), "in_cell makes a new table");
 }

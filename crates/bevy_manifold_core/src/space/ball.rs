@@ -35,9 +35,10 @@ use std::sync::atomic::{AtomicU64, Ordering};
 /// A neighbour not in the table.
 pub const OUTSIDE: u32 = u32::MAX;
 
-/// Cells of the GPU's table by default: about 2.5 MiB of neighbours and ids
-/// for a 12-face space (the ball of radius 5 in Seifert-Weber, most of
-/// radius 6 in the mirrored dodecahedron).
+/// Cells of the table by default, at most: about 3.5 MiB of neighbours
+/// and ids for a 12-face space. Whole spheres of crossings only, so
+/// Seifert-Weber's table holds 16,129 cells (radius 4) and the mirrored
+/// dodecahedron's 57,741 (radius 5).
 pub const DEFAULT_BALL_CELLS: usize = 1 << 16;
 
 /// The cells around the origin copy, breadth first.

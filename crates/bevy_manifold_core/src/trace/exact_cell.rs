@@ -19,9 +19,10 @@ use crate::space::element::CellElement;
 /// Where a ray is, for its cell id.
 #[derive(Clone, Debug)]
 pub(crate) enum ExactCell {
-    /// No exact cell: the id comes from the walk's matrix (spaces with
-    /// hashed ids and no cell rule, or past
-    /// [`super::render::MAX_EXACT_LEVELS`] crossings).
+    /// No exact cell: the id comes from the walk's matrix (a space whose
+    /// ids are not exact, or a camera whose copy is not known exactly,
+    /// with no cell rule; or past [`super::render::MAX_EXACT_LEVELS`]
+    /// crossings).
     Off,
     /// Cell `k` of the table around the camera ([`FlatScene::cells_around`]).
     Table(u32),

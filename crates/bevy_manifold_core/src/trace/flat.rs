@@ -231,7 +231,7 @@ pub struct FlatScene<R: Real> {
     pub camera_element: CellElement,
     /// The table of cells around `camera_element`, made on the first ask
     /// ([`FlatScene::cells_around`]).
-    cells_around: OnceLock<Option<Arc<CellsAround>>>,
+    cells_around: OnceLock<Arc<CellsAround>>,
     /// `tan(fov_y / 2)`.
     pub tan_half_fov: R,
     /// An off-centre frustum ([`crate::trace::Frustum::half_extent_and_centre`]),
@@ -574,27 +574,29 @@ impl<R: Real> FlatScene<R> {
 
     /// The table of cells around the camera's copy that the CPU tracer's
     /// rays step through by index ([`crate::space::ball::CellsAround`]),
-    /// where the space's ids are exact and its table has been grown
+    /// where `space`'s ids are exact and its table has been grown
     /// ([`crate::space::cells::ExactCells::grown_ball`]: this never grows
     /// it; the GPU's packing does, and so may the caller, with
-    /// `ExactCells::ball`). Made on the first ask and kept with the scene.
-    /// `None` elsewhere, or when the camera's copy is past `i128` integers
-    /// (about distance 80): rays then multiply exact elements at every
-    /// crossing.
+    /// `ExactCells::ball`). Made on the first ask and kept with the scene,
+    /// and handed out only while it is still `space`'s table around
+    /// [`FlatScene::camera_element`] (a scene traced with another space,
+    /// or whose camera was moved by hand, gets `None`). `None` elsewhere,
+    /// or when the camera's copy is past `i128` integers (about distance
+    /// 80): rays then multiply exact elements at every crossing.
     #[must_use]
     pub fn cells_around(&self, space: &Space) -> Option<&Arc<CellsAround>> {
-        self.cells_around
-            .get_or_init(|| {
-                let (CellScheme::Exact(exact), CellElement::Exact(centre)) = (space.cells(), &self.camera_element)
-                else {
-                    return None;
-                };
-                let ball = exact.grown_ball()?;
-                centre
-                    .is_small()
-                    .then(|| Arc::new(CellsAround::new(ball.clone(), centre.clone())))
-            })
-            .as_ref()
+        let (CellScheme::Exact(exact), CellElement::Exact(centre)) = (space.cells(), &self.camera_element) else {
+            return None;
+        };
+        let ball = exact.grown_ball()?;
+        let around = match self.cells_around.get() {
+            Some(around) => around,
+            None if centre.is_small() => self
+                .cells_around
+                .get_or_init(|| Arc::new(CellsAround::new(ball.clone(), centre.clone()))),
+            None => return None,
+        };
+        (std::ptr::eq(around.ball(), &**ball) && around.centre() == centre).then_some(around)
     }
 }
 
