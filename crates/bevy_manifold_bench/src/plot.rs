@@ -109,19 +109,20 @@ fn draw_into(
             .x_label_area_size(34)
             .y_label_area_size(58)
             .build_cartesian_2d(range(|p| p.0).log_scale(), range(|p| p.1).log_scale())?;
+        // Few labels and faint minor lines: a log axis keys every 1-9 of
+        // each decade, whose labels ran into one another and whose lines
+        // shaded whole decades grey.
         chart
             .configure_mesh()
             .x_desc(panel.x.as_str())
             .y_desc(panel.y.as_str())
             .label_style(("sans-serif", 11))
-            .x_label_formatter(&|v| {
-                if *v >= 10.0 {
-                    format!("{v:.0}")
-                } else {
-                    format!("{v:.2}")
-                }
-            })
-            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .x_labels(10)
+            .y_labels(8)
+            .max_light_lines(1)
+            .light_line_style(RGBColor(238, 238, 238))
+            .x_label_formatter(&|v| tick(*v))
+            .y_label_formatter(&|v| tick(*v))
             .draw()?;
         for s in &panel.series {
             let color = RGBColor(s.color.0, s.color.1, s.color.2);
@@ -147,9 +148,25 @@ fn draw_into(
                 .label("Pareto front")
                 .legend(|(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], BLACK));
         }
+        let drawn: Vec<(Vec<(f64, f64)>, bool)> = panel
+            .series
+            .iter()
+            .map(|s| {
+                let points = s.points.iter().copied().filter(|(x, y)| x.is_finite() && y.is_finite());
+                (points.map(clamp).collect(), s.line)
+            })
+            .collect();
+        let entries = panel.series.len() + usize::from(!panel.front.is_empty());
+        let (xr, yr) = (range(|p| p.0), range(|p| p.1));
+        let corner = match legend_corner(&drawn, (xr.start, xr.end), (yr.start, yr.end), entries) {
+            Corner::UpperLeft => SeriesLabelPosition::UpperLeft,
+            Corner::UpperRight => SeriesLabelPosition::UpperRight,
+            Corner::LowerLeft => SeriesLabelPosition::LowerLeft,
+            Corner::LowerRight => SeriesLabelPosition::LowerRight,
+        };
         chart
             .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
+            .position(corner)
             .background_style(WHITE.mix(0.8))
             .border_style(BLACK)
             .label_font(("sans-serif", 11))
@@ -157,6 +174,72 @@ fn draw_into(
     }
     root.present()?;
     Ok(())
+}
+
+/// A tick's label: whole numbers from 10 up, else two significant
+/// digits (0.25, 1.5, 0.0012), trailing zeros dropped.
+fn tick(v: f64) -> String {
+    if !v.is_finite() || v == 0.0 || v.abs() >= 10.0 {
+        return format!("{v:.0}");
+    }
+    let digits = (1 - v.abs().log10().floor() as i32).clamp(0, 12) as usize;
+    let s = format!("{v:.digits$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// A corner of a panel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Corner {
+    UpperLeft,
+    UpperRight,
+    LowerLeft,
+    LowerRight,
+}
+
+/// The corner whose legend box (`entries` lines of it) covers the fewest
+/// of `series`' points and line samples, in the panel's log-log frame
+/// `x` by `y` (the first such of upper right, upper left, lower right,
+/// lower left).
+fn legend_corner(series: &[(Vec<(f64, f64)>, bool)], x: (f64, f64), y: (f64, f64), entries: usize) -> Corner {
+    let unit = |v: f64, (lo, hi): (f64, f64)| (v.log10() - lo.log10()) / (hi.log10() - lo.log10());
+    let mut samples: Vec<(f64, f64)> = Vec::new();
+    for (points, line) in series {
+        let at: Vec<(f64, f64)> = points.iter().map(|&(a, b)| (unit(a, x), unit(b, y))).collect();
+        samples.extend(&at);
+        if *line {
+            for w in at.windows(2) {
+                samples.extend((1..8).map(|k| {
+                    let t = f64::from(k) / 8.0;
+                    (w[0].0 + t * (w[1].0 - w[0].0), w[0].1 + t * (w[1].1 - w[0].1))
+                }));
+            }
+        }
+    }
+    // The legend box: about 40% of the plot's width, a line per entry.
+    let (w, h) = (0.42, (0.06 + 0.075 * entries as f64).min(0.7));
+    let count = |right: bool, upper: bool| {
+        samples
+            .iter()
+            .filter(|(u, v)| {
+                let inside_x = if right { *u >= 1.0 - w } else { *u <= w };
+                let inside_y = if upper { *v >= 1.0 - h } else { *v <= h };
+                inside_x && inside_y
+            })
+            .count()
+    };
+    [
+        (Corner::UpperRight, count(true, true)),
+        (Corner::UpperLeft, count(false, true)),
+        (Corner::LowerRight, count(true, false)),
+        (Corner::LowerLeft, count(false, false)),
+    ]
+    .into_iter()
+    .min_by_key(|&(_, n)| n)
+    .map_or(Corner::UpperRight, |(c, _)| c)
 }
 
 fn font() -> Result<(), String> {
@@ -168,4 +251,35 @@ fn font() -> Result<(), String> {
                 .map_err(|_| "plot: Bevy's default font did not load".to_string())
         })
         .clone()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ticks_read_as_numbers() {
+        assert_eq!(tick(100.0), "100");
+        assert_eq!(tick(20.0), "20");
+        assert_eq!(tick(2.0), "2");
+        assert_eq!(tick(1.5), "1.5");
+        assert_eq!(tick(0.25), "0.25");
+        assert_eq!(tick(0.5), "0.5");
+        assert_eq!(tick(0.0012), "0.0012");
+    }
+
+    #[test]
+    fn the_legend_goes_where_the_points_are_not() {
+        let frame = ((0.5, 32.0), (0.5, 512.0));
+        // Rising, joined: the upper left is empty (the first empty corner
+        // after the upper right, which the line runs into).
+        let rising: Vec<_> = (0..=4).map(|k| (f64::from(1 << k), f64::from(1 << (2 * k)))).collect();
+        let one = [(rising.clone(), true)];
+        assert_eq!(legend_corner(&one, frame.0, frame.1, 3), Corner::UpperLeft);
+        // A flat line along the top as well: the lower right is left.
+        let top: Vec<_> = (0..=4).map(|k| (f64::from(1 << k), 400.0)).collect();
+        let two = [(rising, true), (top, true)];
+        assert_eq!(legend_corner(&two, frame.0, frame.1, 3), Corner::LowerRight);
+        assert_eq!(legend_corner(&[], frame.0, frame.1, 3), Corner::UpperRight);
+    }
 }
