@@ -368,9 +368,9 @@ const MAX_LOCATE_STEPS: usize = 4096;
 impl ExactCells {
     /// The table of cells around the origin copy that the GPU walks
     /// ([`super::ball`], [`super::ball::DEFAULT_BALL_CELLS`] cells at
-    /// most), grown on first use (0.4 s in Seifert-Weber, 1.1 s in the
-    /// mirrored dodecahedron, on one core of the development machine) and
-    /// kept with the space.
+    /// most), grown on first use (0.2 s in Seifert-Weber, 0.5 s in the
+    /// mirrored dodecahedron, on one core of the development machine,
+    /// `bench cells`) and kept with the space.
     pub fn ball(&self) -> &std::sync::Arc<super::ball::CellBall> {
         self.ball.get_or_init(|| {
             std::sync::Arc::new(super::ball::CellBall::grow(
