@@ -109,16 +109,17 @@ fn draw_into(
             .x_label_area_size(34)
             .y_label_area_size(58)
             .build_cartesian_2d(range(|p| p.0).log_scale(), range(|p| p.1).log_scale())?;
-        // Few labels and faint minor lines: a log axis keys every 1-9 of
-        // each decade, whose labels ran into one another and whose lines
-        // shaded whole decades grey.
+        // Labels at 1, 2 and 5 of each decade only, and faint minor lines:
+        // a log axis keys every 1-9 of each decade (and 10 twice, as the
+        // last of one decade and the first of the next), whose labels ran
+        // into one another and whose lines shaded whole decades grey.
         chart
             .configure_mesh()
             .x_desc(panel.x.as_str())
             .y_desc(panel.y.as_str())
             .label_style(("sans-serif", 11))
             .x_labels(10)
-            .y_labels(8)
+            .y_labels(10)
             .max_light_lines(1)
             .light_line_style(RGBColor(238, 238, 238))
             .x_label_formatter(&|v| tick(*v))
@@ -176,9 +177,16 @@ fn draw_into(
     Ok(())
 }
 
-/// A tick's label: whole numbers from 10 up, else two significant
-/// digits (0.25, 1.5, 0.0012), trailing zeros dropped.
+/// A tick's label: none unless `v` is 1, 2 or 5 times a power of ten;
+/// whole numbers from 10 up, else two significant digits (0.25, 1.5,
+/// 0.0012), trailing zeros dropped.
 fn tick(v: f64) -> String {
+    if v.is_finite() && v != 0.0 {
+        let mantissa = v.abs() / 10f64.powf(v.abs().log10().floor());
+        if ![1.0, 2.0, 5.0, 10.0].iter().any(|m| (mantissa - m).abs() < 1e-6) {
+            return String::new();
+        }
+    }
     if !v.is_finite() || v == 0.0 || v.abs() >= 10.0 {
         return format!("{v:.0}");
     }
@@ -262,10 +270,15 @@ mod tests {
         assert_eq!(tick(100.0), "100");
         assert_eq!(tick(20.0), "20");
         assert_eq!(tick(2.0), "2");
-        assert_eq!(tick(1.5), "1.5");
-        assert_eq!(tick(0.25), "0.25");
         assert_eq!(tick(0.5), "0.5");
-        assert_eq!(tick(0.0012), "0.0012");
+        assert_eq!(tick(0.002), "0.002");
+        assert_eq!(tick(5e-4), "0.0005");
+        // Ten reached as nine steps of a decade past one.
+        assert_eq!(tick(1.0 + 9.0 * (1.0 + 1e-15)), "10");
+        // The other keys of a decade go unlabelled.
+        assert_eq!(tick(3.0), "");
+        assert_eq!(tick(70.0), "");
+        assert_eq!(tick(0.25), "");
     }
 
     #[test]
