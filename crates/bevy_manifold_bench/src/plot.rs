@@ -87,28 +87,32 @@ fn draw_into(
     root.fill(&WHITE)?;
     for (area, panel) in root.split_evenly(grid).iter().zip(panels) {
         let clamp = |(x, y): (f64, f64)| (x.max(floor), y.max(floor));
-        let all: Vec<(f64, f64)> = panel
+        // Each series' finite points, clamped, as drawn.
+        let drawn: Vec<(Vec<(f64, f64)>, bool)> = panel
             .series
             .iter()
-            .flat_map(|s| s.points.iter().copied())
-            .filter(|(x, y)| x.is_finite() && y.is_finite())
-            .map(clamp)
+            .map(|s| {
+                let points = s.points.iter().copied().filter(|(x, y)| x.is_finite() && y.is_finite());
+                (points.map(clamp).collect(), s.line)
+            })
             .collect();
         let range = |f: fn(&(f64, f64)) -> f64| {
-            let lo = all.iter().map(f).fold(f64::INFINITY, f64::min);
-            let hi = all.iter().map(f).fold(f64::NEG_INFINITY, f64::max);
+            let all = drawn.iter().flat_map(|(points, _)| points);
+            let lo = all.clone().map(f).fold(f64::INFINITY, f64::min);
+            let hi = all.map(f).fold(f64::NEG_INFINITY, f64::max);
             if lo.is_finite() && hi.is_finite() {
                 (lo / 1.5)..(hi * 1.5).max(lo * 2.0)
             } else {
                 floor..1.0
             }
         };
+        let (xr, yr) = (range(|p| p.0), range(|p| p.1));
         let mut chart = ChartBuilder::on(area)
             .caption(&panel.title, ("sans-serif", 16))
             .margin(10)
             .x_label_area_size(34)
             .y_label_area_size(58)
-            .build_cartesian_2d(range(|p| p.0).log_scale(), range(|p| p.1).log_scale())?;
+            .build_cartesian_2d(xr.clone().log_scale(), yr.clone().log_scale())?;
         // Labels at 1, 2 and 5 of each decade only, and faint minor lines:
         // a log axis keys every 1-9 of each decade (and 10 twice, as the
         // last of one decade and the first of the next), whose labels ran
@@ -125,15 +129,8 @@ fn draw_into(
             .x_label_formatter(&|v| tick(*v))
             .y_label_formatter(&|v| tick(*v))
             .draw()?;
-        for s in &panel.series {
+        for (s, (points, _)) in panel.series.iter().zip(&drawn) {
             let color = RGBColor(s.color.0, s.color.1, s.color.2);
-            let points: Vec<_> = s
-                .points
-                .iter()
-                .copied()
-                .filter(|(x, y)| x.is_finite() && y.is_finite())
-                .map(clamp)
-                .collect();
             if s.line {
                 chart.draw_series(LineSeries::new(points.clone(), color.stroke_width(2)))?;
             }
@@ -149,25 +146,10 @@ fn draw_into(
                 .label("Pareto front")
                 .legend(|(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], BLACK));
         }
-        let drawn: Vec<(Vec<(f64, f64)>, bool)> = panel
-            .series
-            .iter()
-            .map(|s| {
-                let points = s.points.iter().copied().filter(|(x, y)| x.is_finite() && y.is_finite());
-                (points.map(clamp).collect(), s.line)
-            })
-            .collect();
         let entries = panel.series.len() + usize::from(!panel.front.is_empty());
-        let (xr, yr) = (range(|p| p.0), range(|p| p.1));
-        let corner = match legend_corner(&drawn, (xr.start, xr.end), (yr.start, yr.end), entries) {
-            Corner::UpperLeft => SeriesLabelPosition::UpperLeft,
-            Corner::UpperRight => SeriesLabelPosition::UpperRight,
-            Corner::LowerLeft => SeriesLabelPosition::LowerLeft,
-            Corner::LowerRight => SeriesLabelPosition::LowerRight,
-        };
         chart
             .configure_series_labels()
-            .position(corner)
+            .position(legend_corner(&drawn, (xr.start, xr.end), (yr.start, yr.end), entries))
             .background_style(WHITE.mix(0.8))
             .border_style(BLACK)
             .label_font(("sans-serif", 11))
@@ -199,20 +181,17 @@ fn tick(v: f64) -> String {
     }
 }
 
-/// A corner of a panel.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Corner {
-    UpperLeft,
-    UpperRight,
-    LowerLeft,
-    LowerRight,
-}
-
 /// The corner whose legend box (`entries` lines of it) covers the fewest
 /// of `series`' points and line samples, in the panel's log-log frame
 /// `x` by `y` (the first such of upper right, upper left, lower right,
 /// lower left).
-fn legend_corner(series: &[(Vec<(f64, f64)>, bool)], x: (f64, f64), y: (f64, f64), entries: usize) -> Corner {
+fn legend_corner(
+    series: &[(Vec<(f64, f64)>, bool)],
+    x: (f64, f64),
+    y: (f64, f64),
+    entries: usize,
+) -> plotters::chart::SeriesLabelPosition {
+    use plotters::chart::SeriesLabelPosition as Corner;
     let unit = |v: f64, (lo, hi): (f64, f64)| (v.log10() - lo.log10()) / (hi.log10() - lo.log10());
     let mut samples: Vec<(f64, f64)> = Vec::new();
     for (points, line) in series {
@@ -246,7 +225,7 @@ fn legend_corner(series: &[(Vec<(f64, f64)>, bool)], x: (f64, f64), y: (f64, f64
         (Corner::LowerLeft, count(false, false)),
     ]
     .into_iter()
-    .min_by_key(|&(_, n)| n)
+    .min_by_key(|(_, n)| *n)
     .map_or(Corner::UpperRight, |(c, _)| c)
 }
 
@@ -264,6 +243,7 @@ fn font() -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use plotters::chart::SeriesLabelPosition as Corner;
 
     #[test]
     fn ticks_read_as_numbers() {
