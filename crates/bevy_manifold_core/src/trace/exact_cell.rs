@@ -12,9 +12,32 @@ use super::flat::FlatScene;
 use super::walk::Walker;
 use crate::geometry::Real;
 use crate::space::Space;
-use crate::space::ball::OUTSIDE;
+use crate::space::ball::{CellsAround, OUTSIDE};
 use crate::space::cells::{CellId, CellScheme};
 use crate::space::element::CellElement;
+use crate::space::exact::ExactGroup;
+
+/// The table of cells around the camera a ray steps through, checked
+/// once per ray ([`FlatScene::cells_around`]), with the group its ids
+/// are made in.
+#[derive(Clone, Copy)]
+pub(crate) struct Table<'a> {
+    around: &'a CellsAround,
+    group: &'a ExactGroup,
+}
+
+impl<'a> Table<'a> {
+    /// The scene's table for `space`, if it has one.
+    pub(crate) fn of<R: Real>(space: &'a Space, prep: &'a FlatScene<R>) -> Option<Self> {
+        match (space.cells(), prep.cells_around(space)) {
+            (CellScheme::Exact(exact), Some(around)) => Some(Table {
+                around,
+                group: &exact.group,
+            }),
+            _ => None,
+        }
+    }
+}
 
 /// Where a ray is, for its cell id.
 #[derive(Clone, Debug)]
@@ -24,7 +47,7 @@ pub(crate) enum ExactCell {
     /// with no cell rule; or past [`super::render::MAX_EXACT_LEVELS`]
     /// crossings).
     Off,
-    /// Cell `k` of the table around the camera ([`FlatScene::cells_around`]).
+    /// Cell `k` of the ray's [`Table`], the one around the camera.
     Table(u32),
     /// The element itself: past the table, or where there is none.
     Element(CellElement),
@@ -32,57 +55,53 @@ pub(crate) enum ExactCell {
 
 impl ExactCell {
     /// Where a ray from the camera starts: the table's centre where there
-    /// is a table, else the camera's element where the space's ids are
+    /// is a `table`, else the camera's element where the space's ids are
     /// exact or `rules` read ids, else [`ExactCell::Off`].
-    pub(crate) fn start<R: Real>(space: &Space, prep: &FlatScene<R>, rules: bool) -> Self {
+    pub(crate) fn start<R: Real>(table: Option<Table>, prep: &FlatScene<R>, rules: bool) -> Self {
         match &prep.camera_element {
-            CellElement::Exact(_) if prep.cells_around(space).is_some() => ExactCell::Table(0),
+            CellElement::Exact(_) if table.is_some() => ExactCell::Table(0),
             CellElement::Exact(_) => ExactCell::Element(prep.camera_element.clone()),
             _ if rules => ExactCell::Element(prep.camera_element.clone()),
             _ => ExactCell::Off,
         }
     }
 
-    /// The id of the cell, or of the walk's cell for [`ExactCell::Off`].
-    pub(crate) fn id<R: Real>(&self, space: &Space, prep: &FlatScene<R>, walk: &Walker<R>) -> CellId {
-        match self {
-            ExactCell::Table(k) => {
-                if let (CellScheme::Exact(exact), Some(around)) = (space.cells(), prep.cells_around(space)) {
-                    return around.id(&exact.group, *k);
-                }
-            }
-            ExactCell::Element(e) => return space.cell_id_of(e),
-            ExactCell::Off => {}
+    /// The id of the cell, or of the walk's cell for [`ExactCell::Off`]
+    /// (and for a table cell with no `table`, which [`ExactCell::start`]
+    /// never makes).
+    pub(crate) fn id<R: Real>(&self, table: Option<Table>, space: &Space, walk: &Walker<R>) -> CellId {
+        match (self, table) {
+            (ExactCell::Table(k), Some(t)) => t.around.id(t.group, *k),
+            (ExactCell::Element(e), _) => space.cell_id_of(e),
+            _ => space.cells().id_within(&R::m4_f64(walk.cell), R::CELL_HORIZON),
         }
-        // Off, or a table cell traced with another space than the scene's
-        // (no table there).
-        space.cells().id_within(&R::m4_f64(walk.cell), R::CELL_HORIZON)
     }
 
     /// The cell across `face`: the table's neighbour while there is one,
-    /// else the element times the crossing. [`ExactCell::Off`] stays off.
-    pub(crate) fn crossed<R: Real>(&self, space: &Space, prep: &FlatScene<R>, face: usize) -> Self {
-        match self {
-            ExactCell::Table(k) => {
-                let (CellScheme::Exact(exact), Some(around)) = (space.cells(), prep.cells_around(space)) else {
-                    // Traced with another space than the scene's.
-                    return ExactCell::Off;
-                };
-                match around.ball().neighbour(*k, space.faces()[face].partner) {
-                    OUTSIDE => {
-                        // Exact within reach (the centre is within `i128`,
-                        // the cell a few crossings from it), else rounded.
-                        let here = around.element(&exact.group, *k).map_or_else(
-                            |_| CellElement::Float(prep.camera_cell * exact.group.to_f64(around.ball().element(*k))),
-                            CellElement::Exact,
-                        );
-                        ExactCell::Element(space.cross_cell(&here, face))
-                    }
-                    next => ExactCell::Table(next),
+    /// else the element times the crossing. [`ExactCell::Off`] (and a
+    /// table cell with no `table`) stays off.
+    pub(crate) fn crossed<R: Real>(
+        &self,
+        table: Option<Table>,
+        space: &Space,
+        prep: &FlatScene<R>,
+        face: usize,
+    ) -> Self {
+        match (self, table) {
+            (ExactCell::Table(k), Some(t)) => match t.around.ball().neighbour(*k, space.faces()[face].partner) {
+                OUTSIDE => {
+                    // Exact within reach (the centre is within `i128`, the
+                    // cell a few crossings from it), else rounded.
+                    let here = t.around.element(t.group, *k).map_or_else(
+                        |_| CellElement::Float(prep.camera_cell * t.group.to_f64(t.around.ball().element(*k))),
+                        CellElement::Exact,
+                    );
+                    ExactCell::Element(space.cross_cell(&here, face))
                 }
-            }
-            ExactCell::Element(e) => ExactCell::Element(space.cross_cell(e, face)),
-            ExactCell::Off => ExactCell::Off,
+                next => ExactCell::Table(next),
+            },
+            (ExactCell::Element(e), _) => ExactCell::Element(space.cross_cell(e, face)),
+            _ => ExactCell::Off,
         }
     }
 

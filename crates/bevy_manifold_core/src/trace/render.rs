@@ -9,7 +9,7 @@
 pub const FOG_CUT: f64 = 5.541_263_545_158_426;
 
 use super::cull::{Candidate, each_candidate};
-use super::exact_cell::ExactCell;
+use super::exact_cell::{ExactCell, Table};
 use super::flat::{EDGE_ID, FlatInstance, FlatScene, same_cell_point};
 use super::footprint::{
     Approach, BALL_GROWTH, Inflation, Layers, SEGMENT_LAYERS, ball_approach, coverage, grown_reach, normal_at_offset,
@@ -342,8 +342,9 @@ pub fn trace_ray<R: Real>(
     // (by the table around the camera, then by exact elements), crossed
     // with the ray; otherwise the id comes from the walk's matrix.
     let rule = &settings.cell_rule;
-    let mut exact = ExactCell::start(space, prep, rule.is_active());
-    let cell_id = |walk: &Walker<R>, exact: &ExactCell| exact.id(space, prep, walk);
+    let table = Table::of(space, prep);
+    let mut exact = ExactCell::start(table, prep, rule.is_active());
+    let cell_id = |walk: &Walker<R>, exact: &ExactCell| exact.id(table, space, walk);
     let mut travelled = R::of(0.0);
     let background = prep.fog.map_or([0.0; 3], |(_, c)| c);
     // Cone tracing (settings.footprint): the pixel's half-angle, the
@@ -473,11 +474,11 @@ pub fn trace_ray<R: Real>(
         // The cell across the face, crossed once: for the wall test, then
         // for the walk.
         let next = match face {
-            Some(f) if rule.walls.is_some() && !exact.is_off() => Some(exact.crossed(space, prep, f)),
+            Some(f) if rule.walls.is_some() && !exact.is_off() => Some(exact.crossed(table, space, prep, f)),
             _ => None,
         };
         if let (Some(id), Some(n)) = (here, &next)
-            && rule.wall(id, n.id(space, prep, &walk))
+            && rule.wall(id, n.id(table, space, &walk))
         {
             let f = face.unwrap_or_default();
             let color = shade_wall(prep, &prep.faces.planes[f], &walk.ray, travelled);
@@ -493,7 +494,7 @@ pub fn trace_ray<R: Real>(
         if let Some(f) = face
             && !exact.is_off()
         {
-            exact = next.unwrap_or_else(|| exact.crossed(space, prep, f));
+            exact = next.unwrap_or_else(|| exact.crossed(table, space, prep, f));
         }
         // Past MAX_EXACT_LEVELS crossings a ray is far beyond any table or
         // rule of interest and its exact product grows into big integers
