@@ -429,10 +429,24 @@ fn a_scene_hands_out_its_table_only_for_its_space_and_camera() {
         height: 16,
         ..TraceSettings::default()
     };
-    let ray = camera_ray(&prep, 3, 5, 16, 16);
-    let (mine, _) = trace_ray(&sw, &prep, ray, &settings, &mut |_| {});
-    let (theirs, _) = trace_ray(&other, &prep, ray, &settings, &mut |_| {});
-    assert_eq!(mine.cell, theirs.cell, "the same group, multiplied");
+    let rays: Vec<_> = (0..16 * 16)
+        .map(|p| camera_ray(&prep, p % 16, p / 16, 16, 16))
+        .collect();
+    let mine: Vec<_> = rays
+        .iter()
+        .map(|&ray| trace_ray(&sw, &prep, ray, &settings, &mut |_| {}).0.cell)
+        .collect();
+    // The rays walked the table: the ids of the cells they ended in
+    // within it were made there.
+    let made = prep.cells_around(&sw).expect("the table").made();
+    assert!(made >= 1, "{made} ids made");
+    let theirs: Vec<_> = rays
+        .iter()
+        .map(|&ray| trace_ray(&other, &prep, ray, &settings, &mut |_| {}).0.cell)
+        .collect();
+    assert_eq!(mine, theirs, "the same group, multiplied");
+    // The other space's traces made none in this table.
+    assert_eq!(prep.cells_around(&sw).expect("the table").made(), made);
     prep.camera_element = sw.cell_of_word(&[2, 9]);
     assert!(prep.cells_around(&sw).is_none(), "a camera moved by hand");
     let moved = prep.clone().in_cell(&sw, &sw.cell_of_word(&[4]));

@@ -245,6 +245,16 @@ impl CellsAround {
         }
     }
 
+    /// How many cells' ids have been made so far ([`CellsAround::id`]):
+    /// the cells the rays traced with this table reached.
+    #[must_use]
+    pub fn made(&self) -> usize {
+        self.ids
+            .iter()
+            .filter(|id| id.load(Ordering::Relaxed) != NOT_MADE)
+            .count()
+    }
+
     /// Cell `k`'s element, `centre e_k`: where a ray leaving the table
     /// goes on by exact products.
     ///
