@@ -101,11 +101,11 @@ fn check(path: &Path) -> Result<(), String> {
     Ok(())
 }
 
-/// `WIDTHxHEIGHT`.
 /// Pixels a CPU tour traces from which it grows the table of exact cells
 /// first: two 1920x1080 frames.
 const GROW_TABLE_PIXELS: u64 = 2 * 1920 * 1080;
 
+/// `WIDTHxHEIGHT`.
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let bad = || format!("--size {s}: expected WIDTHxHEIGHT, e.g. 1920x1080");
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
@@ -185,10 +185,10 @@ fn render(args: &TourRenderArgs) -> Result<(), String> {
     }
     // On the CPU, where the space's ids are exact, its table of cells is
     // grown first (0.2 s in Seifert-Weber, 0.5 s in the mirrored
-    // dodecahedron, `bench cells`) so that rays cross faces near the camera by index
-    // rather than by exact products, when there are enough pixels to repay
-    // it: three 1920x1080 frames took 4.6 s with it against 6.5 (both
-    // spaces within 5.0 against 6.5), one 640x360 frame 0.4 s against 0.3
+    // dodecahedron, `bench cells`) so that rays cross faces near the
+    // camera by index rather than by exact products, when there are
+    // enough pixels to repay it: three 1920x1080 frames took 4.6-5.0 s
+    // with it against 6.5, one 640x360 frame 0.4 s against 0.3
     // (BENCHMARKS.md, "The table of cells around the camera, on the CPU
     // too"). The GPU grows it when it packs the space.
     let pixels = u64::from(size.0) * u64::from(size.1) * (end - first);
