@@ -23,7 +23,7 @@ fn main() {
     App::new()
         .add_plugins(DefaultPlugins)
         // manifold: the plugin and the optional fly camera
-        .add_plugins((ManifoldPlugin::default(), FlyCameraPlugin))
+        .add_plugins((ManifoldPlugins::default(), FlyCameraPlugin))
         .insert_resource(QuitAfter { frames, screenshot })
         .add_systems(Startup, setup)
         .add_systems(Update, (show_cell, draw_domain, quit_after, toggle_help))

@@ -8,7 +8,7 @@
 //! `cargo run --release --example poincare [-- --screenshot FILE.png [--size WxH]]`
 
 use bevy::prelude::*;
-use bevy_manifold::paper_scene::{paper_camera, spawn_paper_scene};
+use bevy_manifold::drawables::paper::{paper_camera, spawn_paper_scene};
 use bevy_manifold::prelude::*;
 #[path = "support/showcase.rs"]
 #[allow(dead_code, reason = "each example uses its own part of it")]

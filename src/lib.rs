@@ -11,9 +11,10 @@
 //!
 //! ## In a Bevy app
 //!
-//! Add [`ManifoldPlugin`], put a [`placement::ManifoldSpace`] on a root
+//! Add [`ManifoldPlugins`], put a [`placement::ManifoldSpace`] on a root
 //! entity and give its descendants a [`placement::Placement`]; they move
-//! along geodesics and wrap through the face pairings like light does
+//! along geodesics and wrap through the face pairings like light does, and
+//! a [`camera::ManifoldCamera`] among them sees the manifold
 //! (`examples/drop_in.rs` is a whole app):
 //!
 //! ```no_run
@@ -29,7 +30,7 @@
 //! }
 //!
 //! App::new()
-//!     .add_plugins((MinimalPlugins, ManifoldPlugin::default(), FlyCameraPlugin))
+//!     .add_plugins((MinimalPlugins, ManifoldPlugins::default(), FlyCameraPlugin))
 //!     .add_systems(Startup, setup)
 //!     .run();
 //! ```
@@ -41,13 +42,20 @@
 //! data layout are [`bevy_manifold_gpu`]. This crate is the Bevy layer:
 //!
 //! - [`placement`]: the ECS layer: components, wrapping systems, ray casts.
-//! - [`drawables`]: what a space's entities look like to the tracer.
-//! - [`render`] (feature `render`, default): the ray-traced pass in Bevy's
-//!   renderer; `render::offscreen` (feature `offscreen`) for windowless
-//!   apps that read their images back.
-//! - [`view`]: fog and per-cell shading, the view's settings.
-//! - `camera_controller` (feature `fly_camera`): an optional fly camera.
-//! - `paper_scene` (feature `paper_scene`): the paper's scene as entities.
+//! - [`drawables`]: what a space's entities look like to the tracer (balls,
+//!   lights, edges, Bevy meshes; `drawables::paper`, feature
+//!   `paper_scene`: the paper's scene as entities).
+//! - [`camera`]: what a user puts on a camera: [`camera::ManifoldCamera`],
+//!   fog, per-cell shading, render scale, anti-aliasing, and (feature
+//!   `fly_camera`) a fly camera and the vehicle.
+//! - [`tour`]: tours played by entities.
+//! - `assets` (feature `asset`): space and tour files as Bevy assets.
+//! - `render` (feature `render`, default): the ray-traced pass in Bevy's
+//!   renderer, by stage; `render::offscreen` (feature `offscreen`) for
+//!   windowless apps that read their images back.
+//! - `xr` (feature `xr`): VR through OpenXR.
+//!
+//! [`ManifoldPlugins`] lists the plugins, each of which can be left out.
 //!
 //! Features: `render` (default) is the pass only: never a window, never
 //! egui. `standard_material` reads traced meshes' `StandardMaterial`s.
@@ -65,36 +73,37 @@
 //! assert!(image.pixels.iter().any(|p| p.object == 1));
 //! ```
 
-#[cfg(feature = "fly_camera")]
-pub mod camera_controller;
+#[cfg(feature = "asset")]
+pub mod assets;
+pub mod camera;
 pub mod drawables;
-#[cfg(feature = "paper_scene")]
-pub mod paper_scene;
 pub mod placement;
 mod plugin;
 #[cfg(feature = "render")]
 pub mod render;
-#[cfg(feature = "asset")]
-pub mod space_asset;
 pub mod tour;
-#[cfg(feature = "asset")]
-pub mod tour_asset;
-#[cfg(feature = "render")]
-pub mod traced_meshes;
-pub mod view;
 #[cfg(feature = "xr")]
 pub mod xr;
 
 pub use bevy_manifold_core;
 pub use bevy_manifold_core::{geometry, mesh, motion, space, trace};
 pub use bevy_manifold_gpu;
-pub use plugin::ManifoldPlugin;
+pub use plugin::ManifoldPlugins;
 
 /// The types most users need.
 pub mod prelude {
-    pub use crate::ManifoldPlugin;
+    pub use crate::ManifoldPlugins;
+    #[cfg(feature = "asset")]
+    pub use crate::assets::{ManifoldAssetsPlugin, ManifoldSpaceSource, SpaceAsset, TourAsset, TourSource};
+    #[cfg(feature = "render")]
+    pub use crate::camera::{
+        AdaptiveRenderScale, ManifoldAccumulation, ManifoldCamera, ManifoldFootprint, ManifoldRenderScale,
+    };
+    pub use crate::camera::{CellShading, ManifoldCameraPlugin, ManifoldFog};
     #[cfg(feature = "fly_camera")]
-    pub use crate::camera_controller::{FlyCamera, FlyCameraPlugin, Vehicle};
+    pub use crate::camera::{FlyCamera, FlyCameraPlugin, Vehicle};
+    #[cfg(feature = "render")]
+    pub use crate::drawables::{CameraBody, Rasterized};
     pub use crate::drawables::{
         DomainEdges, DrawablesPlugin, ManifoldLight, ManifoldMeshes, ManifoldScene, TracedBall,
     };
@@ -103,16 +112,7 @@ pub mod prelude {
         ManifoldSystems, Placement, PlacementPlugin, RayCastSettings, RayHit, SpaceMembers, WallHit,
     };
     #[cfg(feature = "render")]
-    pub use crate::render::{
-        AdaptiveRenderScale, ManifoldAccumulation, ManifoldCamera, ManifoldFootprint, ManifoldRenderScale,
-    };
-    #[cfg(feature = "asset")]
-    pub use crate::space_asset::{ManifoldSpaceSource, SpaceAsset};
+    pub use crate::render::ManifoldRenderPlugin;
     pub use crate::tour::{Tour, TourPlayer};
-    #[cfg(feature = "asset")]
-    pub use crate::tour_asset::{TourAsset, TourSource};
-    #[cfg(feature = "render")]
-    pub use crate::traced_meshes::{CameraBody, Rasterized};
-    pub use crate::view::{CellShading, ManifoldFog};
     pub use bevy_manifold_core::prelude::*;
 }

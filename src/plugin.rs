@@ -1,90 +1,83 @@
-//! [`ManifoldPlugin`]: the one line to add to a Bevy app.
+//! [`ManifoldPlugins`]: the one line to add to a Bevy app.
 
+use crate::camera::ManifoldCameraPlugin;
 use crate::drawables::DrawablesPlugin;
 use crate::placement::PlacementPlugin;
-use crate::view::{CellShading, ManifoldFog};
+use crate::tour::TourPlugin;
+use bevy::app::{PluginGroup, PluginGroupBuilder};
 use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
 use bevy::prelude::*;
 
-/// Everything bevy_manifold adds to an app:
+/// Everything bevy_manifold adds to an app, as a plugin group whose every
+/// plugin can be left out or replaced the usual Bevy way:
+///
 /// - [`PlacementPlugin`]: entities placed, moved and wrapped in their
-///   manifolds, gameplay ray casts;
-/// - [`DrawablesPlugin`]: the balls, lights and edges the tracer draws,
-///   gathered per space when they change;
-/// - the view components [`ManifoldFog`] and [`CellShading`], registered
-///   for reflection (they need no renderer);
-/// - with the `asset` feature (on with `render`) and an asset server in the
-///   app, [`crate::space_asset`]: space files (`.gen`, `.space.json`,
-///   `.gens.json`) as assets, applied to roots with a
-///   [`crate::space_asset::ManifoldSpaceSource`]; and tour files
-///   (`.tour.json`, [`crate::tour_asset`]) played by entities with a
-///   [`crate::tour_asset::TourSource`];
-/// - with the `render` feature and a renderer in the app,
-///   [`crate::render::ManifoldRenderPlugin`]: every
-///   [`crate::render::ManifoldCamera`] is ray-traced. Other cameras
-///   render exactly as before.
+///   manifolds, gameplay ray casts ([`crate::placement::ManifoldSystems`]);
+/// - [`DrawablesPlugin`]: the balls, lights, edges and Bevy meshes the
+///   tracer draws, gathered per space when they change
+///   ([`crate::drawables::DrawablesSystems`]);
+/// - [`TourPlugin`]: tours played by [`crate::tour::TourPlayer`]s
+///   ([`crate::tour::TourSystems`]);
+/// - [`ManifoldCameraPlugin`]: the camera components registered for
+///   reflection, and (feature `render`) the render scale that holds a
+///   frame rate;
+/// - [`crate::assets::ManifoldAssetsPlugin`] (feature `asset`, on with
+///   `render`): space and tour files as assets, where the app has an asset
+///   server;
+/// - [`crate::render::ManifoldRenderPlugin`] (feature `render`, the
+///   default): every [`crate::camera::ManifoldCamera`] is ray-traced, where
+///   the app has a renderer. Other cameras render exactly as before.
 ///
-/// The camera controller is separate and optional:
-/// `camera_controller::FlyCameraPlugin` (feature `fly_camera`).
+/// The fly camera is separate and optional:
+/// [`crate::camera::FlyCameraPlugin`] (feature `fly_camera`).
 ///
-/// One setting: the schedule the placement systems and the scene
-/// gathering run in (`PostUpdate` by default; a game that moves entities
-/// in fixed steps takes `FixedPostUpdate`).
+/// One setting: the schedule the placement systems, the gathering and the
+/// tours run in (`PostUpdate` by default; a game that moves entities in
+/// fixed steps takes `FixedPostUpdate`).
 ///
 /// ```
 /// use bevy::prelude::*;
 /// use bevy_manifold::prelude::*;
-/// App::new().add_plugins((MinimalPlugins, ManifoldPlugin::default()));
-/// App::new().add_plugins((MinimalPlugins, ManifoldPlugin::in_schedule(FixedPostUpdate)));
+/// use bevy_manifold::tour::TourPlugin;
+///
+/// App::new().add_plugins((MinimalPlugins, ManifoldPlugins::default()));
+/// App::new().add_plugins((MinimalPlugins, ManifoldPlugins::in_schedule(FixedPostUpdate)));
+/// // Without the tours.
+/// App::new().add_plugins((MinimalPlugins, ManifoldPlugins::default().build().disable::<TourPlugin>()));
 /// ```
 #[derive(Debug, Clone)]
-pub struct ManifoldPlugin {
+pub struct ManifoldPlugins {
     schedule: InternedScheduleLabel,
 }
 
-impl Default for ManifoldPlugin {
+impl Default for ManifoldPlugins {
     fn default() -> Self {
         Self::in_schedule(PostUpdate)
     }
 }
 
-impl ManifoldPlugin {
-    /// The plugin with the placement systems and the scene gathering in
-    /// `schedule`.
+impl ManifoldPlugins {
+    /// The plugins with the placement systems, the gathering and the tours
+    /// in `schedule`.
     #[must_use]
     pub fn in_schedule(schedule: impl ScheduleLabel) -> Self {
-        ManifoldPlugin {
+        ManifoldPlugins {
             schedule: schedule.intern(),
         }
     }
 }
 
-impl Plugin for ManifoldPlugin {
-    fn build(&self, app: &mut App) {
-        app.add_plugins((
-            PlacementPlugin::in_schedule(self.schedule),
-            DrawablesPlugin::in_schedule(self.schedule),
-            crate::tour::TourPlugin::in_schedule(self.schedule),
-        ))
-        .register_type::<ManifoldFog>()
-        .register_type::<CellShading>();
+impl PluginGroup for ManifoldPlugins {
+    fn build(self) -> PluginGroupBuilder {
+        let group = PluginGroupBuilder::start::<Self>()
+            .add(PlacementPlugin::in_schedule(self.schedule))
+            .add(DrawablesPlugin::in_schedule(self.schedule))
+            .add(TourPlugin::in_schedule(self.schedule))
+            .add(ManifoldCameraPlugin);
+        #[cfg(feature = "asset")]
+        let group = group.add(crate::assets::ManifoldAssetsPlugin);
         #[cfg(feature = "render")]
-        app.add_plugins(crate::render::ManifoldRenderPlugin);
-        // Space files as assets, when the app has an asset server: now if
-        // it is there (so handles can be made before the app runs), else
-        // once every plugin is built, whatever the plugin order.
-        #[cfg(feature = "asset")]
-        crate::space_asset::register(app);
-        #[cfg(feature = "asset")]
-        crate::tour_asset::register(app);
-    }
-
-    fn finish(&self, app: &mut App) {
-        #[cfg(feature = "asset")]
-        crate::space_asset::register(app);
-        #[cfg(feature = "asset")]
-        crate::tour_asset::register(app);
-        #[cfg(not(feature = "asset"))]
-        let _ = app;
+        let group = group.add(crate::render::ManifoldRenderPlugin);
+        group
     }
 }

@@ -19,7 +19,7 @@ fn collect(mut reader: MessageReader<FaceCrossed>, mut all: ResMut<Crossings>) {
 
 fn app(step: Duration) -> App {
     let mut app = App::new();
-    app.add_plugins((MinimalPlugins, ManifoldPlugin::default()))
+    app.add_plugins((MinimalPlugins, ManifoldPlugins::default()))
         .insert_resource(TimeUpdateStrategy::ManualDuration(step))
         .init_resource::<Crossings>()
         .add_systems(Last, collect);

@@ -5,6 +5,9 @@
 //! the geometry (periods, distances through faces, the Seifert-Weber
 //! closed geodesic's length and twist), not from the game.
 
+#[path = "../examples/shooter/combat.rs"]
+#[allow(dead_code, reason = "the tests use part of the game")]
+mod combat;
 #[path = "../examples/shooter/game.rs"]
 #[allow(dead_code, reason = "the tests use part of the game")]
 mod game;
@@ -364,7 +367,7 @@ fn the_nearest_image_is_the_shortest_route_through_the_faces() {
     for _ in 0..200 {
         let p = rng.ray_inside(&torus).origin;
         let q = rng.ray_inside(&torus).origin;
-        let (_, d) = game::nearest_image(&torus, p, q).expect("distinct");
+        let (_, d) = combat::nearest_image(&torus, p, q).expect("distinct");
         let want = torus_nearest(p.truncate(), q.truncate());
         assert!((d - want).abs() < 1e-9, "{p:?} {q:?}: {d} against {want}");
     }
@@ -384,7 +387,7 @@ fn the_nearest_image_is_the_shortest_route_through_the_faces() {
     for _ in 0..30 {
         let p = rng.ray_inside(&sw).origin;
         let q = rng.ray_inside(&sw).origin;
-        let (_, d) = game::nearest_image(&sw, p, q).expect("distinct");
+        let (_, d) = combat::nearest_image(&sw, p, q).expect("distinct");
         let best = words
             .iter()
             .map(|w| g.distance::<f64>(p, g.normalize_point::<f64>(*w * q)))

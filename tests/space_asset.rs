@@ -38,7 +38,7 @@ fn app(dir: &std::path::Path) -> App {
             file_path: dir.display().to_string(),
             ..default()
         },
-        ManifoldPlugin::default(),
+        ManifoldPlugins::default(),
     ))
     .init_resource::<Failures>()
     .add_systems(Last, collect);
@@ -221,7 +221,7 @@ fn a_mesh_that_arrives_after_its_entity_is_traced_from_then_on() {
 fn a_large_mesh_is_built_off_the_frame_and_appears_when_ready() {
     use bevy::asset::RenderAssetUsages;
     use bevy::mesh::{Indices, PrimitiveTopology};
-    use bevy_manifold::traced_meshes::{ASYNC_BVH_TRIANGLES, MeshBvhCache};
+    use bevy_manifold::drawables::{ASYNC_BVH_TRIANGLES, MeshBvhCache};
     let mut app = mesh_app();
     // A 200 x 200 grid: 80,000 triangles.
     let n = 200u32;

@@ -24,7 +24,7 @@ fn max_abs(m: DMat4) -> f64 {
 /// A headless app at 60 frames a second that collects `FaceCrossed`.
 fn app() -> App {
     let mut app = App::new();
-    app.add_plugins((MinimalPlugins, ManifoldPlugin::default()))
+    app.add_plugins((MinimalPlugins, ManifoldPlugins::default()))
         .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)))
         .init_resource::<Crossings>()
         .add_systems(Last, collect);

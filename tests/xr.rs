@@ -75,7 +75,7 @@ static ONE_RENDER_APP: std::sync::Mutex<()> = std::sync::Mutex::new(());
 fn rig(space: &Space, world_scale: f64) -> Rig {
     let mut app = App::new();
     app.add_plugins(offscreen::plugins().disable::<bevy::log::LogPlugin>())
-        .add_plugins((ManifoldPlugin::default(), ManifoldXrPlugin));
+        .add_plugins((ManifoldPlugins::default(), ManifoldXrPlugin));
     app.finish();
     app.cleanup();
     let images = [0, 1].map(|_| offscreen::target(&mut app, W, H));
@@ -455,7 +455,7 @@ struct TriggerLog(Vec<XrTrigger>);
 /// poses a test sets, as bevy_mod_openxr's `update_views` does.
 fn body_app(space: &Space) -> (App, Entity) {
     let mut app = App::new();
-    app.add_plugins((MinimalPlugins, ManifoldPlugin::default(), ManifoldXrPlugin))
+    app.add_plugins((MinimalPlugins, ManifoldPlugins::default(), ManifoldXrPlugin))
         .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_millis(100)))
         .init_resource::<TriggerLog>()
         .add_systems(

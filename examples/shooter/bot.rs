@@ -4,7 +4,8 @@
 //! It is how the long play-tests ran (`--bot --headless --ticks 36000` is
 //! ten minutes of play), and a demo to watch.
 
-use crate::game::{Enemy, Game, Player, Target, images_by_distance};
+use crate::combat::images_by_distance;
+use crate::game::{Enemy, Game, Player, Target};
 use crate::input::{InputSource, TickInput};
 use bevy::prelude::*;
 use bevy_manifold::geometry::isometry;

@@ -8,23 +8,22 @@
 //! The parts a game developer would copy:
 //! - shots are entities with a [`GeodesicVelocity`]; the placement plugin
 //!   moves them along geodesics and wraps them through the faces exactly;
-//! - [`sweep_shots`] casts each shot's whole step as a geodesic ray
+//! - [`crate::combat::sweep_shots`] casts each shot's whole step as a geodesic ray
 //!   ([`ManifoldRayCast`]) before it moves, so no speed tunnels and every
 //!   image of every target is hit through the faces, under the space's
 //!   per-cell rule (an image in an "off" cell is passed through);
-//! - [`nearest_image`] is the shortest route through the faces, which the
+//! - [`crate::combat::nearest_image`] is the shortest route through the faces, which the
 //!   enemies fly and aim along.
 
+use crate::combat::{enemies_fly_and_fire, enemies_ram, nearest_image, sweep_shots};
 use crate::input::{InputSource, TickInput};
 use bevy::prelude::*;
-use bevy_manifold::geometry::isometry;
 use bevy_manifold::motion::advance_placement;
 use bevy_manifold::placement::WrapOrigin;
 use bevy_manifold::prelude::*;
 use bevy_manifold::space::FaceKind;
 use bevy_manifold::space::rule::{CellRule, OnOff};
-use bevy_manifold::trace::ghost_centres;
-use glam::{DMat4, DVec3, DVec4};
+use glam::{DVec3, DVec4};
 
 /// Ticks per second of the game's clock (Bevy's `Time<Fixed>`).
 pub const TICK_HZ: f64 = 60.0;
@@ -226,7 +225,7 @@ pub struct Game {
     pub rules: Rules,
     /// The player's next shot is allowed at this tick.
     next_fire: u64,
-    rng: SplitMix,
+    pub(crate) rng: SplitMix,
 }
 
 impl Game {
@@ -244,14 +243,14 @@ impl Game {
         (1.0 - 0.15 * (level.saturating_sub(1)) as f32).max(0.3)
     }
 
-    fn event(&mut self, e: GameEvent) {
+    pub(crate) fn event(&mut self, e: GameEvent) {
         self.log.push((self.tick, e));
     }
 }
 
 /// Deterministic random numbers (splitmix64): spawns and the cell rule.
 #[derive(Clone, Debug)]
-struct SplitMix(u64);
+pub(crate) struct SplitMix(u64);
 
 impl SplitMix {
     fn next(&mut self) -> u64 {
@@ -322,7 +321,7 @@ pub mod colors {
 
 /// The game's systems, in the fixed-timestep schedules; the placement
 /// plugin must run in `FixedPostUpdate` (add
-/// `ManifoldPlugin::in_schedule(FixedPostUpdate)`) so shots move by
+/// `ManifoldPlugins::in_schedule(FixedPostUpdate)`) so shots move by
 /// exactly one tick after being swept.
 #[derive(Debug, Clone, Default)]
 pub struct GamePlugin {
@@ -453,7 +452,7 @@ fn begin_level(
 
 /// A placement inside the domain, away from its faces: of eight random
 /// ones, the farthest from every image of the player at `player_at`.
-fn random_placement(rng: &mut SplitMix, space: &Space, player_at: DVec4) -> Placement {
+pub(crate) fn random_placement(rng: &mut SplitMix, space: &Space, player_at: DVec4) -> Placement {
     let r = space.inradius();
     let mut best = (f64::NEG_INFINITY, Placement::default());
     for _ in 0..8 {
@@ -587,207 +586,6 @@ pub fn control_player(
             let ahead = rules.player_radius + 2.0 * rules.shot_radius;
             spawn_shot(&mut commands, &game, ms, (player, true), (p, c), ahead);
             game.event(GameEvent::Fired);
-        }
-    }
-}
-
-/// The image of `target` (a point in the domain) nearest to `from` (a
-/// point in the domain): the shortest route between them through the
-/// faces, as the unit tangent at `from` and the distance. `None` when the
-/// two coincide.
-///
-/// The route never leaves a ball of the domain's diameter around `from`,
-/// so the images of `target` within that distance of the domain are all
-/// that can be nearest ([`ghost_centres`]).
-#[must_use]
-pub fn nearest_image(space: &Space, from: DVec4, target: DVec4) -> Option<(DVec4, f64)> {
-    images_by_distance(space, from, target).into_iter().next()
-}
-
-/// Every image of `target` within the domain's diameter of the domain,
-/// seen from `from`: the unit tangent towards it and its distance,
-/// nearest first.
-#[must_use]
-pub fn images_by_distance(space: &Space, from: DVec4, target: DVec4) -> Vec<(DVec4, f64)> {
-    let g = space.geometry();
-    let mut images: Vec<_> = ghost_centres(space, target, 2.0 * space.circumradius())
-        .into_iter()
-        .filter_map(|q| g.log::<f64>(from, q))
-        .collect();
-    images.sort_by(|a, b| a.1.total_cmp(&b.1));
-    images
-}
-
-/// A tangent at the entity's position, in its own frame.
-fn local_direction(g: Geometry, placement: &Placement, tangent: DVec4) -> DVec3 {
-    (isometry::inverse(g, placement.isometry) * tangent).truncate()
-}
-
-/// Turns `placement` so its forward (local -z) points along the local
-/// direction `dir`, keeping its position.
-fn facing(placement: &Placement, dir: DVec3) -> Placement {
-    let f = dir.normalize();
-    let up = if f.y.abs() < 0.9 { DVec3::Y } else { DVec3::X };
-    let x = up.cross(-f).normalize();
-    let y = (-f).cross(x);
-    let turn = DMat4::from_cols(x.extend(0.0), y.extend(0.0), (-f).extend(0.0), DVec4::W);
-    placement.rotated(turn)
-}
-
-/// Enemies fly towards the player's nearest image, and fire along the same
-/// route when it is near enough.
-fn enemies_fly_and_fire(
-    mut commands: Commands,
-    mut game: ResMut<Game>,
-    spaces: Query<&ManifoldSpace>,
-    player: Query<&Placement, With<Player>>,
-    mut enemies: Query<(Entity, &mut Placement, &DomainCell, &mut GeodesicVelocity, &mut Enemy), Without<Player>>,
-) {
-    let (Ok(ms), Ok(target)) = (spaces.get(game.root), player.get(game.player)) else {
-        return;
-    };
-    let space = ms.space();
-    let g = space.geometry();
-    let rules = game.rules;
-    let mut fired = Vec::new();
-    for (entity, mut placement, cell, mut velocity, mut enemy) in &mut enemies {
-        let Some((toward, distance)) = nearest_image(space, placement.position(), target.position()) else {
-            velocity.linear = DVec3::ZERO;
-            continue;
-        };
-        *placement = facing(&placement, local_direction(g, &placement, toward));
-        if game.tick >= enemy.wake {
-            velocity.linear = DVec3::NEG_Z * rules.enemy_speed;
-        }
-        if distance < rules.enemy_fire_range && game.tick >= enemy.next_fire {
-            enemy.next_fire = game.tick + (rules.enemy_fire_interval * TICK_HZ).round() as u64;
-            fired.push((entity, *placement, cell.clone()));
-        }
-    }
-    let ahead = rules.enemy_radius + 2.0 * rules.shot_radius;
-    for (entity, placement, cell) in fired {
-        spawn_shot(&mut commands, &game, ms, (entity, false), (placement, cell), ahead);
-        game.event(GameEvent::EnemyFired);
-    }
-}
-
-/// Each shot's step this tick, cast as a geodesic ray before it moves:
-/// the first thing it can hit along the whole step is hit, at any speed,
-/// through the faces, against every image (those in "off" cells are
-/// passed through, as the tracer passes them). Shots past their life go.
-#[expect(
-    clippy::too_many_arguments,
-    reason = "a Bevy system: each parameter is one query or resource"
-)]
-pub fn sweep_shots(
-    mut commands: Commands,
-    mut game: ResMut<Game>,
-    time: Res<Time>,
-    cast: ManifoldRayCast,
-    mut shots: Query<(Entity, &mut Shot)>,
-    kinds: Query<(Has<Target>, Has<Enemy>, Has<Player>)>,
-    spaces: Query<&ManifoldSpace>,
-    players: Query<&Placement, With<Player>>,
-    owners: Query<(), (With<Placement>, Without<Shot>)>,
-) {
-    let dt = time.delta_secs_f64();
-    let rules = game.rules;
-    let step = rules.shot_speed * dt;
-    let mut gone = Vec::new();
-    // What this tick's hits destroyed: not hit again by another shot.
-    let mut dead: Vec<Entity> = Vec::new();
-    for (entity, mut shot) in &mut shots {
-        let settings = RayCastSettings {
-            max_distance: step,
-            levels: 64,
-            exclude: (shot.age < rules.grace || !shot.by_player).then_some(shot.owner),
-        };
-        // A shot's first step is cast from its shooter's centre, which it
-        // left this tick (not yet moved): so the way out to where it
-        // appeared is swept too, and a target touching the shooter is hit.
-        let first = shot.age == 0.0 && owners.contains(shot.owner);
-        let (from, reach, before) = if first {
-            (shot.owner, shot.flown + step, 0.0)
-        } else {
-            (entity, step, shot.flown)
-        };
-        let settings = RayCastSettings {
-            max_distance: reach,
-            ..settings
-        };
-        let hit = cast.cast(from, DVec3::NEG_Z, &settings).into_iter().find(|h| {
-            let (target, enemy, player) = kinds.get(h.entity).unwrap_or_default();
-            !dead.contains(&h.entity)
-                && if shot.by_player {
-                    target || enemy || player
-                } else {
-                    player
-                }
-        });
-        shot.age += dt;
-        if let Some(h) = hit {
-            let distance = before + h.distance;
-            let (target, enemy, _) = kinds.get(h.entity).unwrap_or_default();
-            if target {
-                game.score += 100 * u64::from(game.level);
-                game.hits += 1;
-                game.event(GameEvent::TargetHit {
-                    distance,
-                    faces: h.faces.len(),
-                    cell: h.cell,
-                });
-                commands.entity(h.entity).despawn();
-                dead.push(h.entity);
-                if let Some(space) = spaces.get(game.root).ok().map(|m| m.space().clone()) {
-                    let needed = Game::targets_for(game.level);
-                    // A new target while the level still needs them.
-                    if game.hits + 2 < needed {
-                        let player_at = players.get(game.player).map_or(DVec4::W, Placement::position);
-                        let p = random_placement(&mut game.rng, &space, player_at);
-                        spawn_target(&mut commands, &game, p);
-                    }
-                }
-            } else if enemy {
-                game.score += 50;
-                game.event(GameEvent::EnemyHit { distance });
-                commands.entity(h.entity).despawn();
-                dead.push(h.entity);
-            } else {
-                game.health -= if shot.by_player { 20.0 } else { 15.0 };
-                game.event(GameEvent::PlayerHit {
-                    own: shot.by_player,
-                    distance,
-                });
-            }
-            gone.push(entity);
-        } else if shot.age >= rules.shot_life {
-            gone.push(entity);
-        } else {
-            shot.flown += step;
-        }
-    }
-    for e in gone {
-        commands.entity(e).despawn();
-    }
-}
-
-/// An enemy that touches any image of the player rams it and is destroyed.
-fn enemies_ram(
-    mut commands: Commands,
-    mut game: ResMut<Game>,
-    spaces: Query<&ManifoldSpace>,
-    player: Query<&Placement, With<Player>>,
-    enemies: Query<(Entity, &Placement), With<Enemy>>,
-) {
-    let (Ok(ms), Ok(p)) = (spaces.get(game.root), player.get(game.player)) else {
-        return;
-    };
-    let touch = game.rules.enemy_radius + game.rules.player_radius;
-    for (e, placement) in &enemies {
-        if nearest_image(ms.space(), placement.position(), p.position()).is_none_or(|(_, d)| d <= touch) {
-            game.health -= 20.0;
-            game.event(GameEvent::Rammed);
-            commands.entity(e).despawn();
         }
     }
 }

@@ -193,7 +193,7 @@ pub fn headless_app(config: GameConfig, script: Option<Script>, dt: Duration) ->
     let mut app = App::new();
     app.add_plugins((
         MinimalPlugins,
-        ManifoldPlugin::in_schedule(FixedPostUpdate),
+        ManifoldPlugins::in_schedule(FixedPostUpdate),
         GamePlugin { config },
     ));
     app.insert_resource(Time::<Fixed>::from_duration(dt))

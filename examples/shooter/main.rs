@@ -24,6 +24,7 @@
 //! so and plays on the desktop.
 
 mod bot;
+mod combat;
 mod game;
 mod input;
 mod view;
@@ -36,8 +37,9 @@ mod showcase;
 
 use bevy::prelude::*;
 use bevy::time::TimeUpdateStrategy;
+use bevy_manifold::camera::ManifoldCamera;
 use bevy_manifold::prelude::*;
-use bevy_manifold::render::{ManifoldCamera, offscreen};
+use bevy_manifold::render::offscreen;
 use game::{Difficulty, Game, GameConfig, GamePlugin};
 use glam::DVec3;
 use input::{InputSource, Script, ScriptEntry, TickInput};
@@ -140,7 +142,7 @@ fn run() -> Result<AppExit, String> {
         app.add_plugins(plugins);
     }
     app.add_plugins((
-        ManifoldPlugin::in_schedule(FixedPostUpdate),
+        ManifoldPlugins::in_schedule(FixedPostUpdate),
         GamePlugin { config },
         ViewPlugin(ViewSettings {
             levels,
@@ -332,7 +334,7 @@ fn screenshot(config: GameConfig, levels: u32, path: PathBuf) -> AppExit {
         menu: false,
     };
     app.add_plugins((
-        ManifoldPlugin::in_schedule(FixedPostUpdate),
+        ManifoldPlugins::in_schedule(FixedPostUpdate),
         GamePlugin { config },
         ViewPlugin(settings.clone()),
     ));

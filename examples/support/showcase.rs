@@ -24,8 +24,9 @@
 
 use bevy::camera::RenderTarget;
 use bevy::prelude::*;
-use bevy_manifold::camera_controller::FlyCameraPlugin;
-use bevy_manifold::render::{ManifoldCamera, offscreen};
+use bevy_manifold::camera::FlyCameraPlugin;
+use bevy_manifold::camera::ManifoldCamera;
+use bevy_manifold::render::offscreen;
 use std::path::PathBuf;
 
 /// The value after `name` on the command line (`--size 320x180`).
@@ -69,14 +70,14 @@ struct HelpText;
 
 /// The app an example builds on: in a window titled `title` with `help`
 /// and the controls shown, or (with `--screenshot`) offscreen. Either way
-/// it has [`crate::ManifoldPlugin`] and [`FlyCameraPlugin`]; add the
+/// it has [`crate::ManifoldPlugins`] and [`FlyCameraPlugin`]; add the
 /// example's systems and pass it to [`run`].
 pub fn app(title: &str, help: &str) -> App {
     if let Some(path) = arg("--screenshot") {
         let (w, h) = arg("--size").as_deref().and_then(parse_size).unwrap_or((640, 360));
         let mut app = App::new();
         app.add_plugins(offscreen::plugins());
-        app.add_plugins((crate::ManifoldPlugin::default(), FlyCameraPlugin));
+        app.add_plugins((crate::ManifoldPlugins::default(), FlyCameraPlugin));
         app.finish();
         app.cleanup();
         let target = offscreen::target(&mut app, w, h);
@@ -102,7 +103,7 @@ pub fn app(title: &str, help: &str) -> App {
         }),
         ..default()
     }))
-    .add_plugins((crate::ManifoldPlugin::default(), FlyCameraPlugin));
+    .add_plugins((crate::ManifoldPlugins::default(), FlyCameraPlugin));
     let text = format!("{title}: {help}\nWASD / Space / Shift fly, arrows or mouse turn, Q / E roll, H hides this");
     app.add_systems(Startup, move |mut commands: Commands| {
         commands.spawn((
@@ -151,7 +152,7 @@ fn screenshot(app: &mut App, mode: &ScreenshotMode) -> Result<(u32, u32), String
     // A camera refining its still view: let its samples in first.
     let world = app.world_mut();
     let samples = world
-        .query::<&bevy_manifold::render::ManifoldAccumulation>()
+        .query::<&bevy_manifold::camera::ManifoldAccumulation>()
         .iter(world)
         .map(|a| a.samples)
         .max()

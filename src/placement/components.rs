@@ -42,7 +42,7 @@ impl ManifoldSpace {
         Self::from_shared(Arc::new(space))
     }
 
-    /// Wraps a space already shared (a loaded [`crate::space_asset::SpaceAsset`]'s).
+    /// Wraps a space already shared (a loaded [`crate::assets::SpaceAsset`]'s).
     #[must_use]
     pub fn from_shared(space: Arc<Space>) -> Self {
         let tables = Arc::new(FaceTables::new(&space));

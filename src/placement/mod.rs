@@ -1,7 +1,7 @@
 //! Entities that live in a manifold: placement, cells, motion along
 //! geodesics, wrapping through the face pairings, gameplay ray casts.
 //!
-//! Add [`PlacementPlugin`] (or the umbrella [`crate::ManifoldPlugin`]), put
+//! Add [`PlacementPlugin`] (or the umbrella [`crate::ManifoldPlugins`]), put
 //! a [`ManifoldSpace`] on a root entity and give its descendants a
 //! [`Placement`]:
 //!

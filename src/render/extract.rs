@@ -4,15 +4,13 @@
 //! [`crate::drawables::gather_scenes`]); only the camera is new data. The
 //! prepare stage packs them for the GPU when they changed.
 
-use super::accumulate::ManifoldAccumulation;
-use super::camera::ManifoldCamera;
-use super::footprint::ManifoldFootprint;
-use super::prepare::ManifoldViewBinding;
-use super::scale::ManifoldRenderScale;
+use super::pass::ManifoldViewBinding;
+use crate::camera::{
+    CellShading, ManifoldAccumulation, ManifoldCamera, ManifoldFog, ManifoldFootprint, ManifoldRenderScale,
+};
 use crate::drawables::ManifoldScene;
 use crate::placement::{DomainCell, InSpace, ManifoldSpace, Placement};
 use crate::space::element::CellElement;
-use crate::view::{CellShading, ManifoldFog};
 use bevy::platform::collections::HashSet;
 use bevy::prelude::*;
 use bevy::render::{Extract, sync_world::RenderEntity};
@@ -30,11 +28,11 @@ pub struct ExtractedManifoldView {
     pub scene: ManifoldScene,
     /// The camera's placement (inside the domain).
     pub camera: DMat4,
-    /// The camera's cell element.
-    pub cell: DMat4,
-    /// The same, exact where the space's ids are: what the GPU's table of
-    /// exact ids is centred on.
-    pub element: CellElement,
+    /// The camera's cell element, rounded to `f64` ([`DomainCell::element`]).
+    pub element: DMat4,
+    /// The same, exact where the space's ids are ([`DomainCell::cell`]):
+    /// what the GPU's cell table is centred on.
+    pub cell: CellElement,
     /// Fog density and linear colour, when on.
     pub fog: Option<(f32, [f32; 3])>,
     /// Most transports per ray.
@@ -107,8 +105,8 @@ pub fn extract_manifold_views(
             space: space.clone(),
             scene: scene.clone(),
             camera: placement.isometry,
-            cell: cell.element,
-            element: cell.cell.clone(),
+            element: cell.element,
+            cell: cell.cell.clone(),
             fog,
             levels,
             // NaN or not positive: the default distance.

@@ -1,4 +1,4 @@
-//! Offscreen Bevy apps (feature `app`): the renderer with no window,
+//! Offscreen Bevy apps (feature `offscreen`): the renderer with no window,
 //! updated by hand, its manifold cameras drawing into images that can be
 //! read back. Used by the tests, `bench pass` and headless screenshots.
 //!
@@ -22,7 +22,7 @@
 //! assert_eq!(rgba.len(), 320 * 180 * 4);
 //! ```
 
-use super::prepare::ManifoldViewBinding;
+use super::pass::ManifoldViewBinding;
 use bevy::log::LogPlugin;
 use bevy::prelude::*;
 use bevy::render::RenderApp;
@@ -35,7 +35,7 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 /// A Bevy app with the renderer and no window (and, when `with_manifold`,
-/// [`crate::ManifoldPlugin`]), ready to be updated by hand. The render
+/// [`crate::ManifoldPlugins`]), ready to be updated by hand. The render
 /// world runs on the calling thread, so it can be inspected between
 /// updates. Bevy's logger is left out, so several such apps can live in
 /// one process.
@@ -43,7 +43,7 @@ pub fn app(with_manifold: bool) -> App {
     let mut app = App::new();
     app.add_plugins(plugins().disable::<LogPlugin>());
     if with_manifold {
-        app.add_plugins(crate::ManifoldPlugin::default());
+        app.add_plugins(crate::ManifoldPlugins::default());
     }
     app.finish();
     app.cleanup();
@@ -193,7 +193,7 @@ pub fn spawn_view(
     // One frame is all an offscreen render shows: the table of exact ids
     // is grown now rather than on a task while frames go by.
     if let crate::space::cells::CellScheme::Exact(exact) = space.cells() {
-        exact.ball();
+        exact.table();
     }
     let world = app.world_mut();
     let root = world.spawn(crate::placement::ManifoldSpace::new(space.clone())).id();
@@ -212,7 +212,7 @@ pub fn spawn_view(
         ))
         .id();
     if let Some(fog) = &scene.fog {
-        commands.entity(id).insert(crate::view::ManifoldFog::from_fog(fog));
+        commands.entity(id).insert(crate::camera::ManifoldFog::from_fog(fog));
     }
     world.flush();
     (root, id)

@@ -21,7 +21,7 @@ use bevy_manifold_gpu::bindings::render_bindings;
 /// import forever).
 #[derive(Resource, Clone)]
 pub struct TraceShader {
-    /// `trace.wgsl`, the entry points.
+    /// `render.wgsl`, the entry points.
     pub entry: Handle<Shader>,
     /// The modules it imports, kept alive.
     pub imports: Vec<Handle<Shader>>,

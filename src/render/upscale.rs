@@ -1,9 +1,9 @@
 //! A view traced into textures of its own ([`TracedTextures`]) rather
 //! than straight into its view target: at a render scale below 1
-//! ([`super::scale::ManifoldRenderScale`]) the trace is smaller, and
+//! ([`crate::camera::ManifoldRenderScale`]) the trace is smaller, and
 //! `bevy_manifold_gpu`'s `shaders/upscale.wgsl` draws it over the whole
 //! viewport, colour bilinear and depth nearest (Rust twin:
-//! [`crate::trace::upscale`]); with [`super::ManifoldAccumulation`] each
+//! [`crate::trace::upscale`]); with [`crate::camera::ManifoldAccumulation`] each
 //! trace is first blended into a history (`blend_in`, Rust twin
 //! [`crate::trace::accumulate`]) and the history is drawn.
 

@@ -8,7 +8,7 @@ use super::{XrBody, XrEye};
 use crate::placement::tracked;
 use crate::placement::{DomainCell, InSpace, Placement};
 use crate::render::extract::ExtractedManifoldView;
-use crate::render::prepare::ManifoldViewBinding;
+use crate::render::pass::ManifoldViewBinding;
 use bevy::prelude::*;
 use bevy::render::sync_world::RenderEntity;
 use bevy::render::{Extract, Render, RenderApp, RenderSystems};
@@ -73,7 +73,7 @@ pub(super) fn build(app: &mut App) {
             late_latch_eyes
                 .after(XrRenderSystems::PreRender)
                 .in_set(RenderSystems::PrepareResources)
-                .before(crate::render::prepare::prepare_manifold_views),
+                .before(crate::render::ManifoldPrepareSystems::Scenes),
         );
 }
 
@@ -132,7 +132,7 @@ fn late_latch_eyes(views: Option<Res<OxrViews>>, mut eyes: Query<(&ExtractedXrEy
         }
         let (p, c) = tracked::tracked_placement(&view.space, &eye.body, &eye.cell, *to);
         view.camera = p.isometry;
-        view.cell = c.element;
-        view.element = c.cell;
+        view.element = c.element;
+        view.cell = c.cell;
     }
 }

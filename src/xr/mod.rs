@@ -47,7 +47,7 @@
 //!
 //! App::new()
 //!     .add_plugins(bevy_mod_openxr::add_xr_plugins(DefaultPlugins))
-//!     .add_plugins((ManifoldPlugin::default(), ManifoldXrPlugin))
+//!     .add_plugins((ManifoldPlugins::default(), ManifoldXrPlugin))
 //!     .add_systems(Startup, setup)
 //!     .run();
 //! ```
@@ -57,10 +57,10 @@ mod capture;
 mod controls;
 mod late;
 
+use crate::camera::{AdaptiveRenderScale, ManifoldCamera, ManifoldFootprint, ManifoldRenderScale};
+use crate::camera::{CellShading, ManifoldFog};
 use crate::placement::tracked::{self, TrackedPose};
 use crate::placement::{DomainCell, InSpace, ManifoldSpace, ManifoldSystems, Placement, WrapOrigin};
-use crate::render::{AdaptiveRenderScale, ManifoldCamera, ManifoldFootprint, ManifoldRenderScale};
-use crate::view::{CellShading, ManifoldFog};
 use bevy::camera::CameraMainTextureUsages;
 use bevy::core_pipeline::tonemapping::Tonemapping;
 use bevy::prelude::*;
@@ -138,7 +138,7 @@ pub struct XrRecentre {
 pub struct XrEye(pub u32);
 
 /// The plugin: add it after `bevy_mod_openxr::add_xr_plugins(DefaultPlugins)`
-/// and [`crate::ManifoldPlugin`]. See the [module](self) for what it does.
+/// and [`crate::ManifoldPlugins`]. See the [module](self) for what it does.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct ManifoldXrPlugin;
 
@@ -232,7 +232,7 @@ fn equip_eyes(
 }
 
 /// The body's levels, distance, fog, cell shading, render scale and cone
-/// tracing ([`ManifoldFootprint`]) on every eye. A body holding a frame rate ([`crate::render::AdaptiveRenderScale`])
+/// tracing ([`ManifoldFootprint`]) on every eye. A body holding a frame rate ([`crate::camera::AdaptiveRenderScale`])
 /// chooses one scale from the whole frame's time, both eyes included,
 /// and both eyes trace at it; an eye with a controller of its own keeps
 /// its own.

@@ -5,7 +5,7 @@
 //! `FlatScene::ball_tree`, `tree_leaves` in the tracer's ball_tree module). The
 //! images are the same either way (tests/cull.rs, the GPU tests); only the
 //! time differs. The last columns give each culled time over the one-ball
-//! culled time of the same space: the goal is 100 balls under 2x.
+//! culled time of the same space (the goal: 100 balls under 2x one).
 //!
 //! More balls also stop more rays early (a ray ends on the first ball it
 //! hits), so a frame of many balls traces fewer segments. The `seg/ray`
@@ -19,7 +19,7 @@ use bevy_manifold_gpu::GpuTracer;
 use bevy_manifold_test_support::stress::swarm;
 
 /// Ball counts timed by default: 1 to 254 (the scene's ids stop at 254),
-/// with the issue's own 100.
+/// with 100, the count of the goal.
 pub const COUNTS: [usize; 10] = [1, 2, 4, 8, 16, 32, 64, 100, 128, 254];
 
 /// The swarm of `n` balls in `space`: the default scene's light and

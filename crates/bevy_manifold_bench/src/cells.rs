@@ -1,4 +1,4 @@
-//! `bench cells`: what exact cell ids cost (issue #14). On the CPU, the
+//! `bench cells`: what exact cell ids cost. On the CPU, the
 //! exact product per face crossing against the `f64` matrix product it
 //! replaces, the table's growth and recentring; on the GPU, the frame time
 //! with the table of exact ids (`CELLS_TABLE`) against the hashed ids it
@@ -7,7 +7,7 @@
 
 use crate::best_ms;
 use bevy_manifold::prelude::*;
-use bevy_manifold::space::ball::{CellBall, DEFAULT_BALL_CELLS};
+use bevy_manifold::space::cell_table::{CellTable, DEFAULT_TABLE_CELLS};
 use bevy_manifold::space::cells::{CellId, CellScheme};
 use bevy_manifold_gpu::{GpuCellScheme, GpuTracer, TraceDefs};
 use glam::DMat4;
@@ -58,17 +58,17 @@ pub fn run(width: u32, height: u32, runs: u32) -> Result<(), String> {
         })? * 1e6
             / f64::from(reps * 64);
         let t = Instant::now();
-        let ball = CellBall::grow(&exact.group, DEFAULT_BALL_CELLS);
+        let table = CellTable::grow(&exact.group, DEFAULT_TABLE_CELLS);
         let grow = t.elapsed().as_secs_f64() * 1e3;
         let far = match space.cell_of_word(&word[..20]) {
             bevy_manifold::space::element::CellElement::Exact(e) => e,
             _ => return Err("not exact".into()),
         };
-        let recentre = best_ms(runs, || Ok(ball.ids_around(&exact.group, &far)))?;
+        let recentre = best_ms(runs, || Ok(table.ids_around(&exact.group, &far)))?;
         println!(
             "{name:<22} {exact_ns:>12.0} {float_ns:>12.0} {:>8} {:>7} {grow:>10.0} {recentre:>12.1}",
-            ball.len(),
-            ball.radius()
+            table.len(),
+            table.radius()
         );
     }
     let mut tracer = GpuTracer::new().map_err(|e| e.to_string())?;

@@ -67,9 +67,9 @@ pub fn tracer(side: u32, runs: u32) -> Result<(), String> {
         let scene = Scene::default_for(&space);
         // Exact ids: the table of cells around the camera grown first, as
         // the GPU's packing grows it in an app, so rays step through it by
-        // index (`FlatScene::cells_around`) and multiply exactly only past it.
+        // index (`FlatScene::centred_table`) and multiply exactly only past it.
         if let bevy_manifold::space::cells::CellScheme::Exact(exact) = space.cells() {
-            exact.ball();
+            exact.table();
         }
         for levels in [4, 16] {
             let settings = TraceSettings {

@@ -111,8 +111,8 @@ pub enum BenchCommand {
         only: String,
     },
     /// What culling by near faces saves: GPU and CPU f32, each with
-    /// culling off and on, per catalog space at 8 and 16 levels, and issue
-    /// #19's Seifert-Weber view.
+    /// culling off and on, per catalog space at 8 and 16 levels, and the
+    /// wide Seifert-Weber view of the speed goals (90 degrees, 16 levels).
     Cull {
         /// Image width.
         #[arg(long, default_value_t = 640)]

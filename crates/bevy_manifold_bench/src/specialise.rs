@@ -123,7 +123,7 @@ fn uploads(args: &SpecialiseArgs, runs: u32) -> Result<(), String> {
                     Render,
                     drop_buffers
                         .in_set(RenderSystems::PrepareResources)
-                        .before(bevy_manifold::render::prepare::prepare_manifold_views),
+                        .before(bevy_manifold::render::ManifoldPrepareSystems::Buffers),
                 );
             }
             let image = offscreen::target(&mut app, args.width, args.height);

@@ -1,4 +1,4 @@
-//! Exact cells of the right-angled mirror spaces (`space::coxeter`),
+//! Exact cells of the right-angled mirror spaces (`bevy_manifold_test_support::coxeter`),
 //! checked against group theory and geometry rather than against itself:
 //! a word with a relation inserted names the same copy; a word times a
 //! short element that moves the domain (seen in the matrices) names
@@ -7,8 +7,8 @@
 
 use bevy_manifold_core::geometry::isometry;
 use bevy_manifold_core::prelude::*;
-use bevy_manifold_core::space::coxeter::RightAngledCoxeter;
 use bevy_manifold_test_support::Rng;
+use bevy_manifold_test_support::coxeter::RightAngledCoxeter;
 use glam::{DMat4, DVec4};
 
 fn spaces() -> Vec<(Space, RightAngledCoxeter)> {

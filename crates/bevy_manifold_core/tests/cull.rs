@@ -67,7 +67,7 @@ struct Counts {
 /// Walks random rays segment by segment; on each, every ball and tube the
 /// segment hits (tested by brute force) must pass `may_hit` and be among
 /// the objects `each_candidate` hands the tracer, each once.
-fn check_segments<R: Real>(name: &str, space: &Space, prep: &FlatScene<R>, rng: &mut Rng, counts: &mut Counts) {
+fn check_segments<R: Real>(name: &str, space: &Space, flat: &FlatScene<R>, rng: &mut Rng, counts: &mut Counts) {
     let g = space.geometry();
     let zero = R::of(0.0);
     for _ in 0..800 {
@@ -78,17 +78,17 @@ fn check_segments<R: Real>(name: &str, space: &Space, prep: &FlatScene<R>, rng: 
         };
         let mut walk = Walker::new(ray, R::m4_of(glam::DMat4::IDENTITY));
         for _ in 0..8 {
-            let (face, t_end) = walk.segment_end(&prep.faces);
+            let (face, t_end) = walk.segment_end(&flat.faces);
             let near = near_faces(
-                &prep.faces.planes,
-                prep.faces.near_scale,
-                prep.near_reach,
+                &flat.faces.planes,
+                flat.faces.near_scale,
+                flat.near_reach,
                 &walk.ray,
                 t_end,
             );
             // What the tracer tests on this segment.
             let mut handed = std::collections::HashSet::new();
-            each_candidate(prep, &walk.ray, t_end, ([near; 2], true), 0.0, |c| {
+            each_candidate(flat, &walk.ray, t_end, ([near; 2], true), 0.0, |c| {
                 assert!(handed.insert(c), "{name}: {c:?} handed out twice");
             });
             let mut check = |mask: u32, hit: Option<R>, what: &str| {
@@ -106,7 +106,7 @@ fn check_segments<R: Real>(name: &str, space: &Space, prep: &FlatScene<R>, rng: 
                     );
                 }
             };
-            for (i, b) in prep.balls.iter().enumerate() {
+            for (i, b) in flat.balls.iter().enumerate() {
                 let hit = hit_ball(g, &walk.ray, b.center, b.k, zero);
                 check(b.face_mask, hit, "a ball");
                 if hit.is_some_and(|t| t <= t_end) {
@@ -118,10 +118,10 @@ fn check_segments<R: Real>(name: &str, space: &Space, prep: &FlatScene<R>, rng: 
             }
             // The ball tree: every ball with no mask that the segment
             // hits is in a leaf the walk visits.
-            let interior = prep.groups.balls[0] as usize;
+            let interior = flat.groups.balls[0] as usize;
             let mut visited = vec![false; interior];
-            match chart_segment(&walk.ray, t_end).filter(|_| !prep.ball_tree.is_empty()) {
-                Some((a, d)) => tree_leaves(&prep.ball_tree, a, d, 0.0, |leaf| {
+            match chart_segment(&walk.ray, t_end).filter(|_| !flat.ball_tree.is_empty()) {
+                Some((a, d)) => tree_leaves(&flat.ball_tree, a, d, 0.0, |leaf| {
                     for i in leaf {
                         assert!(!visited[i], "{name}: ball {i} is in two leaves");
                         visited[i] = true;
@@ -129,7 +129,7 @@ fn check_segments<R: Real>(name: &str, space: &Space, prep: &FlatScene<R>, rng: 
                 }),
                 None => visited.fill(true),
             }
-            for (i, b) in prep.balls[..interior].iter().enumerate() {
+            for (i, b) in flat.balls[..interior].iter().enumerate() {
                 counts.interior += 1;
                 counts.interior_skipped += usize::from(!visited[i]);
                 if let Some(t) = hit_ball(g, &walk.ray, b.center, b.k, zero)
@@ -143,8 +143,8 @@ fn check_segments<R: Real>(name: &str, space: &Space, prep: &FlatScene<R>, rng: 
                     );
                 }
             }
-            for (i, tube) in prep.tubes.iter().enumerate() {
-                let hit = hit_tube(g, &walk.ray, &tube.segment, prep.tube_k, zero);
+            for (i, tube) in flat.tubes.iter().enumerate() {
+                let hit = hit_tube(g, &walk.ray, &tube.segment, flat.tube_k, zero);
                 check(tube.face_mask, hit, "a tube");
                 if hit.is_some_and(|t| t <= t_end) {
                     assert!(
@@ -155,7 +155,7 @@ fn check_segments<R: Real>(name: &str, space: &Space, prep: &FlatScene<R>, rng: 
             }
             let Some(f) = face else { break };
             let end = bevy_manifold_core::trace::step::advance(g, &walk.ray, t_end);
-            walk.step(&prep.faces, Some(f), end, true);
+            walk.step(&flat.faces, Some(f), end, true);
         }
     }
 }
@@ -273,29 +273,29 @@ fn images_are_the_same_with_culling_on_and_off() {
 #[test]
 fn groups_hold_every_object_once_and_a_segment_walks_the_near_ones() {
     let space = catalog::seifert_weber();
-    let prep = FlatScene::<f64>::new(&space, &Scene::default_for(&space));
-    let g = &prep.groups;
+    let flat = FlatScene::<f64>::new(&space, &Scene::default_for(&space));
+    let g = &flat.groups;
     // 12 faces: 13 starts, the last the count; non-decreasing.
     assert_eq!(g.tubes.len(), 13);
-    assert_eq!(*g.tubes.last().unwrap() as usize, prep.tubes.len());
+    assert_eq!(*g.tubes.last().unwrap() as usize, flat.tubes.len());
     assert!(g.tubes.windows(2).all(|w| w[0] <= w[1]));
     // Each edge of the dodecahedron lies on two faces: every tube masked.
     assert_eq!(g.tubes[0], 0, "no tube is unmasked");
-    assert!(prep.tubes.iter().all(|t| t.face_mask.count_ones() == 2));
+    assert!(flat.tubes.iter().all(|t| t.face_mask.count_ones() == 2));
     // Each vertex joint lies on three faces; the central ball on none.
-    let joints = prep.balls.iter().filter(|b| b.id == bevy_manifold_core::trace::EDGE_ID);
+    let joints = flat.balls.iter().filter(|b| b.id == bevy_manifold_core::trace::EDGE_ID);
     assert!(joints.clone().all(|b| b.face_mask.count_ones() == 3));
     assert_eq!(joints.count(), 20);
     assert_eq!(g.balls[0], 1, "the one unmasked ball comes first");
     // All faces near: every object walked once.
     let all: Vec<usize> = FaceGroups::ranges(&g.tubes, ALL_FACES).flatten().collect();
-    assert_eq!(all, (0..prep.tubes.len()).collect::<Vec<_>>());
+    assert_eq!(all, (0..flat.tubes.len()).collect::<Vec<_>>());
     // Near face 0 only: its group, each tube in it has face 0 as first face.
     let near0: Vec<usize> = FaceGroups::ranges(&g.tubes, 1).flatten().collect();
     assert!(!near0.is_empty());
-    assert!(near0.iter().all(|&i| prep.tubes[i].face_mask.trailing_zeros() == 0));
+    assert!(near0.iter().all(|&i| flat.tubes[i].face_mask.trailing_zeros() == 0));
     // The tubes along face 0's five edges are those with bit 0.
-    assert_eq!(prep.tubes.iter().filter(|t| t.face_mask & 1 != 0).count(), 5);
+    assert_eq!(flat.tubes.iter().filter(|t| t.face_mask & 1 != 0).count(), 5);
 }
 
 /// A ball's chart box holds every point of the ball and is tight: points
@@ -359,17 +359,17 @@ fn a_balls_chart_box_holds_it_and_touches_it() {
 fn the_edge_walk_finds_the_tubes_of_the_near_edges() {
     let mut rng = Rng(41);
     for (name, space) in spaces() {
-        let prep = FlatScene::<f64>::new(&space, &Scene::default_for(&space));
-        let g = &prep.groups;
+        let flat = FlatScene::<f64>::new(&space, &Scene::default_for(&space));
+        let g = &flat.groups;
         let bit = |f: usize| 1u32 << (f % 32);
         // Each tube's edge bits are those of the polyhedron edge it runs
         // along (found by its ends), or for a folded repeat one of them,
         // or 0.
         let mut keys = std::collections::HashSet::new();
-        for t in prep.tubes.iter().filter(|t| t.edge != 0) {
+        for t in flat.tubes.iter().filter(|t| t.edge != 0) {
             assert!(keys.insert(t.edge), "{name}: two tubes with edge bits {:b}", t.edge);
         }
-        for t in &prep.tubes {
+        for t in &flat.tubes {
             let edge = space
                 .edges()
                 .iter()
@@ -395,7 +395,7 @@ fn the_edge_walk_finds_the_tubes_of_the_near_edges() {
         }
         if space.faces().len() <= 32 {
             assert!(
-                prep.tubes.iter().all(|t| t.edge.count_ones() == 2),
+                flat.tubes.iter().all(|t| t.edge.count_ones() == 2),
                 "{name}: every edge has its own two bits"
             );
         }
@@ -406,11 +406,11 @@ fn the_edge_walk_finds_the_tubes_of_the_near_edges() {
         }
         for near in nears {
             let walked: Vec<usize> = FaceGroups::edge_walk(&g.tubes, &g.edges, near).collect();
-            let scanned: Vec<usize> = (0..prep.tubes.len())
-                .filter(|&i| prep.tubes[i].edge & !near == 0)
+            let scanned: Vec<usize> = (0..flat.tubes.len())
+                .filter(|&i| flat.tubes[i].edge & !near == 0)
                 .collect();
             assert_eq!(walked, scanned, "{name}: near {near:032b}");
-            for (i, t) in prep.tubes.iter().enumerate() {
+            for (i, t) in flat.tubes.iter().enumerate() {
                 if may_hit(t.face_mask, near) {
                     assert!(walked.contains(&i), "{name}: tube {i} may be hit but is not walked");
                 }
@@ -430,19 +430,19 @@ fn the_edge_walk_finds_the_tubes_of_the_near_edges() {
 fn every_joint_a_segment_may_hit_is_walked_with_a_tube() {
     let mut rng = Rng(43);
     for (name, space) in spaces() {
-        let prep = FlatScene::<f64>::new(&space, &Scene::default_for(&space));
-        let g = &prep.groups;
+        let flat = FlatScene::<f64>::new(&space, &Scene::default_for(&space));
+        let g = &flat.groups;
         let grouped = *g.balls.last().expect("starts") as usize;
-        let mut carried = vec![false; prep.balls.len()];
-        for t in &prep.tubes {
+        let mut carried = vec![false; flat.balls.len()];
+        for t in &flat.tubes {
             let Some(j) = t.joint else { continue };
             assert!(
-                j >= grouped && j < prep.balls.len(),
+                j >= grouped && j < flat.balls.len(),
                 "{name}: joint {j} inside the groups"
             );
             assert!(!carried[j], "{name}: joint {j} on two tubes");
             carried[j] = true;
-            let joint = &prep.balls[j];
+            let joint = &flat.balls[j];
             assert_eq!(
                 joint.id,
                 bevy_manifold_core::trace::EDGE_ID,
@@ -464,7 +464,7 @@ fn every_joint_a_segment_may_hit_is_walked_with_a_tube() {
             carried[grouped..].iter().all(|&c| c),
             "{name}: a ball after the groups that no tube carries"
         );
-        let unkeyed = prep.tubes.iter().filter(|t| t.edge == 0).count();
+        let unkeyed = flat.tubes.iter().filter(|t| t.edge == 0).count();
         // The tubes before the first group, which the GPU's
         // MANY_UNKEYED_TUBES is decided by (TraceDefs::for_objects).
         assert_eq!(g.tubes[0] as usize, unkeyed, "{name}");
@@ -492,10 +492,10 @@ fn every_joint_a_segment_may_hit_is_walked_with_a_tube() {
             // near (each_candidate).
             walked.extend(
                 FaceGroups::edge_walk(&g.tubes, &g.edges, near)
-                    .filter(|&t| prep.tubes[t].edge != 0 || may_hit(prep.tubes[t].face_mask, near))
-                    .filter_map(|t| prep.tubes[t].joint),
+                    .filter(|&t| flat.tubes[t].edge != 0 || may_hit(flat.tubes[t].face_mask, near))
+                    .filter_map(|t| flat.tubes[t].joint),
             );
-            for (i, b) in prep.balls.iter().enumerate() {
+            for (i, b) in flat.balls.iter().enumerate() {
                 if may_hit(b.face_mask, near) {
                     assert!(
                         walked.contains(&i),
@@ -505,7 +505,7 @@ fn every_joint_a_segment_may_hit_is_walked_with_a_tube() {
             }
         }
         if name == "seifert-weber" {
-            assert_eq!(prep.balls.len(), 21, "{name}: the ball and 20 joints");
+            assert_eq!(flat.balls.len(), 21, "{name}: the ball and 20 joints");
             assert_eq!(grouped, 1, "{name}: only the central ball in the groups");
             assert!(g.balls.iter().all(|&s| s == 1), "{name}: {:?}", g.balls);
         }

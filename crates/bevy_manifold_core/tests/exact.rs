@@ -1,16 +1,16 @@
 //! Exact cell ids (`space::exact`, `space::element`), checked against the
 //! group's relations (edge cycles and face pairs, from the polyhedron),
 //! against geometry near the origin copy, and in the mirrored dodecahedron
-//! against the right-angled Coxeter normal form (`space::coxeter`), an
+//! against the right-angled Coxeter normal form (`bevy_manifold_test_support::coxeter`), an
 //! independent solution of the same word problem.
 
 use bevy_manifold_core::geometry::isometry;
 use bevy_manifold_core::prelude::*;
 use bevy_manifold_core::space::cells::CellId;
-use bevy_manifold_core::space::coxeter::RightAngledCoxeter;
 use bevy_manifold_core::space::element::CellElement;
 use bevy_manifold_core::space::exact::ExactGroup;
 use bevy_manifold_test_support::Rng;
+use bevy_manifold_test_support::coxeter::RightAngledCoxeter;
 use glam::{DMat4, DVec4};
 
 fn random_word(rng: &mut Rng, faces: usize, max_len: usize) -> Vec<usize> {
@@ -299,7 +299,7 @@ fn the_view_from_a_far_cell_is_the_view_from_home() {
 /// inside the table and, once a walk leaves it, never again by index.
 #[test]
 fn a_walk_through_the_table_around_a_copy_names_the_exact_products_cells() {
-    use bevy_manifold_core::space::ball::{CellBall, CellsAround, OUTSIDE};
+    use bevy_manifold_core::space::cell_table::{CellTable, CentredTable, OUTSIDE};
     use bevy_manifold_core::space::cells::CellScheme;
     use std::sync::Arc;
     let s = catalog::seifert_weber();
@@ -308,12 +308,12 @@ fn a_walk_through_the_table_around_a_copy_names_the_exact_products_cells() {
     };
     let g = &exact.group;
     // A small table (radius 2 or 3), so that walks of 8 leave it.
-    let ball = Arc::new(CellBall::grow(g, 2000));
+    let table = Arc::new(CellTable::grow(g, 2000));
     let mut rng = Rng(41);
     let (mut inside, mut left) = (0, 0);
     for _ in 0..40 {
         let centre = g.element(&random_word(&mut rng, 12, 12)).unwrap();
-        let around = CellsAround::new(ball.clone(), centre.clone());
+        let around = CentredTable::new(table.clone(), centre.clone());
         assert_eq!(around.id(g, 0), centre.cell_id());
         for _ in 0..20 {
             let (mut e, mut k) = (centre.clone(), 0u32);
@@ -321,7 +321,7 @@ fn a_walk_through_the_table_around_a_copy_names_the_exact_products_cells() {
                 let f = rng.below(12);
                 e = g.cross(&e, f).unwrap();
                 if k != OUTSIDE {
-                    k = ball.neighbour(k, s.faces()[f].partner);
+                    k = table.neighbour(k, s.faces()[f].partner);
                 }
                 if k == OUTSIDE {
                     left += 1;
@@ -352,14 +352,14 @@ fn rays_through_the_grown_table_see_what_exact_products_see() {
     let (CellScheme::Exact(p), CellScheme::Exact(t)) = (plain.cells(), tabled.cells()) else {
         panic!("exact ids")
     };
-    let radius = t.ball().radius();
-    assert!(p.grown_ball().is_none(), "a space of its own");
+    let radius = t.table().radius();
+    assert!(p.grown_table().is_none(), "a space of its own");
     let mut scene = Scene::paper_default(&plain);
     scene.camera.cell = vec![3, 7, 7, 1, 10];
     // One walks the table, the other multiplies.
-    let prep = |s: &Space| bevy_manifold_core::trace::FlatScene::<f64>::new(s, &scene);
-    assert!(prep(&tabled).cells_around(&tabled).is_some());
-    assert!(prep(&plain).cells_around(&plain).is_none());
+    let flat = |s: &Space| bevy_manifold_core::trace::FlatScene::<f64>::new(s, &scene);
+    assert!(flat(&tabled).centred_table(&tabled).is_some());
+    assert!(flat(&plain).centred_table(&plain).is_none());
     for (rule, levels) in [
         (CellRule::default(), 8),
         (
@@ -418,37 +418,37 @@ fn a_scene_hands_out_its_table_only_for_its_space_and_camera() {
         let CellScheme::Exact(e) = s.cells() else {
             panic!("exact ids")
         };
-        e.ball();
+        e.table();
     }
     let scene = Scene::paper_default(&sw);
-    let mut prep = FlatScene::<f64>::new(&sw, &scene);
-    assert!(prep.cells_around(&sw).is_some());
-    assert!(prep.cells_around(&other).is_none(), "another space's table");
+    let mut flat = FlatScene::<f64>::new(&sw, &scene);
+    assert!(flat.centred_table(&sw).is_some());
+    assert!(flat.centred_table(&other).is_none(), "another space's table");
     let settings = TraceSettings {
         width: 16,
         height: 16,
         ..TraceSettings::default()
     };
     let rays: Vec<_> = (0..16 * 16)
-        .map(|p| camera_ray(&prep, p % 16, p / 16, 16, 16))
+        .map(|p| camera_ray(&flat, p % 16, p / 16, 16, 16))
         .collect();
     let mine: Vec<_> = rays
         .iter()
-        .map(|&ray| trace_ray(&sw, &prep, ray, &settings, &mut |_| {}).0.cell)
+        .map(|&ray| trace_ray(&sw, &flat, ray, &settings, &mut |_| {}).0.cell)
         .collect();
     // The rays walked the table: the ids of the cells they ended in
     // within it were made there.
-    let made = prep.cells_around(&sw).expect("the table").made();
+    let made = flat.centred_table(&sw).expect("the table").made();
     assert!(made >= 1, "{made} ids made");
     let theirs: Vec<_> = rays
         .iter()
-        .map(|&ray| trace_ray(&other, &prep, ray, &settings, &mut |_| {}).0.cell)
+        .map(|&ray| trace_ray(&other, &flat, ray, &settings, &mut |_| {}).0.cell)
         .collect();
     assert_eq!(mine, theirs, "the same group, multiplied");
     // The other space's traces made none in this table.
-    assert_eq!(prep.cells_around(&sw).expect("the table").made(), made);
-    prep.camera_element = sw.cell_of_word(&[2, 9]);
-    assert!(prep.cells_around(&sw).is_none(), "a camera moved by hand");
-    let moved = prep.clone().in_cell(&sw, &sw.cell_of_word(&[4]));
-    assert!(moved.cells_around(&sw).is_some(), "in_cell makes a new table");
+    assert_eq!(flat.centred_table(&sw).expect("the table").made(), made);
+    flat.camera_element = sw.cell_of_word(&[2, 9]);
+    assert!(flat.centred_table(&sw).is_none(), "a camera moved by hand");
+    let moved = flat.clone().in_cell(&sw, &sw.cell_of_word(&[4]));
+    assert!(moved.centred_table(&sw).is_some(), "in_cell makes a new table");
 }

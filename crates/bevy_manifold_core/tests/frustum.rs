@@ -37,12 +37,12 @@ fn every_pixel_of_an_off_centre_frustum_lands_where_its_projection_puts_it() {
             let mut scene = Scene::empty();
             scene.camera.isometry = camera;
             scene.camera.frustum = Some(f);
-            let prep = FlatScene::<f64>::new(&space, &scene);
+            let flat = FlatScene::<f64>::new(&space, &scene);
             let p = gl_frustum(&f);
-            let back = isometry::inverse(g, prep.camera);
+            let back = isometry::inverse(g, flat.camera);
             for j in 0..h {
                 for i in 0..w {
-                    let ray = camera_ray(&prep, i, j, w, h);
+                    let ray = camera_ray(&flat, i, j, w, h);
                     // The direction in the camera's own frame, at its eye.
                     let d = back * ray.dir;
                     let clip = p * DVec4::new(d.x, d.y, d.z, 1.0) - p * DVec4::W;

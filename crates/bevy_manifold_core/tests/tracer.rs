@@ -26,7 +26,7 @@ fn a_ray_leaving_through_a_face_reenters_through_its_partner() {
     for name in catalog::NAMES {
         let s = catalog::by_name(name).expect("catalog");
         let g = s.geometry();
-        let prep = empty(&s);
+        let flat = empty(&s);
         let settings = TraceSettings {
             levels: 1,
             max_distance: 50.0,
@@ -41,7 +41,7 @@ fn a_ray_leaving_through_a_face_reenters_through_its_partner() {
                 dir: g.normalize_tangent::<f64>(o, mid),
             };
             let mut steps = Vec::new();
-            let (_, stop) = trace_ray(&s, &prep, ray, &settings, &mut |st| steps.push(*st));
+            let (_, stop) = trace_ray(&s, &flat, ray, &settings, &mut |st| steps.push(*st));
             assert_eq!(stop, Stop::MaxLevel, "{name}");
             assert_eq!(steps[0].face, Some(i), "{name}: face {i}");
             let end = steps[0].end;
@@ -73,16 +73,16 @@ fn a_ray_leaving_through_a_face_reenters_through_its_partner() {
 #[test]
 fn torus_ray_along_x_comes_back_after_distance_one() {
     let s = catalog::torus(1.0);
-    let prep = tables(&s);
+    let flat = tables(&s);
     let o = DVec4::new(0.2, -0.1, 0.3, 1.0);
     let ray = Ray {
         origin: o,
         dir: DVec4::X,
     };
-    let before = flow(&prep, ray, 0.99, 10);
+    let before = flow(&flat, ray, 0.99, 10);
     assert_eq!(before.levels, 1);
     assert!((before.ray.origin - o).length() > 1e-3);
-    let back = flow(&prep, ray, 1.0, 10);
+    let back = flow(&flat, ray, 1.0, 10);
     assert!(back.complete);
     assert!((back.ray.origin - o).length() < 1e-15, "{:?}", back.ray.origin);
     assert_eq!(
@@ -98,13 +98,13 @@ fn every_geodesic_of_the_poincare_space_closes_after_two_pi() {
     // 2 pi. The group also contains -I, so after pi a ray is back at its
     // start in the quotient too, in the antipodal copy.
     let s = catalog::poincare();
-    let prep = tables(&s);
+    let flat = tables(&s);
     let mut rng = Rng(1);
     let minus_one = s.cell_id(&(-DMat4::IDENTITY));
     assert_ne!(minus_one.0, 0);
     for _ in 0..2000 {
         let ray = rng.ray_inside(&s);
-        let full = flow(&prep, ray, TAU, 100);
+        let full = flow(&flat, ray, TAU, 100);
         assert!(full.complete);
         assert!(
             (full.ray.origin - ray.origin).length() < 1e-9,
@@ -112,14 +112,14 @@ fn every_geodesic_of_the_poincare_space_closes_after_two_pi() {
         );
         assert!((full.ray.dir - ray.dir).length() < 1e-9);
         assert_eq!(s.cell_id(&full.cell).0, 0, "back in the original copy");
-        let half = flow(&prep, ray, PI, 100);
+        let half = flow(&flat, ray, PI, 100);
         assert!(
             (half.ray.origin - ray.origin).length() < 1e-9,
             "the quotient closes it after pi"
         );
         assert_eq!(s.cell_id(&half.cell), minus_one, "in the antipodal copy");
         // Just short of pi it is elsewhere.
-        let short = flow(&prep, ray, PI - 0.1, 100);
+        let short = flow(&flat, ray, PI - 0.1, 100);
         assert!((short.ray.origin - ray.origin).length() > 1e-3);
     }
 }
@@ -131,7 +131,7 @@ fn a_million_random_rays_stay_finite_inside_and_normalised() {
     for name in catalog::NAMES {
         let s = catalog::by_name(name).expect("catalog");
         let g = s.geometry();
-        let prep = empty(&s);
+        let flat = empty(&s);
         let settings = TraceSettings {
             levels: LEVELS,
             max_distance: 1e6,
@@ -156,7 +156,7 @@ fn a_million_random_rays_stay_finite_inside_and_normalised() {
                         worst[2] = worst[2].max(g.tangent_error::<f64>(r.origin, r.dir));
                     };
                     let mut steps = 0;
-                    let (_, stop) = trace_ray(&s, &prep, ray, &settings, &mut |st| {
+                    let (_, stop) = trace_ray(&s, &flat, ray, &settings, &mut |st| {
                         check(&st.start);
                         check(&st.end);
                         steps += 1;
@@ -612,7 +612,7 @@ fn rays_through_vertices_along_edges_and_tangent_to_faces_stay_sane() {
     for name in catalog::NAMES {
         let s = catalog::by_name(name).expect("catalog");
         let g = s.geometry();
-        let prep = empty(&s);
+        let flat = empty(&s);
         let settings = TraceSettings {
             levels: 64,
             max_distance: 1e6,
@@ -628,7 +628,7 @@ fn rays_through_vertices_along_edges_and_tangent_to_faces_stay_sane() {
         for ray in rays {
             let mut steps = 0usize;
             let mut length = 0.0;
-            let (_, stop) = trace_ray(&s, &prep, ray, &settings, &mut |st| {
+            let (_, stop) = trace_ray(&s, &flat, ray, &settings, &mut |st| {
                 for r in [st.start, st.end] {
                     assert!(r.origin.is_finite() && r.dir.is_finite(), "{name}: NaN");
                     let out = s

@@ -3,7 +3,7 @@
 // the frame (BallTree::origin, BallTree::step) and its run of balls; and
 // their boxes, decoded once per invocation into private arrays of
 // BALL_LEAVES (cache_leaves). The test of a segment against them,
-// ball_tree_leaves, is in render.wgsl, next to the ball tests it calls.
+// ball_tree_leaves, is in cull.wgsl, next to the ball tests it calls.
 //
 // Rust twin: crates/bevy_manifold_core/src/trace/ball_tree.rs
 // (BallTree::node_box; tree_leaves is ball_tree_leaves' twin). Checked

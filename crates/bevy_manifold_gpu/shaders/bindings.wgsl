@@ -1,7 +1,7 @@
 // The tracer's data as the GPU sees it: the structs of bind group 0, the
 // bindings themselves, and the constants the CPU and GPU sides share.
 //
-// Rust twin: crates/bevy_manifold_gpu/src/layout.rs (the `Gpu…` structs,
+// Rust twin: crates/bevy_manifold_gpu/src/layout.rs (the Gpu… structs,
 // `#[repr(C)]`, byte for byte; a naga layouter test holds the two to the
 // same sizes and offsets). The bind group layout that matches the
 // `@binding`s below is built in crates/bevy_manifold_gpu (headless runner,
@@ -235,7 +235,7 @@ const MAX_BALL_LEAVES: u32 = 64u;
 // after the last face (at most 32) holds their counts. Objects before
 // groups[0] carry no face mask (tubes: no edge bits) and are tested on
 // every segment. w: the tubes' edge table (FaceGroups::edges) of face f.
-// Read by render.wgsl's nearest_object.
+// Read by cull.wgsl's each_candidate.
 @group(0) @binding(9) var<uniform> groups: array<vec4<u32>, GROUPS>;
 // FlatScene::ball_tree (GpuObjects::ball_nodes in Rust): the frame of
 // the packed boxes, BallTree::origin and BallTree::step (bits, xyz), then
@@ -263,7 +263,7 @@ struct CachedParams {
 var<private> cached: CachedParams;
 
 // Fills `cached` from params. Every entry point calls it (through
-// trace_pixel or ray_drift) before anything reads `cached`.
+// trace_ray or ray_drift) before anything reads `cached`.
 fn cache_params() {
     cached = CachedParams(params.occupied, params.face_count, params.flags, params.levels, params.max_distance, params.fog_density, params.near_reach, params.tube_k, params.ball_leaves);
 #ifdef FACE_COUNT
@@ -289,7 +289,7 @@ fn cache_params() {
 // of loaded ones and by 65-80 ms when each was loaded. A private array
 // read at a constant index is a plain load: Seifert-Weber's 52-face
 // domain traced in 122-132 ms before this copy and 54-59 after
-// (BENCHMARKS.md, "Face planes copied once"). WGSL only: Rust reads
+// (docs/benchmarks/history.md, "Face planes copied once"). WGSL only: Rust reads
 // FaceTables::planes.
 var<private> planes: array<vec4<f32>, #{FACE_COUNT}u>;
 
@@ -328,16 +328,8 @@ const NO_FACE: u32 = 0xffffffffu;
 // crates/bevy_manifold_gpu/src/layout.rs.
 const NO_JOINT: u32 = 0xffffffffu;
 
-// The object id of a wall. Rust: rule::WALL_OBJECT.
+// The object id of a wall. Rust twin: rule::WALL_OBJECT.
 const WALL_OBJECT: u32 = 0xfffffffeu;
 
-// CELLS_TABLE: a cell beyond the table. Rust: ball::OUTSIDE.
+// CELLS_TABLE: a cell beyond the table. Rust twin: cell_table::OUTSIDE.
 const CELL_OUTSIDE: u32 = 0xffffffffu;
-// ln 255 (the f32 nearest it): once fog_density * distance passes it, fog
-// has left less than 1/255 of an object's light and the ray may stop.
-// Rust twin: FOG_CUT in crates/bevy_manifold_core/src/trace/render.rs.
-const FOG_CUT: f32 = 5.5412636;
-// A light nearer a hit than this (|tangent towards it|^2) is on the hit
-// point, and lights it along the normal (render.wgsl's toward_light).
-// Rust twin: LIGHT_AT_HIT in crates/bevy_manifold_core/src/trace/render.rs.
-const LIGHT_AT_HIT: f32 = 1.0e-10;

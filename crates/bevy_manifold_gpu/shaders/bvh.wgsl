@@ -6,7 +6,7 @@
 // is GpuObjects::mesh_data in crates/bevy_manifold_gpu/src/layout.rs.
 //
 // Shader defs read: MESHES (the mesh part: compiled in only with meshes).
-// The slab test and its inverse serve the ball tree too (render.wgsl's
+// The slab test and its inverse serve the ball tree too (cull.wgsl's
 // interior_balls).
 #define_import_path bevy_manifold::bvh
 
@@ -87,7 +87,7 @@ fn triangle_corner(inst: Instance, tri: vec4<u32>, k: u32) -> vec3<f32> {
 // for the others and test their leaves together. The paper's scene
 // (Suzanne, the hands) at 320x180, 8 levels, traced in 53-56 ms in the
 // torus, against 82-84 with the ordered walk and its stack
-// (BENCHMARKS.md, "Meshes by skip links"). Always forward, so at most
+// (docs/benchmarks/history.md, "Meshes by skip links"). Always forward, so at most
 // node_count passes.
 fn hit_mesh(inst: Instance, o: vec3<f32>, d: vec3<f32>, s_max: f32) -> MeshHit {
     let inv_d = safe_inverse(d);

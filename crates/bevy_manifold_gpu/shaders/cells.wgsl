@@ -13,13 +13,13 @@
 #import bevy_manifold::bindings::{params, cell_table, CELL_OUTSIDE}
 
 // The cell id as (lo, hi) words of CellId, from the cell's group element
-// (and, for finite groups, its table index). Rust: CellScheme::id_within.
+// (and, for finite groups, its table index). Rust twin: CellScheme::id_within.
 fn cell_id(cell: mat4x4<f32>, index: u32) -> vec2<u32> {
 #ifdef CELLS_FINITE
     return vec2<u32>(index, 0u);
 #else ifdef CELLS_TABLE
     // Beyond the table: CellId::BEYOND_TABLE, the far bit alone. Rust:
-    // CellBall::ids_around, in the words GpuSpace::centre_on writes.
+    // CellTable::ids_around, in the words GpuSpace::centre_on writes.
     if index == CELL_OUTSIDE {
         return vec2<u32>(0u, 0x40000000u);
     }
@@ -91,14 +91,14 @@ fn cell_color(id: vec2<u32>) -> vec3<f32> {
 }
 #endif
 
-// PCG's output permutation. Rust: hash32.
+// PCG's output permutation. Rust twin: `hash32`.
 fn hash32(x: u32) -> u32 {
     let state = x * 747796405u + 2891336453u;
     let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
     return (word >> 22u) ^ word;
 }
 
-// Hash of a rounded cell centre, seeded. Rust: hash_key.
+// Hash of a rounded cell centre, seeded. Rust twin: `hash_key`.
 fn hash_key(key: vec4<i32>, seed: u32) -> u32 {
     var h = seed;
     h = hash32(h ^ bitcast<u32>(key.x));

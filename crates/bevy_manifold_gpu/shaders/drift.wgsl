@@ -1,5 +1,5 @@
 // How far a ray drifts off the model over many transports (`bench
-// stability`, the stability tests): the camera ray walked as trace_pixel
+// stability`, the stability tests): the camera ray walked as trace_ray
 // walks it, by the same walker, objects and fog ignored.
 //
 // Rust twin: crates/bevy_manifold_core/src/trace/drift.rs (ray_drift,

@@ -11,7 +11,7 @@
 // names; Rust's methods are functions here: Inflation::new is
 // inflation_new, Approach::within is within, Approach::gap is gap_of,
 // Layers::add is add_layer).
-// render.wgsl's segment layers and cone_layer use it under FOOTPRINT.
+// cone.wgsl, nearest.wgsl and trace.wgsl use it under FOOTPRINT.
 //
 // Shader defs read: GEOMETRY_HYPERBOLIC / GEOMETRY_SPHERICAL /
 // GEOMETRY_EUCLIDEAN.
@@ -166,7 +166,7 @@ fn approach(ray: Ray, a: vec4<f32>, e: vec4<f32>) -> Approach {
     return Approach(select(p, lambda, placed), select(0.0, -m / lead, placed));
 }
 
-// The least distance of an approach (Rust: Approach::gap).
+// The least distance of an approach (Rust twin: Approach::gap).
 fn gap_of(lambda: f32) -> f32 {
     let root = sqrt(max(lambda, 0.0));
 #ifdef GEOMETRY_HYPERBOLIC
@@ -266,7 +266,7 @@ struct Layers {
     count: u32,
 }
 
-// Adds a layer to the private `layers` (render.wgsl's cone_layers); true
+// Adds a layer to the private `layers` (cone.wgsl's cone_layers); true
 // when it takes all the light left.
 fn add_layer(layers: ptr<private, Layers>, color: vec3<f32>, part_in: f32) -> bool {
     (*layers).count += 1u;

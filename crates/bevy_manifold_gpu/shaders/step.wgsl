@@ -22,8 +22,8 @@ struct Ray {
 
 // Where a ray crosses a face: the nearest face it leaves through
 // (n . d > 0), skipping the face it just entered; t = -(n . o) / (n . d),
-// clamped at 0 so a point a hair outside leaves at once. Rust twin: the
-// Option<(usize, R)> exit_face returns (NO_FACE for None).
+// clamped at 0 so a point a hair outside leaves at once. Rust twin: what
+// exit_face returns, Option<(usize, R)> (NO_FACE for None).
 struct Exit {
     face: u32,
     t: f32,

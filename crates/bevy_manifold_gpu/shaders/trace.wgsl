@@ -1,111 +1,210 @@
-// The manifold ray tracer's entry points: Algorithm 1 of Velho, da Silva,
-// Novello (GI 2020), whose loop the core's trace/mod.rs docs spell out. The work is in the
-// imported modules, each the WGSL twin of a Rust file of the CPU
-// reference tracer, with the same names and the same arithmetic in the
-// same order, so the CPU reference in f32 and this shader can be compared
-// pixel by pixel:
+// Algorithm 1 for one ray (trace_ray): on each segment of its walk
+// through the faces (walk.wgsl), the objects the segment may meet
+// (cull.wgsl's each_candidate), the nearest of them for a ray or a cone's
+// layers (nearest.wgsl, cone.wgsl), shaded (shade.wgsl) and added front
+// to back; else on through the exit face.
 //
-//   bindings  crates/bevy_manifold_gpu/src/layout.rs   structs, bindings, constants
-//   geometry  crates/bevy_manifold_core/src/geometry/mod.rs
-//   step      crates/bevy_manifold_core/src/trace/step.rs   where a ray crosses a face
-//   cells     crates/bevy_manifold_core/src/space/cells.rs
-//   bvh       crates/bevy_manifold_core/src/mesh/bvh.rs
-//   mesh_hit  crates/bevy_manifold_core/src/trace/mesh_hit.rs
-//   walk      crates/bevy_manifold_core/src/trace/walk.rs   the ray walk loop
-//   render    crates/bevy_manifold_core/src/trace/render.rs
-//   drift     crates/bevy_manifold_core/src/trace/drift.rs
-//   output    crates/bevy_manifold_core/src/trace/output.rs
+// Rust twin: crates/bevy_manifold_core/src/trace/trace.rs (trace_ray,
+// nearest_object, segment_layers).
 //
-// Rust twins of this file: the callers in crates/bevy_manifold_gpu (the
-// headless runner dispatches `trace` and `drift`, the render pass draws
-// `fragment`).
+// Shader defs read: FOG (early stop, fog colour), CELL_RULES (hidden
+// cells, walls), FOOTPRINT (cone tracing), BALL_TREE (the leaves cached
+// once a ray); the rest through the imports.
 //
-// Shader defs (the pipeline is specialised on the scene; see
-// crates/bevy_manifold_gpu/src/shader_defs.rs, which picks them):
-//   GEOMETRY_EUCLIDEAN | GEOMETRY_HYPERBOLIC | GEOMETRY_SPHERICAL  exactly one
-//   TRANSLATIONS_ONLY  every pairing is a Euclidean translation: transport
-//                      moves the point, the direction is unchanged
-//   CELLS_LATTICE | CELLS_FINITE | CELLS_HASHED  how cell ids are made
-//                      (cells.rs): box lattice, Cayley-table index, hash of
-//                      the copy's rounded centre
-//   CELL_COLORS        per-cell shading
-//   FOG                exponential fog and the early stop it allows
-//   BALLS, TUBES, MESHES  which object kinds the scene has
-//   BALL_HITS          derived: BALLS or MESHES (ball tests, also of the
-//                      meshes' bounding balls)
-//   LIGHTS             point lights (else ambient only)
-//   ENCODE_SRGB        the render pass's target stores sRGB-encoded bytes
-//                      without doing the encoding itself (Bevy's
-//                      CompositingSpace::Srgb): the fragment entry encodes
-// This file reads ENCODE_SRGB; every other def is read in the modules.
-//
-// Entry points: `trace` (compute) writes every pixel with its ids to a
-// storage buffer (headless renders, the agreement tests); `fragment` is the
-// Bevy render pass's full-screen trace into a camera's view target, with
-// depth. Both call `trace_pixel`, so they cannot disagree. `drift` (compute)
-// is the drift probe; it walks rays with the same walker as trace_pixel.
+// Written for lavapipe too, which runs the body of every branch under a
+// mask whether or not any SIMD lane takes it (only loops end early, once
+// all lanes are done): what a scene does not need is left out by a def,
+// and the shading is done once, after the walk, not inside it.
+#define_import_path bevy_manifold::trace
 
-#import bevy_manifold::bindings::{params, pixels}
-#import bevy_manifold::render::{camera_ray, trace_pixel, view_direction}
-#import bevy_manifold::drift::ray_drift
-#ifdef ENCODE_SRGB
-#import bevy_manifold::output::encode_srgb
+#import bevy_manifold::bindings::{params, cached, cache_params, faces, Pixel, FLAG_NO_EARLY_STOP, WALL_OBJECT}
+#import bevy_manifold::geometry::chart_to_distance
+#import bevy_manifold::step::{Ray, near_faces}
+#import bevy_manifold::cells::cell_id
+#import bevy_manifold::walk::{walker_new, max_passes, segment_end, walk_segment}
+#import bevy_manifold::cull::each_candidate
+#import bevy_manifold::nearest::{Hit, best, hit_id}
+#import bevy_manifold::shade::shade
+#ifdef BALL_TREE
+#import bevy_manifold::ball_tree::cache_leaves
+#endif
+#ifdef CELL_RULES
+#import bevy_manifold::rule::cell_visible
+#import bevy_manifold::shade::{shade_wall, unknown_rules}
+#endif
+#ifdef FOOTPRINT
+#import bevy_manifold::nearest::{met_t, met_id, met_count}
+#import bevy_manifold::cone::{cone_layers, cone_front, cone_has_front, cone_grow, cone_travelled, near_balls, cone_layer, kept_cover}
+#import bevy_manifold::footprint::{Layers, inflation_new, grown_reach, widest_spread, add_layer, layers_full, layers_over, BALL_GROWTH}
 #endif
 
-// The pixel of invocation `index` (local_invocation_index) of the
-// workgroup `tile`: its 8x8 pixels in Z order (x from the index's even
-// bits, y from its odd ones), so each run of 8 invocations, which
-// lavapipe runs as the 8 lanes of one SIMD pass, is a 4x2 block (16 a 4x4
-// one, 32 an 8x4 one) and not a row of 8. A ray's cost follows the
-// longest walk among its lanes: with 128 balls the rays of a 4x2 block
-// walk 3.93 segments at most, of a row 4.22 (torus, 320x180, 8 levels,
-// the mean being 3.30), and the frames traced 5-8% faster; see
-// BENCHMARKS.md, "Lanes in 4x2 blocks".
-fn tile_pixel(tile: vec2<u32>, index: u32) -> vec2<u32> {
-    let x = (index & 1u) | ((index >> 1u) & 2u) | ((index >> 2u) & 4u);
-    let y = ((index >> 1u) & 1u) | ((index >> 2u) & 2u) | ((index >> 3u) & 4u);
-    return tile * 8u + vec2<u32>(x, y);
-}
+// ln 255 (the f32 nearest it): once fog_density * distance passes it, fog
+// has left less than 1/255 of an object's light and the ray may stop.
+// Rust twin: FOG_CUT.
+const FOG_CUT: f32 = 5.5412636;
 
-@compute @workgroup_size(8, 8, 1)
-fn trace(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocation_index) index: u32) {
-    let p = tile_pixel(tile.xy, index);
-    if p.x >= params.width || p.y >= params.height {
-        return;
-    }
-    pixels[p.y * params.width + p.x] = trace_pixel(p.x, p.y);
-}
-
-// The drift probe, twin of trace::ray_drift: see drift.wgsl.
-@compute @workgroup_size(8, 8, 1)
-fn drift(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x >= params.width || id.y >= params.height {
-        return;
-    }
-    pixels[id.y * params.width + id.x] = ray_drift(camera_ray(id.x, id.y));
-}
-
-struct FragmentOutput {
-    @location(0) color: vec4<f32>,
-    @builtin(frag_depth) depth: f32,
-}
-
-@fragment
-fn fragment(@builtin(position) position: vec4<f32>) -> FragmentOutput {
-    let i = u32(position.x) - params.origin_x;
-    let j = u32(position.y) - params.origin_y;
-    let p = trace_pixel(i, j);
-    var rgb = p.color.xyz;
-#ifdef ENCODE_SRGB
-    rgb = encode_srgb(rgb);
+// What a ray that meets nothing shows: the fog's colour, else black
+// (Rust: trace_ray's `background`).
+fn background() -> vec3<f32> {
+#ifdef FOG
+    return params.fog_color.xyz;
+#else
+    return vec3<f32>(0.0);
 #endif
-    // Reverse-z depth of the hit along the view axis, so ordinary Bevy
-    // meshes drawn after the trace (overlays, a HUD) sort against it;
-    // 0 (infinitely far) where nothing was hit.
-    var depth = 0.0;
-    if p.object != 0u {
-        let along = p.color.w * -view_direction(i, j).z;
-        depth = params.near / max(along, params.near);
+}
+
+// The pixel that ends the walk, `behind` seen through the cone's layers
+// (Rust twin: trace_ray's `finish`); `behind` itself for a ray.
+fn finish(behind: Pixel) -> Pixel {
+#ifdef FOOTPRINT
+    var p = behind;
+    if cone_has_front {
+        p = cone_front;
     }
-    return FragmentOutput(vec4<f32>(rgb, 1.0), depth);
+    p.color = vec4<f32>(layers_over(cone_layers, behind.color.xyz), p.color.w);
+    return p;
+#else
+    return behind;
+#endif
+}
+
+// The nearest object on the segment of `ray` ending at t_end, seen from
+// the cell of `cell_point`, of those each_candidate hands out near the
+// faces `near`. Rust twin: nearest_object.
+fn nearest_object(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) -> Hit {
+    best = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
+    each_candidate(ray, t_end, cell_point, near);
+    return best;
+}
+
+#ifdef FOOTPRINT
+// The layers of the pixel's cone on the segment (in met_t and met_id,
+// nearest first) and the first mesh hit, whole (in best). Rust twin:
+// segment_layers.
+fn segment_layers(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) {
+    best = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
+    each_candidate(ray, t_end, cell_point, near);
+}
+#endif
+
+// Algorithm 1 for one ray (Rust twin: trace_ray): on each segment the
+// nearest object, else walk on through the exit face. Under FOOTPRINT
+// each segment's layers, front to back.
+fn trace_ray(ray: Ray) -> Pixel {
+    cache_params();
+#ifdef BALL_TREE
+    cache_leaves();
+#endif
+    var walk = walker_new(ray, params.camera_cell, params.camera_cell_index);
+#ifdef FOOTPRINT
+    cone_layers = Layers(vec3<f32>(0.0), 1.0, 0u);
+    cone_has_front = false;
+#endif
+    let passes = max_passes();
+#ifndef FOOTPRINT
+    var hit = Hit(-1.0, 0u, 0u, 0u, 0.0, 0.0);
+#endif
+    for (var pass_index = 0u; pass_index < passes; pass_index++) {
+#ifdef FOG
+        let early_stop = (cached.flags & FLAG_NO_EARLY_STOP) == 0u;
+        if early_stop && cached.fog_density * walk.travelled > FOG_CUT {
+            break;
+        }
+#endif
+        let seg = segment_end(walk);
+        var shown = true;
+#ifdef CELL_RULES
+        // Objects in an off cell are not there (Rust: CellRule::visible).
+        shown = cell_visible(cell_id(walk.cell, walk.index));
+#endif
+#ifdef FOOTPRINT
+        // Objects grow by the segment's widest footprint, at most the cap.
+        let w = min(params.cone.x * widest_spread(walk.travelled, walk.travelled + chart_to_distance(seg.t)), params.footprint_cap);
+        cone_grow = inflation_new(w);
+        cone_travelled = walk.travelled;
+        met_count = 0u;
+        if shown {
+            // The faces the segment comes near for balls (grown
+            // BALL_GROWTH footprints) and for tubes and meshes (one).
+            near_balls = near_faces(walk.ray, seg.t, params.cone.z * grown_reach(params.cone.y, w * BALL_GROWTH));
+            segment_layers(walk.ray, seg.t, walk.cell[3], near_faces(walk.ray, seg.t, params.cone.z * grown_reach(params.cone.y, w)));
+        }
+        // The layers in order, then the mesh hit, whole (Rust twin:
+        // Nearest::iter).
+        for (var k = 0u; k < met_count; k++) {
+            if best.kind != 0u && best.t < met_t[k] {
+                break;
+            }
+            let kind = met_id[k] >> 30u;
+            let index = met_id[k] & 0x3fffffffu;
+            let layer = cone_layer(walk.ray, kind, index, kept_cover(walk.ray, kind, index, seg.t), seg.t);
+            let hit = Hit(layer.t, kind, index, 0u, 0.0, 0.0);
+            let dist = walk.travelled + chart_to_distance(layer.t);
+            let cid = cell_id(walk.cell, walk.index);
+            let color = shade(walk.ray, hit, layer.normal, dist, cid);
+            let here = Pixel(vec4<f32>(color, dist), hit_id(hit), walk.levels, cid.x, cid.y);
+            if layer.part >= 0.5 && !cone_has_front {
+                cone_front = here;
+                cone_has_front = true;
+            }
+            if add_layer(&cone_layers, color, layer.part) {
+                return finish(here);
+            }
+            if layers_full(cone_layers) {
+                return finish(Pixel(vec4<f32>(background(), walk.travelled), 0u, walk.levels, cid.x, cid.y));
+            }
+        }
+        if best.kind != 0u {
+            let dist = walk.travelled + chart_to_distance(best.t);
+            let cid = cell_id(walk.cell, walk.index);
+            let color = shade(walk.ray, best, vec4<f32>(0.0), dist, cid);
+            let here = Pixel(vec4<f32>(color, dist), hit_id(best), walk.levels, cid.x, cid.y);
+            if !cone_has_front {
+                cone_front = here;
+                cone_has_front = true;
+            }
+            add_layer(&cone_layers, color, 1.0);
+            return finish(here);
+        }
+#else
+        if shown {
+            hit = nearest_object(walk.ray, seg.t, walk.cell[3], near_faces(walk.ray, seg.t, cached.near_reach));
+        }
+        // Shaded after the loop (Rust shades and returns here): lavapipe
+        // runs a branch's body, under a mask, whether or not any lane
+        // takes it, so shading here cost every pass of every ray.
+        if hit.kind != 0u {
+            break;
+        }
+#endif
+        let segment_start = walk.ray;
+        let step = walk_segment(&walk, seg);
+#ifdef CELL_RULES
+        if step.wall == 1u {
+            let cid = cell_id(walk.cell, walk.index);
+            let color = shade_wall(faces[seg.face].plane, segment_start, walk.travelled);
+#ifdef FOOTPRINT
+            add_layer(&cone_layers, color, 1.0);
+#endif
+            return finish(Pixel(vec4<f32>(color, walk.travelled), WALL_OBJECT, walk.levels, cid.x, cid.y));
+        }
+        if step.wall == 2u {
+            // Beyond the table the rules are unknown: CellTint::UNKNOWN's
+            // grey, in fog, and the cell CellId::BEYOND_TABLE.
+            return finish(Pixel(vec4<f32>(unknown_rules(walk.travelled), walk.travelled), 0u, walk.levels, 0u, 0x40000000u));
+        }
+#endif
+        if step.stop {
+            break;
+        }
+    }
+#ifndef FOOTPRINT
+    if hit.kind != 0u {
+        let dist = walk.travelled + chart_to_distance(hit.t);
+        let cid = cell_id(walk.cell, walk.index);
+        return Pixel(vec4<f32>(shade(walk.ray, hit, vec4<f32>(0.0), dist, cid), dist), hit_id(hit), walk.levels, cid.x, cid.y);
+    }
+#endif
+    let cid = cell_id(walk.cell, walk.index);
+    return finish(Pixel(vec4<f32>(background(), walk.travelled), 0u, walk.levels, cid.x, cid.y));
 }

@@ -5,7 +5,7 @@
 // decoded before filtering) and depth taken from the nearest traced pixel,
 // so ordinary meshes drawn after the trace still sort against it.
 //
-// Rust twin: upscale in crates/bevy_manifold_core/src/trace/output.rs (the
+// Rust twin: `upscale` in crates/bevy_manifold_core/src/trace/output.rs (the
 // same bilinear filter on the CPU, texel centres at half-integers, edges
 // clamped), which the pass's test compares this against. Caller:
 // src/render/upscale.rs, after the trace in src/render/node.rs.
@@ -46,7 +46,7 @@ fn upscale(@location(0) uv: vec2<f32>) -> UpscaleOutput {
 // Accumulation while the view is still (src/render/accumulate.rs): the
 // new trace (alpha 1), copied texel for texel into the view's history,
 // which the pipeline's additive blend turns into the sum of the samples
-// with their count in alpha. Rust twin: accumulate in
+// with their count in alpha. Rust twin: `accumulate` in
 // crates/bevy_manifold_core/src/trace/accumulate.rs. The upscale above
 // then reads the history in place of the trace and divides.
 @fragment

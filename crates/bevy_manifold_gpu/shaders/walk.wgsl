@@ -1,18 +1,18 @@
 // A ray walking segment by segment through the manifold: the part of
-// Algorithm 1 shared by the tracer (render.wgsl's
-// trace_pixel) and the drift probe (drift.wgsl), objects aside. It is
+// Algorithm 1 shared by the tracer (trace.wgsl's
+// trace_ray) and the drift probe (drift.wgsl), objects aside. It is
 // written once, here; both walks call it.
 //
 // Rust twin: crates/bevy_manifold_core/src/trace/walk.rs (Walker::new,
 // Walker::segment_end, Walker::step), and of trace_ray in
-// crates/bevy_manifold_core/src/trace/render.rs the part after the object
+// crates/bevy_manifold_core/src/trace/trace.rs the part after the object
 // test (advance, add the length, stop past max_distance or at the level
 // limit, step on). Rust shares that part through trace_ray's on_step
 // callback, which WGSL lacks, so here it is walk_segment, and the distance
 // travelled is on the Walker.
 //
 // Shader defs read: CELLS_FINITE, CELLS_TABLE (the table index);
-// CELL_RULES (walls stop the walk: rules.wgsl);
+// CELL_RULES (walls stop the walk: rule.wgsl);
 // GEOMETRY_* through geometry and step, TRANSLATIONS_ONLY through step,
 // MESHES through bindings.
 #define_import_path bevy_manifold::walk
@@ -22,7 +22,7 @@
 #import bevy_manifold::step::{Ray, Exit, exit_face, advance_or_raw, transport_or_raw}
 #ifdef CELL_RULES
 #import bevy_manifold::cells::cell_id
-#import bevy_manifold::rules::cell_wall
+#import bevy_manifold::rule::cell_wall
 #endif
 
 // Where a walking ray is: the start of its current segment, the face it
@@ -93,7 +93,7 @@ fn walker_step(walk: ptr<function, Walker>, face: u32, end: Ray) {
     (*walk).index = cell_table[(*walk).index * face_count() + faces[face].partner];
 #endif
 #ifdef CELLS_TABLE
-    // Rust: CellBall's neighbours (space/ball.rs); once outside the table
+    // Rust: CellTable's neighbours (space/cell_table.rs); once outside the table
     // the walk stays outside.
     if (*walk).index != CELL_OUTSIDE {
         (*walk).index = cell_table[(*walk).index * face_count() + faces[face].partner];
@@ -123,7 +123,7 @@ fn cross_cell(cell: mat4x4<f32>, face: u32) -> mat4x4<f32> {
 #endif
 }
 
-// One segment walked, as trace_ray's on_step sees it (Rust: PathStep).
+// One segment walked, as trace_ray's on_step sees it (Rust twin: PathStep).
 struct PathStep {
     // Where the segment ended: on the face, or where the walk stopped.
     end: Ray,
@@ -136,7 +136,7 @@ struct PathStep {
 }
 
 #ifdef CELL_RULES
-// The id of the cell across `face` from the walk's. Rust: cross_cell and
+// The id of the cell across `face` from the walk's. Rust twin: cross_cell and
 // cell_id_of in crates/bevy_manifold_core/src/space/element.rs.
 fn next_cell_id(walk: Walker, face: u32) -> vec2<u32> {
 #ifdef CELLS_FINITE

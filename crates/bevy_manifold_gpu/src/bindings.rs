@@ -26,6 +26,20 @@ impl BindingKind {
     }
 }
 
+/// What fills a binding's buffer, and so when it is written again.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BindingSource {
+    /// The view: the params, per camera and frame.
+    View,
+    /// The space ([`crate::GpuSpace`]): its faces and cell table, when the
+    /// space or the table's centre changes.
+    Space,
+    /// The scene's objects ([`crate::GpuObjects`]), when an object changes.
+    Objects,
+    /// Written by the shader: the compute entries' pixels.
+    Output,
+}
+
 /// One binding of group 0.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Binding {
@@ -35,6 +49,9 @@ pub struct Binding {
     pub name: &'static str,
     /// How it is accessed.
     pub kind: BindingKind,
+    /// What fills it ([`crate::binding_bytes`] gives a space's and a
+    /// scene's bytes).
+    pub source: BindingSource,
     /// Read by the compute entries only (the render pass binds the others).
     pub compute_only: bool,
     /// The size of one element (the params' size, or one array element):
@@ -73,11 +90,17 @@ impl Binding {
     }
 }
 
-const fn binding(binding: u32, name: &'static str, kind: BindingKind, element_size: usize) -> Binding {
+const fn binding(
+    binding: u32,
+    name: &'static str,
+    (kind, source): (BindingKind, BindingSource),
+    element_size: usize,
+) -> Binding {
     Binding {
         binding,
         name,
         kind,
+        source,
         compute_only: matches!(kind, BindingKind::StorageReadWrite),
         element_size,
         capacity: 0,
@@ -85,11 +108,18 @@ const fn binding(binding: u32, name: &'static str, kind: BindingKind, element_si
 }
 
 /// A uniform array of `capacity` elements.
-const fn uniform_array(binding: u32, name: &'static str, element_size: usize, capacity: usize) -> Binding {
+const fn uniform_array(
+    binding: u32,
+    name: &'static str,
+    source: BindingSource,
+    element_size: usize,
+    capacity: usize,
+) -> Binding {
     Binding {
         binding,
         name,
         kind: BindingKind::Uniform,
+        source,
         compute_only: false,
         element_size,
         capacity,
@@ -98,6 +128,7 @@ const fn uniform_array(binding: u32, name: &'static str, element_size: usize, ca
 
 use crate::layout::{GpuBall, GpuFace, GpuInstance, GpuLight, GpuParams, GpuPixel, GpuTube};
 use BindingKind::{Storage, StorageReadWrite};
+use BindingSource::{Objects, Output, View};
 use bevy_manifold_core::space::MAX_FACES;
 use bevy_manifold_core::trace::MAX_LIGHTS;
 use std::mem::size_of;
@@ -122,7 +153,7 @@ pub const MAX_BALLS: usize = 1024;
 pub const MAX_BALL_LEAVES: usize = bevy_manifold_core::trace::MAX_BALL_LEAVES;
 
 // The shader keeps the met leaves as the 64 bits of a vec2<u32> and tests
-// them in four chunks of 16 (ball_tree_leaves in render.wgsl, cache_leaves
+// them in four chunks of 16 (ball_tree_leaves in cull.wgsl, cache_leaves
 // in ball_tree.wgsl): more leaves would need both widened.
 const _: () = assert!(MAX_BALL_LEAVES <= 64);
 
@@ -151,7 +182,7 @@ pub const GROUPS: usize = 33;
 /// a loop iteration with its own bounds check, and a uniform with one
 /// gather. With these three uniform and the walk's params read once per
 /// invocation (`cache_params` in the WGSL), the default scene at 8 levels
-/// traced 1.13-1.32x faster on lavapipe (see BENCHMARKS.md, "Uniform arrays
+/// traced 1.13-1.32x faster on lavapipe (see docs/benchmarks/history.md, "Uniform arrays
 /// on lavapipe"). The params stay storage for the leak above; these arrays
 /// did not grow the process over 80 headless renders, nor the explorer's
 /// soak beyond its pipelines.
@@ -160,7 +191,7 @@ pub const GROUPS: usize = 33;
 /// ([`MAX_BALL_LEAVES`], `ball_nodes`, binding 10) are uniform arrays too:
 /// with them (and the tree, then walked node by node, without a stack) a
 /// swarm of 128 balls in the torus traced in 25.9 ms instead of 46.4
-/// (BENCHMARKS.md, "Balls in uniforms").
+/// (docs/benchmarks/history.md, "Balls in uniforms, the tree by skip links").
 ///
 /// The face groups (`GpuObjects::groups`: where each face's objects start,
 /// and the tubes' edge table) are a uniform array of 33 entries, 528
@@ -170,17 +201,17 @@ pub const GROUPS: usize = 33;
 ///
 /// The compute stage binds five storage buffers.
 pub const BINDINGS: [Binding; 11] = [
-    binding(0, "params", Storage, size_of::<GpuParams>()),
-    uniform_array(1, "faces", size_of::<GpuFace>(), MAX_FACES),
-    uniform_array(2, "balls", size_of::<GpuBall>(), MAX_BALLS),
-    uniform_array(3, "tubes", size_of::<GpuTube>(), MAX_TUBES),
-    uniform_array(4, "lights", size_of::<GpuLight>(), MAX_LIGHTS),
-    binding(5, "cell_table", Storage, size_of::<u32>()),
-    binding(6, "instances", Storage, size_of::<GpuInstance>()),
-    binding(7, "mesh_data", Storage, size_of::<[u32; 4]>()),
-    binding(8, "pixels", StorageReadWrite, size_of::<GpuPixel>()),
-    uniform_array(9, "groups", size_of::<[u32; 4]>(), GROUPS),
-    uniform_array(10, "ball_nodes", size_of::<[u32; 4]>(), MAX_BALL_LEAVES + 2),
+    binding(0, "params", (Storage, View), size_of::<GpuParams>()),
+    uniform_array(1, "faces", BindingSource::Space, size_of::<GpuFace>(), MAX_FACES),
+    uniform_array(2, "balls", Objects, size_of::<GpuBall>(), MAX_BALLS),
+    uniform_array(3, "tubes", Objects, size_of::<GpuTube>(), MAX_TUBES),
+    uniform_array(4, "lights", Objects, size_of::<GpuLight>(), MAX_LIGHTS),
+    binding(5, "cell_table", (Storage, BindingSource::Space), size_of::<u32>()),
+    binding(6, "instances", (Storage, Objects), size_of::<GpuInstance>()),
+    binding(7, "mesh_data", (Storage, Objects), size_of::<[u32; 4]>()),
+    binding(8, "pixels", (StorageReadWrite, Output), size_of::<GpuPixel>()),
+    uniform_array(9, "groups", Objects, size_of::<[u32; 4]>(), GROUPS),
+    uniform_array(10, "ball_nodes", Objects, size_of::<[u32; 4]>(), MAX_BALL_LEAVES + 2),
 ];
 
 /// The bytes of the largest uniform binding: what an adapter's

@@ -29,6 +29,7 @@
 
 pub mod bindings;
 pub mod layout;
+pub mod pack;
 pub mod shader_defs;
 
 #[cfg(feature = "headless")]
@@ -39,9 +40,10 @@ mod probe;
 mod runner;
 
 pub use layout::{
-    FLAG_NO_CULL, FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE, GpuBall, GpuFace, GpuInstance, GpuLight, GpuObjects,
-    GpuParams, GpuPixel, GpuScene, GpuSpace, GpuTube, GpuView, settings_flags,
+    FLAG_NO_CULL, FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE, GpuBall, GpuFace, GpuInstance, GpuLight, GpuParams,
+    GpuPixel, GpuTube, settings_flags,
 };
+pub use pack::{GpuObjects, GpuScene, GpuSpace, GpuView, PackedSpace, binding_bytes};
 pub use shader_defs::{CellScheme as GpuCellScheme, TraceDefs};
 
 #[cfg(feature = "headless")]
@@ -73,23 +75,28 @@ macro_rules! wgsl {
 /// The tracer's import modules, each after the modules it imports (the
 /// order naga_oil's composer needs; Bevy resolves them by their
 /// `#define_import_path`, `bevy_manifold::<name>`). Each is the WGSL twin
-/// of a Rust file: `bindings` of [`layout`], `geometry`, `step`, `cells`,
-/// `rules` (of the core's `space/rule.rs`), `bvh`, `mesh_hit`,
-/// `ball_tree`, `walk`, `render`, `drift`, `output` and `footprint` of the
-/// core's files of the same names.
-pub const SHADER_IMPORTS: [WgslModule; 13] = [
+/// of a Rust file of the same name: `bindings` of [`layout`], `geometry`
+/// of the core's `geometry/mod.rs`, `cells` and `rule` of its `space/`,
+/// `bvh` of its `mesh/`, and the others of its `trace/` (the tracer's
+/// stages: see `bevy_manifold_core::trace`).
+pub const SHADER_IMPORTS: [WgslModule; 18] = [
     wgsl!("output"),
     wgsl!("bindings"),
     wgsl!("geometry"),
     wgsl!("step"),
     wgsl!("footprint"),
     wgsl!("cells"),
-    wgsl!("rules"),
+    wgsl!("rule"),
     wgsl!("bvh"),
     wgsl!("mesh_hit"),
     wgsl!("ball_tree"),
     wgsl!("walk"),
-    wgsl!("render"),
+    wgsl!("camera"),
+    wgsl!("cone"),
+    wgsl!("nearest"),
+    wgsl!("cull"),
+    wgsl!("shade"),
+    wgsl!("trace"),
     wgsl!("drift"),
 ];
 
@@ -106,9 +113,10 @@ pub fn undecorated(name: &str) -> &str {
     name.split("X_naga_oil_mod_X").next().unwrap_or(name)
 }
 
-/// The tracer's entry module: `trace` and `drift` (compute, the headless
-/// runner) and `fragment` (the render pass).
-pub const TRACE_WGSL: WgslModule = wgsl!("trace");
+/// The tracer's entry module, `shaders/render.wgsl` (twin of the core's
+/// `trace::render`): `trace` and `drift` (compute, the headless runner)
+/// and `fragment` (the render pass).
+pub const RENDER_WGSL: WgslModule = wgsl!("render");
 
 /// The render pass's drawing of a view traced into textures of its own:
 /// `upscale` (fragment; bilinear colour, nearest depth; Rust twin

@@ -18,7 +18,7 @@ pub enum CellScheme {
     /// `CELLS_HASHED`: hash of the copy's rounded centre.
     Hashed,
     /// `CELLS_TABLE`: exact ids from a table of the cells around the
-    /// camera ([`bevy_manifold_core::space::ball`]).
+    /// camera ([`bevy_manifold_core::space::cell_table`]).
     Table,
 }
 
@@ -61,7 +61,7 @@ pub struct TraceDefs {
     /// tested. A def, not a run-time branch: lavapipe runs both sides of
     /// every branch, under masks, so when the tree was walked, the walk
     /// compiled into every scene cost every segment a fifth to two fifths
-    /// of its frame (BENCHMARKS.md, "Branches on lavapipe").
+    /// of its frame (docs/benchmarks/history.md, "Branches on lavapipe").
     pub ball_tree: bool,
     /// `BALL_LEAVES` (a value def, under `BALL_TREE`): the leaves of the
     /// ball tree the pipeline tests, as a constant, so their loop is
@@ -94,7 +94,7 @@ pub struct TraceDefs {
     /// index. lavapipe reads a uniform at a run-time index with a gather,
     /// one lane at a time, and at a constant one with a single load: with
     /// the faces counted at run time the default scene traced 13-17%
-    /// slower (BENCHMARKS.md, "Branches on lavapipe"). The planes are
+    /// slower (docs/benchmarks/history.md, "Branches on lavapipe"). The planes are
     /// also copied once per invocation into a private array of this size
     /// (`planes` in `bindings.wgsl`): on lavapipe even a constant-index
     /// read of the uniform cost several times a private one. It also keeps long
@@ -173,7 +173,7 @@ impl TraceDefs {
     /// scene whose balls lie near faces packs no tree, and the pipeline
     /// then tests each ball; the generic pipeline keeps every def).
     #[must_use]
-    pub fn for_objects(mut self, objects: &crate::layout::GpuObjects) -> Self {
+    pub fn for_objects(mut self, objects: &crate::pack::GpuObjects) -> Self {
         self.many_unkeyed_tubes = objects.groups[0][1] > 32;
         let leaves = objects.ball_nodes.len().saturating_sub(2);
         if self.ball_tree && leaves > 0 {

@@ -3,8 +3,12 @@
 //! and member offsets (naga's layouter, as the GPU lays them out), the
 //! WGSL bindings are those of the one Rust table ([`BINDINGS`]) both
 //! bind-group layouts are built from, and the shared constants are equal
-//! on both sides. A last test swaps two fields of a WGSL struct and sees
-//! the check fail, so the check itself is known to bite.
+//! on both sides. Every "WGSL twin" comment in the Rust names a WGSL item
+//! that exists (in the file it names), every "Rust twin" comment in the
+//! WGSL a Rust item that exists, and each stage of the tracer is a Rust
+//! file and a WGSL file of the same name. Two tests break a copy on
+//! purpose (a WGSL struct's fields swapped, a twin misnamed) and see the
+//! checks fail, so the checks themselves are known to bite.
 
 use bevy_manifold_core::geometry::Geometry;
 use bevy_manifold_core::trace::step::ALL_FACES;
@@ -12,7 +16,7 @@ use bevy_manifold_core::trace::{EDGE_ID, FOG_CUT, LIGHT_AT_HIT};
 use bevy_manifold_gpu::bindings::{BINDINGS, BindingKind};
 use bevy_manifold_gpu::layout::{GpuBall, GpuFace, GpuInstance, GpuLight, GpuParams, GpuPixel, GpuTube, NO_JOINT};
 use bevy_manifold_gpu::{
-    FLAG_NO_CULL, FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE, GpuCellScheme, GpuTracer, SHADER_IMPORTS, TRACE_WGSL,
+    FLAG_NO_CULL, FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE, GpuCellScheme, GpuTracer, RENDER_WGSL, SHADER_IMPORTS,
     TraceDefs, WgslModule, undecorated,
 };
 use naga::proc::Layouter;
@@ -241,6 +245,397 @@ fn compose_with_bindings(source: &str) -> naga::Module {
         }
     });
     let defs = TraceDefs::generic(Geometry::Hyperbolic);
-    GpuTracer::compose_modules(&imports, TRACE_WGSL, &defs.names(), &defs.values())
+    GpuTracer::compose_modules(&imports, RENDER_WGSL, &defs.names(), &defs.values())
         .expect("the broken copy still composes")
+}
+
+/// The WGSL sources, by file name (`render.wgsl`, …).
+fn wgsl_sources() -> Vec<(String, String)> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let mut out: Vec<(String, String)> = std::fs::read_dir(&dir)
+        .expect("shaders/")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "wgsl"))
+        .map(|p| {
+            let name = p.file_name().expect("name").to_string_lossy().into_owned();
+            (name, std::fs::read_to_string(&p).expect("read"))
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+/// Every Rust source of the tracer's crates (the core, this crate, the
+/// plugin), by path from the repository root; empty outside the
+/// repository (a packaged crate has no sibling crates).
+fn rust_sources() -> Vec<(String, String)> {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut out = Vec::new();
+    for dir in ["crates/bevy_manifold_core/src", "crates/bevy_manifold_gpu/src", "src"] {
+        let mut stack = vec![root.join(dir)];
+        while let Some(d) = stack.pop() {
+            let Ok(entries) = std::fs::read_dir(&d) else { continue };
+            for e in entries {
+                let p = e.expect("entry").path();
+                if p.is_dir() {
+                    stack.push(p);
+                } else if p.extension().is_some_and(|x| x == "rs") {
+                    let name = p
+                        .strip_prefix(&root)
+                        .expect("under the root")
+                        .to_string_lossy()
+                        .into_owned();
+                    out.push((name, std::fs::read_to_string(&p).expect("read")));
+                }
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// The comment blocks of a source (runs of lines whose trimmed text starts
+/// with `//`), each as one string with the comment markers taken off, with
+/// the line it starts on.
+fn comment_blocks(source: &str) -> Vec<(usize, String)> {
+    let mut out: Vec<(usize, String)> = Vec::new();
+    let mut open = false;
+    for (i, line) in source.lines().enumerate() {
+        let t = line.trim_start();
+        if let Some(text) = t.strip_prefix("//") {
+            let text = text.trim_start_matches(['/', '!']).trim();
+            if open && let Some(last) = out.last_mut() {
+                last.1.push(' ');
+                last.1.push_str(text);
+            } else {
+                out.push((i + 1, text.to_owned()));
+            }
+            open = true;
+        } else {
+            open = false;
+        }
+    }
+    out
+}
+
+/// The sentences of `block` that start with `marker` ("WGSL twin",
+/// "Rust twin") followed by `:` or ` (` (or `s:`, `s (`): from the marker to
+/// the end of its sentence (a full stop and a space, or the block's end).
+/// Prose that only mentions twins ("the WGSL twin of a file") is not one.
+fn twin_sentences<'a>(block: &'a str, marker: &str) -> Vec<&'a str> {
+    let mut out = Vec::new();
+    let mut rest = block;
+    while let Some(at) = rest.find(marker) {
+        let s = &rest[at..];
+        let after = s[marker.len()..].trim_start_matches('s');
+        if !(after.starts_with(':') || after.starts_with(" (")) {
+            rest = &s[marker.len()..];
+            continue;
+        }
+        let end = s.find(". ").map_or(s.len(), |e| e + 1);
+        out.push(&s[..end]);
+        rest = &s[end..];
+    }
+    out
+}
+
+/// The text between backticks in `s`, but for intra-doc links (``[`x`]``),
+/// which name Rust items.
+fn backticked(s: &str) -> Vec<&str> {
+    let parts: Vec<&str> = s.split('`').collect();
+    (1..parts.len())
+        .step_by(2)
+        .filter(|&i| !parts[i - 1].ends_with('['))
+        .map(|i| parts[i])
+        .collect()
+}
+
+/// The names a WGSL source defines: functions, structs, constants,
+/// variables, struct members and shader defs.
+fn wgsl_names(source: &str) -> std::collections::BTreeSet<String> {
+    let mut names = std::collections::BTreeSet::new();
+    let ident = |s: &str| -> String { s.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect() };
+    let mut in_struct = false;
+    for line in source.lines() {
+        let t = line.trim();
+        for (prefix, is_struct) in [("fn ", false), ("struct ", true), ("const ", false)] {
+            if let Some(rest) = t.strip_prefix(prefix) {
+                names.insert(ident(rest));
+                in_struct |= is_struct;
+            }
+        }
+        if let Some(at) = t.find("var") {
+            let after = &t[at + 3..];
+            let after = after.split_once('>').map_or(after, |(_, a)| a).trim_start();
+            if t.starts_with("var") || t.starts_with('@') {
+                names.insert(ident(after));
+            }
+        }
+        for def in ["#ifdef ", "#ifndef ", "#else ifdef "] {
+            if let Some(rest) = t.strip_prefix(def) {
+                names.insert(ident(rest));
+            }
+        }
+        if let Some(at) = t.find("#{") {
+            names.insert(ident(&t[at + 2..]));
+        }
+        if in_struct {
+            if t.starts_with('}') {
+                in_struct = false;
+            } else if let Some((member, _)) = t.split_once(':')
+                && !member.contains(' ')
+            {
+                names.insert(member.to_owned());
+            }
+        }
+    }
+    names.remove("");
+    names
+}
+
+/// The names a Rust source defines: functions, types, constants, struct
+/// fields (`name:` at a line's start), enum variants and `let` bindings
+/// (a closure a function's comment names).
+fn rust_names(source: &str) -> std::collections::BTreeSet<String> {
+    let mut names = std::collections::BTreeSet::new();
+    let ident = |s: &str| -> String { s.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect() };
+    for line in source.lines() {
+        let mut t = line.trim();
+        for vis in ["pub(crate) ", "pub(super) ", "pub "] {
+            t = t.strip_prefix(vis).unwrap_or(t);
+        }
+        for prefix in [
+            "fn ", "struct ", "enum ", "const ", "type ", "trait ", "mod ", "let mut ", "let ",
+        ] {
+            if let Some(rest) = t.strip_prefix(prefix) {
+                names.insert(ident(rest));
+            }
+        }
+        if let Some((field, _)) = t.split_once(':')
+            && !field.is_empty()
+            && field.chars().all(|c| c.is_alphanumeric() || c == '_')
+        {
+            names.insert(field.to_owned());
+        }
+        // Enum variants: `Name,` or `Name(…)` or `Name {` alone on a line.
+        let v = ident(t);
+        if !v.is_empty()
+            && v.chars().next().is_some_and(char::is_uppercase)
+            && t[v.len()..].trim_start().starts_with([',', '(', '{'])
+        {
+            names.insert(v);
+        }
+    }
+    names.remove("");
+    names
+}
+
+/// The last name of a path-like token (`Nearest::limit`, `params.cone`,
+/// `FaceTables::planes[i]`), and whether the token names a name at all
+/// (not a file, a crate or a command).
+fn name_of(token: &str) -> Option<&str> {
+    if token.contains('/') || token.contains(' ') || token.ends_with(".rs") || token.ends_with(".wgsl") {
+        return None;
+    }
+    if token.starts_with("bevy_manifold") {
+        return None;
+    }
+    let token = token.split('[').next().unwrap_or(token).trim_end_matches("()");
+    let last = token.rsplit(['.', ':']).next().unwrap_or(token);
+    (!last.is_empty() && last.chars().all(|c| c.is_alphanumeric() || c == '_')).then_some(last)
+}
+
+/// Every "WGSL twin" sentence of `rust` (a file's name and source) and
+/// the names it gives that no WGSL source defines (or, where the
+/// sentence names WGSL files, that none of them defines); and the pairs
+/// it holds: (Rust file, WGSL name).
+fn check_wgsl_twins(rust: &[(String, String)], wgsl: &[(String, String)]) -> (Vec<String>, Vec<(String, String)>) {
+    let all: std::collections::BTreeSet<String> = wgsl.iter().flat_map(|(_, s)| wgsl_names(s)).collect();
+    let by_file: std::collections::BTreeMap<&str, std::collections::BTreeSet<String>> =
+        wgsl.iter().map(|(f, s)| (f.as_str(), wgsl_names(s))).collect();
+    let (mut missing, mut pairs) = (Vec::new(), Vec::new());
+    for (file, source) in rust {
+        for (line, block) in comment_blocks(source) {
+            for sentence in twin_sentences(&block, "WGSL twin") {
+                let tokens = backticked(sentence);
+                let named: Vec<&str> = tokens
+                    .iter()
+                    .filter(|t| t.ends_with(".wgsl"))
+                    .map(|t| t.rsplit('/').next().unwrap_or(t))
+                    .collect();
+                for f in named.iter().filter(|f| !by_file.contains_key(**f)) {
+                    missing.push(format!("{file}:{line}: no shader {f}"));
+                }
+                for name in tokens.iter().filter_map(|t| name_of(t)) {
+                    let known = if named.is_empty() {
+                        all.contains(name)
+                    } else {
+                        named
+                            .iter()
+                            .any(|f| by_file.get(f).is_some_and(|names| names.contains(name)))
+                    };
+                    if known {
+                        pairs.push((file.clone(), name.to_owned()));
+                    } else {
+                        let place = if named.is_empty() {
+                            "the WGSL".to_owned()
+                        } else {
+                            named.join(" or ")
+                        };
+                        missing.push(format!("{file}:{line}: `{name}` is not in {place}"));
+                    }
+                }
+            }
+        }
+    }
+    (missing, pairs)
+}
+
+/// The same the other way: every "Rust twin" sentence of the WGSL, its
+/// first name (the twin: the first word after the colon that is a
+/// `….rs` file or a code name, with `_`, `::` or a capital) and every name
+/// in backticks; the files that do not exist and the names no Rust source
+/// defines; and how many it held.
+fn check_rust_twins(wgsl: &[(String, String)], rust: &[(String, String)]) -> (Vec<String>, usize) {
+    let all: std::collections::BTreeSet<String> = rust.iter().flat_map(|(_, s)| rust_names(s)).collect();
+    let (mut missing, mut held) = (Vec::new(), 0);
+    for (file, source) in wgsl {
+        for (line, block) in comment_blocks(source) {
+            for sentence in twin_sentences(&block, "Rust twin") {
+                let body = sentence.split_once(':').map_or("", |(_, b)| b);
+                let words = body.split(|c: char| {
+                    !(c.is_alphanumeric()
+                        || c == '_'
+                        || c == ':'
+                        || c == '/'
+                        || c == '.'
+                        || c == '`'
+                        || c == '['
+                        || c == ']')
+                });
+                let mut first = true;
+                for word in words.filter(|w| !w.is_empty()) {
+                    let quoted = word.starts_with('`');
+                    let word = word.trim_matches(['`', '.', ':']);
+                    if first && word.ends_with(".rs") {
+                        first = false;
+                        let exists = rust
+                            .iter()
+                            .any(|(f, _)| f.ends_with(word.rsplit("src/").next().unwrap_or(word)));
+                        if exists {
+                            held += 1;
+                        } else {
+                            missing.push(format!("{file}:{line}: no Rust file {word}"));
+                        }
+                        continue;
+                    }
+                    let code = word.contains('_')
+                        || word.contains("::")
+                        || word.chars().next().is_some_and(char::is_uppercase);
+                    if !(quoted || (first && code)) {
+                        continue;
+                    }
+                    first = false;
+                    let Some(name) = name_of(word) else { continue };
+                    if all.contains(name) {
+                        held += 1;
+                    } else {
+                        missing.push(format!("{file}:{line}: `{name}` is not in the Rust sources"));
+                    }
+                }
+            }
+        }
+    }
+    (missing, held)
+}
+
+#[test]
+fn every_twin_comment_names_a_twin_that_exists() {
+    let (wgsl, rust) = (wgsl_sources(), rust_sources());
+    if rust.is_empty() {
+        eprintln!("not in the repository: the Rust twins are not here to check");
+        return;
+    }
+    let (missing, pairs) = check_wgsl_twins(&rust, &wgsl);
+    assert!(
+        missing.is_empty(),
+        "WGSL twins that do not exist:\n{}",
+        missing.join("\n")
+    );
+    let (missing, held) = check_rust_twins(&wgsl, &rust);
+    assert!(
+        missing.is_empty(),
+        "Rust twins that do not exist:\n{}",
+        missing.join("\n")
+    );
+    eprintln!(
+        "{} WGSL twins named in Rust, {held} Rust twins named in WGSL",
+        pairs.len()
+    );
+    for (file, name) in &pairs {
+        eprintln!("  {file} -> {name}");
+    }
+    // The tracer's stages: each Rust file has its WGSL twin of the same
+    // name, and names it.
+    for stage in [
+        "camera",
+        "trace",
+        "cull",
+        "nearest",
+        "cone",
+        "footprint",
+        "shade",
+        "render",
+        "step",
+        "walk",
+    ] {
+        let rs = format!("crates/bevy_manifold_core/src/trace/{stage}.rs");
+        let source = &rust.iter().find(|(f, _)| *f == rs).unwrap_or_else(|| panic!("{rs}")).1;
+        assert!(
+            wgsl.iter().any(|(f, _)| *f == format!("{stage}.wgsl")),
+            "{stage}.wgsl, the twin of {rs}"
+        );
+        assert!(
+            source.contains(&format!("`shaders/{stage}.wgsl`")),
+            "{rs} names its twin"
+        );
+    }
+    assert!(pairs.len() > 60, "only {} pairs", pairs.len());
+}
+
+#[test]
+fn the_twin_check_catches_a_name_that_is_not_there() {
+    let wgsl = vec![(
+        "step.wgsl".to_owned(),
+        "fn exit_face(ray: Ray) -> u32 {\n    return 0u;\n}\n".to_owned(),
+    )];
+    let good = vec![(
+        "a.rs".to_owned(),
+        "/// Where a ray leaves. WGSL twin: `exit_face` in\n/// `shaders/step.wgsl`.\nfn exit_face() {}\n".to_owned(),
+    )];
+    let bad = vec![(
+        "a.rs".to_owned(),
+        "/// WGSL twin: `exit_faces` in `shaders/step.wgsl`.\nfn exit_face() {}\n".to_owned(),
+    )];
+    let elsewhere = vec![(
+        "a.rs".to_owned(),
+        "/// WGSL twin: `exit_face` in `shaders/walk.wgsl`.\nfn exit_face() {}\n".to_owned(),
+    )];
+    assert!(check_wgsl_twins(&good, &wgsl).0.is_empty());
+    assert_eq!(check_wgsl_twins(&bad, &wgsl).0.len(), 1);
+    assert_eq!(
+        check_wgsl_twins(&elsewhere, &wgsl).0.len(),
+        2,
+        "no walk.wgsl, and the name not in it"
+    );
+    let wgsl_bad = vec![(
+        "step.wgsl".to_owned(),
+        "// Rust twin: `exit_faces`.\nfn exit_face() {}\n".to_owned(),
+    )];
+    assert_eq!(check_rust_twins(&wgsl_bad, &good).0.len(), 1);
+    let wgsl_good = vec![(
+        "step.wgsl".to_owned(),
+        "// Rust twin: exit_face.\nfn exit_face() {}\n".to_owned(),
+    )];
+    assert_eq!(check_rust_twins(&wgsl_good, &good), (vec![], 1));
 }

@@ -1,5 +1,5 @@
 //! Exact cell ids on the GPU (`CELLS_TABLE`: the table of cells around the
-//! camera, `bevy_manifold_core::space::ball`) against the CPU f64
+//! camera, `bevy_manifold_core::space::cell_table`) against the CPU f64
 //! reference, which multiplies exact golden elements along each ray
 //! (`space::exact`): per-cell colour on, fog off, 8 levels, in the
 //! Seifert-Weber space and the mirrored dodecahedron, the camera in the
@@ -248,25 +248,25 @@ fn cell_rules_draw_the_same_on_the_gpu() {
 /// and every neighbour outside: grey, never wrong. Once grown, the whole
 /// table.
 fn a_space_packs_one_exact_cell_until_its_table_is_grown() {
-    use bevy_manifold_core::space::ball::OUTSIDE;
+    use bevy_manifold_core::space::cell_table::OUTSIDE;
     use bevy_manifold_core::space::cells::CellScheme;
     use bevy_manifold_gpu::GpuSpace;
     let space = catalog::seifert_weber();
     let CellScheme::Exact(exact) = space.cells() else {
         panic!()
     };
-    assert!(exact.grown_ball().is_none());
+    assert!(exact.grown_table().is_none());
     let camera = space.cell_of_word(&[3, 7, 1]);
     let mut packed = GpuSpace::pack(&space);
     assert!(packed.table_pending(&space));
     packed.centre_on(&space, &camera);
     assert_eq!(packed.index_of(space.cell_id_of(&camera)), Some(0));
     assert!(packed.cell_table[..12].iter().all(|&n| n == OUTSIDE));
-    let ball = exact.ball();
+    let table = exact.table();
     let mut grown = GpuSpace::pack(&space);
     assert!(!grown.table_pending(&space));
     grown.centre_on(&space, &camera);
-    assert_eq!(grown.cell_table.len(), ball.len() * 14);
+    assert_eq!(grown.cell_table.len(), table.len() * 14);
     // The camera's neighbour through face 0 is in the table, with its id.
     let next = space.cross_cell(&camera, 0);
     let k = grown.cell_table[space.faces()[0].partner];

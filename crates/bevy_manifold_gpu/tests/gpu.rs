@@ -695,9 +695,9 @@ fn every_tube_of_a_large_domain_is_hit_on_the_gpu() {
     let space = bevy_manifold_test_support::stress::seifert_weber_about(x, y, z).expect("builds");
     let mut scene = Scene::default_for(&space);
     scene.balls.clear();
-    let prep = FlatScene::<f64>::new(&space, &scene);
+    let flat = FlatScene::<f64>::new(&space, &scene);
     assert!(
-        prep.tubes.iter().any(|t| t.edge == 0),
+        flat.tubes.iter().any(|t| t.edge == 0),
         "the domain has tubes with no edge bits"
     );
     let settings = TraceSettings {
@@ -748,12 +748,12 @@ fn too_many_ball_copies_are_refused_by_name() {
             glow: 0.0,
         });
     }
-    let prep = FlatScene::<f32>::new(&space, &scene);
-    let copies = prep.balls.len();
+    let flat = FlatScene::<f32>::new(&space, &scene);
+    let copies = flat.balls.len();
     assert!(copies > MAX_BALLS, "the scene makes only {copies} balls");
     // What the render pass uploads (it draws the first MAX_BALLS, with a
     // warning): no group reaches past them.
-    let packed = bevy_manifold_gpu::layout::GpuObjects::pack(&prep);
+    let packed = bevy_manifold_gpu::GpuObjects::pack(&flat);
     assert_eq!(packed.balls.len(), MAX_BALLS);
     assert!(
         packed.groups.iter().all(|g| g[0] as usize <= MAX_BALLS),

@@ -11,8 +11,8 @@
 use bevy_manifold_core::mesh::bvh::{hit_brute_force, hit_triangle};
 use bevy_manifold_core::prelude::*;
 use bevy_manifold_core::trace::{FlatScene, PaperOptions};
+use bevy_manifold_gpu::GpuScene;
 use bevy_manifold_gpu::WgslModule;
-use bevy_manifold_gpu::layout::GpuScene;
 use bevy_manifold_test_support::Rng;
 
 mod probe;
@@ -48,10 +48,10 @@ fn walk(@builtin(global_invocation_id) id: vec3<u32>) {
 fn the_gpu_walk_finds_the_brute_force_nearest_triangle() {
     let space = catalog::by_name("torus").expect("catalog");
     let scene = Scene::paper(&space, &PaperOptions::default());
-    let prep = FlatScene::<f32>::new(&space, &scene);
-    let packed = GpuScene::pack(&space, &prep, &TraceSettings::default());
+    let flat = FlatScene::<f32>::new(&space, &scene);
+    let packed = GpuScene::pack(&space, &flat, &TraceSettings::default());
     // The first mesh is packed first: its instances start at word 0.
-    let mesh = &prep.meshes[0];
+    let mesh = &flat.meshes[0];
     let inst = packed
         .objects
         .instances

@@ -85,9 +85,9 @@ fn meshes_share_one_bvh_and_scenes_without_them_compile_none() {
             .meshes
             .push(SceneMesh::new(data.clone(), MeshMaterial::default(), at, 0.05));
     }
-    let prep = bevy_manifold_core::trace::FlatScene::<f32>::new(&space, &scene);
-    assert_eq!(prep.meshes.len(), 1, "ten instances, one mesh");
-    assert_eq!(prep.instances.len(), 10);
+    let flat = bevy_manifold_core::trace::FlatScene::<f32>::new(&space, &scene);
+    assert_eq!(flat.meshes.len(), 1, "ten instances, one mesh");
+    assert_eq!(flat.instances.len(), 10);
     let defs = bevy_manifold_gpu::TraceDefs::for_scene(&space, &scene, false);
     assert!(defs.meshes);
     assert!(!bevy_manifold_gpu::TraceDefs::for_scene(&space, &Scene::default_for(&space), false).meshes);

@@ -1,8 +1,11 @@
 //! What bevy_manifold's tests and benchmarks share (unpublished, like
 //! `vello_tests`): one image comparison, one seeded RNG, the stress
-//! fixtures, and (feature `gpu`) the GPU to test on or an honest skip.
+//! fixtures, an independent solution of the word problem of the
+//! right-angled mirror spaces ([`coxeter`]), and (feature `gpu`) the GPU to
+//! test on or an honest skip.
 
 pub mod compare;
+pub mod coxeter;
 pub mod fuzz;
 #[cfg(feature = "gpu")]
 pub mod gpu;

@@ -402,11 +402,11 @@ pub fn walk_settings(transports: u32, renormalize: bool, side: u32) -> TraceSett
 /// parallel: the CPU side of `GpuTracer::drift`.
 #[must_use]
 pub fn cpu_drift<R: Real>(space: &Space, scene: &Scene, settings: &TraceSettings) -> Vec<RayDrift> {
-    let prep = FlatScene::<R>::new(space, scene);
+    let flat = FlatScene::<R>::new(space, scene);
     let (w, h) = (settings.width, settings.height);
     (0..w * h)
         .into_par_iter()
-        .map(|k| ray_drift::<R>(space, camera_ray(&prep, k % w, k / w, w, h), settings))
+        .map(|k| ray_drift::<R>(space, camera_ray(&flat, k % w, k / w, w, h), settings))
         .collect()
 }
 

@@ -189,14 +189,14 @@ fn render(args: &TourRenderArgs) -> Result<(), String> {
     // camera by index rather than by exact products, when there are
     // enough pixels to repay it: three 1920x1080 frames took 4.6-5.0 s
     // with it against 6.5, one 640x360 frame 0.4 s against 0.3
-    // (BENCHMARKS.md, "The table of cells around the camera, on the CPU
+    // (docs/benchmarks/history.md, "The table of cells around the camera, on the CPU
     // too"). The GPU grows it when it packs the space.
     let pixels = u64::from(size.0) * u64::from(size.1) * (end - first);
     if gpu.is_none()
         && pixels >= GROW_TABLE_PIXELS
         && let bevy_manifold::space::cells::CellScheme::Exact(exact) = space.cells()
     {
-        exact.ball();
+        exact.table();
     }
     let tracer = gpu.as_ref().map_or_else(
         || format!("CPU {}", if args.f32 { "f32" } else { "f64" }),

@@ -1,4 +1,4 @@
-//! The explorer (feature `app`): what `cargo run --release` opens. A window
+//! The explorer: what `cargo run --release` opens. A window
 //! into the manifold with the paper's scene, the fly camera and an egui
 //! side panel for the space, the levels, fog, per-cell shading, the scene,
 //! the render scale, frame times, the adapter and the camera's cell, and
@@ -38,7 +38,7 @@ pub use view::{ExplorerCamera, ExplorerStatus, ExplorerView, ExplorerWorld};
 
 use bevy::prelude::*;
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured, save_to_disk};
-use bevy_manifold::camera_controller::FlyCameraPlugin;
+use bevy_manifold::camera::FlyCameraPlugin;
 use bevy_manifold::placement::DomainCell;
 use bevy_manifold::space::catalog;
 use bevy_manifold::trace::SuzanneMode;
@@ -46,7 +46,7 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 /// The explorer's world, keys and settings (no window needed). Adds
-/// [`bevy_manifold::ManifoldPlugin`] and [`FlyCameraPlugin`] when the app has not.
+/// [`bevy_manifold::ManifoldPlugins`] and [`FlyCameraPlugin`] when the app has not.
 #[derive(Clone, Debug, Default)]
 pub struct ExplorerPlugin {
     /// Where the settings are saved when they change and on exit (`None`:
@@ -64,8 +64,8 @@ struct SettingsFile {
 
 impl Plugin for ExplorerPlugin {
     fn build(&self, app: &mut App) {
-        if !app.is_plugin_added::<bevy_manifold::ManifoldPlugin>() {
-            app.add_plugins(bevy_manifold::ManifoldPlugin::default());
+        if !app.is_plugin_added::<bevy_manifold::placement::PlacementPlugin>() {
+            app.add_plugins(bevy_manifold::ManifoldPlugins::default());
         }
         if !app.is_plugin_added::<FlyCameraPlugin>() {
             app.add_plugins(FlyCameraPlugin);
@@ -190,7 +190,7 @@ fn keys(
         settings.vehicle = !settings.vehicle;
     }
     if hit(KeyCode::KeyR) {
-        let (placement, _) = bevy_manifold::paper_scene::paper_camera(&world.space);
+        let (placement, _) = bevy_manifold::drawables::paper::paper_camera(&world.space);
         commands.entity(world.camera).insert((
             placement,
             DomainCell::default(),

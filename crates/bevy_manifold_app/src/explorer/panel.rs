@@ -1,4 +1,4 @@
-//! The explorer's window (feature `app`): an egui side panel with every
+//! The explorer's window: an egui side panel with every
 //! setting, the frame times, the adapter and the camera's cell, and the
 //! traced view filling the rest of the window at the render scale.
 
@@ -13,9 +13,9 @@ use bevy_egui::egui::{self, Color32, LayerId, Ui, UiBuilder};
 use bevy_egui::{
     EguiContexts, EguiGlobalSettings, EguiPlugin, EguiPrimaryContextPass, EguiTextureHandle, PrimaryEguiContext,
 };
+use bevy_manifold::camera::{AdaptiveRenderScale, ManifoldAccumulation, ManifoldRenderScale};
 use bevy_manifold::geometry::Geometry;
 use bevy_manifold::placement::{DomainCell, Placement};
-use bevy_manifold::render::{AdaptiveRenderScale, ManifoldAccumulation, ManifoldRenderScale};
 use bevy_manifold::space::{catalog, library};
 use bevy_manifold::tour::FaceWord;
 use bevy_manifold::trace::SuzanneMode;

@@ -23,11 +23,11 @@
 //! ```
 
 use bevy::prelude::*;
-use bevy_manifold::render::{AdaptiveRenderScale, ManifoldAccumulation, ManifoldCamera, ManifoldFootprint};
+use bevy_manifold::camera::{AdaptiveRenderScale, ManifoldAccumulation, ManifoldCamera, ManifoldFootprint};
+use bevy_manifold::camera::{CellShading, ManifoldFog};
 use bevy_manifold::space::rule::{CellRule, OnOff, Walls};
 use bevy_manifold::space::{catalog, library};
 use bevy_manifold::trace::{PaperOptions, SuzanneMode};
-use bevy_manifold::view::{CellShading, ManifoldFog};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 

@@ -22,7 +22,7 @@ use super::settings::{CellMode, ExplorerSettings, MAX_LEVEL};
 use super::view::{ExplorerCamera, ExplorerStatus, ExplorerWorld};
 use bevy::prelude::*;
 use bevy::render::renderer::RenderDevice;
-use bevy_manifold::camera_controller::fly_camera_input;
+use bevy_manifold::camera::fly_camera_input;
 use bevy_manifold::placement::{GeodesicVelocity, ManifoldSystems, Placement};
 use bevy_manifold::space::{catalog, library};
 use bevy_manifold::trace::SuzanneMode;

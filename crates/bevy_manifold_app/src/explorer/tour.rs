@@ -21,7 +21,7 @@
 use super::settings::{CellMode, ExplorerSettings};
 use super::view::{ExplorerCamera, ExplorerWorld, insert_controller};
 use bevy::prelude::*;
-use bevy_manifold::camera_controller::{FlyCamera, Vehicle};
+use bevy_manifold::camera::{FlyCamera, Vehicle};
 use bevy_manifold::placement::GeodesicVelocity;
 use bevy_manifold::space::Space;
 use bevy_manifold::tour::{Tour, TourDesc, TourPlayer};

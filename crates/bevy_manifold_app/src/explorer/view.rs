@@ -7,13 +7,13 @@
 use super::settings::ExplorerSettings;
 use bevy::camera::RenderTarget;
 use bevy::prelude::*;
-use bevy_manifold::camera_controller::{FlyCamera, Vehicle};
-use bevy_manifold::paper_scene::{paper_camera, spawn_paper_scene};
+use bevy_manifold::camera::ManifoldFog;
+use bevy_manifold::camera::{AdaptiveRenderScale, ManifoldAccumulation, ManifoldFootprint, ManifoldRenderScale};
+use bevy_manifold::camera::{FlyCamera, Vehicle};
+use bevy_manifold::drawables::paper::{paper_camera, spawn_paper_scene};
 use bevy_manifold::placement::{DomainCell, FaceCrossed, ManifoldSpace, Placement};
-use bevy_manifold::render::{AdaptiveRenderScale, ManifoldAccumulation, ManifoldFootprint, ManifoldRenderScale};
 use bevy_manifold::space::{Space, catalog};
 use bevy_manifold::tour::FaceWord;
-use bevy_manifold::view::ManifoldFog;
 use std::collections::VecDeque;
 
 /// Marks the explorer's camera.

@@ -347,7 +347,7 @@ pub fn skip_links(nodes: &[BvhNode]) -> Vec<u32> {
 /// triangles, in the nodes' order (depth first, left child first). Two
 /// loops, as on the GPU, where lanes that found a leaf wait for the
 /// others and test their leaves together; a per-lane stack costs lavapipe
-/// a gather and a scatter a push (BENCHMARKS.md, "Meshes by skip links").
+/// a gather and a scatter a push (docs/benchmarks/history.md, "Meshes by skip links").
 /// On a tie the later triangle in that order is kept.
 #[must_use]
 pub fn hit_mesh<R: Real>(mesh: &MeshData, o: [R; 3], d: [R; 3], s_max: R) -> Option<MeshHit<R>> {

@@ -41,20 +41,12 @@
 //! assert_eq!(torus.cell_id(&DMat4::IDENTITY).0, 0);
 //! ```
 
+use super::cell_id::LATTICE_TAG;
+pub use super::cell_id::{CellId, hash32};
 use crate::geometry::Geometry;
 use crate::space::Space;
 use crate::space::exact::ExactGroup;
-use glam::{DMat3, DMat4, DVec3, DVec4, IVec3};
-
-/// The id of one copy of the fundamental domain in the cover. The origin
-/// copy is 0 in every scheme.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
-pub struct CellId(pub u64);
-
-const LATTICE_BITS: u32 = 21;
-const LATTICE_MASK: u64 = (1 << LATTICE_BITS) - 1;
-/// Marks lattice ids so they can be decoded.
-const LATTICE_TAG: u64 = 1 << 63;
+use glam::{DMat3, DMat4, DVec3, DVec4};
 
 /// `|w|` of a copy's centre on the hyperboloid beyond which hashed ids are
 /// flagged [`CellId::FAR`] (distance `acosh(1e5) ~ 12.2`).
@@ -65,68 +57,6 @@ pub const HASHED_HORIZON: f64 = <f64 as crate::geometry::Real>::CELL_HORIZON;
 /// about `eps_32 |w|^2` in its centre, a good fraction of a grid step once
 /// `|w|` passes a few hundred (distance ~6).
 pub const HASHED_HORIZON_F32: f64 = <f32 as crate::geometry::Real>::CELL_HORIZON;
-
-impl CellId {
-    /// Set on hashed ids of copies beyond [`HASHED_HORIZON`], where f64 can
-    /// no longer tell the copies apart reliably.
-    pub const FAR: u64 = 1 << 62;
-
-    /// What the GPU reports for a cell beyond its table of exact ids
-    /// (`CELLS_TABLE`, [`super::ball`]): the far bit alone, which no id
-    /// from a hash carries. Shaded [`CellTint::UNKNOWN`] in every mode.
-    pub const BEYOND_TABLE: CellId = CellId(Self::FAR);
-
-    /// True for a best-effort id beyond the precision horizon.
-    #[must_use]
-    pub fn is_far(self) -> bool {
-        self.0 & LATTICE_TAG == 0 && self.0 & Self::FAR != 0
-    }
-
-    /// The id of lattice cell `(i, j, k)`; each coordinate keeps 21 bits.
-    #[must_use]
-    pub fn from_lattice(c: IVec3) -> Self {
-        if c == IVec3::ZERO {
-            return CellId(0);
-        }
-        let pack = |x: i32| (x as i64 as u64) & LATTICE_MASK;
-        CellId(LATTICE_TAG | pack(c.x) | (pack(c.y) << LATTICE_BITS) | (pack(c.z) << (2 * LATTICE_BITS)))
-    }
-
-    /// The lattice triple of a lattice id (`Some(ZERO)` for the origin).
-    #[must_use]
-    pub fn lattice(self) -> Option<IVec3> {
-        if self.0 == 0 {
-            return Some(IVec3::ZERO);
-        }
-        if self.0 & LATTICE_TAG == 0 {
-            return None;
-        }
-        let unpack = |s: u32| {
-            let v = (self.0 >> s) & LATTICE_MASK;
-            // sign-extend 21 bits
-            ((v << (64 - LATTICE_BITS)) as i64 >> (64 - LATTICE_BITS)) as i32
-        };
-        Some(IVec3::new(unpack(0), unpack(LATTICE_BITS), unpack(2 * LATTICE_BITS)))
-    }
-
-    /// A colour for per-cell shading, the same for every path to the cell.
-    #[must_use]
-    pub fn color(self) -> [f32; 3] {
-        if self.0 == 0 {
-            return [1.0, 1.0, 1.0];
-        }
-        let h = self.hash();
-        let c = |s: u32| 0.25 + 0.75 * ((h >> s) & 0xff) as f32 / 255.0;
-        [c(0), c(8), c(16)]
-    }
-
-    /// 32 bits hashed from the id, in 32-bit arithmetic only so the GPU
-    /// (`cell_hash` in `bevy_manifold_gpu`'s `shaders/cells.wgsl`) gets the same bits.
-    #[must_use]
-    pub fn hash(self) -> u32 {
-        hash32((self.0 as u32) ^ hash32((self.0 >> 32) as u32))
-    }
-}
 
 /// How per-cell shading tells the copies of the domain apart: the tint an
 /// object's albedo is multiplied by in the copy it is seen in. The copy
@@ -268,7 +198,7 @@ impl CellScheme {
                     group,
                     planes: space.faces().iter().map(|f| f.plane).collect(),
                     pairings: space.faces().iter().map(|f| f.pairing).collect(),
-                    ball: std::sync::OnceLock::new(),
+                    table: std::sync::OnceLock::new(),
                 })),
                 None => CellScheme::Hashed {
                     quantum: hashed_quantum(space),
@@ -359,7 +289,7 @@ pub struct ExactCells {
     pub group: ExactGroup,
     planes: Vec<DVec4>,
     pairings: Vec<DMat4>,
-    ball: std::sync::OnceLock<std::sync::Arc<super::ball::CellBall>>,
+    table: std::sync::OnceLock<std::sync::Arc<super::cell_table::CellTable>>,
 }
 
 /// Most face steps [`ExactCells::locate`] takes walking a centre home.
@@ -367,23 +297,23 @@ const MAX_LOCATE_STEPS: usize = 4096;
 
 impl ExactCells {
     /// The table of cells around the origin copy that the GPU walks
-    /// ([`super::ball`], [`super::ball::DEFAULT_BALL_CELLS`] cells at
+    /// ([`super::cell_table`], [`super::cell_table::DEFAULT_TABLE_CELLS`] cells at
     /// most), grown on first use (0.2 s in Seifert-Weber, 0.5 s in the
     /// mirrored dodecahedron, on one core of the development machine,
     /// `bench cells`) and kept with the space.
-    pub fn ball(&self) -> &std::sync::Arc<super::ball::CellBall> {
-        self.ball.get_or_init(|| {
-            std::sync::Arc::new(super::ball::CellBall::grow(
+    pub fn table(&self) -> &std::sync::Arc<super::cell_table::CellTable> {
+        self.table.get_or_init(|| {
+            std::sync::Arc::new(super::cell_table::CellTable::grow(
                 &self.group,
-                super::ball::DEFAULT_BALL_CELLS,
+                super::cell_table::DEFAULT_TABLE_CELLS,
             ))
         })
     }
 
     /// The table, if it has been grown (never blocks).
     #[must_use]
-    pub fn grown_ball(&self) -> Option<&std::sync::Arc<super::ball::CellBall>> {
-        self.ball.get()
+    pub fn grown_table(&self) -> Option<&std::sync::Arc<super::cell_table::CellTable>> {
+        self.table.get()
     }
 
     /// The exact element of the copy whose centre `g` (an `f64` element)
@@ -463,15 +393,6 @@ fn hashed_id(centre: DVec4, quantum: f64, horizon: f64) -> CellId {
 
 const HASH_SEED_LO: u32 = 0x9e37_79b9;
 const HASH_SEED_HI: u32 = 0x85eb_ca6b;
-
-/// A 32-bit integer hash (PCG's output permutation), identical in WGSL
-/// (`hash32` in `bevy_manifold_gpu`'s `shaders/cells.wgsl`).
-#[must_use]
-pub fn hash32(x: u32) -> u32 {
-    let state = x.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
-    let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277_803_737);
-    (word >> 22) ^ word
-}
 
 /// Hash of a rounded cell centre, seeded; identical in WGSL (`hash_key`).
 #[must_use]

@@ -15,10 +15,10 @@
 //! assert!(poincare.validate().is_ok());
 //! ```
 
-pub mod ball;
 pub mod catalog;
+pub mod cell_id;
+pub mod cell_table;
 pub mod cells;
-pub mod coxeter;
 mod cycles;
 pub mod dirichlet;
 pub mod element;

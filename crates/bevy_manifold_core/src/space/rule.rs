@@ -1,6 +1,6 @@
 //! Per-cell rules games build on, decided from a cell's path-independent
 //! id alone, so the tracer, the gameplay ray casts and the ECS agree on
-//! them from every path (issue #14): the paper's on/off rule by cell
+//! them from every path: the paper's on/off rule by cell
 //! (its §7.2: objects in an "off" copy are neither drawn nor hit, rays
 //! pass through) and walls between cells (its §6.3: "an opaque cell with
 //! a few openings" turns the cover into a maze).
@@ -65,7 +65,7 @@ fn threshold(f: f32) -> u32 {
 }
 
 /// 24 bits from an id and a seed, in u32 arithmetic. WGSL twin:
-/// `rule_bits` in `bevy_manifold_gpu`'s `shaders/rules.wgsl`.
+/// `rule_bits` in `bevy_manifold_gpu`'s `shaders/rule.wgsl`.
 fn bits(id: CellId, seed: u32) -> u32 {
     hash32(hash32(seed ^ id.0 as u32) ^ (id.0 >> 32) as u32) >> 8
 }
@@ -100,7 +100,7 @@ impl CellRule {
     }
 
     /// Whether the face between cells `a` and `b` is a wall (the same from
-    /// either side). WGSL twin: `cell_wall` in `shaders/rules.wgsl`. Never between a cell and itself, or next to a cell
+    /// either side). WGSL twin: `cell_wall` in `shaders/rule.wgsl`. Never between a cell and itself, or next to a cell
     /// the GPU could not name.
     #[must_use]
     pub fn wall(&self, a: CellId, b: CellId) -> bool {

@@ -26,6 +26,7 @@
 //! assert_eq!(end.caption.as_deref(), Some("off along +x"));
 //! ```
 
+mod build;
 pub mod file;
 pub mod path;
 

@@ -13,8 +13,9 @@
 //! into its history with weight `1 / (k + 1)`; [`accumulate`] is the same
 //! on the CPU.
 
-use super::render::{TraceSettings, render};
+use super::render::render;
 use super::scene::{Frustum, Scene};
+use super::settings::TraceSettings;
 use crate::geometry::Real;
 use crate::space::Space;
 

@@ -8,12 +8,13 @@
 //! as a mesh's nodes are. Only the leaves are kept, and every segment
 //! tests every leaf: the GPU tests them at constant indices, a plain
 //! vector test each, where a walk down the tree read each node lane by
-//! lane (BENCHMARKS.md, "The ball tree's leaves tested flat").
+//! lane (docs/benchmarks/history.md, "The ball tree's leaves tested flat").
 //!
 //! WGSL twin: `interior_balls` and `ball_tree_leaves` in
-//! `bevy_manifold_gpu`'s `shaders/render.wgsl`, which read
-//! [`BallTree::words`] from the `ball_nodes` uniform, and `cache_leaves`
-//! in `shaders/ball_tree.wgsl`.
+//! `bevy_manifold_gpu`'s `shaders/cull.wgsl`, and `cache_leaves` in
+//! `shaders/ball_tree.wgsl`, which reads the tree's words
+//! ([`BallTree::words`]) from the `ball_nodes` uniform of
+//! `shaders/bindings.wgsl`.
 
 use super::step::Ray;
 use crate::geometry::{Geometry, Real};
@@ -92,7 +93,7 @@ pub fn ball_box(g: Geometry, c: DVec4, k: f64) -> ([f32; 3], [f32; 3]) {
 /// `b - a` to its end, so its points are `a + s (b - a)`, `0 <= s <= 1`.
 /// `None` when an end is not finite or at or past the chart's horizon
 /// (`w <= 0`, S3 only): the caller then tests every ball.
-/// WGSL twin: the start of `interior_balls` in `shaders/render.wgsl`.
+/// WGSL twin: the start of `interior_balls` in `shaders/cull.wgsl`.
 #[inline]
 #[must_use]
 pub fn chart_segment<R: Real>(ray: &Ray<R>, t_end: R) -> Option<([R; 3], [R; 3])> {
@@ -118,7 +119,7 @@ pub const MAX_BALL_LEAVES: usize = 64;
 /// [`SMALL_LEAVES`] leaves: up to 64 balls. Every leaf's box costs every
 /// segment a slab test, and every ball of a met leaf a test whose words
 /// are gathered lane by lane. `bench balls`, 320x180, 8 levels, GPU ms,
-/// four alternated runs (BENCHMARKS.md, "The ball tree's leaves tested
+/// four alternated runs (docs/benchmarks/history.md, "The ball tree's leaves tested
 /// flat"): with leaves of up to 4 rather than 8, Seifert-Weber's 64 balls
 /// (16 leaves, not 8) took 18.9-19.6 against 21.6-23.3, and 32 balls
 /// 17.2-17.5 against 19.4-21.0.
@@ -369,7 +370,7 @@ fn split(boxes: &[([f32; 3], [f32; 3])], order: &mut [u32], first: usize, leaves
 /// GPU decodes each box within a quarter step of [`BallTree::node_box`],
 /// and holding the leaf's balls either way, so a grazing segment may meet
 /// a leaf on one side only; no ball hit is lost.) WGSL twin:
-/// `ball_tree_leaves` in `shaders/render.wgsl`.
+/// `ball_tree_leaves` in `shaders/cull.wgsl`.
 pub fn tree_leaves<R: Real>(tree: &BallTree, a: [R; 3], d: [R; 3], pad: f32, mut visit: impl FnMut(Range<usize>)) {
     let inv_d = safe_inverse(d);
     let met = |(lo, hi): ([f32; 3], [f32; 3])| {

@@ -2,12 +2,13 @@
 //! stability tests and `bench stability`.
 //!
 //! WGSL twin: `shaders/drift.wgsl` in `bevy_manifold_gpu` (`ray_drift`,
-//! run by the `drift` entry).
+//! run by the `drift` entry of `shaders/render.wgsl`).
 
 use super::flat::FlatScene;
-use super::render::{TraceSettings, trace_ray};
 use super::scene::Scene;
+use super::settings::TraceSettings;
 use super::step::Ray;
+use super::trace::trace_ray;
 use crate::geometry::Real;
 use crate::space::Space;
 
@@ -49,7 +50,7 @@ impl RayDrift {
 /// worst errors over every segment's start and end.
 #[must_use]
 pub fn ray_drift<R: Real>(space: &Space, ray: Ray<R>, settings: &TraceSettings) -> RayDrift {
-    let prep = FlatScene::<R>::new(space, &Scene::empty());
+    let flat = FlatScene::<R>::new(space, &Scene::empty());
     let g = space.geometry();
     let mut drift = RayDrift {
         outside: f64::NEG_INFINITY,
@@ -68,7 +69,7 @@ pub fn ray_drift<R: Real>(space: &Space, ray: Ray<R>, settings: &TraceSettings) 
             drift.point_error = f64::NAN;
         }
     };
-    let (pixel, _) = trace_ray(space, &prep, ray, settings, &mut |st| {
+    let (pixel, _) = trace_ray(space, &flat, ray, settings, &mut |st| {
         note(&st.start);
         note(&st.end);
     });

@@ -3,13 +3,15 @@
 //! balls with their ghost copies, edge tubes, lights.
 
 use super::ball_tree::{BallTree, ball_box};
-use super::cull::{FaceGroups, cull_distance, face_mask, near_reach, near_scale};
+use super::face_groups::{
+    FaceGroups, cull_distance, edge_keys, edge_masks, face_mask, joint_carriers, near_reach, near_scale,
+};
 use super::scene::Scene;
 use super::step::{Segment, radius_param};
 use crate::geometry::{Geometry, Real, isometry};
 use crate::mesh::{MeshData, Texture};
 use crate::space::Space;
-use crate::space::ball::CellsAround;
+use crate::space::cell_table::CentredTable;
 use crate::space::cells::{CellId, CellScheme};
 use crate::space::element::CellElement;
 use glam::{DMat4, DVec4};
@@ -106,17 +108,6 @@ pub struct FlatInstance<R: Real> {
     pub home: Option<R::V4>,
     /// The faces its bounding ball lies near, as [`FlatBall::face_mask`].
     pub face_mask: u32,
-}
-
-/// True when two cell points `g o` name the same copy of the domain:
-/// copies' centres are at least twice the inradius apart, so a tolerance
-/// of a thousandth of their size tells them apart in f32 as in f64.
-/// WGSL twin: `same_cell_point` in `shaders/render.wgsl`.
-#[must_use]
-pub fn same_cell_point<R: Real>(a: R::V4, b: R::V4) -> bool {
-    let d = a - b;
-    let size = R::dot4(a, a).max(R::of(1.0));
-    R::dot4(d, d) <= R::of(1e-6) * size
 }
 
 /// The per-face arrays a walk through the manifold reads, in precision `R`.
@@ -230,8 +221,8 @@ pub struct FlatScene<R: Real> {
     /// exact ids start ([`FlatScene::in_cell`] to place the camera far).
     pub camera_element: CellElement,
     /// The table of cells around `camera_element`, made on the first ask
-    /// ([`FlatScene::cells_around`]).
-    cells_around: OnceLock<Arc<CellsAround>>,
+    /// ([`FlatScene::centred_table`]).
+    centred_table: OnceLock<Arc<CentredTable>>,
     /// `tan(fov_y / 2)`.
     pub tan_half_fov: R,
     /// An off-centre frustum ([`crate::trace::Frustum::half_extent_and_centre`]),
@@ -259,7 +250,7 @@ const PALETTE: [[f32; 3]; 10] = [
 /// are tested flat; when the tree was walked node by node, a tree of 12
 /// balls cost less than testing each: on lavapipe
 /// (320x180, 8 levels, over the one-ball frame, two runs each;
-/// BENCHMARKS.md, "MIN_BALL_TREE after the two-loop walk") 12 balls took
+/// docs/benchmarks/history.md, "MIN_BALL_TREE after the two-loop walk") 12 balls took
 /// 1.35-1.48x in the torus with a tree and 1.79-2.18x without,
 /// Seifert-Weber 1.45-1.47x and 1.36-1.68x, Poincare 1.38-1.59x and
 /// 1.37-1.64x. A tree of one leaf (8 balls), when it was the first scene
@@ -281,7 +272,7 @@ pub const MAX_GHOST_SEARCH: usize = 8192;
 /// hyperboloid), as the GPU's ball test makes it in place of reading w
 /// (one word fewer gathered a ball), so both test the same point; in E3
 /// and S3 it is `c` as it is. WGSL twin: `ball_center` in
-/// `shaders/render.wgsl`.
+/// `shaders/nearest.wgsl`.
 #[must_use]
 pub fn ball_center<R: Real>(g: Geometry, c: DVec4) -> R::V4 {
     if g != Geometry::Hyperbolic {
@@ -440,94 +431,13 @@ impl<R: Real> FlatScene<R> {
                 .map(|f| (R::of(f.density), f.color)),
             camera: R::m4_of(camera),
             camera_element: space.cell_of_matrix(&camera_cell),
-            cells_around: OnceLock::new(),
+            centred_table: OnceLock::new(),
             camera_cell,
             tan_half_fov: R::of((scene.camera.fov_y_degrees.to_radians() / 2.0).tan()),
             frustum: scene.camera.frustum.map(|f| f.half_extent_and_centre().map(R::of)),
         }
         .in_cell(space, &space.cell_of_word(&scene.camera.cell))
     }
-}
-
-/// The face masks ([`FlatTube::face_mask`]) of the tubes of radius `r`
-/// along the edges of `space`, in the edges' order, for masks of `reach`.
-fn edge_masks(space: &Space, r: f64, reach: f64) -> Vec<u32> {
-    let point = |v: usize| space.vertices()[v].point;
-    space
-        .edges()
-        .iter()
-        .map(|e| face_mask(space, &[point(e.vertices[0]), point(e.vertices[1])], r, reach))
-        .collect()
-}
-
-/// The edge bits ([`FlatTube::edge`]) of tubes along the edges of
-/// `space` with face masks `masks`: each key once. A tube whose edge
-/// bits an earlier one took (two edges folded onto the same bits) is
-/// found by one of them alone, if that is free, else it has none.
-fn edge_keys(space: &Space, masks: &[u32]) -> Vec<u32> {
-    let mut keys = HashSet::new();
-    space
-        .edges()
-        .iter()
-        .zip(masks)
-        .map(|(edge, &mask)| {
-            let own: u32 = (1 << (edge.faces[0] % 32)) | (1 << (edge.faces[1] % 32));
-            let alone = [1 << own.trailing_zeros(), 1 << (31 - own.leading_zeros())];
-            core::iter::once(own)
-                .chain(alone)
-                .find(|&k| k & !mask == 0 && keys.insert(k))
-                .unwrap_or(0)
-        })
-        .collect()
-}
-
-/// Which tube carries each vertex joint ([`FlatTube::joint`]), for
-/// tubes along edges with ends `ends` (vertex indices) and face masks
-/// `tube_masks`, and joints (one per vertex) with face masks `masks`: a tube
-/// may carry a joint at one of its ends whose mask is not 0 and holds the
-/// tube's (so its edge bits too: a segment near all of the joint's faces
-/// walks the tube, keyed or not). At most one joint a tube: a matching of joints to tubes,
-/// grown by augmenting paths (Kuhn), so that every joint is carried where
-/// any matching carries them all (a vertex of a convex polyhedron has
-/// three edges or more, a tube two ends: Hall's condition holds when the
-/// masks do not exclude a tube). `None` for a joint left to the groups.
-fn joint_carriers(ends: &[[usize; 2]], tube_masks: &[u32], masks: &[u32]) -> Vec<Option<usize>> {
-    let mut tubes_at = vec![Vec::new(); masks.len()];
-    for (t, (e, &tube)) in ends.iter().zip(tube_masks).enumerate() {
-        for &v in e {
-            if masks.get(v).is_some_and(|&m| m != 0 && tube & !m == 0) && !tubes_at[v].contains(&t) {
-                tubes_at[v].push(t);
-            }
-        }
-    }
-    let mut joint_on = vec![None; ends.len()];
-    for v in 0..masks.len() {
-        let mut seen = vec![false; ends.len()];
-        augment(v, &tubes_at, &mut joint_on, &mut seen);
-    }
-    let mut carrier = vec![None; masks.len()];
-    for (t, v) in joint_on.iter().enumerate() {
-        if let Some(v) = *v {
-            carrier[v] = Some(t);
-        }
-    }
-    carrier
-}
-
-/// One augmenting path from joint `v` for [`joint_carriers`]: true when
-/// `v` found a tube, freeing one taken if need be.
-fn augment(v: usize, tubes_at: &[Vec<usize>], joint_on: &mut [Option<usize>], seen: &mut [bool]) -> bool {
-    for &t in &tubes_at[v] {
-        if seen[t] {
-            continue;
-        }
-        seen[t] = true;
-        if joint_on[t].is_none_or(|w| augment(w, tubes_at, joint_on, seen)) {
-            joint_on[t] = Some(v);
-            return true;
-        }
-    }
-    false
 }
 
 /// The hierarchy of [`FlatScene::ball_tree`] over `balls` (those with no
@@ -560,7 +470,7 @@ impl<R: Real> FlatScene<R> {
         }
         self.camera_element = space.compose_cells(cell, &self.camera_element);
         self.camera_cell = space.cell_matrix(&self.camera_element);
-        self.cells_around = OnceLock::new();
+        self.centred_table = OnceLock::new();
         // A camera-attached mesh's home (the copy that is the camera's own
         // body) moves with the camera.
         let (g, c) = (space.geometry(), space.cell_matrix(cell));
@@ -573,30 +483,30 @@ impl<R: Real> FlatScene<R> {
     }
 
     /// The table of cells around the camera's copy that the CPU tracer's
-    /// rays step through by index ([`crate::space::ball::CellsAround`]),
+    /// rays step through by index ([`crate::space::cell_table::CentredTable`]),
     /// where `space`'s ids are exact and its table has been grown
-    /// ([`crate::space::cells::ExactCells::grown_ball`]: this never grows
+    /// ([`crate::space::cells::ExactCells::grown_table`]: this never grows
     /// it; the GPU's packing does, and so may the caller, with
-    /// `ExactCells::ball`). Made on the first ask and kept with the scene,
+    /// `ExactCells::table`). Made on the first ask and kept with the scene,
     /// and handed out only while it is still `space`'s table around
     /// [`FlatScene::camera_element`] (a scene traced with another space,
     /// or whose camera was moved by hand, gets `None`). `None` elsewhere,
     /// or when the camera's copy is past `i128` integers (about distance
     /// 80): rays then multiply exact elements at every crossing.
     #[must_use]
-    pub fn cells_around(&self, space: &Space) -> Option<&Arc<CellsAround>> {
+    pub fn centred_table(&self, space: &Space) -> Option<&Arc<CentredTable>> {
         let (CellScheme::Exact(exact), CellElement::Exact(centre)) = (space.cells(), &self.camera_element) else {
             return None;
         };
-        let ball = exact.grown_ball()?;
-        let around = match self.cells_around.get() {
+        let table = exact.grown_table()?;
+        let around = match self.centred_table.get() {
             Some(around) => around,
             None if centre.is_small() => self
-                .cells_around
-                .get_or_init(|| Arc::new(CellsAround::new(ball.clone(), centre.clone()))),
+                .centred_table
+                .get_or_init(|| Arc::new(CentredTable::new(table.clone(), centre.clone()))),
             None => return None,
         };
-        (std::ptr::eq(around.ball(), &**ball) && around.centre() == centre).then_some(around)
+        (std::ptr::eq(around.table(), &**table) && around.centre() == centre).then_some(around)
     }
 }
 

@@ -18,7 +18,7 @@
 //! is left.
 //!
 //! WGSL twin: `shaders/footprint.wgsl` in `bevy_manifold_gpu` (the same
-//! names), used by `trace_pixel` and `nearest_object` in `render.wgsl`.
+//! names), used by `cone.wgsl`, `nearest.wgsl` and `trace.wgsl`.
 
 use super::step::{Ray, Segment};
 use crate::geometry::{Geometry, Real};

@@ -130,9 +130,9 @@ pub fn mesh_normal<R: Real>(
 /// The albedo of a mesh hit: the instance's base colour times its
 /// texture at the interpolated texture coordinates.
 #[must_use]
-pub fn mesh_albedo<R: Real>(prep: &FlatScene<R>, inst: &FlatInstance<R>, hit: &MeshHit<R>) -> [f32; 3] {
+pub fn mesh_albedo<R: Real>(flat: &FlatScene<R>, inst: &FlatInstance<R>, hit: &MeshHit<R>) -> [f32; 3] {
     let Some(t) = inst.texture else { return inst.color };
-    let m = &prep.meshes[inst.mesh].mesh;
+    let m = &flat.meshes[inst.mesh].mesh;
     let tri = m.triangles[hit.triangle as usize];
     let (u, v) = (hit.u.f64() as f32, hit.v.f64() as f32);
     let w = [1.0 - u - v, u, v];
@@ -142,6 +142,6 @@ pub fn mesh_albedo<R: Real>(prep: &FlatScene<R>, inst: &FlatInstance<R>, hit: &M
             *acc += w[k] * c;
         }
     }
-    let s = prep.textures[t].sample(uv);
+    let s = flat.textures[t].sample(uv);
     [inst.color[0] * s[0], inst.color[1] * s[1], inst.color[2] * s[2]]
 }

@@ -15,8 +15,22 @@
 //!
 //! Where a ray crosses a face is [`step::exit_face`]; the loop above is
 //! [`Walker`] (`walk.rs`), shared by the render, the drift probe, the
-//! geodesic flow and the ray casts. The WGSL twin of each file is named in
-//! its docs (`bevy_manifold_gpu`'s `shaders/`).
+//! geodesic flow and the ray casts. The tracer is split by stage, each
+//! file with a WGSL twin of the same name in `bevy_manifold_gpu`'s
+//! `shaders/` (the same functions, by the same names, in the same
+//! order):
+//!
+//! | stage | Rust | WGSL |
+//! |---|---|---|
+//! | what to trace | `settings.rs` ([`TraceSettings`]) | `bindings.wgsl` (`Params`) |
+//! | a pixel's ray | `camera.rs` ([`view_ray`]) | `camera.wgsl` |
+//! | one ray, Algorithm 1 | `trace.rs` ([`trace_ray`]) | `trace.wgsl` |
+//! | the walk through the faces | `walk.rs`, `step.rs` | `walk.wgsl`, `step.wgsl` |
+//! | which objects a segment may meet | `cull.rs` ([`each_candidate`]) | `cull.wgsl` |
+//! | what it keeps of them | `nearest.rs` | `nearest.wgsl` |
+//! | a pixel's cone | `cone.rs`, `footprint.rs` | `cone.wgsl`, `footprint.wgsl` |
+//! | shading a hit | `shade.rs` | `shade.wgsl` |
+//! | every pixel | `render.rs` ([`render`]) | `render.wgsl` (entry points) |
 //!
 //! ```
 //! use bevy_manifold_core::prelude::*;
@@ -29,18 +43,29 @@
 
 mod accumulate;
 mod ball_tree;
+mod camera;
 mod cast;
+mod cone;
 mod cull;
 mod drift;
 mod exact_cell;
+mod face_groups;
 mod flat;
 mod flow;
 pub mod footprint;
 mod mesh_hit;
+mod nearest;
 mod output;
 mod render;
 pub mod scene;
+mod settings;
+mod shade;
 pub mod step;
+#[expect(
+    clippy::module_inception,
+    reason = "the stage that traces one ray, named as its WGSL twin trace.wgsl"
+)]
+mod trace;
 mod walk;
 
 pub use accumulate::{accumulate, sample_offset};
@@ -48,23 +73,23 @@ pub use ball_tree::{
     BALL_LEAF_SIZE, BallTree, FULL_LEAF_SIZE, MAX_BALL_LEAVES, SMALL_LEAVES, UNBOUNDED, ball_box, chart_segment,
     leaf_count, tree_leaves,
 };
+pub use camera::{camera_ray, pixel_half_angle_of, view_ray, view_slopes};
 pub use cast::{CastBall, CastHit, CastWall, cast_balls, cast_with_rule};
-pub use cull::{Candidate, FaceGroups, each_candidate, near_reach};
+pub use cull::{Candidate, each_candidate};
 pub use drift::{RayDrift, ray_drift};
+pub use face_groups::{FaceGroups, near_reach};
 pub use flat::{
     EDGE_ID, FaceTables, FlatBall, FlatInstance, FlatLight, FlatScene, FlatTube, MIN_BALL_TREE, ghost_centres,
-    ghost_elements, same_cell_point,
+    ghost_elements,
 };
 pub use flow::{Flowed, flow};
 pub use footprint::{Layers, pixel_half_angle};
 pub use mesh_hit::{InstanceHit, hit_instance, meets_ball, mesh_albedo, mesh_normal};
+pub use nearest::same_cell_point;
 pub use output::{id_pixel, srgb8, upscale};
 #[cfg(feature = "png")]
 pub use output::{write_ids_png, write_png, write_rgba_png};
-pub use render::{
-    FOG_CUT, LIGHT_AT_HIT, MAX_LEVELS, MAX_PIXELS, PathStep, Projection, Stop, TraceImage, TracePixel, TraceSettings,
-    camera_ray, pixel_half_angle_of, render, trace_ray, view_ray, view_slopes,
-};
+pub use render::{TraceImage, render};
 pub use scene::MeshPart;
 pub use scene::{
     Ball, Camera, Fog, Frustum, HAND_COLOR, Light, MAX_GLOW, MAX_LIGHTS, PaperOptions, SUZANNE_COLOR, Scene,
@@ -72,4 +97,7 @@ pub use scene::{
 };
 #[cfg(feature = "gltf")]
 pub use scene::{builtin, meshes_of};
+pub use settings::{MAX_LEVELS, MAX_PIXELS, Projection, TraceSettings};
+pub use shade::LIGHT_AT_HIT;
+pub use trace::{FOG_CUT, PathStep, Stop, TracePixel, trace_ray};
 pub use walk::Walker;

@@ -3,7 +3,7 @@
 
 #[cfg(feature = "png")]
 use super::render::TraceImage;
-use super::render::TracePixel;
+use super::trace::TracePixel;
 #[cfg(feature = "png")]
 use std::path::Path;
 

@@ -24,6 +24,7 @@ pub struct Ray<R: Real> {
 /// parameter `t = -(n . o) / (n . d)` of the crossing. Crossings behind the
 /// origin (a point already a hair outside after rounding) count as `t = 0`,
 /// so the ray leaves at once instead of slipping out of the domain.
+/// WGSL twin: `exit_face` in `shaders/step.wgsl`.
 #[inline]
 #[must_use]
 pub fn exit_face<R: Real>(planes: &[R::V4], ray: &Ray<R>, skip: usize) -> Option<(usize, R)> {

@@ -2,8 +2,8 @@
 //! Algorithm 1 shared by the tracer and by geodesic flow (objects aside).
 //!
 //! WGSL twin: `shaders/walk.wgsl` in `bevy_manifold_gpu` (`Walker`,
-//! `walker_step`, and `walk_segment`, the end of [`super::trace_ray`]'s
-//! loop), used there by both `trace_pixel` and the drift probe.
+//! `walker_step`, and `walk_segment`). The last is the end of the loop of
+//! [`super::trace_ray`], shared there by the tracer and the drift probe.
 
 use super::flat::FaceTables;
 use super::step::{Ray, exit_face, transport_or_raw};

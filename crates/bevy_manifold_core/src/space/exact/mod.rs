@@ -1,5 +1,5 @@
 //! Exact group elements of hyperbolic spaces over the golden field, and
-//! path-independent cell ids from them at any distance (issue #14).
+//! path-independent cell ids from them at any distance.
 //!
 //! The groups of the Seifert-Weber space and of the mirrored right-angled
 //! dodecahedron sit inside the symmetries of the `{5,3,5}` and `{5,3,4}`
@@ -43,7 +43,7 @@
 
 use super::{EdgeCycle, FaceKind, Space};
 use crate::geometry::Geometry;
-use crate::space::cells::CellId;
+use crate::space::cell_id::CellId;
 use glam::DMat4;
 use int::{BigInt, Int};
 

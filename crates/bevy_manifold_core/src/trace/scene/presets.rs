@@ -1,6 +1,6 @@
 //! The scenes made in code: the default scene of a space, and the
 //! paper's scene, laid out once for the CPU/GPU tracer ([`Scene::paper`])
-//! and for Bevy entities (`bevy_manifold::paper_scene`): the domain's
+//! and for Bevy entities (`bevy_manifold::drawables::paper`): the domain's
 //! edges as coloured tubes, Suzanne attached to the camera (or free in
 //! front of it), the two hands low left and right, a light at the eye.
 //! Every placement is given relative to the camera, so the two versions

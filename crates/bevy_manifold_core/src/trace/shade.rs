@@ -1,0 +1,131 @@
+//! Shading a hit: Lambert plus a Blinn lobe under each light, with the
+//! fall-off of the geometry (1 / area of the geodesic sphere), per-cell
+//! colour and fog ([`shade`]); a wall between cells lit by a lamp at the
+//! eye ([`shade_wall`]).
+//!
+//! WGSL twin: `shaders/shade.wgsl` in `bevy_manifold_gpu` (the same
+//! names).
+
+use super::flat::FlatScene;
+use super::mesh_hit::{mesh_albedo, mesh_normal};
+use super::nearest::Hit;
+use super::settings::TraceSettings;
+use super::step::{Ray, foot_on_line, normal_from};
+use crate::geometry::{Geometry, Real};
+use crate::space::cells::CellId;
+use crate::space::rule::WALL_COLOR;
+
+/// A light nearer a hit than this (`|tangent towards it|^2`) is on the hit
+/// point: `toward_light` lights it along the normal.
+/// WGSL twin: `LIGHT_AT_HIT` in `shaders/shade.wgsl`.
+pub const LIGHT_AT_HIT: f64 = 1e-10;
+
+/// The unit tangent at `x` towards the light at `l`; `normal` when the
+/// light is on `x` (or, in S3, at its antipode), where the direction is
+/// 0 / 0 and `normalize_tangent` would give NaN.
+/// WGSL twin: `toward_light` in `shaders/shade.wgsl`.
+fn toward_light<R: Real>(g: Geometry, x: R::V4, l: R::V4, normal: R::V4) -> R::V4 {
+    let t = g.project_tangent::<R>(x, l);
+    let len2 = g.form::<R>(t, t).abs();
+    if len2.f64() > LIGHT_AT_HIT {
+        t * (R::of(1.0) / len2.sqrt())
+    } else {
+        normal
+    }
+}
+
+/// Lambert + Blinn shading at the hit (chart parameter `t`, with the
+/// object's normal there unless `normal_at` gives another: a cone's
+/// layer, see [`super::cone::cone_layer`]), lights with geometry-correct
+/// fall-off (1 / area of the sphere of radius d), per-cell colour, fog.
+/// WGSL twin: `shade` in `shaders/shade.wgsl`.
+#[expect(clippy::too_many_arguments, reason = "the shading inputs are all distinct")]
+pub(super) fn shade<R: Real>(
+    g: Geometry,
+    flat: &FlatScene<R>,
+    ray: &Ray<R>,
+    (t, normal_at): (R, Option<R::V4>),
+    hit: Hit<R>,
+    dist: R,
+    cell: CellId,
+    settings: &TraceSettings,
+) -> [f32; 3] {
+    let x = g.normalize_point::<R>(ray.origin + ray.dir * t);
+    let view = -g.normalize_tangent::<R>(x, ray.dir);
+    let (normal, albedo, glow) = match hit {
+        Hit::Ball(i) => (
+            normal_from::<R>(g, x, flat.balls[i].center),
+            flat.balls[i].color,
+            flat.balls[i].glow,
+        ),
+        Hit::Tube(i) => {
+            let seg = &flat.tubes[i].segment;
+            (
+                normal_from::<R>(g, x, foot_on_line::<R>(g, x, seg)),
+                flat.tubes[i].color,
+                0.0,
+            )
+        }
+        Hit::Mesh(i, h) => {
+            let inst = &flat.instances[i];
+            (
+                mesh_normal(g, inst, &flat.meshes[inst.mesh], &h, x, view),
+                mesh_albedo(flat, inst, &h),
+                0.0,
+            )
+        }
+    };
+    let normal = normal_at.unwrap_or(normal);
+    let mut albedo = albedo;
+    if settings.cell_colors {
+        let c = settings.cell_tint.tint(cell);
+        albedo = [albedo[0] * c[0], albedo[1] * c[1], albedo[2] * c[2]];
+    }
+    // Ambient light and the object's own glow.
+    let ambient = 0.08f32 + glow;
+    let mut rgb = [albedo[0] * ambient, albedo[1] * ambient, albedo[2] * ambient];
+    for l in &flat.lights {
+        let d = g.distance::<R>(x, l.position);
+        let to_light = toward_light::<R>(g, x, l.position, normal);
+        let area = g.sphere_area::<R>(d).max(R::of(1e-4));
+        let irradiance = (l.intensity / area).f64() as f32;
+        let lambert = g.form::<R>(normal, to_light).max(R::of(0.0)).f64() as f32;
+        let half = to_light + view;
+        let hl = g.form::<R>(half, half).sqrt();
+        let spec = if hl.f64() > 1e-12 {
+            (g.form::<R>(normal, half) / hl).max(R::of(0.0)).f64().powi(32) as f32 * 0.35
+        } else {
+            0.0
+        };
+        for c in 0..3 {
+            rgb[c] += (albedo[c] * lambert + spec) * irradiance * l.color[c];
+        }
+    }
+    if let Some((density, fog_color)) = flat.fog {
+        let tr = (-(density * dist)).exp().f64() as f32;
+        for c in 0..3 {
+            rgb[c] = rgb[c] * tr + fog_color[c] * (1.0 - tr);
+        }
+    }
+    rgb
+}
+
+/// A wall on face `plane`, met at distance `dist`: [`WALL_COLOR`] lit by
+/// the angle the ray meets it at (a lamp at the eye), then fog.
+/// WGSL twin: `shade_wall` in `shaders/shade.wgsl`.
+pub(super) fn shade_wall<R: Real>(flat: &FlatScene<R>, plane: &R::V4, ray: &Ray<R>, dist: R) -> [f32; 3] {
+    let n = R::dot4(*plane, *plane).sqrt();
+    let facing = (R::dot4(*plane, ray.dir) / (n * R::dot4(ray.dir, ray.dir).sqrt()))
+        .f64()
+        .abs()
+        .min(1.0) as f32;
+    let lit = 0.3 + 0.7 * facing;
+    let rgb = WALL_COLOR.map(|c| c * lit);
+    match flat.fog {
+        Some((density, fog)) => {
+            let keep = (-(density * dist).f64()).exp() as f32;
+            [0, 1, 2].map(|i| rgb[i] * keep + fog[i] * (1.0 - keep))
+        }
+        None => rgb,
+    }
+}

@@ -1,0 +1,140 @@
+// Shading a hit: Lambert plus a Blinn lobe under each light, with the
+// fall-off of the geometry (1 / area of the geodesic sphere), per-cell
+// colour and fog (shade); a wall between cells lit by a lamp at the eye
+// (shade_wall); what lies past the table of exact ids under rules
+// (unknown_rules).
+//
+// Rust twin: crates/bevy_manifold_core/src/trace/shade.rs (the same
+// names; Rust has no unknown_rules: the CPU goes on exactly past the
+// table).
+//
+// Shader defs read: BALLS, TUBES, MESHES (which objects are shaded),
+// CELL_COLORS, LIGHTS, FOG.
+#define_import_path bevy_manifold::shade
+
+#import bevy_manifold::bindings::{params, cached}
+#import bevy_manifold::geometry::{form, normalize_point, normalize_tangent, project_tangent, distance, sphere_area}
+#import bevy_manifold::step::{Ray, normal_from}
+#import bevy_manifold::nearest::Hit
+#ifdef BALLS
+#import bevy_manifold::bindings::balls
+#endif
+#ifdef TUBES
+#import bevy_manifold::bindings::tubes
+#import bevy_manifold::step::foot_on_line
+#endif
+#ifdef MESHES
+#import bevy_manifold::bindings::instances
+#import bevy_manifold::bvh::MeshHit
+#import bevy_manifold::mesh_hit::{mesh_normal, mesh_albedo}
+#endif
+#ifdef CELL_COLORS
+#import bevy_manifold::cells::cell_color
+#endif
+#ifdef LIGHTS
+#import bevy_manifold::bindings::lights
+#endif
+
+// A light nearer a hit than this (|tangent towards it|^2) is on the hit
+// point, and lights it along the normal (toward_light).
+// Rust twin: LIGHT_AT_HIT.
+const LIGHT_AT_HIT: f32 = 1.0e-10;
+
+// The unit tangent at x towards the light at l; the normal when the light
+// is on x (or, in S3, at its antipode), where the direction is 0 / 0.
+// Rust twin: toward_light.
+fn toward_light(x: vec4<f32>, l: vec4<f32>, normal: vec4<f32>) -> vec4<f32> {
+    let t = project_tangent(x, l);
+    let len2 = abs(form(t, t));
+    if len2 > LIGHT_AT_HIT {
+        return t / sqrt(len2);
+    }
+    return normal;
+}
+
+// Lambert + Blinn shading at the hit, lights with geometry-correct
+// fall-off (1 / area of the sphere of radius d), per-cell colour, fog.
+// The hit's chart parameter is where it is shaded; `normal_at`, when not
+// zero, the normal there in place of the object's own (a cone's layer,
+// cone.wgsl's cone_layer). Rust twin: `shade` (its `normal_at`).
+fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>) -> vec3<f32> {
+    let x = normalize_point(ray.origin + ray.dir * hit.t);
+    let view = -normalize_tangent(x, ray.dir);
+    var normal = vec4<f32>(0.0);
+    var albedo = vec3<f32>(1.0);
+    var glow = 0.0;
+#ifdef BALLS
+    if hit.kind == 1u {
+        normal = normal_from(x, balls[hit.index].center);
+        albedo = balls[hit.index].color;
+        glow = balls[hit.index].glow;
+    }
+#endif
+#ifdef TUBES
+    if hit.kind == 2u {
+        let seg = tubes[hit.index];
+        normal = normal_from(x, foot_on_line(x, seg));
+        albedo = seg.color;
+    }
+#endif
+#ifdef MESHES
+    if hit.kind == 3u {
+        let inst = instances[hit.index];
+        let h = MeshHit(0.0, hit.triangle, hit.u, hit.v);
+        normal = mesh_normal(inst, h, x, view);
+        albedo = mesh_albedo(inst, h);
+    }
+#endif
+    if any(normal_at != vec4<f32>(0.0)) {
+        normal = normal_at;
+    }
+#ifdef CELL_COLORS
+    albedo *= cell_color(cell);
+#endif
+    // Ambient light and the object's own glow.
+    var rgb = albedo * (0.08 + glow);
+#ifdef LIGHTS
+    for (var i = 0u; i < params.light_count; i++) {
+        let l = lights[i];
+        let d = distance(x, l.position);
+        let to_light = toward_light(x, l.position, normal);
+        let irradiance = l.intensity / max(sphere_area(d), 1.0e-4);
+        let lambert = max(form(normal, to_light), 0.0);
+        let half = to_light + view;
+        let hl = sqrt(form(half, half));
+        var spec = 0.0;
+        if hl > 1.0e-12 {
+            spec = pow(max(form(normal, half) / hl, 0.0), 32.0) * 0.35;
+        }
+        rgb += (albedo * lambert + spec) * irradiance * l.color;
+    }
+#endif
+#ifdef FOG
+    let tr = exp(-(cached.fog_density * dist));
+    rgb = rgb * tr + params.fog_color.xyz * (1.0 - tr);
+#endif
+    return rgb;
+}
+
+// Rust twin: shade_wall. WALL_COLOR lit by the angle the ray meets the face
+// plane at, then fog over `dist`.
+fn shade_wall(plane: vec4<f32>, ray: Ray, dist: f32) -> vec3<f32> {
+    let facing = min(abs(dot(plane, ray.dir) / (sqrt(dot(plane, plane)) * sqrt(dot(ray.dir, ray.dir)))), 1.0);
+    return fogged(vec3<f32>(0.62, 0.58, 0.52) * (0.3 + 0.7 * facing), dist);
+}
+
+// `rgb` seen through the fog over `dist` (as shade's fog).
+fn fogged(rgb: vec3<f32>, dist: f32) -> vec3<f32> {
+#ifdef FOG
+    let keep = exp(-params.fog_density * dist);
+    return rgb * keep + params.fog_color.xyz * (1.0 - keep);
+#else
+    return rgb;
+#endif
+}
+
+// What a ray shows where it would leave the table of exact ids under
+// rules (CELLS_TABLE): CellTint::UNKNOWN's grey, then fog over `dist`.
+fn unknown_rules(dist: f32) -> vec3<f32> {
+    return fogged(vec3<f32>(0.5), dist);
+}

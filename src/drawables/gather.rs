@@ -1,0 +1,187 @@
+//! Gathering each space's drawables into its [`ManifoldScene`]
+//! ([`gather_scenes`]), and the other way, a tracer scene spawned as
+//! entities ([`spawn_scene`]).
+
+use super::components::{DomainEdges, ManifoldLight, ManifoldMeshes, ManifoldScene, TracedBall};
+use crate::placement::{InSpace, ManifoldSpace, Placement, SpaceMembers};
+use crate::trace::{Ball, Light, MAX_LIGHTS, Scene, max_radius};
+use bevy::color::{Color, LinearRgba};
+use bevy::prelude::*;
+use std::sync::Arc;
+
+fn rgb(c: Color) -> [f32; 3] {
+    let LinearRgba { red, green, blue, .. } = c.to_linear();
+    [red, green, blue]
+}
+
+/// Filter: a drawable whose placement, shape, light or parent changed.
+type ChangedDrawable = (
+    Or<(With<TracedBall>, With<ManifoldLight>)>,
+    Or<(
+        Changed<Placement>,
+        Changed<TracedBall>,
+        Changed<ManifoldLight>,
+        Changed<InSpace>,
+    )>,
+);
+
+/// A space root and what the tracer draws there.
+type RootData<'a> = (
+    Entity,
+    &'a ManifoldSpace,
+    Option<&'a DomainEdges>,
+    Option<&'a ManifoldScene>,
+    Option<&'a ManifoldMeshes>,
+    Option<&'a SpaceMembers>,
+);
+
+/// Filter: a space root whose space, edges or meshes changed.
+type ChangedRoot = Or<(
+    Changed<ManifoldSpace>,
+    Changed<DomainEdges>,
+    Changed<ManifoldMeshes>,
+    Changed<SpaceMembers>,
+)>;
+
+/// Collects the drawables of every space into its [`ManifoldScene`], when
+/// anything they are made of changed (a drawable added, removed, moved,
+/// restyled or re-parented; the space or its edges changed). A frame where
+/// nothing changed costs a few change-detection checks; a frame where
+/// something changed reads each space's members ([`SpaceMembers`]), not
+/// every drawable in the world.
+#[expect(clippy::too_many_arguments, reason = "a system's parameters")]
+pub fn gather_scenes(
+    mut commands: Commands,
+    roots: Query<RootData>,
+    changed_roots: Query<(), ChangedRoot>,
+    changed: Query<(), ChangedDrawable>,
+    balls: Query<(&Placement, &TracedBall)>,
+    lights: Query<(&Placement, &ManifoldLight)>,
+    mut removed_balls: RemovedComponents<TracedBall>,
+    mut removed_lights: RemovedComponents<ManifoldLight>,
+    mut removed_edges: RemovedComponents<DomainEdges>,
+    mut left_spaces: RemovedComponents<InSpace>,
+) {
+    let removed = removed_balls.read().count()
+        + removed_lights.read().count()
+        + removed_edges.read().count()
+        + left_spaces.read().count()
+        > 0;
+    let any_missing = roots.iter().any(|(_, _, _, s, ..)| s.is_none());
+    let dirty = removed || any_missing || !changed.is_empty() || !changed_roots.is_empty();
+    if !dirty {
+        return;
+    }
+    for (root, ms, edges, old, meshes, members) in &roots {
+        let members: Vec<Entity> = members.map(|m| m.iter().collect()).unwrap_or_default();
+        let ball_list: Vec<(Entity, Ball)> = members
+            .iter()
+            .filter_map(|&e| balls.get(e).ok().map(|found| (e, found)))
+            .map(|(e, (p, b))| {
+                (
+                    e,
+                    Ball {
+                        center: p.position(),
+                        // Past the geometry's largest radius (H3: cosh r
+                        // overflows f32) the ball is drawn at that radius.
+                        radius: b.radius.min(max_radius(ms.space().geometry())),
+                        color: rgb(b.color),
+                        glow: if b.glow.is_finite() {
+                            b.glow.clamp(0.0, crate::trace::MAX_GLOW)
+                        } else {
+                            0.0
+                        },
+                    },
+                )
+            })
+            .collect();
+        let light_list: Vec<Light> = members
+            .iter()
+            .filter_map(|&e| lights.get(e).ok())
+            .map(|(p, l)| Light {
+                position: p.position(),
+                intensity: l.intensity,
+                color: rgb(l.color),
+            })
+            .collect();
+        let (mut entities, mut balls): (Vec<Entity>, Vec<Ball>) = ball_list.into_iter().unzip();
+        // Object ids are bytes: 254 objects at most, balls first.
+        if balls.len() > 254 {
+            warn!(
+                "bevy_manifold: {} traced balls in space {}: only the first 254 are drawn",
+                balls.len(),
+                ms.space().name()
+            );
+            balls.truncate(254);
+            entities.truncate(254);
+        }
+        let light_list = if light_list.len() > MAX_LIGHTS {
+            warn!(
+                "bevy_manifold: {} lights in space {}: only the first {MAX_LIGHTS} light the scene",
+                light_list.len(),
+                ms.space().name()
+            );
+            light_list[..MAX_LIGHTS].to_vec()
+        } else {
+            light_list
+        };
+        let mut scene = Scene::empty();
+        if let Some(m) = meshes {
+            // Object ids are bytes: 254 objects at most.
+            let room = 254usize.saturating_sub(balls.len()).min(m.meshes.len());
+            if room < m.meshes.len() {
+                warn!(
+                    "bevy_manifold: {} balls and {} meshes in space {}: only 254 objects are drawn",
+                    balls.len(),
+                    m.meshes.len(),
+                    ms.space().name()
+                );
+            }
+            scene.meshes = m.meshes[..room].to_vec();
+            entities.extend(&m.entities[..room]);
+        }
+        scene.balls = balls;
+        scene.lights = light_list;
+        scene.edge_radius = edges.map(|e| e.radius);
+        // An unchanged scene keeps its generation, so nothing downstream
+        // repacks or uploads it.
+        if let Some(o) = old
+            && *o.scene == scene
+            && *o.entities == entities
+        {
+            continue;
+        }
+        commands.entity(root).insert(ManifoldScene {
+            scene: Arc::new(scene),
+            entities: Arc::new(entities),
+            generation: old.map_or(0, |o| o.generation + 1),
+        });
+    }
+}
+
+/// Spawns a tracer [`Scene`]'s balls and lights under `root` (a
+/// [`ManifoldSpace`] root) and gives the root [`DomainEdges`] when the scene
+/// draws edges; the scene's camera and fog are per camera and left to the
+/// caller. What a scene file or [`Scene::default_for`] describes, as
+/// entities.
+pub fn spawn_scene(commands: &mut Commands, root: Entity, space: &crate::space::Space, scene: &Scene) {
+    let g = space.geometry();
+    let at = |p: glam::DVec4| Placement::from_isometry(crate::geometry::isometry::translation_to(g, p));
+    let color = |c: [f32; 3]| Color::linear_rgb(c[0], c[1], c[2]);
+    for b in &scene.balls {
+        commands.spawn((ChildOf(root), at(b.center), TracedBall::new(b.radius, color(b.color))));
+    }
+    for l in &scene.lights {
+        commands.spawn((
+            ChildOf(root),
+            at(l.position),
+            ManifoldLight {
+                intensity: l.intensity,
+                color: color(l.color),
+            },
+        ));
+    }
+    if let Some(radius) = scene.edge_radius {
+        commands.entity(root).insert(DomainEdges { radius });
+    }
+}

@@ -1,0 +1,444 @@
+//! Bevy meshes in a manifold (feature `render`): an entity under a
+//! [`ManifoldSpace`] with a [`Placement`] is drawn by the tracer with its
+//! `Mesh3d` and every `Mesh3d` below it that has no placement of its own
+//! (as a glTF scene spawns them), in its local chart, scaled by
+//! its `Transform`'s scale. Base colour and base-colour texture come from
+//! `StandardMaterial` (feature `standard_material`).
+//!
+//! Traced meshes are taken off Bevy's rasteriser (`RenderLayers::none()`),
+//! unless they carry [`Rasterized`]: then they are ordinary Bevy meshes (a
+//! map, an overlay) and the tracer leaves them alone. A BVH is built once
+//! per mesh asset and rebuilt only when the asset changes; moving an
+//! instance only changes its matrix. A mesh that cannot be traced (not
+//! triangles, NaN positions) is reported once and left out; the rest of
+//! the scene still renders.
+//!
+//! A whole glTF scene works as a Bevy user expects: put
+//! `WorldAssetRoot(assets.load("models/suzanne.glb#Scene0"))` on a placed
+//! entity and every mesh the scene spawns below it is traced. (Bevy spawns
+//! scenes through reflection: the app needs Bevy's `reflect_auto_register`
+//! feature so every component a scene holds is known, as the explorer
+//! and the examples turn on.)
+//! A single mesh can be loaded by label, as below.
+//!
+//! ```no_run
+//! use bevy::prelude::*;
+//! use bevy_manifold::prelude::*;
+//!
+//! fn setup(mut commands: Commands, assets: Res<AssetServer>) {
+//!     let space = catalog::poincare();
+//!     let root = commands.spawn(ManifoldSpace::new(space.clone())).id();
+//!     commands.spawn((ChildOf(root), ManifoldCamera::default(), Placement::at(&space, glam::DVec3::Z * 0.2)));
+//!     // Suzanne, traced in every copy of the domain.
+//!     commands.spawn((
+//!         ChildOf(root),
+//!         Mesh3d(assets.load("models/suzanne.glb#Mesh0/Primitive0")),
+//!         Placement::default(),
+//!         Transform::from_scale(Vec3::splat(0.05)),
+//!     ));
+//! }
+//! ```
+
+use super::components::ManifoldMeshes;
+use crate::mesh::{MeshData, MeshMaterial, Texture, TriMesh};
+use crate::placement::{InSpace, ManifoldSpace, Placement};
+use crate::trace::SceneMesh;
+use bevy::asset::AssetEvent;
+use bevy::camera::visibility::RenderLayers;
+use bevy::mesh::{Indices, Mesh, Mesh3d, PrimitiveTopology, VertexAttributeValues};
+use bevy::platform::collections::{HashMap, HashSet};
+use bevy::prelude::*;
+use std::sync::Arc;
+
+/// Marks a `Mesh3d` under a manifold root as an ordinary Bevy mesh: drawn
+/// by the rasteriser as usual, not by the tracer.
+#[derive(Component, Clone, Copy, Debug, Default, Reflect)]
+#[reflect(Component, Debug, Default)]
+pub struct Rasterized;
+
+/// Marks a traced mesh (or a placed entity, for every mesh below it) as
+/// the viewer's own body, as the paper attaches Suzanne to the camera: its
+/// home copy is not drawn (the camera sits inside it), every other copy is,
+/// so the viewer sees its own images around the space. Put the mesh under
+/// the [`crate::camera::ManifoldCamera`]'s entity, without a
+/// placement of its own, and it moves with the camera.
+///
+/// ```no_run
+/// use bevy::prelude::*;
+/// use bevy_manifold::prelude::*;
+///
+/// fn setup(mut commands: Commands, assets: Res<AssetServer>) {
+///     let space = catalog::torus(1.0);
+///     let root = commands.spawn(ManifoldSpace::new(space)).id();
+///     let eye = commands.spawn((ChildOf(root), ManifoldCamera::default())).id();
+///     commands.spawn((
+///         ChildOf(eye),
+///         CameraBody,
+///         Mesh3d(assets.load("models/suzanne.glb#Mesh0/Primitive0")),
+///         Transform::from_scale(Vec3::splat(0.1)).with_rotation(Quat::from_rotation_y(std::f32::consts::PI)),
+///     ));
+/// }
+/// ```
+#[derive(Component, Clone, Copy, Debug, Default, Reflect)]
+#[reflect(Component, Debug, Default)]
+pub struct CameraBody;
+
+/// A [`TriMesh`] as a Bevy triangle-list mesh (positions, normals, UVs,
+/// `u32` indices), kept in the main world so the tracer can read it back:
+/// how the crate's built-in models (`trace::builtin`, feature `gltf`)
+/// become `Mesh3d` assets without an asset folder.
+#[must_use]
+pub fn bevy_mesh(mesh: &TriMesh) -> Mesh {
+    use bevy::asset::RenderAssetUsages;
+    Mesh::new(PrimitiveTopology::TriangleList, RenderAssetUsages::default())
+        .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, mesh.positions.clone())
+        .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, mesh.normals.clone())
+        .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, mesh.uvs.clone())
+        .with_inserted_indices(Indices::U32(mesh.triangles.iter().flatten().copied().collect()))
+}
+
+/// BVHs and textures by asset, rebuilt when the asset changes; and the
+/// assets already reported as untraceable.
+#[derive(Resource, Default)]
+pub struct MeshBvhCache {
+    meshes: HashMap<AssetId<Mesh>, Option<Arc<MeshData>>>,
+    /// BVHs of large meshes being built on the async compute pool.
+    pending: HashMap<AssetId<Mesh>, bevy::tasks::Task<Arc<MeshData>>>,
+    // Base-colour textures come from StandardMaterial (feature
+    // `standard_material`).
+    #[cfg_attr(
+        not(feature = "standard_material"),
+        expect(dead_code, reason = "read only with StandardMaterial")
+    )]
+    textures: HashMap<AssetId<Image>, Option<Arc<Texture>>>,
+    /// Mesh asset events seen since the last gathering.
+    dirty: bool,
+}
+
+impl MeshBvhCache {
+    /// How many mesh assets have a BVH.
+    #[must_use]
+    pub fn built(&self) -> usize {
+        self.meshes.values().filter(|m| m.is_some()).count()
+    }
+
+    /// How many BVHs are being built off the frame.
+    #[must_use]
+    pub fn building(&self) -> usize {
+        self.pending.len()
+    }
+}
+
+/// A Bevy mesh as a [`TriMesh`]: triangle lists only.
+///
+/// # Errors
+/// What keeps it from being traced, in words.
+pub fn tri_mesh(mesh: &Mesh) -> Result<TriMesh, String> {
+    if mesh.primitive_topology() != PrimitiveTopology::TriangleList {
+        return Err(format!("{:?} meshes are not traced", mesh.primitive_topology()));
+    }
+    let positions = match mesh.attribute(Mesh::ATTRIBUTE_POSITION) {
+        Some(VertexAttributeValues::Float32x3(p)) => p.clone(),
+        Some(_) => return Err("positions are not Float32x3".into()),
+        None => return Err("no positions (or the mesh data is not kept in the main world)".into()),
+    };
+    let normals = match mesh.attribute(Mesh::ATTRIBUTE_NORMAL) {
+        Some(VertexAttributeValues::Float32x3(n)) => Some(n.clone()),
+        _ => None,
+    };
+    let uvs = match mesh.attribute(Mesh::ATTRIBUTE_UV_0) {
+        Some(VertexAttributeValues::Float32x2(t)) => Some(t.clone()),
+        _ => None,
+    };
+    let indices: Vec<u32> = match mesh.indices() {
+        Some(Indices::U16(i)) => i.iter().map(|&x| u32::from(x)).collect(),
+        Some(Indices::U32(i)) => i.clone(),
+        None => (0..positions.len() as u32).collect(),
+    };
+    let triangles = indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    TriMesh::new(positions, normals, uvs, triangles).map_err(|e| e.to_string())
+}
+
+/// An RGBA8 Bevy image as a [`Texture`].
+///
+/// # Errors
+/// Another texel format, or no data in the main world.
+pub fn texture(image: &Image) -> Result<Texture, String> {
+    use bevy::render::render_resource::TextureFormat;
+    let format = image.texture_descriptor.format;
+    if !matches!(format, TextureFormat::Rgba8UnormSrgb | TextureFormat::Rgba8Unorm) {
+        return Err(format!("{format:?} textures are not traced (RGBA8 only)"));
+    }
+    let data = image.data.as_ref().ok_or("no texel data in the main world")?;
+    let (width, height) = (image.width(), image.height());
+    let texels: Vec<u32> = data
+        .chunks_exact(4)
+        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    Texture::new(width, height, texels)
+}
+
+/// Meshes with more triangles than this have their BVH built on Bevy's
+/// async compute pool, off the frame; smaller ones (Suzanne has 3,936) are
+/// built in place.
+pub const ASYNC_BVH_TRIANGLES: usize = 50_000;
+
+/// Takes the BVHs finished on the async pool into the cache, and marks the
+/// scene for gathering again so their meshes appear.
+fn collect_bvh_builds(mut cache: ResMut<MeshBvhCache>) {
+    if cache.pending.is_empty() {
+        return;
+    }
+    let mut done = Vec::new();
+    for (id, task) in &mut cache.pending {
+        if let Some(data) = bevy::tasks::futures::check_ready(task) {
+            done.push((*id, data));
+        }
+    }
+    for (id, data) in done {
+        cache.pending.remove(&id);
+        cache.meshes.insert(id, Some(data));
+        cache.dirty = true;
+    }
+}
+
+fn note_mesh_events(mut events: MessageReader<AssetEvent<Mesh>>, mut cache: ResMut<MeshBvhCache>) {
+    for e in events.read() {
+        match e {
+            // A mesh that arrives: gather again (nothing was cached for it
+            // while it was missing).
+            AssetEvent::Added { .. } | AssetEvent::LoadedWithDependencies { .. } => cache.dirty = true,
+            // Changed or gone: its BVH, or the build under way for its old
+            // contents, is dropped.
+            AssetEvent::Modified { id } | AssetEvent::Removed { id } | AssetEvent::Unused { id } => {
+                cache.meshes.remove(id);
+                cache.pending.remove(id);
+                cache.dirty = true;
+            }
+        }
+    }
+}
+
+/// Textures likewise: an image that loads or changes after its material
+/// was gathered is read again.
+#[cfg(feature = "standard_material")]
+fn note_image_events(mut events: MessageReader<AssetEvent<Image>>, mut cache: ResMut<MeshBvhCache>) {
+    for e in events.read() {
+        match e {
+            // A new image may be one a material waits for.
+            AssetEvent::Added { .. } | AssetEvent::LoadedWithDependencies { .. } => cache.dirty = true,
+            AssetEvent::Modified { id } | AssetEvent::Removed { id } | AssetEvent::Unused { id } => {
+                if cache.textures.remove(id).is_some() {
+                    cache.dirty = true;
+                }
+            }
+        }
+    }
+}
+
+/// The material of a traced mesh entity.
+#[cfg(feature = "standard_material")]
+type MaterialOf<'a> = Option<&'a MeshMaterial3d<StandardMaterial>>;
+/// Without `standard_material` there is no `StandardMaterial`: a placeholder the query
+/// can hold (`()` is no component), never read.
+#[cfg(not(feature = "standard_material"))]
+type MaterialOf<'a> = Option<&'a Mesh3d>;
+
+/// Everything a traced mesh entity brings.
+type MeshEntity<'a> = (
+    Entity,
+    &'a Mesh3d,
+    MaterialOf<'a>,
+    Option<&'a InheritedVisibility>,
+    Option<&'a RenderLayers>,
+);
+
+/// Builds every space's [`ManifoldMeshes`] when a mesh, material, placement
+/// or transform below a placed entity changed, or a mesh asset did; hides
+/// traced meshes from the rasteriser.
+#[expect(
+    clippy::too_many_arguments,
+    clippy::type_complexity,
+    reason = "a system's parameters"
+)]
+pub fn gather_meshes(
+    mut commands: Commands,
+    mut cache: ResMut<MeshBvhCache>,
+    mesh_assets: Res<Assets<Mesh>>,
+    images: Option<Res<Assets<Image>>>,
+    #[cfg(feature = "standard_material")] materials: Option<Res<Assets<StandardMaterial>>>,
+    roots: Query<(Entity, &ManifoldSpace, Option<&ManifoldMeshes>)>,
+    placed: Query<(Entity, &Placement, &Transform, &InSpace)>,
+    meshes: Query<MeshEntity, Without<Rasterized>>,
+    children: Query<&Children>,
+    transforms: Query<&Transform>,
+    // Whether an entity is placed itself, and whether it is a camera body.
+    flags: Query<(Has<Placement>, Has<CameraBody>)>,
+    changed: Query<
+        (),
+        (
+            Or<(
+                Changed<Mesh3d>,
+                Changed<Transform>,
+                Changed<CameraBody>,
+                Changed<Placement>,
+                Changed<ChildOf>,
+                Changed<InSpace>,
+            )>,
+            Without<Rasterized>,
+        ),
+    >,
+    mut removed: RemovedComponents<Mesh3d>,
+    mut left_spaces: RemovedComponents<InSpace>,
+    mut warned: Local<HashSet<AssetId<Mesh>>>,
+) {
+    let dirty = std::mem::take(&mut cache.dirty)
+        || removed.read().count() + left_spaces.read().count() > 0
+        || !changed.is_empty();
+    #[cfg(feature = "standard_material")]
+    let materials_changed = materials.as_ref().is_some_and(|m| m.is_changed());
+    #[cfg(not(feature = "standard_material"))]
+    let materials_changed = false;
+    if !dirty && !materials_changed {
+        return;
+    }
+    let mut per_root: HashMap<Entity, ManifoldMeshes> = HashMap::new();
+    for (entity, placement, transform, in_space) in &placed {
+        let root = in_space.space();
+        let scale = f64::from(transform.scale.abs().max_element());
+        // The entity's own mesh, and those below it with no placement of
+        // their own, positioned by their transforms relative to it.
+        let mut stack = vec![(entity, Mat4::IDENTITY, false)];
+        while let Some((e, local, body)) = stack.pop() {
+            let body = body || flags.get(e).is_ok_and(|(_, b)| b);
+            if let Ok((_, mesh3d, material, visible, layers)) = meshes.get(e) {
+                if layers != Some(&RenderLayers::none()) {
+                    commands.entity(e).insert(RenderLayers::none());
+                }
+                if visible.is_none_or(|v| v.get()) {
+                    let id = mesh3d.0.id();
+                    // Cached only once the asset is there: one still loading
+                    // is looked up again when its load event arrives.
+                    let data = match cache.meshes.get(&id) {
+                        Some(cached) => cached.clone(),
+                        // A large BVH still building: the mesh appears when
+                        // it is ready (`collect_bvh_builds`).
+                        None if cache.pending.contains_key(&id) => None,
+                        None => match mesh_assets.get(id) {
+                            None => None,
+                            Some(mesh) => match tri_mesh(mesh) {
+                                Ok(m) if m.triangles.len() > ASYNC_BVH_TRIANGLES => {
+                                    let task = bevy::tasks::AsyncComputeTaskPool::get()
+                                        .spawn(async move { MeshData::shared(m) });
+                                    cache.pending.insert(id, task);
+                                    None
+                                }
+                                Ok(m) => {
+                                    let built = Some(MeshData::shared(m));
+                                    cache.meshes.insert(id, built.clone());
+                                    built
+                                }
+                                Err(err) => {
+                                    if warned.insert(id) {
+                                        warn!("bevy_manifold: mesh {id} of entity {e} is not traced: {err}");
+                                    }
+                                    cache.meshes.insert(id, None);
+                                    None
+                                }
+                            },
+                        },
+                    };
+                    if let Some(data) = data {
+                        #[cfg(feature = "standard_material")]
+                        let surface = surface(material, materials.as_deref(), images.as_deref(), &mut cache.textures);
+                        #[cfg(not(feature = "standard_material"))]
+                        let surface = {
+                            let _ = (material, &images);
+                            MeshMaterial::default()
+                        };
+                        let mut m = SceneMesh::new(data, surface, placement.isometry, scale);
+                        m.local = local.as_dmat4();
+                        m.attached = body;
+                        let list = per_root.entry(root).or_default();
+                        list.entities.push(e);
+                        list.meshes.push(m);
+                    }
+                }
+            }
+            if let Ok(kids) = children.get(e) {
+                for &k in kids {
+                    if !flags.get(k).is_ok_and(|(placed, _)| placed)
+                        && let Ok(t) = transforms.get(k)
+                    {
+                        stack.push((k, local * t.to_matrix(), body));
+                    }
+                }
+            }
+        }
+    }
+    for (root, _, old) in &roots {
+        let new = per_root.remove(&root).unwrap_or_default();
+        if old != Some(&new) {
+            commands.entity(root).insert(new);
+        }
+    }
+}
+
+/// Base colour and texture of a `StandardMaterial`.
+#[cfg(feature = "standard_material")]
+fn surface(
+    material: Option<&MeshMaterial3d<StandardMaterial>>,
+    materials: Option<&Assets<StandardMaterial>>,
+    images: Option<&Assets<Image>>,
+    textures: &mut HashMap<AssetId<Image>, Option<Arc<Texture>>>,
+) -> MeshMaterial {
+    let Some(m) = material.and_then(|m| materials?.get(&m.0)) else {
+        return MeshMaterial::default();
+    };
+    let LinearRgba { red, green, blue, .. } = m.base_color.to_linear();
+    let texture = m.base_color_texture.as_ref().and_then(|h| {
+        // Not cached while the image is still loading (its load event
+        // makes the next gathering read it).
+        let image = images?.get(h)?;
+        textures
+            .entry(h.id())
+            .or_insert_with(|| match texture(image) {
+                Ok(t) => Some(Arc::new(t)),
+                Err(e) => {
+                    warn!(
+                        "bevy_manifold: texture {} is not traced: {e}; the base colour alone is used",
+                        h.id()
+                    );
+                    None
+                }
+            })
+            .clone()
+    });
+    MeshMaterial {
+        base_color: [red, green, blue],
+        texture,
+    }
+}
+
+/// Registers the mesh gathering in `set` (part of
+/// [`super::DrawablesPlugin`], from its `finish`): only in apps that have
+/// Bevy's meshes.
+pub(super) fn build(app: &mut App, schedule: bevy::ecs::schedule::InternedScheduleLabel, set: impl SystemSet) {
+    app.register_type::<Rasterized>().register_type::<CameraBody>();
+    if !app.world().contains_resource::<Assets<Mesh>>() {
+        return;
+    }
+    app.init_resource::<MeshBvhCache>().add_systems(
+        schedule,
+        (note_mesh_events, collect_bvh_builds, gather_meshes)
+            .chain()
+            .in_set(set),
+    );
+    #[cfg(feature = "standard_material")]
+    app.add_systems(
+        schedule,
+        note_image_events
+            .run_if(resource_exists::<Messages<AssetEvent<Image>>>)
+            .before(gather_meshes),
+    );
+}
