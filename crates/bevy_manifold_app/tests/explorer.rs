@@ -136,6 +136,63 @@ fn without_a_display_the_explorer_renders_explorer_png_and_exits_0() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// The explorer without a display in `dir`, with `args`, as in a shell
+/// with no desktop login (no `XDG_RUNTIME_DIR` either).
+fn explore_headless(dir: &std::path::Path, args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_bevy_manifold"))
+        .arg("explore")
+        .args(args)
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("XDG_RUNTIME_DIR")
+        .env("BEVY_MANIFOLD_CONFIG_DIR", dir.join("config"))
+        .current_dir(dir)
+        .output()
+        .expect("the binary runs")
+}
+
+/// `explore --space` opens a library space by name and a `.gen` file by
+/// path (here in the headless fallback, which says which space it drew),
+/// and refuses a name that is no space and a broken file, naming them,
+/// without drawing anything. Without a runtime directory it makes its
+/// own, so the libraries do not complain of its absence.
+fn explore_opens_the_space_it_is_given_and_names_a_bad_one() {
+    let dir = tmp_dir("space");
+    let run = |args: &[&str]| {
+        std::fs::remove_file(dir.join("explorer.png")).ok();
+        let out = explore_headless(&dir, args);
+        let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
+        (
+            out.status.success(),
+            text(&out.stdout),
+            text(&out.stderr),
+            dir.join("explorer.png").exists(),
+        )
+    };
+    let (ok, stdout, stderr, png) = run(&["--space", "weeks"]);
+    assert!(ok && png, "{stdout}\n{stderr}");
+    assert!(stdout.starts_with("no display") && stdout.contains("weeks"), "{stdout}");
+    assert!(!stderr.contains("XDG_RUNTIME_DIR"), "{stderr}");
+    let gen_file =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../bevy_manifold_core/assets/spaces/lens-7-2.gen");
+    let gen_file = gen_file.canonicalize().expect("the library's lens-7-2.gen");
+    let (ok, stdout, stderr, png) = run(&["--space", gen_file.to_str().expect("utf-8")]);
+    assert!(ok && png, "{stdout}\n{stderr}");
+    assert!(stdout.contains("view of lens-7-2 "), "{stdout}");
+    let (ok, stdout, stderr, png) = run(&["--space", "no-such-space"]);
+    assert!(!ok && !png, "{stdout}\n{stderr}");
+    assert!(
+        stderr.contains("--space no-such-space") && stderr.contains("neither a catalog space"),
+        "{stderr}"
+    );
+    let broken = dir.join("broken.gen");
+    std::fs::write(&broken, "1 0 0 0\n0 1 0\n").expect("write");
+    let (ok, stdout, stderr, png) = run(&["--space", broken.to_str().expect("utf-8")]);
+    assert!(!ok && !png, "{stdout}\n{stderr}");
+    assert!(stderr.contains("broken.gen") && stderr.contains("line 2"), "{stderr}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// Live GPU objects on the app's device (as the soak run counts them).
 fn live(app: &App) -> [isize; GPU_COUNTERS.len()] {
     bevy_manifold_app::explorer::soak::live_gpu_objects(app.world().resource::<RenderDevice>())
@@ -693,6 +750,7 @@ bevy_manifold_test_support::test_main! {
         holding_a_frame_rate_moves_the_cameras_render_scale,
         settings_round_trip_and_broken_files_are_replaced_not_lost,
         without_a_display_the_explorer_renders_explorer_png_and_exits_0,
+        explore_opens_the_space_it_is_given_and_names_a_bad_one,
         a_space_that_cannot_be_loaded_is_reported_and_the_view_stays,
     ],
     gpu: [

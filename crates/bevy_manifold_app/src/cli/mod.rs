@@ -30,6 +30,12 @@ struct Cli {
 enum Command {
     /// The explorer (what running with no command opens).
     Explore {
+        /// The space to open: a catalog or library name (`space list`,
+        /// `space library`), or a space file (`.space.json`, `.gen`,
+        /// `.gens.json`); also in a headset (`--xr`). Default: the space
+        /// the explorer last showed.
+        #[arg(long, value_name = "NAME|FILE")]
+        space: Option<String>,
         /// Quit after this many frames (for smoke tests).
         #[arg(long)]
         frames: Option<u32>,
@@ -212,6 +218,7 @@ pub fn run() -> ExitCode {
         // The explorer: a window, or its headless fallback.
         None => return explore(crate::explorer::ExploreOptions::default()),
         Some(Command::Explore {
+            space,
             frames,
             screenshot,
             tour,
@@ -221,6 +228,7 @@ pub fn run() -> ExitCode {
             hold_fps,
         }) => {
             return explore(crate::explorer::ExploreOptions {
+                space,
                 frames,
                 screenshot,
                 tour,

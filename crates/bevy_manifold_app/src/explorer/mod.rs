@@ -319,6 +319,10 @@ pub fn run() -> AppExit {
 /// How `explore` runs: see [`run_with`].
 #[derive(Clone, Debug, Default)]
 pub struct ExploreOptions {
+    /// Open this space (a catalog or library name, or a space file)
+    /// instead of the one last shown; one that does not resolve is an
+    /// error naming it, and the explorer does not open.
+    pub space: Option<String>,
     /// Quit after this many frames (smoke tests); in a headset, after
     /// this many frames with both eyes traced.
     pub frames: Option<u32>,
@@ -353,10 +357,25 @@ pub fn run_for(frames: Option<u32>, screenshot: Option<PathBuf>, tour: Option<Pa
     })
 }
 
+/// What `--space` names, as the settings keep it: a catalog or library
+/// name as it is, a file by its absolute path (so the saved settings find
+/// it from any directory); or why it is neither, naming it.
+fn explored_space(space: &str) -> Result<String, String> {
+    bevy_manifold::space::catalog::resolve(space).map_err(|e| format!("{space}: {e}"))?;
+    let path = std::path::Path::new(space);
+    let known = bevy_manifold::space::catalog::by_name(space).is_some()
+        || bevy_manifold::space::library::by_name(space).is_some();
+    Ok(match path.canonicalize() {
+        Ok(absolute) if !known => absolute.display().to_string(),
+        _ => space.to_owned(),
+    })
+}
+
 /// [`run_for`] with every option: in a headset too (`xr`), with the
 /// window when there is a display, for the headset alone when not.
 pub fn run_with(options: ExploreOptions) -> AppExit {
     let ExploreOptions {
+        space,
         frames,
         screenshot,
         tour,
@@ -377,6 +396,15 @@ pub fn run_with(options: ExploreOptions) -> AppExit {
             vec!["no config directory is known: settings are not saved".into()],
         ),
     };
+    if let Some(space) = space {
+        match explored_space(&space) {
+            Ok(name) => settings.space = name,
+            Err(e) => {
+                eprintln!("error: --space {e}");
+                return AppExit::error();
+            }
+        }
+    }
     if let Some(fps) = hold_fps {
         settings.hold_frame_rate = true;
         settings.target_fps = fps;
