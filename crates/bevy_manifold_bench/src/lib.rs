@@ -13,6 +13,7 @@ mod frames;
 mod meshes;
 mod pass;
 mod plot;
+mod report;
 mod specialise;
 mod stability;
 mod stereo;
@@ -170,6 +171,17 @@ pub enum BenchCommand {
     /// app, interleaved on the same scenes: frame time against levels,
     /// faces, balls and triangles, with ratios; CSV and PNG.
     Compare(compare::CompareArgs),
+    /// Every area's figures in one run, written as `BENCHMARKS.md`: each
+    /// area's benchmark run as `bench <area> …`, its table quoted under
+    /// its method.
+    Report {
+        /// The file written.
+        #[arg(long, default_value_os_t = report::default_out())]
+        out: std::path::PathBuf,
+        /// Only this area (its `bench` command's name: `tracer`, `gpu`, …).
+        #[arg(long, default_value = "")]
+        only: String,
+    },
     /// Stereo, as a headset asks: two eyes with off-centre frusta, each
     /// placed along a geodesic, at 2x1512x1680 times each render scale,
     /// per catalog space (the paper's scene) at 1, 3 and 8 levels, timed
@@ -231,6 +243,7 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
         ),
         BenchCommand::Compare(ref args) => compare::run(args),
         BenchCommand::Aa { width, height, frames } => aa::run(width.max(1), height.max(1), frames.max(1)),
+        BenchCommand::Report { ref out, ref only } => report::run(out, only),
         BenchCommand::Stereo {
             ref scales,
             runs,
