@@ -102,6 +102,8 @@ pub fn gather_scenes(
                 position: p.position(),
                 intensity: l.intensity,
                 color: rgb(l.color),
+                range: None,
+                radius: 0.0,
             })
             .collect();
         let (mut entities, mut balls): (Vec<Entity>, Vec<Ball>) = ball_list.into_iter().unzip();

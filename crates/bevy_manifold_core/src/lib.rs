@@ -43,5 +43,5 @@ pub mod prelude {
     pub use crate::geometry::{Geometry, Real, isometry, plane};
     pub use crate::space::cells::CellId;
     pub use crate::space::{Face, FaceKind, Space, SpaceDesc, SpaceError, catalog};
-    pub use crate::trace::{Ball, Fog, Light, Scene, SceneMesh, TraceImage, TraceSettings, render};
+    pub use crate::trace::{Ball, Fog, Light, Lighting, Scene, SceneMesh, TraceImage, TraceSettings, render};
 }

@@ -181,10 +181,16 @@ struct Instance {
 }
 
 // Rust twin: GpuLight in crates/bevy_manifold_gpu/src/layout.rs.
+// One image of a light (light_images in Rust): with LIGHT_IMAGES, its
+// range's 1 / range^2 (0: none) and the least area its irradiance is
+// divided by.
 struct Light {
     position: vec4<f32>,
     color: vec3<f32>,
     intensity: f32,
+    inv_range_sq: f32,
+    min_area: f32,
+    pad: vec2<f32>,
 }
 
 // Rust twin: GpuPixel in crates/bevy_manifold_gpu/src/layout.rs. What one
@@ -197,14 +203,14 @@ struct Pixel {
     cell_hi: u32,
 }
 
-// The most faces, lights, balls, edge tubes and ball tree leaves the
-// uniform arrays hold, and the face groups' entries. Rust twins:
-// bevy_manifold_core's MAX_FACES and MAX_LIGHTS, and MAX_BALLS,
+// The most faces, light images, balls, edge tubes and ball tree leaves
+// the uniform arrays hold, and the face groups' entries. Rust twins:
+// bevy_manifold_core's MAX_FACES and MAX_LIGHT_IMAGES, and MAX_BALLS,
 // MAX_TUBES, GROUPS and MAX_BALL_LEAVES in
 // crates/bevy_manifold_gpu/src/bindings.rs (BINDINGS' capacities, which
 // the contract test holds to these lengths).
 const MAX_FACES: u32 = 128u;
-const MAX_LIGHTS: u32 = 64u;
+const MAX_LIGHTS: u32 = 256u;
 const MAX_BALLS: u32 = 1024u;
 const MAX_TUBES: u32 = 378u;
 const GROUPS: u32 = 33u;

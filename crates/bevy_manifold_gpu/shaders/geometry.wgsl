@@ -70,6 +70,17 @@ fn chart_to_distance(t: f32) -> f32 {
 #endif
 }
 
+// The inverse of chart_to_distance.
+fn distance_to_chart(s: f32) -> f32 {
+#ifdef GEOMETRY_HYPERBOLIC
+    return tanh(s);
+#else ifdef GEOMETRY_SPHERICAL
+    return tan(s);
+#else
+    return s;
+#endif
+}
+
 // Rust returns +inf for E3; WGSL has no infinity literal, and 3e38 is past
 // any chart parameter a face gives.
 fn max_chart_parameter() -> f32 {

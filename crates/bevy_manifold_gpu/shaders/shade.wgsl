@@ -1,6 +1,8 @@
-// Shading a hit: Lambert plus a Blinn lobe under each light, with the
-// fall-off of the geometry (1 / area of the geodesic sphere), per-cell
-// colour and fog (shade); a wall between cells lit by a lamp at the eye
+// Shading a hit: Lambert plus a Blinn lobe under each light image, each
+// along its own geodesic (both arcs in S3) with the fall-off of the
+// geometry (1 / area of the geodesic sphere), the light's range and the
+// fog on its way (image_irradiance), and only if the way is free
+// (shadow.wgsl's light_blocked); per-cell colour and fog (shade); a wall between cells lit by a lamp at the eye
 // (shade_wall); what lies past the table of exact ids under rules
 // (unknown_rules).
 //
@@ -9,11 +11,12 @@
 // table).
 //
 // Shader defs read: BALLS, TUBES, MESHES (which objects are shaded),
-// CELL_COLORS, LIGHTS, FOG.
+// CELL_COLORS, LIGHTS, LIGHT_IMAGES (without it each light's copy in the
+// domain, as before light images), SHADOWS, FOG, GEOMETRY_SPHERICAL.
 #define_import_path bevy_manifold::shade
 
 #import bevy_manifold::bindings::{params, cached}
-#import bevy_manifold::geometry::{form, normalize_point, normalize_tangent, project_tangent, distance, sphere_area}
+#import bevy_manifold::geometry::{form, normalize_point, normalize_tangent, project_tangent, distance, sphere_area, PI}
 #import bevy_manifold::step::{Ray, normal_from}
 #import bevy_manifold::nearest::Hit
 #ifdef BALLS
@@ -32,7 +35,10 @@
 #import bevy_manifold::cells::cell_color
 #endif
 #ifdef LIGHTS
-#import bevy_manifold::bindings::lights
+#import bevy_manifold::bindings::{lights, Light}
+#endif
+#ifdef SHADOWS
+#import bevy_manifold::shadow::light_blocked
 #endif
 
 // A light nearer a hit than this (|tangent towards it|^2) is on the hit
@@ -52,12 +58,39 @@ fn toward_light(x: vec4<f32>, l: vec4<f32>, normal: vec4<f32>) -> vec4<f32> {
     return normal;
 }
 
+// Adds to rgb the light of colour `color` arriving along the unit
+// tangent to_light with irradiance `irradiance`: Lambert plus a Blinn
+// lobe. Rust twin: Lit::add (`add_light`).
+fn add_light(rgb: ptr<function, vec3<f32>>, normal: vec4<f32>, view: vec4<f32>, albedo: vec3<f32>, to_light: vec4<f32>, irradiance: f32, color: vec3<f32>) {
+    let lambert = max(form(normal, to_light), 0.0);
+    let half = to_light + view;
+    let hl = sqrt(form(half, half));
+    var spec = 0.0;
+    if hl > 1.0e-12 {
+        spec = pow(max(form(normal, half) / hl, 0.0), 32.0) * 0.35;
+    }
+    *rgb += (albedo * lambert + spec) * irradiance * color;
+}
+
+#ifdef LIGHT_IMAGES
+// The irradiance one image of a light gives at arc length s from it:
+// intensity / max(area(s), min_area), times the range's smooth window
+// (1 - (s^2 / range^2)^2)^2, times exp(-density s) for the fog on the
+// way. Rust twin: image_irradiance.
+fn image_irradiance(l: Light, s: f32, fog_density: f32) -> f32 {
+    let f = s * s * l.inv_range_sq;
+    let window = clamp(1.0 - f * f, 0.0, 1.0);
+    let area = max(sphere_area(s), l.min_area);
+    return l.intensity * window * window / area * exp(-(fog_density * s));
+}
+#endif
+
 // Lambert + Blinn shading at the hit, lights with geometry-correct
 // fall-off (1 / area of the sphere of radius d), per-cell colour, fog.
 // The hit's chart parameter is where it is shaded; `normal_at`, when not
 // zero, the normal there in place of the object's own (a cone's layer,
 // cone.wgsl's cone_layer). Rust twin: `shade` (its `normal_at`).
-fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>) -> vec3<f32> {
+fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>, cell_matrix: mat4x4<f32>) -> vec3<f32> {
     let x = normalize_point(ray.origin + ray.dir * hit.t);
     let view = -normalize_tangent(x, ray.dir);
     var normal = vec4<f32>(0.0);
@@ -94,20 +127,45 @@ fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>) -
     // Ambient light and the object's own glow.
     var rgb = albedo * (0.08 + glow);
 #ifdef LIGHTS
+#ifdef LIGHT_IMAGES
+    var density = 0.0;
+#ifdef FOG
+    density = cached.fog_density;
+#endif
     for (var i = 0u; i < params.light_count; i++) {
         let l = lights[i];
         let d = distance(x, l.position);
         let to_light = toward_light(x, l.position, normal);
-        let irradiance = l.intensity / max(sphere_area(d), 1.0e-4);
-        let lambert = max(form(normal, to_light), 0.0);
-        let half = to_light + view;
-        let hl = sqrt(form(half, half));
-        var spec = 0.0;
-        if hl > 1.0e-12 {
-            spec = pow(max(form(normal, half) / hl, 0.0), 32.0) * 0.35;
+        // The short arc, and in S3 the long way round, arriving from the
+        // other side.
+#ifdef GEOMETRY_SPHERICAL
+        let arcs = 2u;
+#else
+        let arcs = 1u;
+#endif
+        for (var a = 0u; a < arcs; a++) {
+            let s = select(d, 2.0 * PI - d, a == 1u);
+            let dir = select(to_light, -to_light, a == 1u);
+            let e = image_irradiance(l, s, density);
+            if e <= 0.0 || form(normal, dir) <= 0.0 {
+                continue;
+            }
+#ifdef SHADOWS
+            if light_blocked(x, normal, dir, s, cell_matrix) {
+                continue;
+            }
+#endif
+            add_light(&rgb, normal, view, albedo, dir, e, l.color);
         }
-        rgb += (albedo * lambert + spec) * irradiance * l.color;
     }
+#else
+    for (var i = 0u; i < params.light_count; i++) {
+        let l = lights[i];
+        let d = distance(x, l.position);
+        let to_light = toward_light(x, l.position, normal);
+        add_light(&rgb, normal, view, albedo, to_light, l.intensity / max(sphere_area(d), 1.0e-4), l.color);
+    }
+#endif
 #endif
 #ifdef FOG
     let tr = exp(-(cached.fog_density * dist));

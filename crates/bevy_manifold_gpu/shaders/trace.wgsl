@@ -141,7 +141,7 @@ fn trace_ray(ray: Ray) -> Pixel {
             let hit = Hit(layer.t, kind, index, 0u, 0.0, 0.0);
             let dist = walk.travelled + chart_to_distance(layer.t);
             let cid = cell_id(walk.cell, walk.index);
-            let color = shade(walk.ray, hit, layer.normal, dist, cid);
+            let color = shade(walk.ray, hit, layer.normal, dist, cid, walk.cell);
             let here = Pixel(vec4<f32>(color, dist), hit_id(hit), walk.levels, cid.x, cid.y);
             if layer.part >= 0.5 && !cone_has_front {
                 cone_front = here;
@@ -157,7 +157,7 @@ fn trace_ray(ray: Ray) -> Pixel {
         if best.kind != 0u {
             let dist = walk.travelled + chart_to_distance(best.t);
             let cid = cell_id(walk.cell, walk.index);
-            let color = shade(walk.ray, best, vec4<f32>(0.0), dist, cid);
+            let color = shade(walk.ray, best, vec4<f32>(0.0), dist, cid, walk.cell);
             let here = Pixel(vec4<f32>(color, dist), hit_id(best), walk.levels, cid.x, cid.y);
             if !cone_has_front {
                 cone_front = here;
@@ -202,7 +202,7 @@ fn trace_ray(ray: Ray) -> Pixel {
     if hit.kind != 0u {
         let dist = walk.travelled + chart_to_distance(hit.t);
         let cid = cell_id(walk.cell, walk.index);
-        return Pixel(vec4<f32>(shade(walk.ray, hit, vec4<f32>(0.0), dist, cid), dist), hit_id(hit), walk.levels, cid.x, cid.y);
+        return Pixel(vec4<f32>(shade(walk.ray, hit, vec4<f32>(0.0), dist, cid, walk.cell), dist), hit_id(hit), walk.levels, cid.x, cid.y);
     }
 #endif
     let cid = cell_id(walk.cell, walk.index);

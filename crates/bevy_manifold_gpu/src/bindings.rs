@@ -130,7 +130,7 @@ use crate::layout::{GpuBall, GpuFace, GpuInstance, GpuLight, GpuParams, GpuPixel
 use BindingKind::{Storage, StorageReadWrite};
 use BindingSource::{Objects, Output, View};
 use bevy_manifold_core::space::MAX_FACES;
-use bevy_manifold_core::trace::MAX_LIGHTS;
+use bevy_manifold_core::trace::MAX_LIGHT_IMAGES;
 use std::mem::size_of;
 
 /// The most edge tubes a domain has: a convex polyhedron with `F` faces
@@ -175,8 +175,8 @@ pub const GROUPS: usize = 33;
 /// not show it). Read from a storage buffer the same shader stays flat.
 ///
 /// The faces, the edge tubes and the lights are uniform arrays of fixed
-/// length ([`MAX_FACES`], [`MAX_TUBES`], [`MAX_LIGHTS`]: 20,480, 36,288
-/// and 2,048 bytes, within WebGPU's default 64 KiB per binding; the runner
+/// length ([`MAX_FACES`], [`MAX_TUBES`], [`MAX_LIGHT_IMAGES`]: 20,480, 36,288
+/// and 12,288 bytes, within WebGPU's default 64 KiB per binding; the runner
 /// and the pass refuse an adapter below [`largest_uniform`]). lavapipe
 /// (Mesa 22.3.6) reads a storage buffer one SIMD lane at a time, each lane
 /// a loop iteration with its own bounds check, and a uniform with one
@@ -205,7 +205,7 @@ pub const BINDINGS: [Binding; 11] = [
     uniform_array(1, "faces", BindingSource::Space, size_of::<GpuFace>(), MAX_FACES),
     uniform_array(2, "balls", Objects, size_of::<GpuBall>(), MAX_BALLS),
     uniform_array(3, "tubes", Objects, size_of::<GpuTube>(), MAX_TUBES),
-    uniform_array(4, "lights", Objects, size_of::<GpuLight>(), MAX_LIGHTS),
+    uniform_array(4, "lights", Objects, size_of::<GpuLight>(), MAX_LIGHT_IMAGES),
     binding(5, "cell_table", (Storage, BindingSource::Space), size_of::<u32>()),
     binding(6, "instances", (Storage, Objects), size_of::<GpuInstance>()),
     binding(7, "mesh_data", (Storage, Objects), size_of::<[u32; 4]>()),

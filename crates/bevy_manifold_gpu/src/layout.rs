@@ -218,12 +218,18 @@ pub struct GpuInstance {
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 #[repr(C)]
 pub struct GpuLight {
-    /// Position.
+    /// Position (of a light image, `FlatLight::position`).
     pub position: [f32; 4],
     /// Colour.
     pub color: [f32; 3],
     /// Power.
     pub intensity: f32,
+    /// `FlatLight::inv_range_sq`.
+    pub inv_range_sq: f32,
+    /// `FlatLight::min_area`.
+    pub min_area: f32,
+    /// Padding to 16 bytes.
+    pub pad: [f32; 2],
 }
 
 /// WGSL twin: `Pixel` in `shaders/bindings.wgsl`.

@@ -79,7 +79,7 @@ macro_rules! wgsl {
 /// of the core's `geometry/mod.rs`, `cells` and `rule` of its `space/`,
 /// `bvh` of its `mesh/`, and the others of its `trace/` (the tracer's
 /// stages: see `bevy_manifold_core::trace`).
-pub const SHADER_IMPORTS: [WgslModule; 18] = [
+pub const SHADER_IMPORTS: [WgslModule; 19] = [
     wgsl!("output"),
     wgsl!("bindings"),
     wgsl!("geometry"),
@@ -95,6 +95,7 @@ pub const SHADER_IMPORTS: [WgslModule; 18] = [
     wgsl!("cone"),
     wgsl!("nearest"),
     wgsl!("cull"),
+    wgsl!("shadow"),
     wgsl!("shade"),
     wgsl!("trace"),
     wgsl!("drift"),

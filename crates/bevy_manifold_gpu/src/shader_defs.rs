@@ -53,6 +53,14 @@ pub struct TraceDefs {
     pub tubes: bool,
     /// `LIGHTS`.
     pub lights: bool,
+    /// `LIGHT_IMAGES`: the lights are images in the cover, each with its
+    /// range and the fog on its way, and in S3 both arcs
+    /// (`Lighting::images` above 0); without it each light's copy in the
+    /// domain along the chart's straight line, as before light images.
+    pub light_images: bool,
+    /// `SHADOWS`: shadow rays through the faces (`Lighting::shadows`,
+    /// with light images and something to cast them).
+    pub shadows: bool,
     /// `MESHES`: triangle meshes through their BVH.
     pub meshes: bool,
     /// `BALL_TREE`: the scene has enough balls for a ball tree
@@ -135,6 +143,11 @@ impl TraceDefs {
             balls: !scene.balls.is_empty() || scene.edge_radius.is_some(),
             tubes: scene.edge_radius.is_some(),
             lights: !scene.lights.is_empty(),
+            light_images: !scene.lights.is_empty() && scene.lighting.images > 0,
+            shadows: !scene.lights.is_empty()
+                && scene.lighting.images > 0
+                && scene.lighting.shadows
+                && (!scene.balls.is_empty() || scene.edge_radius.is_some() || !scene.meshes.is_empty()),
             meshes: !scene.meshes.is_empty(),
             // The interior balls, those a tree holds, are scene balls (a
             // ghost copy or a vertex joint lies near a face).
@@ -229,6 +242,8 @@ impl TraceDefs {
             balls: true,
             tubes: true,
             lights: true,
+            light_images: true,
+            shadows: true,
             meshes: true,
             ball_tree: true,
             ball_leaves: bevy_manifold_core::trace::MAX_BALL_LEAVES as u32,
@@ -239,7 +254,8 @@ impl TraceDefs {
     }
 
     /// Every valid combination (each geometry with the cell schemes and
-    /// transport kinds it allows, every optional part on and off, the faces
+    /// transport kinds it allows, every optional part on and off (light
+    /// images and shadows with the lights), the faces
     /// counted at run time and as a constant 12, the cell rules on and off,
     /// cone tracing on and off where there are balls or tubes, the ball
     /// tree on and off where there are balls; the loop over unkeyed tubes
@@ -272,6 +288,11 @@ impl TraceDefs {
                     balls: on(2),
                     tubes: on(3),
                     lights: on(4),
+                    // Light images with the lights and cell colours,
+                    // shadows with them and fog: each on and off, with
+                    // and without cones, without doubling the list.
+                    light_images: on(4) && on(0),
+                    shadows: on(4) && on(0) && on(1) && (on(2) || on(3) || on(5)),
                     meshes: on(5),
                     face_count: on(6).then_some(12),
                     cell_rules: on(7),
@@ -319,6 +340,8 @@ impl TraceDefs {
             (self.balls, "BALLS"),
             (self.tubes, "TUBES"),
             (self.lights, "LIGHTS"),
+            (self.light_images, "LIGHT_IMAGES"),
+            (self.shadows, "SHADOWS"),
             (self.meshes, "MESHES"),
             (self.ball_tree, "BALL_TREE"),
             (self.many_unkeyed_tubes, "MANY_UNKEYED_TUBES"),

@@ -39,6 +39,8 @@ fn scene(space: &Space, cell: Vec<usize>) -> Scene {
         position: g.normalize_point::<f64>(DVec4::new(0.0, 0.4 * r, 0.5 * r, 1.0)),
         intensity: 4.0,
         color: [1.0; 3],
+        range: None,
+        radius: 0.0,
     });
     scene
 }

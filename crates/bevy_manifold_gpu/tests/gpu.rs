@@ -201,6 +201,7 @@ fn a_ball_straddling_a_torus_face_is_seen_whole_from_either_side() {
             balls: vec![ball.clone()],
             lights: vec![],
             meshes: Vec::new(),
+            lighting: Lighting::default(),
             skipped: Vec::new(),
             edge_radius: None,
             fog: None,

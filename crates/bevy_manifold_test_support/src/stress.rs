@@ -524,6 +524,8 @@ pub fn light_on_the_hit(z: f64) -> (Space, Scene) {
             position: DVec4::new(0.0, 0.0, z, 1.0),
             intensity: 0.3,
             color: [1.0; 3],
+            range: None,
+            radius: 0.0,
         }],
         ..Scene::empty()
     };

@@ -209,6 +209,23 @@ struct RenderArgs {
     /// to their average colour instead of sparkling).
     #[arg(long)]
     cones: bool,
+    /// The most images of each light in the cover that light a point (0:
+    /// each light's copy in the domain only, as before light images);
+    /// overrides the scene's.
+    #[arg(long)]
+    light_images: Option<u32>,
+    /// Shadows through the faces: on or off (overrides the scene's).
+    #[arg(long)]
+    shadows: Option<Switch>,
+}
+
+/// `on` or `off`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum Switch {
+    /// On.
+    On,
+    /// Off.
+    Off,
 }
 
 /// Parses the arguments and runs the command.
@@ -350,6 +367,18 @@ fn render_command(args: &RenderArgs) -> Result<(), String> {
         }
         let color = scene.fog.as_ref().map_or([0.75, 0.78, 0.82], |f| f.color);
         scene.fog = Some(Fog { density, color });
+    }
+    if let Some(n) = args.light_images {
+        if n as usize > bevy_manifold_core::trace::MAX_LIGHT_IMAGES {
+            return Err(format!(
+                "--light-images must be at most {}, got {n}",
+                bevy_manifold_core::trace::MAX_LIGHT_IMAGES
+            ));
+        }
+        scene.lighting.images = n;
+    }
+    if let Some(s) = args.shadows {
+        scene.lighting.shadows = s == Switch::On;
     }
     for (flag, v) in [("--hidden", args.hidden), ("--walls", args.walls)] {
         if let Some(f) = v

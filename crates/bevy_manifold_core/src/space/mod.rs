@@ -19,6 +19,7 @@ pub mod catalog;
 pub mod cell_id;
 pub mod cell_table;
 pub mod cells;
+pub mod cover;
 mod cycles;
 pub mod dirichlet;
 pub mod element;
@@ -109,6 +110,7 @@ pub struct Space {
     circumradius: f64,
     volume: f64,
     cells: CellScheme,
+    cover: cover::CoverCache,
 }
 
 impl Space {
@@ -220,6 +222,7 @@ impl Space {
             circumradius,
             volume,
             cells: CellScheme::Hashed { quantum: 1.0 },
+            cover: cover::CoverCache::default(),
         };
         Ok(space)
     }

@@ -79,6 +79,11 @@ pub struct FlatLight<R: Real> {
     pub intensity: R,
     /// Colour.
     pub color: [f32; 3],
+    /// `1 / range^2` of its smooth cut-off; 0: none.
+    pub inv_range_sq: R,
+    /// The least area its irradiance is divided by: the area of its
+    /// sphere, at least [`super::light_images::MIN_AREA`].
+    pub min_area: R,
 }
 
 /// One placement of a mesh (or a ghost of one, carried through a face),
@@ -203,8 +208,12 @@ pub struct FlatScene<R: Real> {
     /// are fewer than [`MIN_BALL_TREE`] such balls: then a segment tests
     /// every one of them.
     pub ball_tree: BallTree,
-    /// Lights.
+    /// The lights' images that light the domain
+    /// ([`super::light_images()`]): each light once when
+    /// `lighting.images` is 0.
     pub lights: Vec<FlatLight<R>>,
+    /// How the lights reach what they light.
+    pub lighting: super::scene::Lighting,
     /// Mesh instances, ghosts included, sorted into [`FaceGroups`].
     pub instances: Vec<FlatInstance<R>>,
     /// The meshes the instances show, each once.
@@ -367,15 +376,7 @@ impl<R: Real> FlatScene<R> {
                 }
             }
         }
-        let lights = scene
-            .lights
-            .iter()
-            .map(|l| FlatLight {
-                position: R::v4_of(l.position),
-                intensity: R::of(l.intensity),
-                color: l.color,
-            })
-            .collect();
+        let lights = super::light_images::light_images(space, &scene.lights, scene.lighting);
         let (camera, camera_cell) = space.wrap(scene.camera.isometry, 1000);
         let (mut instances, meshes, textures) = flatten_meshes::<R>(space, scene, camera_cell, reach);
         let faces = space.faces().len();
@@ -421,6 +422,7 @@ impl<R: Real> FlatScene<R> {
             footprint_cap: R::of(super::footprint::FOOTPRINT_CAP * space.inradius()),
             near_distance: R::of(if masked { reach * 1.01 + 1e-6 } else { f64::INFINITY }),
             lights,
+            lighting: scene.lighting,
             instances,
             meshes,
             textures,

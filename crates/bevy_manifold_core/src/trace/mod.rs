@@ -53,6 +53,7 @@ mod face_groups;
 mod flat;
 mod flow;
 pub mod footprint;
+mod light_images;
 mod mesh_hit;
 mod nearest;
 mod output;
@@ -60,6 +61,7 @@ mod render;
 pub mod scene;
 mod settings;
 mod shade;
+pub mod shadow;
 pub mod step;
 #[expect(
     clippy::module_inception,
@@ -84,6 +86,7 @@ pub use flat::{
 };
 pub use flow::{Flowed, flow};
 pub use footprint::{Layers, pixel_half_angle};
+pub use light_images::{MAX_LIGHT_IMAGES, MIN_AREA, image_irradiance, light_images};
 pub use mesh_hit::{InstanceHit, hit_instance, meets_ball, mesh_albedo, mesh_normal};
 pub use nearest::same_cell_point;
 pub use output::{id_pixel, srgb8, upscale};
@@ -92,7 +95,7 @@ pub use output::{write_ids_png, write_png, write_rgba_png};
 pub use render::{TraceImage, render};
 pub use scene::MeshPart;
 pub use scene::{
-    Ball, Camera, Fog, Frustum, HAND_COLOR, Light, MAX_GLOW, MAX_LIGHTS, PaperOptions, SUZANNE_COLOR, Scene,
+    Ball, Camera, Fog, Frustum, HAND_COLOR, Light, Lighting, MAX_GLOW, MAX_LIGHTS, PaperOptions, SUZANNE_COLOR, Scene,
     SceneError, SceneMesh, SuzanneMode, VEHICLE_COLOR, baked, hand_offset, max_radius, suzanne_offset, vehicle_offset,
 };
 #[cfg(feature = "gltf")]

@@ -1,15 +1,19 @@
-//! Shading a hit: Lambert plus a Blinn lobe under each light, with the
-//! fall-off of the geometry (1 / area of the geodesic sphere), per-cell
-//! colour and fog ([`shade`]); a wall between cells lit by a lamp at the
-//! eye ([`shade_wall`]).
+//! Shading a hit: Lambert plus a Blinn lobe under each light image
+//! ([`super::light_images()`]), each along its own geodesic (both arcs in
+//! S3) with the fall-off of the geometry (1 / area of the geodesic
+//! sphere), the light's range and the fog on its way, and only if the way
+//! is free ([`super::shadow`]); per-cell colour and fog ([`shade`]); a
+//! wall between cells lit by a lamp at the eye ([`shade_wall`]).
 //!
 //! WGSL twin: `shaders/shade.wgsl` in `bevy_manifold_gpu` (the same
 //! names).
 
 use super::flat::FlatScene;
+use super::light_images::image_irradiance;
 use super::mesh_hit::{mesh_albedo, mesh_normal};
 use super::nearest::Hit;
 use super::settings::TraceSettings;
+use super::shadow::light_blocked;
 use super::step::{Ray, foot_on_line, normal_from};
 use crate::geometry::{Geometry, Real};
 use crate::space::cells::CellId;
@@ -34,6 +38,32 @@ fn toward_light<R: Real>(g: Geometry, x: R::V4, l: R::V4, normal: R::V4) -> R::V
     }
 }
 
+/// What a hit's light is worked out from.
+struct Lit<R: Real> {
+    normal: R::V4,
+    view: R::V4,
+    albedo: [f32; 3],
+}
+
+impl<R: Real> Lit<R> {
+    /// Adds to `rgb` the light of colour `color` arriving along the unit
+    /// tangent `to_light` with irradiance `irradiance`: Lambert plus a
+    /// Blinn lobe. WGSL twin: `add_light` in `shaders/shade.wgsl`.
+    fn add(&self, g: Geometry, rgb: &mut [f32; 3], to_light: R::V4, irradiance: f32, color: [f32; 3]) {
+        let lambert = g.form::<R>(self.normal, to_light).max(R::of(0.0)).f64() as f32;
+        let half = to_light + self.view;
+        let hl = g.form::<R>(half, half).sqrt();
+        let spec = if hl.f64() > 1e-12 {
+            (g.form::<R>(self.normal, half) / hl).max(R::of(0.0)).f64().powi(32) as f32 * 0.35
+        } else {
+            0.0
+        };
+        for c in 0..3 {
+            rgb[c] += (self.albedo[c] * lambert + spec) * irradiance * color[c];
+        }
+    }
+}
+
 /// Lambert + Blinn shading at the hit (chart parameter `t`, with the
 /// object's normal there unless `normal_at` gives another: a cone's
 /// layer, see [`super::cone::cone_layer`]), lights with geometry-correct
@@ -47,7 +77,7 @@ pub(super) fn shade<R: Real>(
     (t, normal_at): (R, Option<R::V4>),
     hit: Hit<R>,
     dist: R,
-    cell: CellId,
+    (cell, cell_matrix): (CellId, R::M4),
     settings: &TraceSettings,
 ) -> [f32; 3] {
     let x = g.normalize_point::<R>(ray.origin + ray.dir * t);
@@ -84,21 +114,34 @@ pub(super) fn shade<R: Real>(
     // Ambient light and the object's own glow.
     let ambient = 0.08f32 + glow;
     let mut rgb = [albedo[0] * ambient, albedo[1] * ambient, albedo[2] * ambient];
-    for l in &flat.lights {
-        let d = g.distance::<R>(x, l.position);
-        let to_light = toward_light::<R>(g, x, l.position, normal);
-        let area = g.sphere_area::<R>(d).max(R::of(1e-4));
-        let irradiance = (l.intensity / area).f64() as f32;
-        let lambert = g.form::<R>(normal, to_light).max(R::of(0.0)).f64() as f32;
-        let half = to_light + view;
-        let hl = g.form::<R>(half, half).sqrt();
-        let spec = if hl.f64() > 1e-12 {
-            (g.form::<R>(normal, half) / hl).max(R::of(0.0)).f64().powi(32) as f32 * 0.35
-        } else {
-            0.0
-        };
-        for c in 0..3 {
-            rgb[c] += (albedo[c] * lambert + spec) * irradiance * l.color[c];
+    let lit = Lit::<R> { normal, view, albedo };
+    if flat.lighting.images == 0 {
+        for l in &flat.lights {
+            let d = g.distance::<R>(x, l.position);
+            let to_light = toward_light::<R>(g, x, l.position, normal);
+            let area = g.sphere_area::<R>(d).max(R::of(1e-4));
+            lit.add(g, &mut rgb, to_light, (l.intensity / area).f64() as f32, l.color);
+        }
+    } else {
+        let density = flat.fog.map_or(R::of(0.0), |(d, _)| d);
+        let tau = R::of(std::f64::consts::TAU);
+        for l in &flat.lights {
+            let d = g.distance::<R>(x, l.position);
+            let to_light = toward_light::<R>(g, x, l.position, normal);
+            // The short arc, and in S3 the long way round, arriving from
+            // the other side.
+            let arcs = [(d, to_light), (tau - d, -to_light)];
+            let count = if g == Geometry::Spherical { 2 } else { 1 };
+            for &(s, dir) in &arcs[..count] {
+                let e = image_irradiance::<R>(g, l, s, density);
+                if e <= R::of(0.0) || g.form::<R>(normal, dir) <= R::of(0.0) {
+                    continue;
+                }
+                if flat.lighting.shadows && light_blocked(flat, (x, normal), dir, s, (cell_matrix, settings.cull)) {
+                    continue;
+                }
+                lit.add(g, &mut rgb, dir, e.f64() as f32, l.color);
+            }
         }
     }
     if let Some((density, fog_color)) = flat.fog {

@@ -160,7 +160,16 @@ pub fn trace_ray<R: Real>(
             };
             let dist = travelled + g.chart_to_distance::<R>(layer.t);
             let cell = cell_id(&walk, &exact);
-            let color = shade(g, flat, &walk.ray, (layer.t, layer.normal), hit, dist, cell, settings);
+            let color = shade(
+                g,
+                flat,
+                &walk.ray,
+                (layer.t, layer.normal),
+                hit,
+                dist,
+                (cell, walk.cell),
+                settings,
+            );
             let part = layer.part;
             let this = TracePixel {
                 color,

@@ -6,6 +6,7 @@ use super::{bits, m, non_empty, v};
 use crate::layout::{GpuBall, GpuInstance, GpuLight, GpuTube, NO_JOINT};
 use bevy_manifold_core::mesh::bvh::BvhNode;
 use bevy_manifold_core::trace::FlatScene;
+use bevy_manifold_core::trace::MAX_LIGHT_IMAGES;
 
 /// The scene's objects on the GPU: balls (ghost copies and the edge tubes'
 /// vertex joints included), tubes and lights. Uploaded when an object
@@ -95,16 +96,19 @@ impl GpuObjects {
                     })
                     .collect(),
             ),
-            // At most MAX_LIGHTS, the uniform array's length (the ECS
-            // layer and scene files keep to it already).
+            // At most MAX_LIGHT_IMAGES, the uniform array's length
+            // (light_images keeps to it already).
             lights: non_empty(
                 flat.lights
                     .iter()
-                    .take(bevy_manifold_core::trace::MAX_LIGHTS)
+                    .take(MAX_LIGHT_IMAGES)
                     .map(|l| GpuLight {
                         position: v(l.position),
                         color: l.color,
                         intensity: l.intensity,
+                        inv_range_sq: l.inv_range_sq,
+                        min_area: l.min_area,
+                        pad: [0.0; 2],
                     })
                     .collect(),
             ),
@@ -114,7 +118,7 @@ impl GpuObjects {
             counts: [
                 flat.balls.len().min(crate::bindings::MAX_BALLS) as u32,
                 flat.tubes.len().min(crate::bindings::MAX_TUBES) as u32,
-                flat.lights.len().min(bevy_manifold_core::trace::MAX_LIGHTS) as u32,
+                flat.lights.len().min(MAX_LIGHT_IMAGES) as u32,
                 flat.instances.len() as u32,
             ],
             tube_k: flat.tube_k,

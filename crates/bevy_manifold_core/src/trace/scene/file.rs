@@ -5,11 +5,13 @@
 //! {"camera": {"isometry": [[..4..],[..4..],[..4..],[..4..]], "fov_y_degrees": 60,
 //!             "frustum": [left, right, down, up] (optional: an off-centre eye)},
 //!  "balls":  [{"center": [x,y,z,w], "radius": r, "color": [r,g,b], "glow": 0}, ...],
-//!  "lights": [{"position": [x,y,z,w], "intensity": i, "color": [r,g,b]}, ...],
+//!  "lights": [{"position": [x,y,z,w], "intensity": i, "color": [r,g,b],
+//!              "range": r (optional), "radius": r (optional, 0)}, ...],
 //!  "meshes": [{"file": "model.glb", "placement": [[..4..] x4], "scale": s,
 //!              "color": [r,g,b], "attached": false}, ...],
 //!  "edges": {"radius": r} | null,
-//!  "fog": {"density": d, "color": [r,g,b]} | null}
+//!  "fog": {"density": d, "color": [r,g,b]} | null,
+//!  "lighting": {"images": n, "shadows": true} (optional: the default)}
 //! Mesh files are found relative to the scene file.
 //! The camera isometry (row-major, acting on column vectors) carries the
 //! origin to the eye and the origin's frame to the camera's; the camera
@@ -18,13 +20,14 @@
 use super::mesh::SceneMesh;
 #[cfg(feature = "gltf")]
 use super::mesh::baked;
-use super::{Ball, Camera, Fog, Frustum, Light, Scene};
+use super::{Ball, Camera, Fog, Frustum, Light, Lighting, Scene};
 use crate::geometry::{Geometry, isometry};
 #[cfg(feature = "gltf")]
 use crate::mesh::gltf::GltfError;
 use crate::mesh::{MeshData, MeshMaterial};
 use crate::space::Space;
 use crate::space::file::{from_rows, to_rows};
+use crate::trace::light_images::MAX_LIGHT_IMAGES;
 use glam::{DMat4, DVec4};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -100,6 +103,17 @@ struct LightDesc {
     position: [f64; 4],
     intensity: f64,
     color: [f32; 3],
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    range: Option<f64>,
+    #[serde(default)]
+    radius: f64,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LightingDesc {
+    images: u32,
+    shadows: bool,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -129,6 +143,8 @@ struct SceneDesc {
     edges: Option<EdgesDesc>,
     #[serde(default)]
     fog: Option<FogDesc>,
+    #[serde(default)]
+    lighting: Option<LightingDesc>,
 }
 
 /// How far off its model a point in a file may be before it is an error
@@ -263,10 +279,26 @@ impl Scene {
                 ));
             }
             color(l.color, &format!("lights[{i}].color")).map_err(|(f, m)| field(f, m))?;
+            if let Some(r) = l.range
+                && !(r > 0.0 && r.is_finite())
+            {
+                return Err(field(
+                    format!("lights[{i}].range"),
+                    format!("must be > 0 and finite, got {r}"),
+                ));
+            }
+            if !(l.radius >= 0.0 && l.radius <= max_radius(g)) {
+                return Err(field(
+                    format!("lights[{i}].radius"),
+                    format!("must be in [0, {}], got {}", max_radius(g), l.radius),
+                ));
+            }
             lights.push(Light {
                 position,
                 intensity: l.intensity,
                 color: l.color,
+                range: l.range,
+                radius: l.radius,
             });
         }
         let edge_radius = match desc.edges {
@@ -303,6 +335,19 @@ impl Scene {
                 ),
             ));
         }
+        let lighting = match desc.lighting {
+            Some(l) if l.images as usize > MAX_LIGHT_IMAGES => {
+                return Err(field(
+                    "lighting.images".into(),
+                    format!("at most {MAX_LIGHT_IMAGES} images of a light, got {}", l.images),
+                ));
+            }
+            Some(l) => Lighting {
+                images: l.images,
+                shadows: l.shadows,
+            },
+            None => Lighting::default(),
+        };
         Ok(Scene {
             camera,
             balls,
@@ -310,6 +355,7 @@ impl Scene {
             meshes,
             edge_radius,
             fog,
+            lighting,
             skipped,
         })
     }
@@ -341,6 +387,8 @@ impl Scene {
                     position: l.position.to_array(),
                     intensity: l.intensity,
                     color: l.color,
+                    range: l.range,
+                    radius: l.radius,
                 })
                 .collect(),
             meshes: describe(&self.meshes),
@@ -348,6 +396,10 @@ impl Scene {
             fog: self.fog.as_ref().map(|f| FogDesc {
                 density: f.density,
                 color: f.color,
+            }),
+            lighting: Some(LightingDesc {
+                images: self.lighting.images,
+                shadows: self.lighting.shadows,
             }),
         };
         serde_json::to_string_pretty(&desc).unwrap_or_default()

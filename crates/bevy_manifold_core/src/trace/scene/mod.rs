@@ -118,7 +118,15 @@ pub struct Ball {
     pub glow: f32,
 }
 
-/// A point light.
+/// A point light (a small sphere when `radius` is set).
+///
+/// With [`Lighting::images`] on, it lights a point by every image of it
+/// in the cover within `range`, each along its own geodesic (and in S3
+/// the long way round as well): the irradiance of one image at distance
+/// `d` is `intensity / max(area(d), area(radius))`, times the range's
+/// smooth cut-off `(1 - (d / range)^4)^2` (Bevy's point-light window),
+/// times the fog's transmittance over `d`; see
+/// [`super::light_images`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct Light {
     /// Position: a normalised point inside the fundamental domain.
@@ -127,6 +135,71 @@ pub struct Light {
     pub intensity: f64,
     /// Linear RGB colour.
     pub color: [f32; 3],
+    /// How far its light reaches (a smooth cut-off, as Bevy's
+    /// `PointLight::range`); `None`: as far as [`Lighting::images`]
+    /// images of it allow.
+    pub range: Option<f64>,
+    /// Its radius: nearer than this the irradiance stays that of its
+    /// surface, so no point is lit infinitely (in S3 the light's
+    /// antipode too). 0: a point.
+    pub radius: f64,
+}
+
+impl Light {
+    /// A point light with no range of its own and no size.
+    #[must_use]
+    pub fn point(position: DVec4, intensity: f64, color: [f32; 3]) -> Light {
+        Light {
+            position,
+            intensity,
+            color,
+            range: None,
+            radius: 0.0,
+        }
+    }
+}
+
+/// How light reaches what it lights: the light's images in the cover,
+/// and shadows.
+///
+/// ```
+/// use bevy_manifold_core::prelude::*;
+/// let lighting = Lighting::default();
+/// assert!(lighting.images > 1 && lighting.shadows);
+/// // As before light images: each light's copy in the domain only.
+/// assert_eq!(Lighting::DOMAIN_COPY.images, 0);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Lighting {
+    /// The most images of each light in the cover that light a point,
+    /// nearest the domain first: the light's range is cut (smoothly) to
+    /// what they reach, so every point within it sees all of them and
+    /// light is continuous across the faces. 0: each light's copy in the
+    /// domain only, seen along the chart's straight line, with no range
+    /// or fog on its way: light seams at the faces (the lighting before
+    /// light images, kept for comparison).
+    pub images: u32,
+    /// A light image lights a point only if the geodesic between them is
+    /// free: shadow rays cross the faces as camera rays do. Glowing balls
+    /// (lamps) cast none.
+    pub shadows: bool,
+}
+
+impl Lighting {
+    /// Each light's copy in the domain, no shadows.
+    pub const DOMAIN_COPY: Lighting = Lighting {
+        images: 0,
+        shadows: false,
+    };
+}
+
+impl Default for Lighting {
+    fn default() -> Self {
+        Lighting {
+            images: 64,
+            shadows: true,
+        }
+    }
 }
 
 /// Exponential fog on the distance travelled.
@@ -161,6 +234,8 @@ pub struct Scene {
     pub edge_radius: Option<f64>,
     /// Fog, if any.
     pub fog: Option<Fog>,
+    /// How the lights reach what they light.
+    pub lighting: Lighting,
     /// What a scene file asked for that was left out, and why (a mesh
     /// file that failed to load); empty for scenes made in code.
     pub skipped: Vec<String>,
@@ -183,6 +258,7 @@ impl Scene {
             meshes: Vec::new(),
             edge_radius: None,
             fog: None,
+            lighting: Lighting::default(),
             skipped: Vec::new(),
         }
     }

@@ -18,7 +18,7 @@
 //! ```
 
 use super::mesh::SceneMesh;
-use super::{Ball, Camera, Light, Scene};
+use super::{Ball, Camera, Light, Lighting, Scene};
 use crate::geometry::isometry;
 #[cfg(feature = "gltf")]
 use crate::mesh::MeshData;
@@ -153,10 +153,13 @@ impl Scene {
                 // room left for the highlight.
                 intensity: 0.8 * g.sphere_area::<f64>(to_ball),
                 color: [1.0, 1.0, 1.0],
+                range: None,
+                radius: 0.0,
             }],
             meshes: Vec::new(),
             edge_radius: Some(0.035 * r),
             fog: None,
+            lighting: Lighting::default(),
             skipped: Vec::new(),
         }
     }

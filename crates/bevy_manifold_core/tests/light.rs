@@ -1,0 +1,373 @@
+//! The manifold's light: every image of a light in the cover, each along
+//! its own geodesic, against sums written here from the geometry alone
+//! (the lattice of the 3-torus, the 120 elements of the binary
+//! icosahedral group found by closing the Poincare sphere's pairings),
+//! continuity across every face, and shadows where the right-triangle
+//! formulas of each geometry put them.
+
+use bevy_manifold_core::geometry::{Geometry, isometry};
+use bevy_manifold_core::prelude::*;
+use bevy_manifold_core::trace::shadow::light_blocked;
+use bevy_manifold_core::trace::{FlatLight, FlatScene, image_irradiance, light_images};
+use glam::{DMat4, DVec3, DVec4};
+use std::f64::consts::{PI, TAU};
+
+/// The irradiance the tracer's images give at `x`: each image, each arc
+/// (two in S3), as `shade` sums them (no normal: the full irradiance).
+fn irradiance(g: Geometry, images: &[FlatLight<f64>], x: DVec4, density: f64) -> f64 {
+    images
+        .iter()
+        .map(|l| {
+            let d = g.distance::<f64>(x, l.position);
+            let mut e = image_irradiance::<f64>(g, l, d, density);
+            if g == Geometry::Spherical {
+                e += image_irradiance::<f64>(g, l, TAU - d, density);
+            }
+            e
+        })
+        .sum()
+}
+
+/// The irradiance vector at `x`: each image's irradiance times the unit
+/// tangent towards it (both arcs in S3), so that directions are checked
+/// as well as amounts.
+fn irradiance_vector(g: Geometry, images: &[FlatLight<f64>], x: DVec4) -> DVec4 {
+    let mut v = DVec4::ZERO;
+    for l in images {
+        let Some((dir, d)) = g.log::<f64>(x, l.position) else {
+            continue;
+        };
+        v += dir * image_irradiance::<f64>(g, l, d, 0.0);
+        if g == Geometry::Spherical {
+            v -= dir * image_irradiance::<f64>(g, l, TAU - d, 0.0);
+        }
+    }
+    v
+}
+
+/// Bevy's window on a range, written out.
+fn window(s: f64, range: f64) -> f64 {
+    let f = (s / range).powi(4);
+    (1.0 - f).clamp(0.0, 1.0).powi(2)
+}
+
+fn light_at(p: DVec4, range: Option<f64>) -> Light {
+    Light {
+        range,
+        ..Light::point(p, 1.0, [1.0; 3])
+    }
+}
+
+fn range_of(images: &[FlatLight<f64>]) -> f64 {
+    1.0 / images[0].inv_range_sq.sqrt()
+}
+
+#[test]
+fn the_torus_is_lit_by_the_lattice_sum_of_its_light() {
+    // The cube of edge 2: the light's images are p + 2 (i, j, k).
+    let space = catalog::torus(2.0);
+    let g = space.geometry();
+    let p = DVec4::new(0.3, -0.2, 0.45, 1.0);
+    let density = 0.1;
+    let lattice = |x: DVec4, range: f64| {
+        let mut e = 0.0;
+        for i in -5..=5 {
+            for j in -5..=5 {
+                for k in -5..=5 {
+                    let image = p.truncate() + 2.0 * DVec3::new(f64::from(i), f64::from(j), f64::from(k));
+                    let s = (x.truncate() - image).length();
+                    e += window(s, range) / (4.0 * PI * s * s) * (-density * s).exp();
+                }
+            }
+        }
+        e
+    };
+    let points = [
+        DVec4::new(0.9, 0.9, -0.9, 1.0),
+        DVec4::new(-0.7, 0.1, 0.2, 1.0),
+        DVec4::new(0.0, -0.99, 0.5, 1.0),
+        DVec4::new(0.31, -0.2, 0.4, 1.0),
+    ];
+    // A range of its own, within the budget: the sum is whole.
+    let lighting = Lighting {
+        images: 256,
+        shadows: false,
+    };
+    let images = light_images::<f64>(&space, &[light_at(p, Some(3.5))], lighting);
+    assert!((range_of(&images) - 3.5).abs() < 1e-12);
+    for x in points {
+        let want = lattice(x, 3.5);
+        let got = irradiance(g, &images, x, density);
+        assert!(
+            (got - want).abs() <= 1e-12 * want,
+            "at {x}: {got} against the lattice's {want}"
+        );
+    }
+    // No range of its own: the budget cuts it, and the images kept are
+    // every one within the cut range of any point.
+    let lighting = Lighting {
+        images: 32,
+        shadows: false,
+    };
+    let images = light_images::<f64>(&space, &[light_at(p, None)], lighting);
+    let range = range_of(&images);
+    assert!(
+        images.len() <= 32 && range > 1.0,
+        "{} images, range {range}",
+        images.len()
+    );
+    for x in points {
+        let want = lattice(x, range);
+        let got = irradiance(g, &images, x, density);
+        assert!(
+            (got - want).abs() <= 1e-12 * want,
+            "at {x}: {got} against the lattice's {want}"
+        );
+    }
+}
+
+/// Every element of the group the pairings generate, by closing them
+/// under products (the pairings' own matrices, not the tracer's walk).
+fn closure(space: &Space, limit: usize) -> Vec<DMat4> {
+    let gens: Vec<DMat4> = space.faces().iter().map(|f| f.pairing).collect();
+    let mut all = vec![DMat4::IDENTITY];
+    let mut next = 0;
+    while next < all.len() && all.len() < limit {
+        let m = all[next];
+        next += 1;
+        for t in &gens {
+            let n = m * *t;
+            if !all.iter().any(|a| a.abs_diff_eq(n, 1e-9)) {
+                all.push(n);
+            }
+        }
+    }
+    all
+}
+
+#[test]
+fn the_poincare_sphere_is_lit_by_all_120_images_both_ways_round() {
+    let space = catalog::poincare();
+    let g = space.geometry();
+    let group = closure(&space, 200);
+    assert_eq!(group.len(), 120, "the binary icosahedral group has 120 elements");
+    // Its elements move every point by the angles of the unit
+    // quaternions of the binary icosahedral group: 0, pi/5, pi/3, 2pi/5,
+    // pi/2, ... with multiplicities 1, 12, 20, 12, 30, 12, 20, 12, 1.
+    let mut spectrum = [0usize; 9];
+    for m in &group {
+        let d = g.distance::<f64>(DVec4::W, *m * DVec4::W);
+        let k = [
+            0.0,
+            1.0 / 5.0,
+            1.0 / 3.0,
+            2.0 / 5.0,
+            0.5,
+            3.0 / 5.0,
+            2.0 / 3.0,
+            4.0 / 5.0,
+            1.0,
+        ]
+        .iter()
+        .position(|f| (d - f * PI).abs() < 1e-9)
+        .expect("an angle of the binary icosahedral group");
+        spectrum[k] += 1;
+    }
+    assert_eq!(spectrum, [1, 12, 20, 12, 30, 12, 20, 12, 1]);
+    let p = g.normalize_point::<f64>(DVec4::new(0.1, 0.05, -0.12, 1.0));
+    let lighting = Lighting {
+        images: 128,
+        shadows: false,
+    };
+    let images = light_images::<f64>(&space, &[light_at(p, None)], lighting);
+    assert_eq!(images.len(), 120);
+    assert_eq!(images[0].inv_range_sq, 0.0, "no cut-off: the whole group fits");
+    for x in [
+        DVec4::W,
+        g.normalize_point::<f64>(DVec4::new(0.2, -0.15, 0.1, 1.0)),
+        g.normalize_point::<f64>(DVec4::new(-0.25, 0.3, 0.05, 1.0)),
+    ] {
+        // Both arcs of each image: sin^2 is the same either way round.
+        let want: f64 = group
+            .iter()
+            .map(|m| {
+                let d = (x.dot(*m * p)).clamp(-1.0, 1.0).acos();
+                2.0 / (4.0 * PI * d.sin().powi(2)).max(1e-4)
+            })
+            .sum();
+        let got = irradiance(g, &images, x, 0.0);
+        assert!((got - want).abs() <= 1e-9 * want, "at {x}: {got} against {want}");
+    }
+}
+
+/// The spaces the continuity test walks: the catalog and four library
+/// spaces of other kinds (a lens space, a small hyperbolic manifold, a
+/// flat one with a twist, the quaternionic space).
+fn spaces() -> Vec<Space> {
+    let mut out: Vec<Space> = catalog::NAMES.iter().filter_map(|n| catalog::by_name(n)).collect();
+    for n in ["lens-7-2", "weeks", "hantzsche-wendt", "quaternionic"] {
+        out.push(catalog::resolve(n).expect("a library space"));
+    }
+    out
+}
+
+/// A point inside face `f`'s polygon: a tenth of the way from the face's
+/// centre of vertices to its first vertex, on the plane.
+fn point_on_face(space: &Space, f: usize) -> DVec4 {
+    let g = space.geometry();
+    let verts: Vec<DVec4> = space.polyhedron().face_vertices[f]
+        .iter()
+        .map(|&v| space.vertices()[v].point)
+        .collect();
+    let centre = verts.iter().copied().sum::<DVec4>() / verts.len() as f64;
+    g.normalize_point::<f64>(centre * 0.9 + verts[0] * 0.1)
+}
+
+#[test]
+fn light_is_continuous_across_every_face() {
+    for space in spaces() {
+        let g = space.geometry();
+        let p = g.normalize_point::<f64>(
+            DVec4::new(0.11, -0.07, 0.05, 1.0) * space.inradius() + DVec4::W * (1.0 - space.inradius()),
+        );
+        let lighting = Lighting {
+            images: 64,
+            shadows: false,
+        };
+        let images = light_images::<f64>(&space, &[light_at(p, None)], lighting);
+        let seam = light_images::<f64>(&space, &[light_at(p, None)], Lighting::DOMAIN_COPY);
+        let mut worst_seam = 0.0f64;
+        for (f, face) in space.faces().iter().enumerate() {
+            let x = point_on_face(&space, f);
+            // The same point of the manifold, seen from the partner face.
+            let y = g.normalize_point::<f64>(face.pairing * x);
+            let (vx, vy) = (irradiance_vector(g, &images, x), irradiance_vector(g, &images, y));
+            let scale = irradiance(g, &images, x, 0.0).max(1e-12);
+            assert!(
+                ((face.pairing * vx) - vy).length() <= 1e-9 * scale,
+                "{}: face {f}: light {vx} on one side, {vy} on the other",
+                space.name()
+            );
+            let (ex, ey) = (irradiance(g, &seam, x, 0.0), irradiance(g, &seam, y, 0.0));
+            worst_seam = worst_seam.max((ex - ey).abs() / ex.max(ey));
+        }
+        // Each light's copy in the domain alone seams (this test would see
+        // it), except in the mirrored spaces, whose faces map to themselves.
+        if space.faces().iter().enumerate().any(|(i, f)| f.partner != i) {
+            assert!(
+                worst_seam > 0.01,
+                "{}: the domain copy alone seams by {worst_seam}",
+                space.name()
+            );
+        }
+    }
+}
+
+/// The least distance from `c` to the geodesic segment from `x` to `p`:
+/// the foot of the perpendicular from `c` to the geodesic through `x`
+/// with unit tangent `u` is where `c` projects onto the plane of `x` and
+/// `u` (R^4, with the form of the geometry), at distance `b` along it
+/// with `tan b = <c,u> / <c,x>` (S3; `tanh`, H3; `b = (c - x).u`, E3)
+/// and `cos h = |projection|` (`cosh`, H3; Pythagoras, E3): the
+/// right-triangle formulas of each geometry. An end of the segment when
+/// the foot is off it.
+fn segment_distance(g: Geometry, x: DVec4, p: DVec4, c: DVec4) -> f64 {
+    let Some((u, len)) = g.log::<f64>(x, p) else {
+        return g.distance::<f64>(x, c);
+    };
+    let (b, h) = match g {
+        Geometry::Euclidean => {
+            let v = (c - x).truncate();
+            let b = v.dot(u.truncate());
+            (b, (v - u.truncate() * b).length())
+        }
+        Geometry::Hyperbolic => {
+            let (cx, cu) = (-g.form::<f64>(c, x), g.form::<f64>(c, u));
+            ((cu / cx).atanh(), (cx * cx - cu * cu).max(1.0).sqrt().acosh())
+        }
+        Geometry::Spherical => {
+            let (cx, cu) = (c.dot(x), c.dot(u));
+            (cu.atan2(cx), (cx * cx + cu * cu).sqrt().min(1.0).acos())
+        }
+    };
+    if b > 0.0 && b < len {
+        h
+    } else {
+        g.distance::<f64>(x, c).min(g.distance::<f64>(p, c))
+    }
+}
+
+#[test]
+fn a_ball_casts_its_umbra_where_the_geometry_puts_it_in_each_geometry() {
+    for space in [catalog::torus(2.0), catalog::seifert_weber(), catalog::poincare()] {
+        let g = space.geometry();
+        let r_in = space.inradius();
+        let c = g.normalize_point::<f64>(DVec4::new(0.1, 0.0, 0.0, 1.0) * r_in + DVec4::W * (1.0 - r_in));
+        let c = if g == Geometry::Euclidean {
+            DVec4::new(0.1, 0.0, 0.0, 1.0)
+        } else {
+            c
+        };
+        let radius = 0.25 * r_in;
+        let mut scene = Scene::empty();
+        scene.balls.push(Ball {
+            center: c,
+            radius,
+            color: [1.0; 3],
+            glow: 0.0,
+        });
+        let flat = FlatScene::<f64>::new(&space, &scene);
+        // Every copy of the ball a shadow ray can meet: the group's
+        // images of its centre (closed from the pairings, as far as
+        // three products in H3).
+        let copies: Vec<DVec4> = closure(&space, 2000).iter().map(|m| *m * c).collect();
+        let light = isometry::translation(g, DVec3::new(0.7, 0.2, -0.1) * r_in) * DVec4::W;
+        let (mut shadowed, mut lit) = (0, 0);
+        for i in 0..400 {
+            // Points on a sphere about the light's far side, some through
+            // faces: the light's image across the +x face for half.
+            let t = f64::from(i) * 0.618_034;
+            let dir = DVec3::new((t * TAU).cos(), (t * 3.7).sin(), (t * 5.3).cos()).normalize();
+            let x =
+                g.normalize_point::<f64>(isometry::translation(g, dir * 0.4 * r_in - DVec3::X * 0.4 * r_in) * DVec4::W);
+            let target = if i % 2 == 0 {
+                light
+            } else {
+                // Across the face the +x axis leaves by: the copy of the
+                // light there.
+                let f = (0..space.faces().len())
+                    .max_by(|&a, &b| space.faces()[a].plane.x.total_cmp(&space.faces()[b].plane.x))
+                    .unwrap_or(0);
+                space.crossing(f) * light
+            };
+            let Some((dir, len)) = g.log::<f64>(x, target) else {
+                continue;
+            };
+            let want = copies
+                .iter()
+                .map(|&cc| segment_distance(g, x, target, cc))
+                .fold(f64::INFINITY, f64::min);
+            if (want - radius).abs() < 1e-3 || copies.iter().any(|&cc| g.distance::<f64>(x, cc) < radius + 1e-3) {
+                continue;
+            }
+            let normal = dir;
+            let got = light_blocked(&flat, (x, normal), dir, len, (DMat4::IDENTITY, true));
+            assert_eq!(
+                got,
+                want < radius,
+                "{}: x {x}, to {target}: {want} from the ball of radius {radius}",
+                space.name()
+            );
+            if got {
+                shadowed += 1;
+            } else {
+                lit += 1;
+            }
+        }
+        assert!(
+            shadowed > 20 && lit > 20,
+            "{}: {shadowed} shadowed, {lit} lit",
+            space.name()
+        );
+    }
+}
