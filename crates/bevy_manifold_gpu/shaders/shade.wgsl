@@ -60,7 +60,7 @@ fn toward_light(x: vec4<f32>, l: vec4<f32>, normal: vec4<f32>) -> vec4<f32> {
 
 // Adds to rgb the light of colour `color` arriving along the unit
 // tangent to_light with irradiance `irradiance`: Lambert plus a Blinn
-// lobe. Rust twin: Lit::add (`add_light`).
+// lobe. Rust twin: Lit::add in shade.rs.
 fn add_light(rgb: ptr<function, vec3<f32>>, normal: vec4<f32>, view: vec4<f32>, albedo: vec3<f32>, to_light: vec4<f32>, irradiance: f32, color: vec3<f32>) {
     let lambert = max(form(normal, to_light), 0.0);
     let half = to_light + view;

@@ -37,7 +37,8 @@ pub const MIN_AREA: f64 = 1e-4;
 /// Each light of `lights` as the images of it that light the domain
 /// under `lighting` (see the module): the light's copy in the domain
 /// alone when `lighting.images` is 0. At most [`MAX_LIGHT_IMAGES`] in
-/// all: each light keeps `min(images, MAX_LIGHT_IMAGES / lights)`.
+/// all: each light keeps `min(images, MAX_LIGHT_IMAGES / lights)`; the
+/// first [`super::MAX_LIGHTS`] lights only.
 ///
 /// ```
 /// use bevy_manifold_core::prelude::*;
@@ -53,6 +54,9 @@ pub const MIN_AREA: f64 = 1e-4;
 #[must_use]
 pub fn light_images<R: Real>(space: &Space, lights: &[Light], lighting: Lighting) -> Vec<FlatLight<R>> {
     let g = space.geometry();
+    // Past MAX_LIGHTS a scene's lights are left out, as the GPU did
+    // before light images.
+    let lights = &lights[..lights.len().min(super::scene::MAX_LIGHTS)];
     if lighting.images == 0 {
         return lights
             .iter()
