@@ -139,7 +139,7 @@ impl Space {
                 // How near the cell n(D) may come to o: how far o lies
                 // outside D seen from n.
                 let near = self.distance_outside(g.normalize_point::<f64>(isometry::inverse(g, n) * o));
-                if !(near <= reach) || !c.is_finite() {
+                if near.is_nan() || near > reach || !c.is_finite() {
                     continue;
                 }
                 let known = keys_near(c)
