@@ -105,7 +105,8 @@ pub mod prelude {
     #[cfg(feature = "render")]
     pub use crate::drawables::{CameraBody, Rasterized};
     pub use crate::drawables::{
-        DomainEdges, DrawablesPlugin, ManifoldLight, ManifoldMeshes, ManifoldScene, TracedBall,
+        DomainEdges, DrawablesPlugin, ManifoldLight, ManifoldLighting, ManifoldMeshes, ManifoldScene, SpotCone,
+        TracedBall,
     };
     pub use crate::placement::{
         DomainCell, FaceCrossed, GeodesicVelocity, InSpace, ManifoldCollider, ManifoldRayCast, ManifoldSpace,

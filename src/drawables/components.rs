@@ -59,7 +59,16 @@ impl TracedBall {
 
 /// A point light at the entity's [`Placement`]. Its irradiance at distance
 /// `d` is `intensity / area(d)`, the area of the geodesic sphere of radius
-/// `d` (so light falls off faster in H3 and refocuses in S3).
+/// `d` (so light falls off faster in H3 and refocuses in S3). Under the
+/// space's [`ManifoldLighting`] it lights a point by every image of it
+/// in the cover within its range, each along its own geodesic.
+///
+/// ```
+/// use bevy::prelude::*;
+/// use bevy_manifold::prelude::*;
+/// let lamp = ManifoldLight { intensity: 0.6, range: Some(2.0), ..default() };
+/// assert_eq!((lamp.radius, lamp.color), (0.0, Color::WHITE));
+/// ```
 #[derive(Component, Clone, Copy, Debug, PartialEq, Reflect)]
 #[reflect(Component, Debug)]
 #[require(Placement)]
@@ -68,6 +77,28 @@ pub struct ManifoldLight {
     pub intensity: f64,
     /// Colour.
     pub color: Color,
+    /// How far its light reaches (a smooth cut-off, as Bevy's
+    /// `PointLight::range`), in the space's distance; `None`: as far as
+    /// [`ManifoldLighting::images`] images of it allow.
+    pub range: Option<f64>,
+    /// Its radius: nearer than this the irradiance stays that of its
+    /// surface. 0: a point.
+    pub radius: f64,
+    /// A spot light's cone, pointing along the placement's forward (its
+    /// local -z, as Bevy's `SpotLight`); `None`: light in every
+    /// direction.
+    pub cone: Option<SpotCone>,
+}
+
+/// The cone of a spot light ([`ManifoldLight::cone`]): full light within
+/// `inner` of its axis, none past `outer` (radians), Bevy's fall-off
+/// between.
+#[derive(Clone, Copy, Debug, PartialEq, Reflect)]
+pub struct SpotCone {
+    /// Half-angle of full light.
+    pub inner: f64,
+    /// Half-angle past which there is none.
+    pub outer: f64,
 }
 
 impl Default for ManifoldLight {
@@ -75,6 +106,53 @@ impl Default for ManifoldLight {
         ManifoldLight {
             intensity: 1.0,
             color: Color::WHITE,
+            range: None,
+            radius: 0.0,
+            cone: None,
+        }
+    }
+}
+
+/// On a [`ManifoldSpace`] root: how its lights reach what they light
+/// (the tracer's [`crate::trace::Lighting`]); the default when absent:
+/// each light's images in the cover, 64 at most, and shadows.
+///
+/// ```
+/// use bevy::prelude::*;
+/// use bevy_manifold::prelude::*;
+/// // The lighting before light images, and no shadows: cheaper, seams at faces.
+/// let flat = ManifoldLighting { images: 0, shadows: false };
+/// assert_eq!(flat.to_lighting(), bevy_manifold::trace::Lighting::DOMAIN_COPY);
+/// assert!(ManifoldLighting::default().shadows);
+/// ```
+#[derive(Component, Clone, Copy, Debug, PartialEq, Eq, Reflect)]
+#[reflect(Component, Debug)]
+pub struct ManifoldLighting {
+    /// The most images of each light that light a point (at most
+    /// [`crate::trace::MAX_LIGHT_IMAGES`] in all); 0: each light's copy
+    /// in the domain only.
+    pub images: u32,
+    /// Shadows through the faces.
+    pub shadows: bool,
+}
+
+impl Default for ManifoldLighting {
+    fn default() -> Self {
+        let l = crate::trace::Lighting::default();
+        ManifoldLighting {
+            images: l.images,
+            shadows: l.shadows,
+        }
+    }
+}
+
+impl ManifoldLighting {
+    /// The tracer's lighting.
+    #[must_use]
+    pub fn to_lighting(self) -> crate::trace::Lighting {
+        crate::trace::Lighting {
+            images: self.images.min(crate::trace::MAX_LIGHT_IMAGES as u32),
+            shadows: self.shadows,
         }
     }
 }

@@ -2,9 +2,11 @@
 //! ([`gather_scenes`]), and the other way, a tracer scene spawned as
 //! entities ([`spawn_scene`]).
 
-use super::components::{DomainEdges, ManifoldLight, ManifoldMeshes, ManifoldScene, TracedBall};
+use super::components::{
+    DomainEdges, ManifoldLight, ManifoldLighting, ManifoldMeshes, ManifoldScene, SpotCone, TracedBall,
+};
 use crate::placement::{InSpace, ManifoldSpace, Placement, SpaceMembers};
-use crate::trace::{Ball, Light, MAX_LIGHTS, Scene, max_radius};
+use crate::trace::{Ball, Light, MAX_LIGHTS, Scene, Spot, max_radius};
 use bevy::color::{Color, LinearRgba};
 use bevy::prelude::*;
 use std::sync::Arc;
@@ -33,6 +35,7 @@ type RootData<'a> = (
     Option<&'a ManifoldScene>,
     Option<&'a ManifoldMeshes>,
     Option<&'a SpaceMembers>,
+    Option<&'a ManifoldLighting>,
 );
 
 /// Filter: a space root whose space, edges or meshes changed.
@@ -41,6 +44,7 @@ type ChangedRoot = Or<(
     Changed<DomainEdges>,
     Changed<ManifoldMeshes>,
     Changed<SpaceMembers>,
+    Changed<ManifoldLighting>,
 )>;
 
 /// Collects the drawables of every space into its [`ManifoldScene`], when
@@ -72,7 +76,7 @@ pub fn gather_scenes(
     if !dirty {
         return;
     }
-    for (root, ms, edges, old, meshes, members) in &roots {
+    for (root, ms, edges, old, meshes, members, lighting) in &roots {
         let members: Vec<Entity> = members.map(|m| m.iter().collect()).unwrap_or_default();
         let ball_list: Vec<(Entity, Ball)> = members
             .iter()
@@ -102,8 +106,17 @@ pub fn gather_scenes(
                 position: p.position(),
                 intensity: l.intensity,
                 color: rgb(l.color),
-                range: None,
-                radius: 0.0,
+                range: l.range.filter(|r| r.is_finite() && *r > 0.0),
+                radius: if l.radius.is_finite() {
+                    l.radius.clamp(0.0, max_radius(ms.space().geometry()))
+                } else {
+                    0.0
+                },
+                spot: l.cone.map(|c| Spot {
+                    direction: p.forward(),
+                    inner: c.inner,
+                    outer: c.outer,
+                }),
             })
             .collect();
         let (mut entities, mut balls): (Vec<Entity>, Vec<Ball>) = ball_list.into_iter().unzip();
@@ -145,6 +158,7 @@ pub fn gather_scenes(
         scene.balls = balls;
         scene.lights = light_list;
         scene.edge_radius = edges.map(|e| e.radius);
+        scene.lighting = lighting.copied().unwrap_or_default().to_lighting();
         // An unchanged scene keeps its generation, so nothing downstream
         // repacks or uploads it.
         if let Some(o) = old
@@ -180,10 +194,20 @@ pub fn spawn_scene(commands: &mut Commands, root: Entity, space: &crate::space::
             ManifoldLight {
                 intensity: l.intensity,
                 color: color(l.color),
+                range: l.range,
+                radius: l.radius,
+                cone: l.spot.map(|s| SpotCone {
+                    inner: s.inner,
+                    outer: s.outer,
+                }),
             },
         ));
     }
     if let Some(radius) = scene.edge_radius {
         commands.entity(root).insert(DomainEdges { radius });
     }
+    commands.entity(root).insert(ManifoldLighting {
+        images: scene.lighting.images,
+        shadows: scene.lighting.shadows,
+    });
 }

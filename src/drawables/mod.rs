@@ -23,6 +23,8 @@
 //! assert!(scene.scene().edge_radius.is_some());
 //! ```
 
+#[cfg(feature = "render")]
+mod bevy_lights;
 mod components;
 mod gather;
 #[cfg(feature = "render")]
@@ -30,7 +32,11 @@ mod meshes;
 #[cfg(feature = "paper_scene")]
 pub mod paper;
 
-pub use components::{DomainEdges, ManifoldLight, ManifoldMeshes, ManifoldScene, TracedBall};
+#[cfg(feature = "render")]
+pub use bevy_lights::{BEVY_EXPOSURE, FromBevyLight, from_point_light, from_spot_light, sync_bevy_lights};
+pub use components::{
+    DomainEdges, ManifoldLight, ManifoldLighting, ManifoldMeshes, ManifoldScene, SpotCone, TracedBall,
+};
 pub use gather::{gather_scenes, spawn_scene};
 #[cfg(feature = "render")]
 pub use meshes::{
@@ -70,6 +76,7 @@ impl Plugin for DrawablesPlugin {
     fn build(&self, app: &mut App) {
         app.register_type::<TracedBall>()
             .register_type::<ManifoldLight>()
+            .register_type::<ManifoldLighting>()
             .register_type::<DomainEdges>()
             .configure_sets(
                 self.schedule,
@@ -78,6 +85,9 @@ impl Plugin for DrawablesPlugin {
                     .after(ManifoldSystems::Sync),
             )
             .add_systems(self.schedule, gather_scenes.in_set(DrawablesSystems::Scenes));
+        // Bevy's point lights in a manifold are manifold lights.
+        #[cfg(feature = "render")]
+        app.add_systems(self.schedule, sync_bevy_lights.before(DrawablesSystems::Scenes));
     }
 
     fn finish(&self, app: &mut App) {

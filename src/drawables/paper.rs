@@ -149,7 +149,7 @@ pub fn spawn_paper_scene(
             ChildOf(root),
             ManifoldLight {
                 intensity: light.intensity,
-                color: Color::WHITE,
+                ..default()
             },
             Placement::from_isometry(isometry::translation_to(space.geometry(), light.position)),
         ))

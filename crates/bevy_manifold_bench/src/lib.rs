@@ -10,6 +10,7 @@ mod compare;
 mod cull;
 mod faces;
 mod frames;
+mod lights;
 mod meshes;
 mod pass;
 mod plot;
@@ -128,6 +129,27 @@ pub enum BenchCommand {
         #[arg(long, default_value = "")]
         only: String,
     },
+    /// Light images and shadows: frame time of the paper's scene per
+    /// catalog space with each light's copy in the domain, its images,
+    /// and its images and shadows; and run time against the error of the
+    /// light sum (budgets 1 to 256) against brute force per space.
+    Lights {
+        /// Image width.
+        #[arg(long, default_value_t = 640)]
+        width: u32,
+        /// Image height.
+        #[arg(long, default_value_t = 360)]
+        height: u32,
+        /// Runs per setting; the median (GPU) and best (CPU) are reported.
+        #[arg(long, default_value_t = 3)]
+        runs: u32,
+        /// Only the spaces whose name holds this.
+        #[arg(long, default_value = "")]
+        only: String,
+        /// Folder for `lights.csv` and `lights.png`.
+        #[arg(long, default_value = "bench-out")]
+        out: std::path::PathBuf,
+    },
     /// Frame time against the number of traced balls (1 to 254, a swarm
     /// of small balls), GPU and CPU f32, culling off and on, in the torus,
     /// Seifert-Weber and the Poincare sphere.
@@ -226,6 +248,13 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
             runs,
             ref only,
         } => cull::run(width.max(1), height.max(1), runs.max(1), only),
+        BenchCommand::Lights {
+            width,
+            height,
+            runs,
+            ref only,
+            ref out,
+        } => lights::run(width.max(1), height.max(1), runs.max(1), only, out),
         BenchCommand::Balls {
             width,
             height,

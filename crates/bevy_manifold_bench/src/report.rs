@@ -72,6 +72,21 @@ const AREAS: &[Area] = &[
         args: &["aa"],
     },
     Area {
+        title: "Light images and shadows",
+        method: "GPU and CPU f32 frame time of the paper's scene per catalog space, 8 levels, with each light's copy in the domain only (the lighting before light images), with its images (64 at most), and with its images and shadows; the ratios are over the first. Then run time against error: the paper's light with a range of two inradii (S3: none, both arcs), its images kept at budgets 1 to 256, against the brute-force sum over the group's elements closed from the face pairings, at 300 points of the domain; the error is the largest gap as a share of the nearest image's irradiance there. Writes `lights.csv` and `lights.png`.",
+        args: &[
+            "lights",
+            "--width",
+            "320",
+            "--height",
+            "180",
+            "--runs",
+            "2",
+            "--out",
+            "bench-out",
+        ],
+    },
+    Area {
         title: "Run time against error",
         method: "GPU frame time and image error against the CPU f64 reference for levels 1 to 32, renormalisation and the fog's early stop on and off, in the Seifert-Weber space; the Pareto front of time against error. Writes `accuracy.csv` and `accuracy.png` to the output folder.",
         args: &[

@@ -8,7 +8,7 @@
 use bevy_manifold_core::geometry::{Geometry, isometry};
 use bevy_manifold_core::prelude::*;
 use bevy_manifold_core::trace::shadow::light_blocked;
-use bevy_manifold_core::trace::{FlatLight, FlatScene, image_irradiance, light_images};
+use bevy_manifold_core::trace::{FlatLight, FlatScene, Spot, image_irradiance, light_images, spot_factor};
 use glam::{DMat4, DVec3, DVec4};
 use std::f64::consts::{PI, TAU};
 
@@ -19,9 +19,10 @@ fn irradiance(g: Geometry, images: &[FlatLight<f64>], x: DVec4, density: f64) ->
         .iter()
         .map(|l| {
             let d = g.distance::<f64>(x, l.position);
-            let mut e = image_irradiance::<f64>(g, l, d, density);
+            let from = g.log::<f64>(l.position, x).map_or(DVec4::ZERO, |(v, _)| v);
+            let mut e = image_irradiance::<f64>(g, l, d, density) * spot_factor::<f64>(g, l, from);
             if g == Geometry::Spherical {
-                e += image_irradiance::<f64>(g, l, TAU - d, density);
+                e += image_irradiance::<f64>(g, l, TAU - d, density) * spot_factor::<f64>(g, l, -from);
             }
             e
         })
@@ -34,12 +35,12 @@ fn irradiance(g: Geometry, images: &[FlatLight<f64>], x: DVec4, density: f64) ->
 fn irradiance_vector(g: Geometry, images: &[FlatLight<f64>], x: DVec4) -> DVec4 {
     let mut v = DVec4::ZERO;
     for l in images {
-        let Some((dir, d)) = g.log::<f64>(x, l.position) else {
+        let (Some((dir, d)), Some((from, _))) = (g.log::<f64>(x, l.position), g.log::<f64>(l.position, x)) else {
             continue;
         };
-        v += dir * image_irradiance::<f64>(g, l, d, 0.0);
+        v += dir * image_irradiance::<f64>(g, l, d, 0.0) * spot_factor::<f64>(g, l, from);
         if g == Geometry::Spherical {
-            v -= dir * image_irradiance::<f64>(g, l, TAU - d, 0.0);
+            v -= dir * image_irradiance::<f64>(g, l, TAU - d, 0.0) * spot_factor::<f64>(g, l, -from);
         }
     }
     v
@@ -234,7 +235,17 @@ fn light_is_continuous_across_every_face() {
             images: 64,
             shadows: false,
         };
-        let images = light_images::<f64>(&space, &[light_at(p, None)], lighting);
+        // A lamp, and a wide spot pointing off along a skew axis: its
+        // cone must turn with each image.
+        let spot = Light {
+            spot: Some(Spot {
+                direction: DVec4::new(0.3, -0.8, 0.5, 0.0),
+                inner: 0.6,
+                outer: 1.4,
+            }),
+            ..light_at(p, None)
+        };
+        let images = light_images::<f64>(&space, &[light_at(p, None), spot], lighting);
         let seam = light_images::<f64>(&space, &[light_at(p, None)], Lighting::DOMAIN_COPY);
         let mut worst_seam = 0.0f64;
         for (f, face) in space.faces().iter().enumerate() {
@@ -368,6 +379,56 @@ fn a_ball_casts_its_umbra_where_the_geometry_puts_it_in_each_geometry() {
             shadowed > 20 && lit > 20,
             "{}: {shadowed} shadowed, {lit} lit",
             space.name()
+        );
+    }
+}
+
+#[test]
+fn a_spot_lights_by_bevys_cone_from_every_image() {
+    // The torus of edge 2, a spot pointing along +x: each image p + 2k
+    // points along +x too (the pairings are translations), and lights x
+    // by Bevy's fall-off at the angle between +x and x - (p + 2k).
+    let space = catalog::torus(2.0);
+    let g = space.geometry();
+    let p = DVec4::new(-0.2, 0.1, 0.0, 1.0);
+    let (inner, outer) = (0.25f64, 0.6f64);
+    let light = Light {
+        spot: Some(Spot {
+            direction: DVec4::new(2.0, 0.0, 0.0, 0.0),
+            inner,
+            outer,
+        }),
+        ..light_at(p, Some(3.0))
+    };
+    let lighting = Lighting {
+        images: 256,
+        shadows: false,
+    };
+    let images = light_images::<f64>(&space, &[light], lighting);
+    for x in [
+        DVec4::new(0.8, 0.15, -0.1, 1.0),
+        DVec4::new(0.5, 0.4, 0.2, 1.0),
+        DVec4::new(-0.6, 0.05, 0.1, 1.0),
+    ] {
+        let mut want = 0.0;
+        for i in -3..=3 {
+            for j in -3..=3 {
+                for k in -3..=3 {
+                    let image = p.truncate() + 2.0 * DVec3::new(f64::from(i), f64::from(j), f64::from(k));
+                    let v = x.truncate() - image;
+                    let s = v.length();
+                    let cos_a = v.x / s;
+                    let cone = ((cos_a - outer.cos()) / (inner.cos() - outer.cos()))
+                        .clamp(0.0, 1.0)
+                        .powi(2);
+                    want += cone * window(s, 3.0) / (4.0 * PI * s * s);
+                }
+            }
+        }
+        let got = irradiance(g, &images, x, 0.0);
+        assert!(
+            want > 0.0 && (got - want).abs() <= 1e-12 * want,
+            "at {x}: {got} against {want}"
         );
     }
 }

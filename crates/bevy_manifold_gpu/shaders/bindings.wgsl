@@ -183,14 +183,16 @@ struct Instance {
 // Rust twin: GpuLight in crates/bevy_manifold_gpu/src/layout.rs.
 // One image of a light (light_images in Rust): with LIGHT_IMAGES, its
 // range's 1 / range^2 (0: none) and the least area its irradiance is
-// divided by.
+// divided by; a spot's fall-off (scale 0 and offset 1: none) and axis.
 struct Light {
     position: vec4<f32>,
     color: vec3<f32>,
     intensity: f32,
     inv_range_sq: f32,
     min_area: f32,
-    pad: vec2<f32>,
+    spot_scale: f32,
+    spot_offset: f32,
+    spot_dir: vec4<f32>,
 }
 
 // Rust twin: GpuPixel in crates/bevy_manifold_gpu/src/layout.rs. What one

@@ -72,6 +72,30 @@ fn add_light(rgb: ptr<function, vec3<f32>>, normal: vec4<f32>, view: vec4<f32>, 
     *rgb += (albedo * lambert + spec) * irradiance * color;
 }
 
+#ifdef LIGHTS
+// The unit tangent at the light image l towards x, for its spot's cone
+// (its zero axis for a light in every direction, which needs none).
+// Rust twin: from_light.
+fn from_light(l: Light, x: vec4<f32>) -> vec4<f32> {
+    if l.spot_scale == 0.0 {
+        return l.spot_dir;
+    }
+    return toward_light(l.position, x, l.spot_dir);
+}
+
+// How much of a light image's light leaves along from_dir (a unit tangent
+// at the image, pointing at the lit point): 1 for a light in every
+// direction, a spot's clamp(cos a * scale + offset, 0, 1)^2. Rust twin:
+// spot_factor.
+fn spot_factor(l: Light, from_dir: vec4<f32>) -> f32 {
+    if l.spot_scale == 0.0 {
+        return 1.0;
+    }
+    let f = clamp(form(from_dir, l.spot_dir) * l.spot_scale + l.spot_offset, 0.0, 1.0);
+    return f * f;
+}
+#endif
+
 #ifdef LIGHT_IMAGES
 // The irradiance one image of a light gives at arc length s from it:
 // intensity / max(area(s), min_area), times the range's smooth window
@@ -143,10 +167,11 @@ fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>, c
 #else
         let arcs = 1u;
 #endif
+        let from_dir = from_light(l, x);
         for (var a = 0u; a < arcs; a++) {
             let s = select(d, 2.0 * PI - d, a == 1u);
             let dir = select(to_light, -to_light, a == 1u);
-            let e = image_irradiance(l, s, density);
+            let e = image_irradiance(l, s, density) * spot_factor(l, select(from_dir, -from_dir, a == 1u));
             if e <= 0.0 || form(normal, dir) <= 0.0 {
                 continue;
             }
@@ -163,7 +188,8 @@ fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>, c
         let l = lights[i];
         let d = distance(x, l.position);
         let to_light = toward_light(x, l.position, normal);
-        add_light(&rgb, normal, view, albedo, to_light, l.intensity / max(sphere_area(d), 1.0e-4), l.color);
+        let spot = spot_factor(l, from_light(l, x));
+        add_light(&rgb, normal, view, albedo, to_light, l.intensity * spot / max(sphere_area(d), 1.0e-4), l.color);
     }
 #endif
 #endif

@@ -176,7 +176,7 @@ pub const GROUPS: usize = 33;
 ///
 /// The faces, the edge tubes and the lights are uniform arrays of fixed
 /// length ([`MAX_FACES`], [`MAX_TUBES`], [`MAX_LIGHT_IMAGES`]: 20,480, 36,288
-/// and 12,288 bytes, within WebGPU's default 64 KiB per binding; the runner
+/// and 16,384 bytes, within WebGPU's default 64 KiB per binding; the runner
 /// and the pass refuse an adapter below [`largest_uniform`]). lavapipe
 /// (Mesa 22.3.6) reads a storage buffer one SIMD lane at a time, each lane
 /// a loop iteration with its own bounds check, and a uniform with one

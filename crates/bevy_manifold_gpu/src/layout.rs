@@ -228,8 +228,12 @@ pub struct GpuLight {
     pub inv_range_sq: f32,
     /// `FlatLight::min_area`.
     pub min_area: f32,
-    /// Padding to 16 bytes.
-    pub pad: [f32; 2],
+    /// `FlatLight::spot_scale`.
+    pub spot_scale: f32,
+    /// `FlatLight::spot_offset`.
+    pub spot_offset: f32,
+    /// `FlatLight::spot_dir`.
+    pub spot_dir: [f32; 4],
 }
 
 /// WGSL twin: `Pixel` in `shaders/bindings.wgsl`.

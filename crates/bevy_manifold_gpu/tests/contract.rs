@@ -55,7 +55,7 @@ fn rust_layouts() -> Vec<RustLayout> {
             to_local, center, color, k, nodes, vertices, triangles, id, texture, tex_width, tex_height,
             node_count, attached, face_mask, pad, home,
         }),
-        rust_layout!(GpuLight => "Light" { position, color, intensity, inv_range_sq, min_area, pad }),
+        rust_layout!(GpuLight => "Light" { position, color, intensity, inv_range_sq, min_area, spot_scale, spot_offset, spot_dir }),
         rust_layout!(GpuPixel => "Pixel" { color, object, levels, cell_lo, cell_hi }),
     ]
 }

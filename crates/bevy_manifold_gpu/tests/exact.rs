@@ -41,6 +41,7 @@ fn scene(space: &Space, cell: Vec<usize>) -> Scene {
         color: [1.0; 3],
         range: None,
         radius: 0.0,
+        spot: None,
     });
     scene
 }

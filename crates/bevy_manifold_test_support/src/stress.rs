@@ -526,6 +526,7 @@ pub fn light_on_the_hit(z: f64) -> (Space, Scene) {
             color: [1.0; 3],
             range: None,
             radius: 0.0,
+            spot: None,
         }],
         ..Scene::empty()
     };

@@ -84,6 +84,14 @@ pub struct FlatLight<R: Real> {
     /// The least area its irradiance is divided by: the area of its
     /// sphere, at least [`super::light_images::MIN_AREA`].
     pub min_area: R,
+    /// A spot light's axis at this image (a unit tangent), else zero.
+    pub spot_dir: R::V4,
+    /// The spot's fall-off `clamp(cos a * scale + offset, 0, 1)^2` at the
+    /// angle `a` from its axis: `1 / (cos inner - cos outer)`, and
+    /// `-cos outer` times that; 0 and 1 for a light in every direction.
+    pub spot_scale: R,
+    /// See `spot_scale`.
+    pub spot_offset: R,
 }
 
 /// One placement of a mesh (or a ghost of one, carried through a face),

@@ -24,7 +24,8 @@ use super::flat::FlatLight;
 use super::scene::{Light, Lighting};
 use crate::geometry::{Geometry, Real};
 use crate::space::Space;
-use glam::DVec4;
+use glam::{DMat4, DVec4};
+use std::f64::consts::PI;
 
 /// Most light images a scene holds: the GPU's uniform array of lights.
 /// WGSL twin: `MAX_LIGHTS` in `shaders/bindings.wgsl`.
@@ -60,7 +61,7 @@ pub fn light_images<R: Real>(space: &Space, lights: &[Light], lighting: Lighting
     if lighting.images == 0 {
         return lights
             .iter()
-            .map(|l| flat_light(g, l, l.position, f64::INFINITY, MIN_AREA))
+            .map(|l| flat_light(g, l, &DMat4::IDENTITY, f64::INFINITY, MIN_AREA))
             .collect();
     }
     let budget = (lighting.images as usize)
@@ -70,14 +71,14 @@ pub fn light_images<R: Real>(space: &Space, lights: &[Light], lighting: Lighting
     for l in lights {
         let min_area = g.sphere_area::<f64>(l.radius.max(0.0)).max(MIN_AREA);
         let (images, range) = images_of(space, l, budget);
-        out.extend(images.into_iter().map(|p| flat_light(g, l, p, range, min_area)));
+        out.extend(images.iter().map(|m| flat_light(g, l, m, range, min_area)));
     }
     out
 }
 
 /// The images of light `l` that light the domain, at most `budget`, and
 /// the range they are complete to (infinite: no cut-off).
-fn images_of(space: &Space, l: &Light, budget: usize) -> (Vec<DVec4>, f64) {
+fn images_of(space: &Space, l: &Light, budget: usize) -> (Vec<DMat4>, f64) {
     let g = space.geometry();
     let rc = space.circumradius();
     // An image within r of the domain lies within r + rc of o, and its
@@ -96,7 +97,7 @@ fn images_of(space: &Space, l: &Light, budget: usize) -> (Vec<DVec4>, f64) {
         } else {
             requested
         };
-        return (cover.elements.iter().map(|(m, _)| at(m)).collect(), range);
+        return (cover.elements.iter().map(|(m, _)| *m).collect(), range);
     }
     // The images sorted by how near the domain they can come; complete
     // up to `complete`.
@@ -104,13 +105,10 @@ fn images_of(space: &Space, l: &Light, budget: usize) -> (Vec<DVec4>, f64) {
     for _ in 0..12 {
         let cover = space.cover_within(reach + slack);
         let complete = cover.complete_to - slack;
-        let mut images: Vec<(f64, DVec4)> = cover
+        let mut images: Vec<(f64, DMat4)> = cover
             .elements
             .iter()
-            .map(|(m, _)| {
-                let p = at(m);
-                (space.distance_outside(p), p)
-            })
+            .map(|(m, _)| (space.distance_outside(at(m)), *m))
             .collect();
         images.sort_by(|a, b| a.0.total_cmp(&b.0));
         let within = |r: f64| images.partition_point(|i| i.0 < r);
@@ -140,9 +138,25 @@ fn images_of(space: &Space, l: &Light, budget: usize) -> (Vec<DVec4>, f64) {
     (Vec::new(), 0.0)
 }
 
-fn flat_light<R: Real>(g: Geometry, l: &Light, image: DVec4, range: f64, min_area: f64) -> FlatLight<R> {
+fn flat_light<R: Real>(g: Geometry, l: &Light, m: &DMat4, range: f64, min_area: f64) -> FlatLight<R> {
+    let image = g.normalize_point::<f64>(*m * l.position);
+    let spot = l.spot.and_then(|s| {
+        let axis = g.project_tangent::<f64>(l.position, s.direction);
+        let len = g.form::<f64>(axis, axis).abs().sqrt();
+        (len > 1e-12 && s.inner.is_finite() && s.outer.is_finite()).then(|| {
+            let (inner, outer) = (s.inner.clamp(0.0, PI), s.outer.clamp(0.0, PI));
+            let (ci, co) = (inner.min(outer).cos(), outer.cos());
+            let scale = 1.0 / (ci - co).max(1e-4);
+            let axis = g.normalize_tangent::<f64>(image, *m * (axis / len));
+            (axis, scale, -co * scale)
+        })
+    });
+    let (spot_dir, spot_scale, spot_offset) = spot.unwrap_or((DVec4::ZERO, 0.0, 1.0));
     FlatLight {
-        position: R::v4_of(g.normalize_point::<f64>(image)),
+        spot_dir: R::v4_of(spot_dir),
+        spot_scale: R::of(spot_scale),
+        spot_offset: R::of(spot_offset),
+        position: R::v4_of(image),
         intensity: R::of(l.intensity),
         color: l.color,
         inv_range_sq: R::of(if range.is_finite() { 1.0 / (range * range) } else { 0.0 }),
@@ -154,6 +168,7 @@ fn flat_light<R: Real>(g: Geometry, l: &Light, image: DVec4, range: f64, min_are
 /// (the light's surface facing the point): `intensity / max(area(s),
 /// min_area)`, times the range's smooth window `(1 - (s^2 / range^2)^2)^2`,
 /// times `exp(-density s)` for fog of that density on the way (0: none).
+/// A spot's cone is [`spot_factor`], apart.
 /// WGSL twin: `image_irradiance` in `shaders/shade.wgsl`.
 #[must_use]
 pub fn image_irradiance<R: Real>(g: Geometry, l: &FlatLight<R>, s: R, fog_density: R) -> R {
@@ -162,4 +177,19 @@ pub fn image_irradiance<R: Real>(g: Geometry, l: &FlatLight<R>, s: R, fog_densit
     let window = (R::of(1.0) - f * f).max(zero).min(R::of(1.0));
     let area = g.sphere_area::<R>(s).max(l.min_area);
     l.intensity * window * window / area * (-(fog_density * s)).exp()
+}
+
+/// How much of a light image's light leaves along `from_light` (a unit
+/// tangent at the image, pointing at the lit point): 1 for a light in
+/// every direction, a spot's `clamp(cos a * scale + offset, 0, 1)^2`.
+/// WGSL twin: `spot_factor` in `shaders/shade.wgsl`.
+#[must_use]
+pub fn spot_factor<R: Real>(g: Geometry, l: &FlatLight<R>, from_light: R::V4) -> R {
+    if l.spot_scale == R::of(0.0) {
+        return R::of(1.0);
+    }
+    let f = (g.form::<R>(from_light, l.spot_dir) * l.spot_scale + l.spot_offset)
+        .max(R::of(0.0))
+        .min(R::of(1.0));
+    f * f
 }

@@ -86,7 +86,7 @@ pub use flat::{
 };
 pub use flow::{Flowed, flow};
 pub use footprint::{Layers, pixel_half_angle};
-pub use light_images::{MAX_LIGHT_IMAGES, MIN_AREA, image_irradiance, light_images};
+pub use light_images::{MAX_LIGHT_IMAGES, MIN_AREA, image_irradiance, light_images, spot_factor};
 pub use mesh_hit::{InstanceHit, hit_instance, meets_ball, mesh_albedo, mesh_normal};
 pub use nearest::same_cell_point;
 pub use output::{id_pixel, srgb8, upscale};
@@ -96,7 +96,8 @@ pub use render::{TraceImage, render};
 pub use scene::MeshPart;
 pub use scene::{
     Ball, Camera, Fog, Frustum, HAND_COLOR, Light, Lighting, MAX_GLOW, MAX_LIGHTS, PaperOptions, SUZANNE_COLOR, Scene,
-    SceneError, SceneMesh, SuzanneMode, VEHICLE_COLOR, baked, hand_offset, max_radius, suzanne_offset, vehicle_offset,
+    SceneError, SceneMesh, Spot, SuzanneMode, VEHICLE_COLOR, baked, hand_offset, max_radius, suzanne_offset,
+    vehicle_offset,
 };
 #[cfg(feature = "gltf")]
 pub use scene::{builtin, meshes_of};

@@ -8,8 +8,9 @@
 //! WGSL twin: `shaders/shade.wgsl` in `bevy_manifold_gpu` (the same
 //! names).
 
+use super::flat::FlatLight;
 use super::flat::FlatScene;
-use super::light_images::image_irradiance;
+use super::light_images::{image_irradiance, spot_factor};
 use super::mesh_hit::{mesh_albedo, mesh_normal};
 use super::nearest::Hit;
 use super::settings::TraceSettings;
@@ -36,6 +37,16 @@ fn toward_light<R: Real>(g: Geometry, x: R::V4, l: R::V4, normal: R::V4) -> R::V
     } else {
         normal
     }
+}
+
+/// The unit tangent at the light image `l` towards `x`, for its spot's
+/// cone (zero for a light in every direction, which needs none).
+/// WGSL twin: `from_light` in `shaders/shade.wgsl`.
+fn from_light<R: Real>(g: Geometry, l: &FlatLight<R>, x: R::V4) -> R::V4 {
+    if l.spot_scale == R::of(0.0) {
+        return l.spot_dir;
+    }
+    toward_light::<R>(g, l.position, x, l.spot_dir)
 }
 
 /// What a hit's light is worked out from.
@@ -120,7 +131,8 @@ pub(super) fn shade<R: Real>(
             let d = g.distance::<R>(x, l.position);
             let to_light = toward_light::<R>(g, x, l.position, normal);
             let area = g.sphere_area::<R>(d).max(R::of(1e-4));
-            lit.add(g, &mut rgb, to_light, (l.intensity / area).f64() as f32, l.color);
+            let spot = spot_factor::<R>(g, l, from_light::<R>(g, l, x));
+            lit.add(g, &mut rgb, to_light, (l.intensity * spot / area).f64() as f32, l.color);
         }
     } else {
         let density = flat.fog.map_or(R::of(0.0), |(d, _)| d);
@@ -130,10 +142,11 @@ pub(super) fn shade<R: Real>(
             let to_light = toward_light::<R>(g, x, l.position, normal);
             // The short arc, and in S3 the long way round, arriving from
             // the other side.
-            let arcs = [(d, to_light), (tau - d, -to_light)];
+            let from = from_light::<R>(g, l, x);
+            let arcs = [(d, to_light, from), (tau - d, -to_light, -from)];
             let count = if g == Geometry::Spherical { 2 } else { 1 };
-            for &(s, dir) in &arcs[..count] {
-                let e = image_irradiance::<R>(g, l, s, density);
+            for &(s, dir, from) in &arcs[..count] {
+                let e = image_irradiance::<R>(g, l, s, density) * spot_factor::<R>(g, l, from);
                 if e <= R::of(0.0) || g.form::<R>(normal, dir) <= R::of(0.0) {
                     continue;
                 }

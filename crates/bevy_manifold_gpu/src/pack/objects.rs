@@ -108,7 +108,9 @@ impl GpuObjects {
                         intensity: l.intensity,
                         inv_range_sq: l.inv_range_sq,
                         min_area: l.min_area,
-                        pad: [0.0; 2],
+                        spot_scale: l.spot_scale,
+                        spot_offset: l.spot_offset,
+                        spot_dir: v(l.spot_dir),
                     })
                     .collect(),
             ),

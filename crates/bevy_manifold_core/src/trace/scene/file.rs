@@ -6,7 +6,8 @@
 //!             "frustum": [left, right, down, up] (optional: an off-centre eye)},
 //!  "balls":  [{"center": [x,y,z,w], "radius": r, "color": [r,g,b], "glow": 0}, ...],
 //!  "lights": [{"position": [x,y,z,w], "intensity": i, "color": [r,g,b],
-//!              "range": r (optional), "radius": r (optional, 0)}, ...],
+//!              "range": r (optional), "radius": r (optional, 0),
+//!              "spot": {"direction": [x,y,z], "inner": a, "outer": b} (optional)}, ...],
 //!  "meshes": [{"file": "model.glb", "placement": [[..4..] x4], "scale": s,
 //!              "color": [r,g,b], "attached": false}, ...],
 //!  "edges": {"radius": r} | null,
@@ -20,7 +21,7 @@
 use super::mesh::SceneMesh;
 #[cfg(feature = "gltf")]
 use super::mesh::baked;
-use super::{Ball, Camera, Fog, Frustum, Light, Lighting, Scene};
+use super::{Ball, Camera, Fog, Frustum, Light, Lighting, Scene, Spot};
 use crate::geometry::{Geometry, isometry};
 #[cfg(feature = "gltf")]
 use crate::mesh::gltf::GltfError;
@@ -107,6 +108,16 @@ struct LightDesc {
     range: Option<f64>,
     #[serde(default)]
     radius: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    spot: Option<SpotDesc>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SpotDesc {
+    direction: [f64; 3],
+    inner: f64,
+    outer: f64,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -293,12 +304,44 @@ impl Scene {
                     format!("must be in [0, {}], got {}", max_radius(g), l.radius),
                 ));
             }
+            let spot = match &l.spot {
+                None => None,
+                Some(sp) => {
+                    let [x, y, z] = sp.direction;
+                    let v = glam::DVec4::new(x, y, z, 0.0);
+                    let axis = g.project_tangent::<f64>(position, v);
+                    if !(sp.direction.iter().all(|c| c.is_finite()) && g.form::<f64>(axis, axis).abs() > 1e-12) {
+                        return Err(field(
+                            format!("lights[{i}].spot.direction"),
+                            format!(
+                                "must be a finite, non-zero direction at the light, got {:?}",
+                                sp.direction
+                            ),
+                        ));
+                    }
+                    if !(sp.inner >= 0.0 && sp.outer >= sp.inner && sp.outer <= core::f64::consts::PI) {
+                        return Err(field(
+                            format!("lights[{i}].spot"),
+                            format!(
+                                "needs 0 <= inner <= outer <= pi (radians), got inner {} and outer {}",
+                                sp.inner, sp.outer
+                            ),
+                        ));
+                    }
+                    Some(Spot {
+                        direction: axis,
+                        inner: sp.inner,
+                        outer: sp.outer,
+                    })
+                }
+            };
             lights.push(Light {
                 position,
                 intensity: l.intensity,
                 color: l.color,
                 range: l.range,
                 radius: l.radius,
+                spot,
             });
         }
         let edge_radius = match desc.edges {
@@ -389,6 +432,11 @@ impl Scene {
                     color: l.color,
                     range: l.range,
                     radius: l.radius,
+                    spot: l.spot.map(|sp| SpotDesc {
+                        direction: sp.direction.truncate().to_array(),
+                        inner: sp.inner,
+                        outer: sp.outer,
+                    }),
                 })
                 .collect(),
             meshes: describe(&self.meshes),

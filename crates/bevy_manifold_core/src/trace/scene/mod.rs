@@ -143,6 +143,24 @@ pub struct Light {
     /// surface, so no point is lit infinitely (in S3 the light's
     /// antipode too). 0: a point.
     pub radius: f64,
+    /// A spot light's cone; `None`: light in every direction.
+    pub spot: Option<Spot>,
+}
+
+/// A spot light's cone, as Bevy's `SpotLight`: full light within `inner`
+/// of `direction`, none past `outer`, and between them Bevy's fall-off
+/// `clamp((cos a - cos outer) / (cos inner - cos outer), 0, 1)^2` at the
+/// angle `a` from `direction`. Each image of the light carries its
+/// direction with it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spot {
+    /// Where the cone points: a tangent at the light's position (made a
+    /// unit one there).
+    pub direction: DVec4,
+    /// Half-angle of full light, radians.
+    pub inner: f64,
+    /// Half-angle past which there is none, radians (at least `inner`).
+    pub outer: f64,
 }
 
 impl Light {
@@ -155,6 +173,7 @@ impl Light {
             color,
             range: None,
             radius: 0.0,
+            spot: None,
         }
     }
 }

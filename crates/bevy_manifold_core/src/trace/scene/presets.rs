@@ -155,6 +155,7 @@ impl Scene {
                 color: [1.0, 1.0, 1.0],
                 range: None,
                 radius: 0.0,
+                spot: None,
             }],
             meshes: Vec::new(),
             edge_radius: Some(0.035 * r),
