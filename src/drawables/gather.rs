@@ -185,7 +185,11 @@ pub fn spawn_scene(commands: &mut Commands, root: Entity, space: &crate::space::
     let at = |p: glam::DVec4| Placement::from_isometry(crate::geometry::isometry::translation_to(g, p));
     let color = |c: [f32; 3]| Color::linear_rgb(c[0], c[1], c[2]);
     for b in &scene.balls {
-        commands.spawn((ChildOf(root), at(b.center), TracedBall::new(b.radius, color(b.color))));
+        commands.spawn((
+            ChildOf(root),
+            at(b.center),
+            TracedBall::new(b.radius, color(b.color)).glowing(b.glow),
+        ));
     }
     for l in &scene.lights {
         commands.spawn((

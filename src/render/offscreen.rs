@@ -128,6 +128,15 @@ fn stopped(app: &App) -> Result<(), String> {
 /// [`CAPTURE_WAIT`] (frames alone are no bound on a fast GPU, where 200
 /// of them can pass while a pipeline still compiles).
 pub fn capture(app: &mut App, target: &Handle<Image>) -> Result<Vec<u8>, String> {
+    capture_pixels(app, target, 4)
+}
+
+/// [`capture`] for an image of `bytes_per_pixel` bytes a pixel (8 for an
+/// `Rgba16Float` HDR target): its bytes, rows top to bottom, unpadded.
+///
+/// # Errors
+/// As [`capture`].
+pub fn capture_pixels(app: &mut App, target: &Handle<Image>, bytes_per_pixel: usize) -> Result<Vec<u8>, String> {
     let (w, h) = {
         let images = app.world().resource::<Assets<Image>>();
         let image = images.get(target).ok_or("capture: unknown image")?;
@@ -157,14 +166,14 @@ pub fn capture(app: &mut App, target: &Handle<Image>) -> Result<Vec<u8>, String>
         if let Some(data) = taken {
             app.world_mut().despawn(reader);
             // Rows come padded to the copy alignment.
-            let row = (w * 4).next_multiple_of(256);
+            let row = (w * bytes_per_pixel).next_multiple_of(256);
             if data.len() < row * h {
                 return Err(format!("capture: {} bytes for a {w}x{h} image", data.len()));
             }
             return Ok(data
                 .chunks_exact(row)
                 .take(h)
-                .flat_map(|r| &r[..w * 4])
+                .flat_map(|r| &r[..w * bytes_per_pixel])
                 .copied()
                 .collect());
         }

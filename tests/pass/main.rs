@@ -8,16 +8,19 @@
 //!
 //! By topic: `agreement.rs` (what the pass draws against the tracers),
 //! `uploads.rs` (what it uploads and keeps), `sampling.rs` (render scale,
-//! accumulation, cones), `meshes.rs` (Bevy meshes); `support.rs` holds
+//! accumulation, cones), `meshes.rs` (Bevy meshes), `hdr.rs` (HDR
+//! targets); `support.rs` holds
 //! what they share.
 
 mod agreement;
+mod hdr;
 mod meshes;
 mod sampling;
 mod support;
 mod uploads;
 
 use agreement::*;
+use hdr::*;
 use meshes::*;
 use sampling::*;
 use uploads::*;
@@ -41,5 +44,6 @@ bevy_manifold_test_support::test_main! {
         a_still_view_accumulates_jittered_samples_then_stops_tracing,
         a_scene_past_the_gpus_ball_copies_is_drawn_and_the_next_scene_is_right,
         a_view_keeps_drawing_its_balls_while_a_new_leaf_count_compiles,
+        an_hdr_camera_gets_linear_radiance_above_one,
     ],
 }

@@ -238,6 +238,55 @@ fn render_writes_the_image_and_the_id_buffer() {
     assert!(img.pixels().any(|p| p.0 != first));
 }
 
+/// `render --hdr` writes the linear colour, unclamped: a ball glowing at
+/// three times its white albedo reads above 3 in the Radiance file, as the
+/// CPU reference traces it (RGBE keeps about 1%), where the PNG shows
+/// white.
+fn render_writes_linear_hdr() {
+    use bevy_manifold_core::prelude::*;
+    let space = catalog::torus(1.0);
+    let mut scene = Scene::default_for(&space);
+    scene.balls[0].color = [1.0; 3];
+    scene.balls[0].glow = 3.0;
+    let scene_path = tmp("glow.scene.json");
+    std::fs::write(&scene_path, scene.to_json()).expect("scene file");
+    let (png, hdr) = (tmp("glow.png"), tmp("glow.hdr"));
+    let o = run(&[
+        "render",
+        "--space",
+        "torus",
+        "--scene",
+        scene_path.to_str().expect("utf-8"),
+        "--width",
+        "48",
+        "--height",
+        "32",
+        "--out",
+        png.to_str().expect("utf-8"),
+        "--hdr",
+        hdr.to_str().expect("utf-8"),
+        "--cpu",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let linear = image::open(&hdr).expect("a Radiance HDR file").to_rgb32f();
+    assert_eq!(linear.dimensions(), (48, 32));
+    let settings = TraceSettings {
+        width: 48,
+        height: 32,
+        ..TraceSettings::default()
+    };
+    let reference = render::<f64>(&space, &Scene::load(&scene_path, &space).expect("the scene"), &settings);
+    let centre = (16 * 48 + 24) as usize;
+    let want = reference.pixels[centre].color;
+    let got = linear.get_pixel(24, 16).0;
+    assert!(want.iter().all(|&c| c > 3.0), "the reference's centre {want:?}");
+    for c in 0..3 {
+        assert!((got[c] - want[c]).abs() <= 0.02 * want[c], "{got:?} against {want:?}");
+    }
+    let shown = image::open(&png).expect("PNG").to_rgba8();
+    assert_eq!(&shown.get_pixel(24, 16).0[..3], &[255, 255, 255]);
+}
+
 /// `render --cones` traces cones: far edges fade to a haze of their
 /// average colour instead of sparkling (Seifert-Weber, 8 levels, where
 /// most pixels see far copies), while what is hit in the camera's own copy
@@ -556,6 +605,7 @@ bevy_manifold_test_support::test_main! {
         export_then_load_the_file_by_path,
         a_broken_space_file_is_reported_with_its_name,
         render_writes_the_image_and_the_id_buffer,
+        render_writes_linear_hdr,
         render_cones_trace_cones,
         render_reports_a_bad_scene_field,
         space_cell_reads_ten_thousand_words_in_one_process,

@@ -179,6 +179,10 @@ struct RenderArgs {
     /// Also write the id buffer (R object, G levels, B cell id low byte).
     #[arg(long)]
     ids: Option<PathBuf>,
+    /// Also write the linear colour, unclamped, as a Radiance HDR file
+    /// (`.hdr`): radiance above 1 kept for tonemapping elsewhere.
+    #[arg(long)]
+    hdr: Option<PathBuf>,
     /// Most face transports per ray: the paper's levels (`--bounces` is
     /// the same flag under its earlier name).
     #[arg(long, visible_alias = "bounces", default_value_t = 8)]
@@ -412,6 +416,9 @@ fn render_command(args: &RenderArgs) -> Result<(), String> {
     write_png(&img, &args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
     if let Some(ids) = &args.ids {
         write_ids_png(&img, ids).map_err(|e| format!("{}: {e}", ids.display()))?;
+    }
+    if let Some(hdr) = &args.hdr {
+        bevy_manifold::trace::write_hdr(&img, hdr).map_err(|e| format!("{}: {e}", hdr.display()))?;
     }
     eprintln!(
         "rendered {} ({}x{}, {} levels{}, {tracer}) in {:.2} s -> {}",

@@ -91,7 +91,7 @@ pub use mesh_hit::{InstanceHit, hit_instance, meets_ball, mesh_albedo, mesh_norm
 pub use nearest::same_cell_point;
 pub use output::{id_pixel, srgb8, upscale};
 #[cfg(feature = "png")]
-pub use output::{write_ids_png, write_png, write_rgba_png};
+pub use output::{write_hdr, write_ids_png, write_png, write_rgba_png};
 pub use render::{TraceImage, render};
 pub use scene::MeshPart;
 pub use scene::{

@@ -89,6 +89,24 @@ pub fn write_png(img: &TraceImage, path: &Path) -> image::ImageResult<()> {
     write_rgba_png(path, img.width, img.height, &buf)
 }
 
+/// Writes a traced image's linear colour, unclamped, as a Radiance HDR
+/// file (RGBE: 8-bit mantissas with a shared exponent, about 1% relative
+/// precision): radiance above 1 (a glow, a near light) is kept for
+/// tonemapping or compositing elsewhere.
+///
+/// # Errors
+/// When the file cannot be written.
+#[cfg(feature = "png")]
+pub fn write_hdr(img: &TraceImage, path: &Path) -> image::ImageResult<()> {
+    let pixels: Vec<image::Rgb<f32>> = img
+        .pixels
+        .iter()
+        .map(|p| image::Rgb(p.color.map(|c| if c.is_finite() { c.max(0.0) } else { 0.0 })))
+        .collect();
+    let file = std::io::BufWriter::new(std::fs::File::create(path)?);
+    image::codecs::hdr::HdrEncoder::new(file).encode(&pixels, img.width as usize, img.height as usize)
+}
+
 /// Writes `width` x `height` RGBA8 bytes (rows top to bottom) as a PNG.
 ///
 /// # Errors
