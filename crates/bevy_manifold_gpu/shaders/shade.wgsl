@@ -105,7 +105,12 @@ fn image_irradiance(l: Light, s: f32, fog_density: f32) -> f32 {
     let f = s * s * l.inv_range_sq;
     let window = clamp(1.0 - f * f, 0.0, 1.0);
     let area = max(sphere_area(s), l.min_area);
-    return l.intensity * window * window / area * exp(-(fog_density * s));
+    // The fog on the way (none without FOG: no exp compiled in).
+    var through = 1.0;
+#ifdef FOG
+    through = exp(-(fog_density * s));
+#endif
+    return l.intensity * window * window / area * through;
 }
 #endif
 
