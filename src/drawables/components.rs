@@ -115,7 +115,8 @@ impl Default for ManifoldLight {
 
 /// On a [`ManifoldSpace`] root: how its lights reach what they light
 /// (the tracer's [`crate::trace::Lighting`]); the default when absent:
-/// each light's images in the cover, 64 at most, and shadows.
+/// each light's images in the cover, 64 at most, no shadows (turn them
+/// on here: they cost a shadow ray per light image per hit).
 ///
 /// ```
 /// use bevy::prelude::*;
@@ -123,7 +124,7 @@ impl Default for ManifoldLight {
 /// // The lighting before light images, and no shadows: cheaper, seams at faces.
 /// let flat = ManifoldLighting { images: 0, shadows: false };
 /// assert_eq!(flat.to_lighting(), bevy_manifold::trace::Lighting::DOMAIN_COPY);
-/// assert!(ManifoldLighting::default().shadows);
+/// assert!(!ManifoldLighting::default().shadows);
 /// ```
 #[derive(Component, Clone, Copy, Debug, PartialEq, Eq, Reflect)]
 #[reflect(Component, Debug)]

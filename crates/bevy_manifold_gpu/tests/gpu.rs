@@ -41,7 +41,7 @@ fn gpu_and_cpu_agree_in_spaces_built_from_generators() {
 }
 
 /// The GPU trace against the CPU f32 and f64 references, plain and with
-/// fog and per-cell colour, 256x256 at 8 levels.
+/// fog, per-cell colour and shadows, 256x256 at 8 levels.
 fn agree(gpu: &mut bevy_manifold_gpu::GpuTracer, name: &str, space: &Space) {
     {
         let space = space.clone();
@@ -52,6 +52,8 @@ fn agree(gpu: &mut bevy_manifold_gpu::GpuTracer, name: &str, space: &Space) {
                     density: 0.4 / space.inradius(),
                     color: [0.7, 0.75, 0.8],
                 });
+                // And shadows through the faces (off by default).
+                scene.lighting.shadows = true;
             }
             let settings = TraceSettings {
                 width: 256,
@@ -493,6 +495,8 @@ fn gpu_cone_tracing_agrees_with_the_cpu_reference() {
                     density: 0.3 / space.inradius(),
                     color: [0.7, 0.75, 0.8],
                 });
+                // Shadow rays under cones too.
+                scene.lighting.shadows = true;
             }
             let settings = TraceSettings {
                 width: 192,

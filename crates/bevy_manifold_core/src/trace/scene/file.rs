@@ -12,7 +12,7 @@
 //!              "color": [r,g,b], "attached": false}, ...],
 //!  "edges": {"radius": r} | null,
 //!  "fog": {"density": d, "color": [r,g,b]} | null,
-//!  "lighting": {"images": n, "shadows": true} (optional: the default)}
+//!  "lighting": {"images": n, "shadows": false} (optional: the default)}
 //! Mesh files are found relative to the scene file.
 //! The camera isometry (row-major, acting on column vectors) carries the
 //! origin to the eye and the origin's frame to the camera's; the camera

@@ -184,7 +184,8 @@ impl Light {
 /// ```
 /// use bevy_manifold_core::prelude::*;
 /// let lighting = Lighting::default();
-/// assert!(lighting.images > 1 && lighting.shadows);
+/// // Light images on, shadows asked for (they cost: see the benchmarks).
+/// assert!(lighting.images > 1 && !lighting.shadows);
 /// // As before light images: each light's copy in the domain only.
 /// assert_eq!(Lighting::DOMAIN_COPY.images, 0);
 /// ```
@@ -200,7 +201,8 @@ pub struct Lighting {
     pub images: u32,
     /// A light image lights a point only if the geodesic between them is
     /// free: shadow rays cross the faces as camera rays do. Glowing balls
-    /// (lamps) cast none.
+    /// (lamps) cast none. Off by default: a shadow ray per light image per
+    /// hit is the costliest part of a frame (see `BENCHMARKS.md`).
     pub shadows: bool,
 }
 
@@ -216,7 +218,7 @@ impl Default for Lighting {
     fn default() -> Self {
         Lighting {
             images: 64,
-            shadows: true,
+            shadows: false,
         }
     }
 }
