@@ -65,7 +65,10 @@ pub fn run(width: u32, height: u32, runs: u32, only: &str, out: &Path) -> Result
                 shadows: false,
                 ..Lighting::default()
             },
-            Lighting::default(),
+            Lighting {
+                shadows: true,
+                ..Lighting::default()
+            },
         ]
         .into_iter()
         .enumerate()
