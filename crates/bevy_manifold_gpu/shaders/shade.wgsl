@@ -194,7 +194,7 @@ fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>, c
         let d = distance(x, l.position);
         let to_light = toward_light(x, l.position, normal);
         let spot = spot_factor(l, from_light(l, x));
-        add_light(&rgb, normal, view, albedo, to_light, l.intensity * spot / max(sphere_area(d), 1.0e-4), l.color);
+        add_light(&rgb, normal, view, albedo, to_light, l.intensity * spot / max(sphere_area(d), l.min_area), l.color);
     }
 #endif
 #endif

@@ -130,7 +130,7 @@ pub(super) fn shade<R: Real>(
         for l in &flat.lights {
             let d = g.distance::<R>(x, l.position);
             let to_light = toward_light::<R>(g, x, l.position, normal);
-            let area = g.sphere_area::<R>(d).max(R::of(1e-4));
+            let area = g.sphere_area::<R>(d).max(l.min_area);
             let spot = spot_factor::<R>(g, l, from_light::<R>(g, l, x));
             lit.add(g, &mut rgb, to_light, (l.intensity * spot / area).f64() as f32, l.color);
         }
