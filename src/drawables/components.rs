@@ -6,6 +6,7 @@ use crate::placement::Placement;
 use crate::trace::Scene;
 use bevy::color::Color;
 use bevy::prelude::*;
+use bevy_manifold_core::material::Pbr;
 use std::sync::Arc;
 
 /// A ball the tracer draws at the entity's [`Placement`]: an exact metric
@@ -29,6 +30,11 @@ pub struct TracedBall {
     /// Light it gives off, in units of its albedo ([`crate::trace::Ball::glow`]):
     /// 0 for a plain ball; a shot or a lamp glows at 1 or more.
     pub glow: f32,
+    /// Metallic and perceptual roughness (the GGX lobe of Bevy's PBR);
+    /// `None`: the tracer's classic look. Out-of-range values are drawn
+    /// classic.
+    #[reflect(ignore)]
+    pub pbr: Option<Pbr>,
 }
 
 impl TracedBall {
@@ -39,6 +45,24 @@ impl TracedBall {
             radius,
             color,
             glow: 0.0,
+            pbr: None,
+        }
+    }
+
+    /// The same ball with Bevy's PBR surface: `metallic` and perceptual
+    /// `roughness`, each in `[0, 1]`.
+    ///
+    /// ```
+    /// use bevy::prelude::*;
+    /// use bevy_manifold::prelude::*;
+    /// let mirror = TracedBall::new(0.3, Color::WHITE).with_pbr(1.0, 0.1);
+    /// assert_eq!(mirror.pbr.map(|p| p.metallic), Some(1.0));
+    /// ```
+    #[must_use]
+    pub fn with_pbr(self, metallic: f32, roughness: f32) -> Self {
+        TracedBall {
+            pbr: Some(Pbr { metallic, roughness }),
+            ..self
         }
     }
 

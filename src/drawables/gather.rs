@@ -9,6 +9,7 @@ use crate::placement::{InSpace, ManifoldSpace, Placement, SpaceMembers};
 use crate::trace::{Ball, Light, MAX_LIGHTS, Scene, Spot, max_radius};
 use bevy::color::{Color, LinearRgba};
 use bevy::prelude::*;
+use bevy_manifold_core::material::Pbr;
 use std::sync::Arc;
 
 fn rgb(c: Color) -> [f32; 3] {
@@ -95,6 +96,7 @@ pub fn gather_scenes(
                         } else {
                             0.0
                         },
+                        pbr: b.pbr.filter(Pbr::is_valid),
                     },
                 )
             })
@@ -188,7 +190,10 @@ pub fn spawn_scene(commands: &mut Commands, root: Entity, space: &crate::space::
         commands.spawn((
             ChildOf(root),
             at(b.center),
-            TracedBall::new(b.radius, color(b.color)).glowing(b.glow),
+            TracedBall {
+                pbr: b.pbr,
+                ..TracedBall::new(b.radius, color(b.color)).glowing(b.glow)
+            },
         ));
     }
     for l in &scene.lights {

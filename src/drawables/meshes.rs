@@ -384,7 +384,13 @@ pub fn gather_meshes(
     }
 }
 
-/// Base colour and texture of a `StandardMaterial`.
+/// What the tracer draws of a `StandardMaterial`: base colour and its
+/// texture, metallic and perceptual roughness (and their texture),
+/// emission (and its texture; Bevy's `emissive_exposure_weight` applied
+/// with Bevy's default exposure, as Bevy's own shader does), the normal
+/// map and an alpha mask (`AlphaMode::Mask`; other alpha modes are drawn
+/// opaque). A textured field whose image is not RGBA8 is drawn without
+/// its texture, with a warning.
 #[cfg(feature = "standard_material")]
 fn surface(
     material: Option<&MeshMaterial3d<StandardMaterial>>,
@@ -395,28 +401,54 @@ fn surface(
     let Some(m) = material.and_then(|m| materials?.get(&m.0)) else {
         return MeshMaterial::default();
     };
-    let LinearRgba { red, green, blue, .. } = m.base_color.to_linear();
-    let texture = m.base_color_texture.as_ref().and_then(|h| {
-        // Not cached while the image is still loading (its load event
-        // makes the next gathering read it).
-        let image = images?.get(h)?;
-        textures
-            .entry(h.id())
-            .or_insert_with(|| match texture(image) {
-                Ok(t) => Some(Arc::new(t)),
-                Err(e) => {
-                    warn!(
-                        "bevy_manifold: texture {} is not traced: {e}; the base colour alone is used",
-                        h.id()
-                    );
-                    None
-                }
-            })
-            .clone()
+    let mut load = |handle: &Option<Handle<Image>>, what: &str| {
+        handle.as_ref().and_then(|h| {
+            // Not cached while the image is still loading (its load event
+            // makes the next gathering read it).
+            let image = images?.get(h)?;
+            textures
+                .entry(h.id())
+                .or_insert_with(|| match texture(image) {
+                    Ok(t) => Some(Arc::new(t)),
+                    Err(e) => {
+                        warn!(
+                            "bevy_manifold: texture {} is not traced: {e}; the {what} is drawn without it",
+                            h.id()
+                        );
+                        None
+                    }
+                })
+                .clone()
+        })
+    };
+    let base = m.base_color.to_linear();
+    let exposure = 1.0 + (crate::drawables::BEVY_EXPOSURE as f32 - 1.0) * m.emissive_exposure_weight;
+    let e = m.emissive;
+    let emissive = [e.red, e.green, e.blue].map(|c| {
+        let c = c * exposure;
+        if c.is_finite() {
+            c.clamp(0.0, bevy_manifold_core::material::MAX_EMISSIVE)
+        } else {
+            0.0
+        }
     });
+    let unit = |x: f32| if x.is_finite() { x.clamp(0.0, 1.0) } else { 0.0 };
     MeshMaterial {
-        base_color: [red, green, blue],
-        texture,
+        base_color: [base.red, base.green, base.blue].map(|c| if c.is_finite() { c.max(0.0) } else { 0.0 }),
+        texture: load(&m.base_color_texture, "base colour"),
+        alpha: unit(base.alpha),
+        alpha_cutoff: match m.alpha_mode {
+            AlphaMode::Mask(c) => Some(unit(c)),
+            _ => None,
+        },
+        pbr: Some(bevy_manifold_core::material::Pbr {
+            metallic: unit(m.metallic),
+            roughness: unit(m.perceptual_roughness),
+        }),
+        metallic_roughness: load(&m.metallic_roughness_texture, "metallic and roughness"),
+        emissive,
+        emissive_texture: load(&m.emissive_texture, "emission"),
+        normal_map: load(&m.normal_map_texture, "normal map"),
     }
 }
 

@@ -9,18 +9,6 @@ use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy_manifold::prelude::*;
 use bevy_manifold::render::offscreen;
 
-/// An f16's value (IEEE 754 half precision).
-fn f16_value(bits: u16) -> f32 {
-    let sign = if bits & 0x8000 != 0 { -1.0 } else { 1.0 };
-    let exp = i32::from((bits >> 10) & 0x1f);
-    let frac = f32::from(bits & 0x3ff);
-    sign * match exp {
-        0 => frac * 2f32.powi(-24),
-        31 => f32::INFINITY,
-        _ => (1.0 + frac / 1024.0) * 2f32.powi(exp - 15),
-    }
-}
-
 pub fn an_hdr_camera_gets_linear_radiance_above_one() {
     let space = catalog::torus(1.0);
     let mut scene = Scene::default_for(&space);

@@ -9,11 +9,12 @@
 //! By topic: `agreement.rs` (what the pass draws against the tracers),
 //! `uploads.rs` (what it uploads and keeps), `sampling.rs` (render scale,
 //! accumulation, cones), `meshes.rs` (Bevy meshes), `hdr.rs` (HDR
-//! targets); `support.rs` holds
+//! targets), `materials.rs` (Bevy's materials and lights); `support.rs` holds
 //! what they share.
 
 mod agreement;
 mod hdr;
+mod materials;
 mod meshes;
 mod sampling;
 mod support;
@@ -21,6 +22,7 @@ mod uploads;
 
 use agreement::*;
 use hdr::*;
+use materials::*;
 use meshes::*;
 use sampling::*;
 use uploads::*;
@@ -45,5 +47,6 @@ bevy_manifold_test_support::test_main! {
         a_scene_past_the_gpus_ball_copies_is_drawn_and_the_next_scene_is_right,
         a_view_keeps_drawing_its_balls_while_a_new_leaf_count_compiles,
         an_hdr_camera_gets_linear_radiance_above_one,
+        bevy_pbr_materials_and_lights_render_as_the_cpu_reference_says,
     ],
 }

@@ -132,6 +132,7 @@ pub fn a_scene_past_the_gpus_ball_copies_is_drawn_and_the_next_scene_is_right() 
             radius: 1.2 * space.inradius(),
             color: [0.5, 0.5, 0.5],
             glow: 0.5,
+            pbr: None,
         });
     }
     let copies = FlatScene::<f32>::new(&space, &crowd).balls.len();

@@ -11,6 +11,8 @@
 //! - [`space`]: fundamental polyhedra with face pairings, validation, the
 //!   catalog of the paper's five spaces, space files, and
 //!   [`space::cells`], path-independent ids for the copies of the domain.
+//! - [`material`]: what a surface is made of (PBR, emission, normal
+//!   maps, alpha masks) and the BRDF both tracers shade with.
 //! - [`mesh`]: triangle meshes, their BVH, and glTF loading (feature `gltf`).
 //! - [`trace`]: the CPU reference ray tracer (Algorithm 1), in f64 and in an
 //!   f32 mode that mirrors the GPU arithmetic; geodesic flow; ray casts.
@@ -32,6 +34,7 @@
 //! ```
 
 pub mod geometry;
+pub mod material;
 pub mod mesh;
 pub mod motion;
 pub mod space;

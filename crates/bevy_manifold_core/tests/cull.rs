@@ -42,6 +42,7 @@ fn scenes(space: &Space) -> Vec<(&'static str, Scene)> {
             radius: 0.08 * r,
             color: [0.2, 0.8, 0.4],
             glow: 0.0,
+            pbr: None,
         });
     }
     vec![

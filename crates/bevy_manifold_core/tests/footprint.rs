@@ -54,6 +54,7 @@ fn a_ball_under_a_pixel_leaves_its_area_in_the_image_wherever_it_lies() {
                     radius: r,
                     color: [1.0; 3],
                     glow: 1.0,
+                    pbr: None,
                 });
                 let settings = TraceSettings {
                     width: size,

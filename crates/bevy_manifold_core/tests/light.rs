@@ -326,6 +326,7 @@ fn a_ball_casts_its_umbra_where_the_geometry_puts_it_in_each_geometry() {
             radius,
             color: [1.0; 3],
             glow: 0.0,
+            pbr: None,
         });
         let flat = FlatScene::<f64>::new(&space, &scene);
         // Every copy of the ball a shadow ray can meet: the group's

@@ -30,6 +30,7 @@ fn ball_scene(space: &Space) -> Scene {
         radius: 0.4 * space.inradius(),
         color: [1.0; 3],
         glow: 0.0,
+        pbr: None,
     });
     scene
 }

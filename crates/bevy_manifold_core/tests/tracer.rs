@@ -197,6 +197,7 @@ fn torus_ball_copies_appear_where_the_lattice_predicts() {
             radius,
             color: [1.0, 0.5, 0.2],
             glow: 0.0,
+            pbr: None,
         }],
         lights: vec![Light {
             position: eye.extend(1.0),
@@ -361,6 +362,7 @@ fn shading_uses_the_geometrys_light_falloff_and_fog() {
                 radius: ball,
                 color: albedo,
                 glow: 0.0,
+                pbr: None,
             }],
             lights: vec![Light {
                 position: cam * DVec4::W,
@@ -495,6 +497,7 @@ fn a_ball_straddling_a_face_is_drawn_through_it() {
             radius: 0.1,
             color: [1.0; 3],
             glow: 0.0,
+            pbr: None,
         }],
         lights: vec![],
         meshes: Vec::new(),

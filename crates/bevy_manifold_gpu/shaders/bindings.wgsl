@@ -129,9 +129,9 @@ struct Ball {
     face_mask: u32,
     // FlatBall::glow: shown at least albedo * glow, lit or not.
     glow: f32,
-    // One word, not array<u32, 1>: a uniform array's element needs a
-    // 16-byte stride.
-    pad: u32,
+    // FlatBall::pbr in one word (pack_pbr in Rust, shade.wgsl's ball_pbr):
+    // 0 for the classic look. Also pads the element to a 16-byte stride.
+    pbr: u32,
 }
 
 // Rust twin: GpuTube in crates/bevy_manifold_gpu/src/layout.rs (the
@@ -165,15 +165,24 @@ struct Instance {
     vertices: u32,
     triangles: u32,
     id: u32,
-    // Texels' offset, and size (width 0: no texture).
-    texture: u32,
-    tex_width: u32,
-    tex_height: u32,
+    // Base colour, metallic-roughness, emission and normal textures: each
+    // the offset in mesh_data of a header [width, height, 0, 0] and then
+    // the texels, four a word; NO_TEXTURE (0xffffffff) for none.
+    textures: vec4<u32>,
     node_count: u32,
     // 1: a copy of a mesh attached to the camera (see `home`).
     attached: u32,
     // The faces its bounding ball lies near (FlatInstance::faces).
     face_mask: u32,
+    // The alpha mask's cutoff; negative: opaque.
+    alpha_cutoff: f32,
+    // Emitted radiance, linear RGB.
+    emissive: vec3<f32>,
+    // Negative: the classic look (no GGX lobe).
+    metallic: f32,
+    roughness: f32,
+    // The base alpha factor (for the mask).
+    alpha: f32,
     pad: array<u32, 2>,
     // With `attached`: the cell point g o from which this copy is the
     // camera's own body, never hit from there (FlatInstance::home in Rust).

@@ -2,10 +2,12 @@
 // mesh data, the slab test, Moller-Trumbore, and the BVH walk.
 //
 // Rust twin: crates/bevy_manifold_core/src/mesh/bvh.rs (MeshHit,
-// hit_triangle, hit_box, safe_inverse, hit_mesh). The packing of mesh_data
+// hit_triangle, hit_box, safe_inverse, hit_mesh; with ALPHA_MASK,
+// hit_mesh_where's test of each hit). The packing of mesh_data
 // is GpuObjects::mesh_data in crates/bevy_manifold_gpu/src/layout.rs.
 //
-// Shader defs read: MESHES (the mesh part: compiled in only with meshes).
+// Shader defs read: MESHES (the mesh part: compiled in only with meshes),
+// ALPHA_MASK (a masked instance's transparent texels let rays through).
 // The slab test and its inverse serve the ball tree too (cull.wgsl's
 // interior_balls).
 #define_import_path bevy_manifold::bvh
@@ -14,13 +16,17 @@
 #ifdef MESHES
 #import bevy_manifold::bindings::Instance
 #endif
+#ifdef ALPHA_MASK
+#import bevy_manifold::texture::{hit_uv, mesh_alpha}
+#endif
 
 // mesh_data holds, per mesh: BVH nodes (two words each: min.xyz and,
 // for a leaf, its first triangle, for an inner node its skip link, the
 // node past its subtree (MeshData::skip); max.xyz and count; an inner
 // node's left child is the next node), vertices (two words: position.xyz and u,
 // normal.xyz and v), triangles (one word: three vertex indices) and
-// texels (four RGBA8 per word). Floats are stored as their bits.
+// textures (a header word [width, height, 0, 0], then four RGBA8 texels
+// per word; texture.wgsl reads them). Floats are stored as their bits.
 fn data_vec3(i: u32) -> vec3<f32> {
     return bitcast<vec3<f32>>(mesh_data[i].xyz);
 }
@@ -121,6 +127,12 @@ fn hit_mesh(inst: Instance, o: vec3<f32>, d: vec3<f32>, s_max: f32) -> MeshHit {
             let tri = mesh_data[inst.triangles + t];
             let h = hit_triangle(o, d, triangle_corner(inst, tri, 0u), triangle_corner(inst, tri, 1u), triangle_corner(inst, tri, 2u));
             if h.x >= 0.0 && h.x <= limit {
+#ifdef ALPHA_MASK
+                // Rust twin: hit_mesh_where's `keep` (an alpha mask).
+                if inst.alpha_cutoff >= 0.0 && mesh_alpha(inst, hit_uv(inst, t, h.y, h.z)) < inst.alpha_cutoff {
+                    continue;
+                }
+#endif
                 limit = h.x;
                 best = MeshHit(h.x, t, h.y, h.z);
             }

@@ -3,13 +3,13 @@
 // is ordinary; and the normal and albedo at the hit.
 //
 // Rust twin: crates/bevy_manifold_core/src/trace/mesh_hit.rs (meets_ball,
-// InstanceHit, hit_instance, mesh_normal, mesh_albedo); texel_index and
-// srgb_to_linear are Texture::sample's in
-// crates/bevy_manifold_core/src/mesh/mod.rs.
+// InstanceHit, hit_instance, mesh_normal, normal_mapped, mesh_surface);
+// the textures are read by texture.wgsl.
 //
 // Shader defs read: MESHES (the whole module), GEOMETRY_HYPERBOLIC /
-// GEOMETRY_SPHERICAL (meets_ball, mesh_normal); BALL_HITS through step
-// (always on with MESHES).
+// GEOMETRY_SPHERICAL (meets_ball, mesh_normal), MATERIALS (normal maps,
+// emission, metallic and roughness); BALL_HITS through step (always on
+// with MESHES).
 #define_import_path bevy_manifold::mesh_hit
 
 #ifdef MESHES
@@ -17,6 +17,7 @@
 #import bevy_manifold::geometry::{form, normalize_tangent}
 #import bevy_manifold::step::{Ray, hit_ball}
 #import bevy_manifold::bvh::{MeshHit, data_vec3, hit_mesh}
+#import bevy_manifold::texture::{NO_TEXTURE, texel_unorm, texture_rgb}
 
 // From where the segment [0, t_end] is inside the ball (c, k): 0 when it
 // starts inside, the entering root otherwise; -1 for a miss.
@@ -43,7 +44,8 @@ struct InstanceHit {
     hit: MeshHit,
 }
 
-// The nearest triangle of an instance within [0, t_end]: re-based at the
+// The nearest triangle of an instance within [0, t_end] (with
+// ALPHA_MASK, past transparent texels): re-based at the
 // bounding ball, carried into the mesh's chart and made affine
 // (mesh_hit.rs explains the change of parameter).
 fn hit_instance(ray: Ray, inst: Instance, t_end: f32) -> InstanceHit {
@@ -76,8 +78,9 @@ fn vertex_weights(h: MeshHit) -> vec3<f32> {
 }
 
 // The interpolated normal's plane carried to the world, its normal at x
-// by the form, turned to face `towards`.
-fn mesh_normal(inst: Instance, h: MeshHit, x: vec4<f32>, towards: vec4<f32>) -> vec4<f32> {
+// by the form, turned to face `towards`; with MATERIALS and a normal map,
+// the normal first tilted by the map's texel at uv (normal_mapped).
+fn mesh_normal(inst: Instance, h: MeshHit, uv: vec2<f32>, x: vec4<f32>, towards: vec4<f32>) -> vec4<f32> {
     let tri = mesh_data[inst.triangles + h.triangle];
     let w = vertex_weights(h);
     var p = vec3<f32>(0.0);
@@ -86,6 +89,11 @@ fn mesh_normal(inst: Instance, h: MeshHit, x: vec4<f32>, towards: vec4<f32>) -> 
         p += w[k] * data_vec3(inst.vertices + 2u * tri[k]);
         n += w[k] * data_vec3(inst.vertices + 2u * tri[k] + 1u);
     }
+#ifdef MATERIALS
+    if inst.textures.w != NO_TEXTURE {
+        n = normal_mapped(inst, tri, n, texel_unorm(inst.textures.w, uv));
+    }
+#endif
     let plane = transpose(inst.to_local) * vec4<f32>(n, -dot(n, p));
 #ifdef GEOMETRY_HYPERBOLIC
     let pole = vec4<f32>(plane.xyz, -plane.w);
@@ -98,33 +106,75 @@ fn mesh_normal(inst: Instance, h: MeshHit, x: vec4<f32>, towards: vec4<f32>) -> 
     return select(normal, -normal, form(normal, towards) < 0.0);
 }
 
-// Base colour times the texture (nearest texel, repeating).
-fn mesh_albedo(inst: Instance, h: MeshHit) -> vec3<f32> {
-    if inst.tex_width == 0u {
-        return inst.color;
+#ifdef MATERIALS
+// Rust twin: normal_mapped. The local normal n tilted by a normal map's
+// texel (xyz = 2 rgb - 1; x along increasing u, y up the image, z along
+// n), the tangent frame from the triangle's texture coordinates.
+fn normal_mapped(inst: Instance, tri: vec4<u32>, n_in: vec3<f32>, texel: vec4<f32>) -> vec3<f32> {
+    let a = mesh_data[inst.vertices + 2u * tri.x];
+    let b = mesh_data[inst.vertices + 2u * tri.y];
+    let c = mesh_data[inst.vertices + 2u * tri.z];
+    let uv0 = vec2<f32>(bitcast<f32>(a.w), bitcast<f32>(mesh_data[inst.vertices + 2u * tri.x + 1u].w));
+    let uv1 = vec2<f32>(bitcast<f32>(b.w), bitcast<f32>(mesh_data[inst.vertices + 2u * tri.y + 1u].w));
+    let uv2 = vec2<f32>(bitcast<f32>(c.w), bitcast<f32>(mesh_data[inst.vertices + 2u * tri.z + 1u].w));
+    let p0 = bitcast<vec3<f32>>(a.xyz);
+    let e1 = bitcast<vec3<f32>>(b.xyz) - p0;
+    let e2 = bitcast<vec3<f32>>(c.xyz) - p0;
+    let du = vec2<f32>(uv1.x - uv0.x, uv2.x - uv0.x);
+    let dv = vec2<f32>(uv1.y - uv0.y, uv2.y - uv0.y);
+    let det = du.x * dv.y - du.y * dv.x;
+    let nl = length(n_in);
+    if abs(det) < 1.0e-12 || nl == 0.0 {
+        return n_in;
     }
-    let tri = mesh_data[inst.triangles + h.triangle];
-    let w = vertex_weights(h);
-    var uv = vec2<f32>(0.0);
-    for (var k = 0u; k < 3u; k++) {
-        let a = mesh_data[inst.vertices + 2u * tri[k]];
-        let b = mesh_data[inst.vertices + 2u * tri[k] + 1u];
-        uv += w[k] * vec2<f32>(bitcast<f32>(a.w), bitcast<f32>(b.w));
+    let n = n_in / nl;
+    let dpdu = (e1 * dv.y - e2 * dv.x) / det;
+    let dpdv = (e2 * du.x - e1 * du.y) / det;
+    let tu = dpdu - n * dot(n, dpdu);
+    if length(tu) == 0.0 {
+        return n;
     }
-    let i = texel_index(uv.x, inst.tex_width);
-    let j = texel_index(uv.y, inst.tex_height);
-    let k = j * inst.tex_width + i;
-    let c = mesh_data[inst.texture + k / 4u][k % 4u];
-    let rgb = vec3<f32>(f32(c & 0xffu), f32((c >> 8u) & 0xffu), f32((c >> 16u) & 0xffu)) / 255.0;
-    return inst.color * vec3<f32>(srgb_to_linear(rgb.x), srgb_to_linear(rgb.y), srgb_to_linear(rgb.z));
+    let t = normalize(tu);
+    var bt = cross(n, t);
+    // Up the image is along -dp/dv.
+    if dot(bt, -dpdv) < 0.0 {
+        bt = -bt;
+    }
+    let m = 2.0 * texel.xyz - 1.0;
+    let out = t * m.x + bt * m.y + n * m.z;
+    return select(n, normalize(out), length(out) > 0.0);
+}
+#endif
+
+// Rust twin: mesh_surface. What a mesh hit is made of at uv: base colour
+// (times its texture), and with MATERIALS emission (times its texture)
+// and metallic and roughness (times the metallic-roughness texture's blue
+// and green; metallic negative for the classic look).
+struct Surface {
+    albedo: vec3<f32>,
+    emissive: vec3<f32>,
+    metallic: f32,
+    roughness: f32,
 }
 
-fn texel_index(x: f32, n: u32) -> u32 {
-    let f = x - floor(x);
-    return min(u32(f * f32(n)), max(n, 1u) - 1u);
-}
-
-fn srgb_to_linear(c: f32) -> f32 {
-    return select(pow((c + 0.055) / 1.055, 2.4), c / 12.92, c <= 0.04045);
+fn mesh_surface(inst: Instance, uv: vec2<f32>) -> Surface {
+    var out = Surface(inst.color, vec3<f32>(0.0), -1.0, 0.0);
+    if inst.textures.x != NO_TEXTURE {
+        out.albedo *= texture_rgb(inst.textures.x, uv);
+    }
+#ifdef MATERIALS
+    out.emissive = inst.emissive;
+    if inst.textures.z != NO_TEXTURE {
+        out.emissive *= texture_rgb(inst.textures.z, uv);
+    }
+    out.metallic = inst.metallic;
+    out.roughness = inst.roughness;
+    if inst.metallic >= 0.0 && inst.textures.y != NO_TEXTURE {
+        let s = texel_unorm(inst.textures.y, uv);
+        out.metallic *= s.z;
+        out.roughness *= s.y;
+    }
+#endif
+    return out;
 }
 #endif

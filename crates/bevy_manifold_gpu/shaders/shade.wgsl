@@ -1,4 +1,5 @@
-// Shading a hit: Lambert plus a Blinn lobe under each light image, each
+// Shading a hit: Lambert plus a Blinn lobe, or with MATERIALS the
+// material's GGX lobe (brdf), under each light image, each
 // along its own geodesic (both arcs in S3) with the fall-off of the
 // geometry (1 / area of the geodesic sphere), the light's range and the
 // fog on its way (image_irradiance), and only if the way is free
@@ -12,7 +13,8 @@
 //
 // Shader defs read: BALLS, TUBES, MESHES (which objects are shaded),
 // CELL_COLORS, LIGHTS, LIGHT_IMAGES (without it each light's copy in the
-// domain, as before light images), SHADOWS, FOG, GEOMETRY_SPHERICAL.
+// domain, as before light images), SHADOWS, MATERIALS (metallic and
+// roughness, emission, normal maps), FOG, GEOMETRY_SPHERICAL.
 #define_import_path bevy_manifold::shade
 
 #import bevy_manifold::bindings::{params, cached}
@@ -29,7 +31,8 @@
 #ifdef MESHES
 #import bevy_manifold::bindings::instances
 #import bevy_manifold::bvh::MeshHit
-#import bevy_manifold::mesh_hit::{mesh_normal, mesh_albedo}
+#import bevy_manifold::mesh_hit::{mesh_normal, mesh_surface}
+#import bevy_manifold::texture::hit_uv
 #endif
 #ifdef CELL_COLORS
 #import bevy_manifold::cells::cell_color
@@ -58,18 +61,78 @@ fn toward_light(x: vec4<f32>, l: vec4<f32>, normal: vec4<f32>) -> vec4<f32> {
     return normal;
 }
 
+// What a hit's light is worked out from (Rust twin: Lit in shade.rs):
+// metallic negative for the classic look.
+struct Lit {
+    normal: vec4<f32>,
+    view: vec4<f32>,
+    albedo: vec3<f32>,
+    metallic: f32,
+    roughness: f32,
+}
+
+// The least perceptual roughness shaded. Rust twin: MIN_ROUGHNESS.
+const MIN_ROUGHNESS: f32 = 0.089;
+// A dielectric's reflectance at normal incidence. Rust twin: DIELECTRIC_F0.
+const DIELECTRIC_F0: f32 = 0.04;
+
+// Rust twin: brdf in crates/bevy_manifold_core/src/material.rs. Lambert
+// albedo (1 - metallic) plus the GGX lobe pi D V F (Trowbridge-Reitz D,
+// height-correlated Smith V, Schlick F from mix(0.04, albedo, metallic)),
+// per unit irradiance from straight above.
+fn brdf(albedo: vec3<f32>, metallic: f32, roughness: f32, nl_in: f32, nv_in: f32, nh_in: f32, vh: f32) -> vec3<f32> {
+    let r = max(roughness, MIN_ROUGHNESS);
+    let a2 = (r * r) * (r * r);
+    let nl = max(nl_in, 0.0);
+    let nv = max(nv_in, 1.0e-4);
+    let nh = clamp(nh_in, 0.0, 1.0);
+    let k = nh * nh * (a2 - 1.0) + 1.0;
+    let d = a2 / (PI * k * k);
+    let vis = 0.5 / (nl * sqrt(nv * nv * (1.0 - a2) + a2) + nv * sqrt(nl * nl * (1.0 - a2) + a2));
+    let fresnel = pow(1.0 - clamp(vh, 0.0, 1.0), 5.0);
+    let f0 = DIELECTRIC_F0 * (1.0 - metallic) + albedo * metallic;
+    let f = f0 + (1.0 - f0) * fresnel;
+    return albedo * (1.0 - metallic) + PI * d * vis * f;
+}
+
+// Rust twin: pack_pbr in crates/bevy_manifold_gpu/src/layout.rs (this
+// unpacks it): a ball's metallic and roughness, metallic -1 for the
+// classic look.
+fn ball_pbr(w: u32) -> vec2<f32> {
+    if (w & 1u) == 0u {
+        return vec2<f32>(-1.0, 0.0);
+    }
+    return vec2<f32>(f32((w >> 1u) & 0x7fffu) / 32767.0, f32(w >> 16u) / 65535.0);
+}
+
 // Adds to rgb the light of colour `color` arriving along the unit
 // tangent to_light with irradiance `irradiance`: Lambert plus a Blinn
-// lobe. Rust twin: Lit::add in shade.rs.
-fn add_light(rgb: ptr<function, vec3<f32>>, normal: vec4<f32>, view: vec4<f32>, albedo: vec3<f32>, to_light: vec4<f32>, irradiance: f32, color: vec3<f32>) {
-    let lambert = max(form(normal, to_light), 0.0);
-    let half = to_light + view;
+// lobe, or with a material (MATERIALS, metallic >= 0) brdf's GGX lobe.
+// Rust twin: Lit::add in shade.rs.
+fn add_light(rgb: ptr<function, vec3<f32>>, lit: Lit, to_light: vec4<f32>, irradiance: f32, color: vec3<f32>) {
+    let lambert = max(form(lit.normal, to_light), 0.0);
+    let half = to_light + lit.view;
     let hl = sqrt(form(half, half));
+    var nh = 0.0;
+    if hl > 1.0e-12 {
+        nh = max(form(lit.normal, half) / hl, 0.0);
+    }
+#ifdef MATERIALS
+    if lit.metallic >= 0.0 {
+        var vh = 0.0;
+        if hl > 1.0e-12 {
+            vh = form(lit.view, half) / hl;
+        }
+        let f = brdf(lit.albedo, lit.metallic, lit.roughness, lambert, form(lit.normal, lit.view), nh, vh);
+        *rgb += f * lambert * irradiance * color;
+        return;
+    }
+#endif
     var spec = 0.0;
     if hl > 1.0e-12 {
-        spec = pow(max(form(normal, half) / hl, 0.0), 32.0) * 0.35;
+        spec = pow(nh, 32.0) * 0.35;
     }
-    *rgb += (albedo * lambert + spec) * irradiance * color;
+    *rgb += (lit.albedo * lambert + spec) * irradiance * color;
 }
 
 #ifdef LIGHTS
@@ -114,7 +177,7 @@ fn image_irradiance(l: Light, s: f32, fog_density: f32) -> f32 {
 }
 #endif
 
-// Lambert + Blinn shading at the hit, lights with geometry-correct
+// Lambert + Blinn (or the material's GGX) shading at the hit, lights with geometry-correct
 // fall-off (1 / area of the sphere of radius d), per-cell colour, fog.
 // The hit's chart parameter is where it is shaded; `normal_at`, when not
 // zero, the normal there in place of the object's own (a cone's layer,
@@ -125,11 +188,16 @@ fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>, c
     var normal = vec4<f32>(0.0);
     var albedo = vec3<f32>(1.0);
     var glow = 0.0;
+    var emissive = vec3<f32>(0.0);
+    var pbr = vec2<f32>(-1.0, 0.0);
 #ifdef BALLS
     if hit.kind == 1u {
         normal = normal_from(x, balls[hit.index].center);
         albedo = balls[hit.index].color;
         glow = balls[hit.index].glow;
+#ifdef MATERIALS
+        pbr = ball_pbr(balls[hit.index].pbr);
+#endif
     }
 #endif
 #ifdef TUBES
@@ -143,8 +211,12 @@ fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>, c
     if hit.kind == 3u {
         let inst = instances[hit.index];
         let h = MeshHit(0.0, hit.triangle, hit.u, hit.v);
-        normal = mesh_normal(inst, h, x, view);
-        albedo = mesh_albedo(inst, h);
+        let uv = hit_uv(inst, hit.triangle, hit.u, hit.v);
+        let surface = mesh_surface(inst, uv);
+        normal = mesh_normal(inst, h, uv, x, view);
+        albedo = surface.albedo;
+        emissive = surface.emissive;
+        pbr = vec2<f32>(surface.metallic, surface.roughness);
     }
 #endif
     if any(normal_at != vec4<f32>(0.0)) {
@@ -153,8 +225,9 @@ fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>, c
 #ifdef CELL_COLORS
     albedo *= cell_color(cell);
 #endif
-    // Ambient light and the object's own glow.
-    var rgb = albedo * (0.08 + glow);
+    // Ambient light, the object's own glow and its emission.
+    var rgb = albedo * (0.08 + glow) + emissive;
+    let lit = Lit(normal, view, albedo, pbr.x, pbr.y);
 #ifdef LIGHTS
 #ifdef LIGHT_IMAGES
     var density = 0.0;
@@ -185,7 +258,7 @@ fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>, c
                 continue;
             }
 #endif
-            add_light(&rgb, normal, view, albedo, dir, e, l.color);
+            add_light(&rgb, lit, dir, e, l.color);
         }
     }
 #else
@@ -194,7 +267,7 @@ fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>, c
         let d = distance(x, l.position);
         let to_light = toward_light(x, l.position, normal);
         let spot = spot_factor(l, from_light(l, x));
-        add_light(&rgb, normal, view, albedo, to_light, l.intensity * spot / max(sphere_area(d), l.min_area), l.color);
+        add_light(&rgb, lit, to_light, l.intensity * spot / max(sphere_area(d), l.min_area), l.color);
     }
 #endif
 #endif

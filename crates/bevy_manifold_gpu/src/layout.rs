@@ -143,8 +143,10 @@ pub struct GpuBall {
     pub face_mask: u32,
     /// `FlatBall::glow`.
     pub glow: f32,
-    /// Padding to 16 bytes (one word: the balls are a uniform array).
-    pub pad: u32,
+    /// `FlatBall::pbr` in one word ([`pack_pbr`]): 0 for the classic
+    /// look (and this word pads the struct to 16 bytes, as the balls are
+    /// a uniform array).
+    pub pbr: u32,
 }
 
 /// WGSL twin: `Tube` in `shaders/bindings.wgsl`.
@@ -195,23 +197,58 @@ pub struct GpuInstance {
     pub triangles: u32,
     /// Object id.
     pub id: u32,
-    /// Offset of its texture's texels (four per word).
-    pub texture: u32,
-    /// Texture width, 0 without a texture.
-    pub tex_width: u32,
-    /// Texture height.
-    pub tex_height: u32,
+    /// Its textures in `mesh_data` (base colour, metallic-roughness,
+    /// emission, normal map): each the offset of a header word
+    /// `[width, height, 0, 0]` followed by the texels, four per word; or
+    /// [`NO_TEXTURE`].
+    pub textures: [u32; 4],
     /// Number of BVH nodes (bounds the traversal loop).
     pub node_count: u32,
     /// 1 for a copy of a mesh attached to the camera (see `home`).
     pub attached: u32,
     /// `FlatInstance::face_mask`.
     pub face_mask: u32,
+    /// The alpha mask's cutoff; negative: opaque.
+    pub alpha_cutoff: f32,
+    /// Emitted radiance (linear RGB).
+    pub emissive: [f32; 3],
+    /// Metallic; negative: the classic look (no GGX lobe).
+    pub metallic: f32,
+    /// Perceptual roughness.
+    pub roughness: f32,
+    /// The base alpha factor (for the mask).
+    pub alpha: f32,
     /// Padding to 16 bytes.
     pub pad: [u32; 2],
     /// With `attached`: the cell point `g o` from which this copy is the
     /// camera's own body (`FlatInstance::home`).
     pub home: [f32; 4],
+}
+
+/// [`GpuInstance::textures`]: no texture in that slot.
+pub const NO_TEXTURE: u32 = u32::MAX;
+
+/// A ball's metallic and roughness in one word, as [`GpuBall::pbr`] holds
+/// them: bit 0 set, metallic in 15 bits above it, roughness in the high
+/// 16; 0 for the classic look. WGSL twin: `ball_pbr` in
+/// `shaders/shade.wgsl`.
+///
+/// ```
+/// use bevy_manifold_core::material::Pbr;
+/// use bevy_manifold_gpu::layout::pack_pbr;
+/// assert_eq!(pack_pbr(None), 0);
+/// let w = pack_pbr(Some(Pbr { metallic: 1.0, roughness: 0.5 }));
+/// assert_eq!(w & 1, 1);
+/// assert_eq!((w >> 1) & 0x7fff, 32767);
+/// assert_eq!(w >> 16, 32768);
+/// ```
+#[must_use]
+pub fn pack_pbr(pbr: Option<bevy_manifold_core::material::Pbr>) -> u32 {
+    pbr.map_or(0, |p| {
+        let m = (p.metallic.clamp(0.0, 1.0) * 32767.0).round() as u32;
+        let r = (p.roughness.clamp(0.0, 1.0) * 65535.0).round() as u32;
+        1 | (m << 1) | (r << 16)
+    })
 }
 
 /// WGSL twin: `Light` in `shaders/bindings.wgsl`.

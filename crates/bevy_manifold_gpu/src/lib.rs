@@ -79,7 +79,7 @@ macro_rules! wgsl {
 /// of the core's `geometry/mod.rs`, `cells` and `rule` of its `space/`,
 /// `bvh` of its `mesh/`, and the others of its `trace/` (the tracer's
 /// stages: see `bevy_manifold_core::trace`).
-pub const SHADER_IMPORTS: [WgslModule; 19] = [
+pub const SHADER_IMPORTS: [WgslModule; 20] = [
     wgsl!("output"),
     wgsl!("bindings"),
     wgsl!("geometry"),
@@ -87,6 +87,7 @@ pub const SHADER_IMPORTS: [WgslModule; 19] = [
     wgsl!("footprint"),
     wgsl!("cells"),
     wgsl!("rule"),
+    wgsl!("texture"),
     wgsl!("bvh"),
     wgsl!("mesh_hit"),
     wgsl!("ball_tree"),

@@ -63,6 +63,14 @@ pub struct TraceDefs {
     pub shadows: bool,
     /// `MESHES`: triangle meshes through their BVH.
     pub meshes: bool,
+    /// `MATERIALS`: some ball or mesh has metallic and roughness (the
+    /// GGX lobe), emission or a normal map
+    /// ([`bevy_manifold_core::material`]); without it every surface has
+    /// the classic look and none of their reads is compiled.
+    pub materials: bool,
+    /// `ALPHA_MASK`: some mesh has an alpha mask, tested at every
+    /// triangle a ray meets.
+    pub alpha_mask: bool,
     /// `BALL_TREE`: the scene has enough balls for a ball tree
     /// ([`bevy_manifold_core::trace::MIN_BALL_TREE`]), so the test of the
     /// tree's leaves is compiled in; without it every interior ball is
@@ -149,6 +157,12 @@ impl TraceDefs {
                 && scene.lighting.shadows
                 && (!scene.balls.is_empty() || scene.edge_radius.is_some() || !scene.meshes.is_empty()),
             meshes: !scene.meshes.is_empty(),
+            materials: scene.balls.iter().any(|b| b.pbr.is_some())
+                || scene.meshes.iter().any(|m| {
+                    let t = &m.material;
+                    t.pbr.is_some() || t.emissive != [0.0; 3] || t.normal_map.is_some()
+                }),
+            alpha_mask: scene.meshes.iter().any(|m| m.material.alpha_cutoff.is_some()),
             // The interior balls, those a tree holds, are scene balls (a
             // ghost copy or a vertex joint lies near a face).
             ball_tree,
@@ -245,6 +259,8 @@ impl TraceDefs {
             light_images: true,
             shadows: true,
             meshes: true,
+            materials: true,
+            alpha_mask: true,
             ball_tree: true,
             ball_leaves: bevy_manifold_core::trace::MAX_BALL_LEAVES as u32,
             many_unkeyed_tubes: true,
@@ -294,6 +310,10 @@ impl TraceDefs {
                     light_images: on(4) && on(0),
                     shadows: on(4) && on(0) && on(1) && (on(2) || on(3) || on(5)),
                     meshes: on(5),
+                    // Materials with lights and the cell rules, the alpha
+                    // mask with meshes and fog: each on and off.
+                    materials: on(4) && on(7),
+                    alpha_mask: on(5) && on(1),
                     face_count: on(6).then_some(12),
                     cell_rules: on(7),
                     footprint: on(8),
@@ -343,6 +363,8 @@ impl TraceDefs {
             (self.light_images, "LIGHT_IMAGES"),
             (self.shadows, "SHADOWS"),
             (self.meshes, "MESHES"),
+            (self.materials, "MATERIALS"),
+            (self.alpha_mask && self.meshes, "ALPHA_MASK"),
             (self.ball_tree, "BALL_TREE"),
             (self.many_unkeyed_tubes, "MANY_UNKEYED_TUBES"),
             (self.footprint, "FOOTPRINT"),

@@ -34,6 +34,7 @@ fn scene(space: &Space, cell: Vec<usize>) -> Scene {
         radius: 0.6 * r,
         color: [0.9, 0.9, 0.9],
         glow: 0.0,
+        pbr: None,
     });
     scene.lights.push(Light {
         position: g.normalize_point::<f64>(DVec4::new(0.0, 0.4 * r, 0.5 * r, 1.0)),

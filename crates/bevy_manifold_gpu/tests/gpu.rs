@@ -180,6 +180,7 @@ fn a_ball_straddling_a_torus_face_is_seen_whole_from_either_side() {
         radius: 0.1,
         color: [1.0; 3],
         glow: 0.0,
+        pbr: None,
     };
     // Each camera looks along -z from 0.4 in front of the face, 0.05 from
     // it. Probes: horizontal angle, and the levels a ray needs to reach the
@@ -751,6 +752,7 @@ fn too_many_ball_copies_are_refused_by_name() {
             radius: 0.9 * space.inradius(),
             color: [0.5, 0.5, 0.5],
             glow: 0.0,
+            pbr: None,
         });
     }
     let flat = FlatScene::<f32>::new(&space, &scene);

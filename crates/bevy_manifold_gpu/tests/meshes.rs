@@ -3,6 +3,7 @@
 //! scenes with and without meshes. (The CPU side: `bevy_manifold_core`'s
 //! `tests/meshes.rs`.)
 
+use bevy_manifold_core::geometry::isometry;
 use bevy_manifold_core::mesh::{MeshData, MeshMaterial, TriMesh};
 use bevy_manifold_core::prelude::*;
 use bevy_manifold_core::trace::SceneMesh;
@@ -93,10 +94,74 @@ fn meshes_share_one_bvh_and_scenes_without_them_compile_none() {
     assert!(!bevy_manifold_gpu::TraceDefs::for_scene(&space, &Scene::default_for(&space), false).meshes);
 }
 
+/// Every material feature at once, GPU against the CPU f64 reference in
+/// each geometry: a PBR ball (the GGX lobe), Suzanne in a metallic PBR
+/// material with emission, and the material quad written by the test
+/// support (its metallic-roughness, emission and normal textures and its
+/// alpha mask), under light images and shadows.
+fn gpu_and_cpu_agree_on_materials_in_every_geometry() {
+    let mut gpu = tracer();
+    let dir = std::env::temp_dir().join(format!("bevy_manifold_gpu_materials_{}", std::process::id()));
+    let quad = bevy_manifold_core::mesh::gltf::load(bevy_manifold_test_support::materials::write_material_quad(&dir))
+        .expect("the quad loads");
+    let part = quad.parts.into_iter().next().expect("one part");
+    let quad_data = MeshData::shared(part.mesh);
+    for space in [catalog::torus(1.0), catalog::seifert_weber(), catalog::poincare()] {
+        let g = space.geometry();
+        let mut scene = Scene::paper_default(&space);
+        let r = space.inradius();
+        scene.balls.push(Ball {
+            center: isometry::translation(g, DVec3::new(-0.3 * r, 0.2 * r, -0.2 * r)) * glam::DVec4::W,
+            radius: 0.15 * r,
+            color: [0.9, 0.7, 0.3],
+            glow: 0.0,
+            pbr: Some(bevy_manifold_core::material::Pbr {
+                metallic: 0.7,
+                roughness: 0.35,
+            }),
+        });
+        scene.meshes[0].material.pbr = Some(bevy_manifold_core::material::Pbr {
+            metallic: 1.0,
+            roughness: 0.5,
+        });
+        scene.meshes[0].material.emissive = [0.1, 0.05, 0.0];
+        let mut material = part.material.clone();
+        // Emission within [0, 1], where colours are compared.
+        material.emissive = material.emissive.map(|c| c * 0.05);
+        let at = scene.camera.isometry * isometry::translation(g, DVec3::new(0.15 * r, 0.0, -0.45 * r));
+        scene
+            .meshes
+            .push(SceneMesh::new(quad_data.clone(), material, at, 0.2 * r));
+        scene.lighting.shadows = true;
+        let defs = bevy_manifold_gpu::TraceDefs::for_scene(&space, &scene, false);
+        assert!(defs.materials && defs.alpha_mask && defs.shadows, "{defs:?}");
+        let settings = TraceSettings {
+            width: 160,
+            height: 160,
+            levels: 6,
+            ..TraceSettings::default()
+        };
+        let gi = gpu.render(&space, &scene, &settings).expect("render");
+        let c = render::<f64>(&space, &scene, &settings);
+        let (ids, colors) = agreement(&gi, &c);
+        let quad_id = scene.balls.len() as u32 + 1 + 3;
+        let quad_pixels = c.pixels.iter().filter(|p| p.object == quad_id).count();
+        eprintln!(
+            "{g}: ids {:.3}%, colours {:.3}% ({quad_pixels} quad pixels)",
+            ids * 100.0,
+            colors * 100.0
+        );
+        assert!(quad_pixels > 200, "{g}: the quad is in view");
+        assert!(ids >= 0.995, "{g}: ids agree on {:.3}%", ids * 100.0);
+        assert!(colors >= 0.99, "{g}: colours agree on {:.3}%", colors * 100.0);
+    }
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [meshes_share_one_bvh_and_scenes_without_them_compile_none],
     gpu: [
         the_gpu_never_sees_the_cameras_own_body_from_inside,
         gpu_and_cpu_agree_on_suzanne_and_the_hands_in_every_space,
+        gpu_and_cpu_agree_on_materials_in_every_geometry,
     ],
 }

@@ -127,6 +127,7 @@ fn near_the_klein_boundary_f32_still_finds_every_hit() {
         radius: 0.05,
         color: [0.3, 0.9, 0.4],
         glow: 0.0,
+        pbr: None,
     });
     for (levels, max_distance) in [(8, 100.0), (64, 1e4)] {
         let settings = TraceSettings {

@@ -10,6 +10,7 @@ pub mod fuzz;
 #[cfg(feature = "gpu")]
 pub mod gpu;
 pub mod harness;
+pub mod materials;
 pub mod rng;
 pub mod stress;
 

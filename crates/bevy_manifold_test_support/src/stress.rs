@@ -519,6 +519,7 @@ pub fn light_on_the_hit(z: f64) -> (Space, Scene) {
             radius: 0.125,
             color: [0.5, 0.25, 1.0],
             glow: 0.0,
+            pbr: None,
         }],
         lights: vec![Light {
             position: DVec4::new(0.0, 0.0, z, 1.0),
@@ -550,6 +551,7 @@ pub fn swarm(space: &Space, n: usize, seed: u64) -> Scene {
             radius: 0.05 * space.inradius(),
             color: [1.0 - hue, 0.4 + 0.5 * hue, 0.3],
             glow: 0.5,
+            pbr: None,
         });
     }
     scene

@@ -351,6 +351,21 @@ pub fn skip_links(nodes: &[BvhNode]) -> Vec<u32> {
 /// On a tie the later triangle in that order is kept.
 #[must_use]
 pub fn hit_mesh<R: Real>(mesh: &MeshData, o: [R; 3], d: [R; 3], s_max: R) -> Option<MeshHit<R>> {
+    hit_mesh_where(mesh, o, d, s_max, |_| true)
+}
+
+/// [`hit_mesh`] counting only the hits `keep` accepts (an alpha mask:
+/// a triangle's transparent texels let the ray through to what lies
+/// behind). WGSL twin: `hit_mesh` in `shaders/bvh.wgsl` (its `ALPHA_MASK`
+/// part).
+#[must_use]
+pub fn hit_mesh_where<R: Real>(
+    mesh: &MeshData,
+    o: [R; 3],
+    d: [R; 3],
+    s_max: R,
+    keep: impl Fn(&MeshHit<R>) -> bool,
+) -> Option<MeshHit<R>> {
     let inv_d = safe_inverse(d);
     let mut best: Option<MeshHit<R>> = None;
     let mut limit = s_max;
@@ -378,8 +393,11 @@ pub fn hit_mesh<R: Real>(mesh: &MeshData, o: [R; 3], d: [R; 3], s_max: R) -> Opt
             if let Some((s, u, v)) = hit_triangle(o, d, a, b, c)
                 && s <= limit
             {
-                limit = s;
-                best = Some(MeshHit { s, triangle: t, u, v });
+                let hit = MeshHit { s, triangle: t, u, v };
+                if keep(&hit) {
+                    limit = s;
+                    best = Some(hit);
+                }
             }
         }
     }

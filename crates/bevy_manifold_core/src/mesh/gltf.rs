@@ -1,7 +1,9 @@
 //! Meshes from glTF files (`.glb`, or `.gltf` with its buffers beside it)
 //! for the CPU reference and the command line: every triangle primitive of
-//! the default scene, with its node's transform and its material's base
-//! colour (and base-colour texture, PNG). A primitive that cannot be traced
+//! the default scene, with its node's transform and its material: base
+//! colour, metallic and roughness, emission (`KHR_materials_emissive_strength`
+//! too), their textures (PNG), the normal map and the alpha mask (an
+//! alpha-blended material is drawn opaque, with a warning). A primitive that cannot be traced
 //! (no triangles, NaN positions) is skipped with a warning; a file with
 //! nothing traceable is an error. Bevy apps load glTF through Bevy's own
 //! loader instead (see `crate::meshes`).
@@ -264,27 +266,56 @@ fn part(
     };
     let triangles = indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
     let mesh = TriMesh::new(positions, normals, uvs, triangles).map_err(|e: MeshError| e.to_string())?;
-    let pbr = prim.material().pbr_metallic_roughness();
-    let [r, g, b, _] = pbr.base_color_factor();
-    let texture = pbr.base_color_texture().and_then(|info| {
-        let t = info.texture();
+    let material = prim.material();
+    let pbr = material.pbr_metallic_roughness();
+    let [r, g, b, a] = pbr.base_color_factor();
+    let mut load = |t: gltf::Texture, what: &str| {
         textures[t.index()]
             .get_or_insert_with(|| match texture(&t, buffers, dir) {
                 Ok(t) => Some(Arc::new(t)),
                 Err(e) => {
-                    warnings.push(format!("texture {}: {e}; the base colour alone is used", t.index()));
+                    warnings.push(format!("texture {}: {e}; the {what} is drawn without it", t.index()));
                     None
                 }
             })
             .clone()
-    });
-    Ok((
-        mesh,
-        MeshMaterial {
-            base_color: [r, g, b],
-            texture,
-        },
-    ))
+    };
+    let texture = pbr.base_color_texture().and_then(|i| load(i.texture(), "base colour"));
+    let metallic_roughness = pbr
+        .metallic_roughness_texture()
+        .and_then(|i| load(i.texture(), "metallic and roughness"));
+    let emissive_texture = material.emissive_texture().and_then(|i| load(i.texture(), "emission"));
+    let normal_map = material.normal_texture().and_then(|i| load(i.texture(), "normal"));
+    let strength = material.emissive_strength().unwrap_or(1.0);
+    let alpha_cutoff = match material.alpha_mode() {
+        gltf::material::AlphaMode::Mask => Some(material.alpha_cutoff().unwrap_or(0.5)),
+        gltf::material::AlphaMode::Opaque => None,
+        gltf::material::AlphaMode::Blend => {
+            warnings.push(format!(
+                "material {}: alpha blending is drawn opaque",
+                material.index().map_or("default".into(), |i| i.to_string())
+            ));
+            None
+        }
+    };
+    let out = MeshMaterial {
+        base_color: [r, g, b],
+        texture,
+        alpha: a,
+        alpha_cutoff,
+        // A primitive without a material keeps the classic look (glTF's
+        // default material would be a rough metal).
+        pbr: material.index().map(|_| crate::material::Pbr {
+            metallic: pbr.metallic_factor(),
+            roughness: pbr.roughness_factor(),
+        }),
+        metallic_roughness,
+        emissive: material.emissive_factor().map(|c| c * strength),
+        emissive_texture,
+        normal_map,
+    };
+    out.check().map_err(|e| format!("material: {e}"))?;
+    Ok((mesh, out))
 }
 
 fn texture(t: &gltf::Texture, buffers: &[Vec<u8>], dir: &Path) -> Result<Texture, String> {

@@ -244,23 +244,7 @@ impl MeshData {
     }
 }
 
-/// A mesh's surface: base colour (linear RGBA) and an optional texture.
-#[derive(Clone, Debug, PartialEq)]
-pub struct MeshMaterial {
-    /// Base colour factor, linear RGB.
-    pub base_color: [f32; 3],
-    /// Base colour texture, multiplied in.
-    pub texture: Option<Arc<Texture>>,
-}
-
-impl Default for MeshMaterial {
-    fn default() -> Self {
-        MeshMaterial {
-            base_color: [0.8; 3],
-            texture: None,
-        }
-    }
-}
+pub use crate::material::MeshMaterial;
 
 /// An RGBA8 texture (sRGB-encoded colour), sampled nearest with repeat by
 /// both tracers alike.
@@ -298,13 +282,31 @@ impl Texture {
         Ok(Texture { width, height, texels })
     }
 
-    /// The linear RGB colour at `uv`, nearest texel, repeating.
+    /// The packed RGBA8 texel at `uv`, nearest, repeating. WGSL twin: its
+    /// part of `texel_unorm` in `shaders/texture.wgsl`.
     #[must_use]
-    pub fn sample(&self, uv: [f32; 2]) -> [f32; 3] {
+    pub fn texel(&self, uv: [f32; 2]) -> u32 {
         let i = texel_index(uv[0], self.width);
         let j = texel_index(uv[1], self.height);
-        let c = self.texels[(j * self.width + i) as usize];
+        self.texels[(j * self.width + i) as usize]
+    }
+
+    /// The linear RGB colour at `uv` of an sRGB-encoded texture (a base
+    /// colour, an emission), nearest texel, repeating. WGSL twin:
+    /// `texture_rgb` in `shaders/texture.wgsl`.
+    #[must_use]
+    pub fn sample(&self, uv: [f32; 2]) -> [f32; 3] {
+        let c = self.texel(uv);
         [0, 8, 16].map(|s| srgb_to_linear(((c >> s) & 0xff) as f32 / 255.0))
+    }
+
+    /// The texel at `uv` as four numbers in `[0, 1]`, undecoded (a linear
+    /// texture: metallic-roughness, a normal map; or the alpha in `[3]`).
+    /// WGSL twin: `texel_unorm` in `shaders/texture.wgsl`.
+    #[must_use]
+    pub fn sample_unorm(&self, uv: [f32; 2]) -> [f32; 4] {
+        let c = self.texel(uv);
+        [0, 8, 16, 24].map(|s| ((c >> s) & 0xff) as f32 / 255.0)
     }
 }
 

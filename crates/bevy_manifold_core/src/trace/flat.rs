@@ -9,6 +9,7 @@ use super::face_groups::{
 use super::scene::Scene;
 use super::step::{Segment, radius_param};
 use crate::geometry::{Geometry, Real, isometry};
+use crate::material::Pbr;
 use crate::mesh::{MeshData, Texture};
 use crate::space::Space;
 use crate::space::cell_table::CentredTable;
@@ -32,6 +33,8 @@ pub struct FlatBall<R: Real> {
     pub color: [f32; 3],
     /// [`super::Ball::glow`] (0 for a vertex joint).
     pub glow: f32,
+    /// [`super::Ball::pbr`] (`None` for a vertex joint).
+    pub pbr: Option<Pbr>,
     /// Object id (1-based scene index, or [`EDGE_ID`]).
     pub id: u32,
     /// The faces (bits 0 to 31) whose planes every point of the ball
@@ -94,6 +97,20 @@ pub struct FlatLight<R: Real> {
     pub spot_offset: R,
 }
 
+/// The textures of a mesh instance's material, as indices into
+/// [`FlatScene::textures`] (each texture once there).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct InstanceTextures {
+    /// Base colour (sRGB, alpha for the mask).
+    pub base: Option<usize>,
+    /// Metallic (blue) and roughness (green), linear.
+    pub metallic_roughness: Option<usize>,
+    /// Emission (sRGB).
+    pub emissive: Option<usize>,
+    /// Tangent-space normal map, linear.
+    pub normal: Option<usize>,
+}
+
 /// One placement of a mesh (or a ghost of one, carried through a face),
 /// in the tracer's precision.
 #[derive(Clone, Copy, Debug)]
@@ -109,8 +126,14 @@ pub struct FlatInstance<R: Real> {
     pub mesh: usize,
     /// Base colour.
     pub color: [f32; 3],
-    /// Index into [`FlatScene::textures`].
-    pub texture: Option<usize>,
+    /// Its material's textures, as indices into [`FlatScene::textures`].
+    pub textures: InstanceTextures,
+    /// [`crate::material::MeshMaterial::pbr`].
+    pub pbr: Option<Pbr>,
+    /// Emitted radiance (linear RGB).
+    pub emissive: [f32; 3],
+    /// The alpha mask: the cutoff and the base alpha factor.
+    pub alpha_mask: Option<(f32, f32)>,
     /// Object id.
     pub id: u32,
     /// For a copy of a mesh attached to the camera: the point `g o` of the
@@ -314,6 +337,7 @@ impl<R: Real> FlatScene<R> {
                     k,
                     color: b.color,
                     glow: b.glow,
+                    pbr: b.pbr,
                     id: i as u32 + 1,
                     face_mask: face_mask(space, &[center], b.radius, reach),
                 });
@@ -365,6 +389,7 @@ impl<R: Real> FlatScene<R> {
                     k: tube_k,
                     color,
                     glow: 0.0,
+                    pbr: None,
                     id: EDGE_ID,
                     face_mask: face_mask(space, &[v.point], r, reach),
                 });
@@ -540,17 +565,23 @@ fn flatten_meshes<R: Real>(space: &Space, scene: &Scene, camera_cell: DMat4, rea
                 meshes.len() - 1
             }
         };
-        let texture = m
-            .material
-            .texture
-            .as_ref()
-            .map(|t| match textures.iter().position(|x| Arc::ptr_eq(x, t)) {
-                Some(i) => i,
-                None => {
-                    textures.push(t.clone());
-                    textures.len() - 1
-                }
-            });
+        let mat = &m.material;
+        let mut index = |t: &Option<Arc<Texture>>| {
+            t.as_ref()
+                .map(|t| match textures.iter().position(|x| Arc::ptr_eq(x, t)) {
+                    Some(i) => i,
+                    None => {
+                        textures.push(t.clone());
+                        textures.len() - 1
+                    }
+                })
+        };
+        let maps = InstanceTextures {
+            base: index(&mat.texture),
+            metallic_roughness: index(&mat.metallic_roughness),
+            emissive: index(&mat.emissive_texture),
+            normal: index(&mat.normal_map),
+        };
         let unscale = DMat4::from_diagonal(DVec4::new(1.0 / m.scale, 1.0 / m.scale, 1.0 / m.scale, 1.0));
         let center = m.center(g);
         let k = R::of(radius_param(g, radius));
@@ -565,8 +596,11 @@ fn flatten_meshes<R: Real>(space: &Space, scene: &Scene, camera_cell: DMat4, rea
                 center: R::v4_of(ghost),
                 k,
                 mesh,
-                color: m.material.base_color,
-                texture,
+                color: mat.base_color,
+                textures: maps,
+                pbr: mat.pbr,
+                emissive: mat.emissive,
+                alpha_mask: mat.alpha_cutoff.map(|c| (c, mat.alpha)),
                 id: (scene.balls.len() + 1 + j) as u32,
                 home,
                 face_mask: face_mask(space, &[ghost], radius, reach),

@@ -87,7 +87,9 @@ pub use flat::{
 pub use flow::{Flowed, flow};
 pub use footprint::{Layers, pixel_half_angle};
 pub use light_images::{MAX_LIGHT_IMAGES, MIN_AREA, image_irradiance, light_images, spot_factor};
-pub use mesh_hit::{InstanceHit, hit_instance, meets_ball, mesh_albedo, mesh_normal};
+pub use mesh_hit::{
+    InstanceHit, hit_instance, hit_uv, meets_ball, mesh_alpha, mesh_normal, mesh_surface, normal_mapped,
+};
 pub use nearest::same_cell_point;
 pub use output::{id_pixel, srgb8, upscale};
 #[cfg(feature = "png")]

@@ -1,4 +1,5 @@
-//! Shading a hit: Lambert plus a Blinn lobe under each light image
+//! Shading a hit: Lambert plus a Blinn lobe, or the material's GGX lobe
+//! ([`crate::material::brdf`]), under each light image
 //! ([`super::light_images()`]), each along its own geodesic (both arcs in
 //! S3) with the fall-off of the geometry (1 / area of the geodesic
 //! sphere), the light's range and the fog on its way, and only if the way
@@ -11,12 +12,13 @@
 use super::flat::FlatLight;
 use super::flat::FlatScene;
 use super::light_images::{image_irradiance, spot_factor};
-use super::mesh_hit::{mesh_albedo, mesh_normal};
+use super::mesh_hit::{hit_uv, mesh_normal, mesh_surface};
 use super::nearest::Hit;
 use super::settings::TraceSettings;
 use super::shadow::light_blocked;
 use super::step::{Ray, foot_on_line, normal_from};
 use crate::geometry::{Geometry, Real};
+use crate::material::{Cosines, Pbr, brdf};
 use crate::space::cells::CellId;
 use crate::space::rule::WALL_COLOR;
 
@@ -54,28 +56,59 @@ struct Lit<R: Real> {
     normal: R::V4,
     view: R::V4,
     albedo: [f32; 3],
+    /// The GGX lobe's metallic and roughness; `None`: the classic look.
+    pbr: Option<Pbr>,
 }
 
 impl<R: Real> Lit<R> {
     /// Adds to `rgb` the light of colour `color` arriving along the unit
     /// tangent `to_light` with irradiance `irradiance`: Lambert plus a
-    /// Blinn lobe. WGSL twin: `add_light` in `shaders/shade.wgsl`.
+    /// Blinn lobe, or with a material the GGX lobe of [`brdf`]. WGSL twin:
+    /// `add_light` in `shaders/shade.wgsl`.
     fn add(&self, g: Geometry, rgb: &mut [f32; 3], to_light: R::V4, irradiance: f32, color: [f32; 3]) {
-        let lambert = g.form::<R>(self.normal, to_light).max(R::of(0.0)).f64() as f32;
+        let nl = g.form::<R>(self.normal, to_light).max(R::of(0.0));
         let half = to_light + self.view;
         let hl = g.form::<R>(half, half).sqrt();
-        let spec = if hl.f64() > 1e-12 {
-            (g.form::<R>(self.normal, half) / hl).max(R::of(0.0)).f64().powi(32) as f32 * 0.35
+        let nh = if hl.f64() > 1e-12 {
+            (g.form::<R>(self.normal, half) / hl).max(R::of(0.0)).f64()
         } else {
             0.0
         };
+        let lambert = nl.f64() as f32;
+        let Some(pbr) = self.pbr else {
+            let spec = if hl.f64() > 1e-12 {
+                nh.powi(32) as f32 * 0.35
+            } else {
+                0.0
+            };
+            for c in 0..3 {
+                rgb[c] += (self.albedo[c] * lambert + spec) * irradiance * color[c];
+            }
+            return;
+        };
+        let vh = if hl.f64() > 1e-12 {
+            (g.form::<R>(self.view, half) / hl).f64() as f32
+        } else {
+            0.0
+        };
+        let nv = g.form::<R>(self.normal, self.view).f64() as f32;
+        let f = brdf(
+            self.albedo,
+            pbr,
+            Cosines {
+                nl: lambert,
+                nv,
+                nh: nh as f32,
+                vh,
+            },
+        );
         for c in 0..3 {
-            rgb[c] += (self.albedo[c] * lambert + spec) * irradiance * color[c];
+            rgb[c] += f[c] * lambert * irradiance * color[c];
         }
     }
 }
 
-/// Lambert + Blinn shading at the hit (chart parameter `t`, with the
+/// Lambert + Blinn (or the material's GGX) shading at the hit (chart parameter `t`, with the
 /// object's normal there unless `normal_at` gives another: a cone's
 /// layer, see [`super::cone::cone_layer`]), lights with geometry-correct
 /// fall-off (1 / area of the sphere of radius d), per-cell colour, fog.
@@ -93,26 +126,31 @@ pub(super) fn shade<R: Real>(
 ) -> [f32; 3] {
     let x = g.normalize_point::<R>(ray.origin + ray.dir * t);
     let view = -g.normalize_tangent::<R>(x, ray.dir);
-    let (normal, albedo, glow) = match hit {
-        Hit::Ball(i) => (
-            normal_from::<R>(g, x, flat.balls[i].center),
-            flat.balls[i].color,
-            flat.balls[i].glow,
-        ),
+    let (normal, albedo, glow, emissive, pbr) = match hit {
+        Hit::Ball(i) => {
+            let b = &flat.balls[i];
+            (normal_from::<R>(g, x, b.center), b.color, b.glow, [0.0; 3], b.pbr)
+        }
         Hit::Tube(i) => {
             let seg = &flat.tubes[i].segment;
             (
                 normal_from::<R>(g, x, foot_on_line::<R>(g, x, seg)),
                 flat.tubes[i].color,
                 0.0,
+                [0.0; 3],
+                None,
             )
         }
         Hit::Mesh(i, h) => {
             let inst = &flat.instances[i];
+            let uv = hit_uv(&flat.meshes[inst.mesh], &h);
+            let (albedo, emissive, pbr) = mesh_surface(flat, inst, uv);
             (
-                mesh_normal(g, inst, &flat.meshes[inst.mesh], &h, x, view),
-                mesh_albedo(flat, inst, &h),
+                mesh_normal(g, flat, inst, (&h, uv), x, view),
+                albedo,
                 0.0,
+                emissive,
+                pbr,
             )
         }
     };
@@ -122,10 +160,15 @@ pub(super) fn shade<R: Real>(
         let c = settings.cell_tint.tint(cell);
         albedo = [albedo[0] * c[0], albedo[1] * c[1], albedo[2] * c[2]];
     }
-    // Ambient light and the object's own glow.
+    // Ambient light, the object's own glow and its emission.
     let ambient = 0.08f32 + glow;
-    let mut rgb = [albedo[0] * ambient, albedo[1] * ambient, albedo[2] * ambient];
-    let lit = Lit::<R> { normal, view, albedo };
+    let mut rgb = [0, 1, 2].map(|c| albedo[c] * ambient + emissive[c]);
+    let lit = Lit::<R> {
+        normal,
+        view,
+        albedo,
+        pbr,
+    };
     if flat.lighting.images == 0 {
         for l in &flat.lights {
             let d = g.distance::<R>(x, l.position);

@@ -109,7 +109,7 @@ fn segment_blocked<R: Real>(
             Candidate::Instance(i) => {
                 let inst = &flat.instances[i];
                 instance_shown(inst, near, cell_point)
-                    && hit_instance(g, ray, inst, &flat.meshes[inst.mesh], t_end).is_some_and(|h| h.t <= t_end)
+                    && hit_instance(g, flat, ray, inst, t_end).is_some_and(|h| h.t <= t_end)
             }
         };
     });

@@ -282,7 +282,7 @@ fn nearest_object<R: Real>(
             let inst = &flat.instances[i];
             let limit = best.map_or(t_end, |(bt, _)| bt);
             if instance_shown(inst, near, cell_point)
-                && let Some(h) = hit_instance(g, ray, inst, &flat.meshes[inst.mesh], limit)
+                && let Some(h) = hit_instance(g, flat, ray, inst, limit)
                 && h.t <= limit
             {
                 best = Some((h.t, Hit::Mesh(i, h.hit)));
@@ -348,7 +348,7 @@ fn segment_layers<R: Real>(
             Candidate::Instance(i) => {
                 let inst = &flat.instances[i];
                 if instance_shown(inst, near, cell_point)
-                    && let Some(h) = hit_instance(g, ray, inst, &flat.meshes[inst.mesh], end)
+                    && let Some(h) = hit_instance(g, flat, ray, inst, end)
                     && h.t <= end
                 {
                     met.whole = Some((h.t, Hit::Mesh(i, h.hit), None));

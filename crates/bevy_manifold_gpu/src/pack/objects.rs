@@ -3,7 +3,7 @@
 //! ball tree, packed from a [`FlatScene`] in `f32`.
 
 use super::{bits, m, non_empty, v};
-use crate::layout::{GpuBall, GpuInstance, GpuLight, GpuTube, NO_JOINT};
+use crate::layout::{GpuBall, GpuInstance, GpuLight, GpuTube, NO_JOINT, NO_TEXTURE, pack_pbr};
 use bevy_manifold_core::mesh::bvh::BvhNode;
 use bevy_manifold_core::trace::FlatScene;
 use bevy_manifold_core::trace::MAX_LIGHT_IMAGES;
@@ -69,7 +69,7 @@ impl GpuObjects {
                         id: b.id,
                         face_mask: b.face_mask,
                         glow: b.glow,
-                        pad: 0,
+                        pbr: pack_pbr(b.pbr),
                     })
                     .collect(),
             ),
@@ -209,6 +209,7 @@ fn pack_meshes(flat: &FlatScene<f32>) -> (Vec<GpuInstance>, Vec<[u32; 4]>) {
     let mut texels = Vec::new();
     for t in &flat.textures {
         texels.push(data.len() as u32);
+        data.push([t.width, t.height, 0, 0]);
         data.extend(t.texels.chunks(4).map(|c| {
             let mut w = [0u32; 4];
             w[..c.len()].copy_from_slice(c);
@@ -220,10 +221,8 @@ fn pack_meshes(flat: &FlatScene<f32>) -> (Vec<GpuInstance>, Vec<[u32; 4]>) {
         .iter()
         .map(|inst| {
             let [nodes, vertices, triangles, node_count] = offsets[inst.mesh];
-            let (texture, tex_width, tex_height) = inst.texture.map_or((0, 0, 0), |t| {
-                let tex = &flat.textures[t];
-                (texels[t], tex.width, tex.height)
-            });
+            let slot = |t: Option<usize>| t.map_or(NO_TEXTURE, |t| texels[t]);
+            let maps = &inst.textures;
             GpuInstance {
                 to_local: m(inst.to_local),
                 center: v(inst.center),
@@ -233,12 +232,20 @@ fn pack_meshes(flat: &FlatScene<f32>) -> (Vec<GpuInstance>, Vec<[u32; 4]>) {
                 vertices,
                 triangles,
                 id: inst.id,
-                texture,
-                tex_width,
-                tex_height,
+                textures: [
+                    slot(maps.base),
+                    slot(maps.metallic_roughness),
+                    slot(maps.emissive),
+                    slot(maps.normal),
+                ],
                 node_count,
                 attached: u32::from(inst.home.is_some()),
                 face_mask: inst.face_mask,
+                alpha_cutoff: inst.alpha_mask.map_or(-1.0, |(c, _)| c),
+                emissive: inst.emissive,
+                metallic: inst.pbr.map_or(-1.0, |p| p.metallic),
+                roughness: inst.pbr.map_or(0.0, |p| p.roughness),
+                alpha: inst.alpha_mask.map_or(1.0, |(_, a)| a),
                 pad: [0; 2],
                 home: inst.home.map_or([0.0; 4], v),
             }

@@ -4,12 +4,14 @@
 //! ```text
 //! {"camera": {"isometry": [[..4..],[..4..],[..4..],[..4..]], "fov_y_degrees": 60,
 //!             "frustum": [left, right, down, up] (optional: an off-centre eye)},
-//!  "balls":  [{"center": [x,y,z,w], "radius": r, "color": [r,g,b], "glow": 0}, ...],
+//!  "balls":  [{"center": [x,y,z,w], "radius": r, "color": [r,g,b], "glow": 0,
+//!              "metallic": m, "roughness": r (optional: the GGX lobe)}, ...],
 //!  "lights": [{"position": [x,y,z,w], "intensity": i, "color": [r,g,b],
 //!              "range": r (optional), "radius": r (optional, 0),
 //!              "spot": {"direction": [x,y,z], "inner": a, "outer": b} (optional)}, ...],
 //!  "meshes": [{"file": "model.glb", "placement": [[..4..] x4], "scale": s,
-//!              "color": [r,g,b], "attached": false}, ...],
+//!              "color": [r,g,b], "metallic": m, "roughness": r, "emission": [r,g,b]
+//!              (optional: in place of the file's own), "attached": false}, ...],
 //!  "edges": {"radius": r} | null,
 //!  "fog": {"density": d, "color": [r,g,b]} | null,
 //!  "lighting": {"images": n, "shadows": false} (optional: the default)}
@@ -91,6 +93,35 @@ struct BallDesc {
     color: [f32; 3],
     #[serde(default, skip_serializing_if = "is_zero")]
     glow: f32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    metallic: Option<f32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    roughness: Option<f32>,
+}
+
+/// The GGX lobe a file's `metallic` and `roughness` ask for (either alone
+/// takes Bevy's default for the other), checked; `None` when neither is
+/// given.
+fn pbr_of(
+    metallic: Option<f32>,
+    roughness: Option<f32>,
+    name: &dyn Fn(&str) -> String,
+) -> Result<Option<crate::material::Pbr>, (String, String)> {
+    if metallic.is_none() && roughness.is_none() {
+        return Ok(None);
+    }
+    let d = crate::material::Pbr::default();
+    for (v, f) in [(metallic, "metallic"), (roughness, "roughness")] {
+        if let Some(v) = v
+            && !(0.0..=1.0).contains(&v)
+        {
+            return Err((name(f), format!("must be in [0, 1], got {v}")));
+        }
+    }
+    Ok(Some(crate::material::Pbr {
+        metallic: metallic.unwrap_or(d.metallic),
+        roughness: roughness.unwrap_or(d.roughness),
+    }))
 }
 
 /// A plain ball's glow is left out of the JSON.
@@ -257,11 +288,13 @@ impl Scene {
             radius(g, b.radius, &format!("balls[{i}].radius")).map_err(|(f, m)| field(f, m))?;
             color(b.color, &format!("balls[{i}].color")).map_err(|(f, m)| field(f, m))?;
             glow(b.glow, &format!("balls[{i}].glow")).map_err(|(f, m)| field(f, m))?;
+            let pbr = pbr_of(b.metallic, b.roughness, &|f| format!("balls[{i}].{f}")).map_err(|(f, m)| field(f, m))?;
             balls.push(Ball {
                 center,
                 radius: b.radius,
                 color: b.color,
                 glow: b.glow,
+                pbr,
             });
         }
         if balls.len() > 254 {
@@ -421,6 +454,8 @@ impl Scene {
                     radius: b.radius,
                     color: b.color,
                     glow: b.glow,
+                    metallic: b.pbr.map(|p| p.metallic),
+                    roughness: b.pbr.map(|p| p.roughness),
                 })
                 .collect(),
             lights: self
@@ -574,6 +609,12 @@ pub(super) struct MeshDesc {
     pub scale: f64,
     #[serde(default)]
     pub color: Option<[f32; 3]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub metallic: Option<f32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub roughness: Option<f32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub emission: Option<[f32; 3]>,
     #[serde(default)]
     pub attached: bool,
 }
@@ -611,6 +652,18 @@ pub(super) fn read_meshes(
         if let Some(c) = d.color {
             color(c, &field("color"))?;
         }
+        let pbr = pbr_of(d.metallic, d.roughness, &field)?;
+        if let Some(e) = d.emission
+            && !e.iter().all(|c| (0.0..=crate::material::MAX_EMISSIVE).contains(c))
+        {
+            return Err((
+                field("emission"),
+                format!(
+                    "must be linear RGB in [0, {}] per channel, got {e:?}",
+                    crate::material::MAX_EMISSIVE
+                ),
+            ));
+        }
         if let Some(f) = domain.outside_face(m.w_axis, 1e-9) {
             return Err((
                 field("placement"),
@@ -634,6 +687,15 @@ pub(super) fn read_meshes(
                 for (data, mut material) in parts {
                     if let Some(c) = d.color {
                         material.base_color = c;
+                    }
+                    if let Some(p) = pbr {
+                        // The file's numbers, not times its own texture's.
+                        material.pbr = Some(p);
+                        material.metallic_roughness = None;
+                    }
+                    if let Some(e) = d.emission {
+                        material.emissive = e;
+                        material.emissive_texture = None;
                     }
                     meshes.push(SceneMesh {
                         data,
@@ -669,6 +731,9 @@ pub(super) fn describe(meshes: &[SceneMesh]) -> Vec<MeshDesc> {
             placement: crate::space::file::to_rows(m.placement),
             scale: m.scale,
             color: None,
+            metallic: None,
+            roughness: None,
+            emission: None,
             attached: m.attached,
         });
     }

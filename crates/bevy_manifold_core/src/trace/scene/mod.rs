@@ -116,6 +116,9 @@ pub struct Ball {
     /// `color * glow` with no light on it (a shot, a lamp); 0 for a plain
     /// ball. It lights nothing else.
     pub glow: f32,
+    /// Metallic and roughness (the GGX lobe, as a mesh's
+    /// [`crate::material::MeshMaterial::pbr`]); `None`: the classic look.
+    pub pbr: Option<crate::material::Pbr>,
 }
 
 /// A point light (a small sphere when `radius` is set).

@@ -146,6 +146,7 @@ impl Scene {
                 radius: ball_radius,
                 color: [0.95, 0.55, 0.2],
                 glow: 0.0,
+                pbr: None,
             }],
             lights: vec![Light {
                 position: eye,
@@ -190,10 +191,7 @@ impl Scene {
             let (offset, scale) = vehicle_offset(space);
             scene.meshes.push(SceneMesh::new(
                 crate::mesh::vehicle::airplane(),
-                MeshMaterial {
-                    base_color: VEHICLE_COLOR,
-                    texture: None,
-                },
+                MeshMaterial::standard(VEHICLE_COLOR),
                 scene.camera.isometry * offset,
                 scale,
             ));
@@ -208,10 +206,7 @@ impl Scene {
 fn add_models(scene: &mut Scene, space: &Space, options: &PaperOptions) {
     {
         let camera = scene.camera.isometry;
-        let material = |base_color| MeshMaterial {
-            base_color,
-            texture: None,
-        };
+        let material = MeshMaterial::standard;
         if let Some((offset, scale)) = suzanne_offset(space, options.suzanne) {
             let mut suzanne = SceneMesh::new(builtin::suzanne(), material(SUZANNE_COLOR), camera * offset, scale);
             suzanne.attached = options.suzanne == SuzanneMode::Attached;
