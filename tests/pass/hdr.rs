@@ -5,7 +5,6 @@
 use super::support::*;
 use bevy::camera::Hdr;
 use bevy::prelude::*;
-use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy_manifold::prelude::*;
 use bevy_manifold::render::offscreen;
 
@@ -17,20 +16,12 @@ pub fn an_hdr_camera_gets_linear_radiance_above_one() {
     scene.balls[0].color = [1.0; 3];
     scene.balls[0].glow = 3.0;
     let mut app = headless_app(true);
-    let image = {
-        let mut images = app.world_mut().resource_mut::<Assets<Image>>();
-        let mut image = Image::new_target_texture(W, H, TextureFormat::Rgba16Float, None);
-        image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
-        images.add(image)
-    };
+    let image = hdr_target(&mut app);
     let camera = (ManifoldCamera { levels: 8, ..default() }, CellShading::Off, Hdr);
     offscreen::spawn_view(&mut app, &space, &scene, &image, camera);
     wait_for_pipelines(&mut app);
-    let bytes = offscreen::capture_pixels(&mut app, &image, 8).expect("capture");
-    let at = |x: u32, y: u32| -> [f32; 3] {
-        let k = ((y * W + x) * 8) as usize;
-        [0, 1, 2].map(|c| f16_value(u16::from_le_bytes([bytes[k + 2 * c], bytes[k + 2 * c + 1]])))
-    };
+    let bytes = capture_hdr(&mut app, &image);
+    let at = |x: u32, y: u32| hdr_pixel(&bytes, (y * W + x) as usize);
     // The CPU reference of the same view, unclamped.
     let settings = TraceSettings {
         width: W,

@@ -8,7 +8,7 @@
 use super::support::*;
 use bevy::camera::Hdr;
 use bevy::prelude::*;
-use bevy::render::render_resource::{Extent3d, TextureDimension, TextureFormat, TextureUsages};
+use bevy::render::render_resource::{Extent3d, TextureDimension, TextureFormat};
 use bevy_manifold::prelude::*;
 use bevy_manifold::render::offscreen;
 
@@ -35,12 +35,7 @@ pub fn bevy_pbr_materials_and_lights_render_as_the_cpu_reference_says() {
     // The default ball stays; the light is Bevy's, below.
     scene.lights.clear();
     let mut app = headless_app(true);
-    let image = {
-        let mut images = app.world_mut().resource_mut::<Assets<Image>>();
-        let mut image = Image::new_target_texture(W, H, TextureFormat::Rgba16Float, None);
-        image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
-        images.add(image)
-    };
+    let image = hdr_target(&mut app);
     let camera = (ManifoldCamera { levels: 8, ..default() }, CellShading::Off, Hdr);
     let (root, _) = offscreen::spawn_view(&mut app, &space, &scene, &image, camera);
     let (mr, glow) = {
@@ -105,11 +100,8 @@ pub fn bevy_pbr_materials_and_lights_render_as_the_cpu_reference_says() {
     assert!(m.metallic_roughness.is_some() && m.emissive_texture.is_some());
     assert!(m.normal_map.is_none() && m.alpha_cutoff.is_none());
     wait_for_pipelines(&mut app);
-    let bytes = offscreen::capture_pixels(&mut app, &image, 8).expect("capture");
-    let at = |i: usize| -> [f32; 3] {
-        let k = i * 8;
-        [0, 1, 2].map(|c| f16_value(u16::from_le_bytes([bytes[k + 2 * c], bytes[k + 2 * c + 1]])))
-    };
+    let bytes = capture_hdr(&mut app, &image);
+    let at = |i: usize| hdr_pixel(&bytes, i);
     let settings = TraceSettings {
         width: W,
         height: H,

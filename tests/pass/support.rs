@@ -229,3 +229,24 @@ pub fn f16_value(bits: u16) -> f32 {
         _ => (1.0 + frac / 1024.0) * 2f32.powi(exp - 15),
     }
 }
+
+/// A W x H `Rgba16Float` target, readable back: what an `Hdr` manifold
+/// camera writes linear radiance into.
+pub fn hdr_target(app: &mut App) -> Handle<Image> {
+    use bevy::render::render_resource::{TextureFormat, TextureUsages};
+    let mut images = app.world_mut().resource_mut::<Assets<Image>>();
+    let mut image = Image::new_target_texture(W, H, TextureFormat::Rgba16Float, None);
+    image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
+    images.add(image)
+}
+
+/// The bytes of an [`hdr_target`] after a frame (8 a pixel).
+pub fn capture_hdr(app: &mut App, target: &Handle<Image>) -> Vec<u8> {
+    offscreen::capture_pixels(app, target, 8).expect("capture")
+}
+
+/// The linear RGB of pixel `i` (row-major) of a [`capture_hdr`].
+pub fn hdr_pixel(bytes: &[u8], i: usize) -> [f32; 3] {
+    let k = i * 8;
+    [0, 1, 2].map(|c| f16_value(u16::from_le_bytes([bytes[k + 2 * c], bytes[k + 2 * c + 1]])))
+}
