@@ -468,7 +468,13 @@ impl Scene {
                     range: l.range,
                     radius: l.radius,
                     spot: l.spot.map(|sp| SpotDesc {
-                        direction: sp.direction.truncate().to_array(),
+                        // The chart's direction at the light whose tangent
+                        // there is the spot's: `t - (t.w / p.w) p` has no
+                        // `w`, and projects back onto `t` (reading
+                        // projects it).
+                        direction: (sp.direction - l.position * (sp.direction.w / l.position.w))
+                            .truncate()
+                            .to_array(),
                         inner: sp.inner,
                         outer: sp.outer,
                     }),
