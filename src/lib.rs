@@ -38,7 +38,7 @@
 //! ## The math alone
 //!
 //! The math is [`bevy_manifold_core`] (re-exported here as [`geometry`],
-//! [`space`], [`mesh`], [`trace`], [`motion`]); the WGSL tracer and its
+//! [`space`], [`mesh`], [`material`], [`trace`], [`motion`]); the WGSL tracer and its
 //! data layout are [`bevy_manifold_gpu`]. This crate is the Bevy layer:
 //!
 //! - [`placement`]: the ECS layer: components, wrapping systems, ray casts.
@@ -86,7 +86,7 @@ pub mod tour;
 pub mod xr;
 
 pub use bevy_manifold_core;
-pub use bevy_manifold_core::{geometry, mesh, motion, space, trace};
+pub use bevy_manifold_core::{geometry, material, mesh, motion, space, trace};
 pub use bevy_manifold_gpu;
 pub use plugin::ManifoldPlugins;
 

@@ -649,3 +649,50 @@ fn a_space_with_more_balls_and_lights_than_the_ids_hold_draws_the_first_ones() {
     let biggest = scene.balls.iter().map(|b| b.radius).fold(0.0, f64::max);
     assert_eq!(biggest, bevy_manifold::trace::max_radius(Geometry::Hyperbolic));
 }
+
+/// A tracer scene spawned as entities (`spawn_scene`, what offscreen views
+/// and tools use) gathers back to the same lights and balls: a spot points
+/// where the scene's does (its placement's forward), in each geometry and
+/// away from the origin; a ball keeps its material; the root keeps the
+/// scene's lighting.
+#[test]
+fn a_scene_spawned_as_entities_gathers_back_to_itself() {
+    use bevy_manifold::drawables::spawn_scene;
+    use bevy_manifold::trace::{Lighting, Spot};
+    for space in [catalog::torus(1.0), catalog::seifert_weber(), catalog::poincare()] {
+        let g = space.geometry();
+        let mut scene = Scene::default_for(&space);
+        let p = scene.lights[0].position;
+        let dir = g.normalize_tangent::<f64>(p, g.project_tangent::<f64>(p, DVec4::new(0.3, -0.8, 0.5, 0.4)));
+        scene.lights[0].spot = Some(Spot {
+            direction: dir,
+            inner: 0.2,
+            outer: 0.5,
+        });
+        scene.balls[0].pbr = Some(bevy_manifold::material::Pbr {
+            metallic: 0.25,
+            roughness: 0.75,
+        });
+        scene.lighting = Lighting {
+            images: 16,
+            shadows: true,
+        };
+        let mut app = app(Duration::from_millis(10));
+        let root = spawn_space(&mut app, space.clone());
+        let world = app.world_mut();
+        spawn_scene(&mut world.commands(), root, &space, &scene);
+        world.flush();
+        app.update();
+        let got = app.world().get::<ManifoldScene>(root).expect("gathered").scene();
+        let spot = got.lights[0].spot.expect("a spot");
+        let back = g.normalize_tangent::<f64>(got.lights[0].position, spot.direction);
+        assert!((got.lights[0].position - p).length() < 1e-12, "{g}");
+        assert!(
+            (back - dir).length() < 1e-9,
+            "{g}: the spot points along {back}, not {dir}"
+        );
+        assert_eq!((spot.inner, spot.outer), (0.2, 0.5));
+        assert_eq!(got.balls[0].pbr, scene.balls[0].pbr, "{g}");
+        assert_eq!(got.lighting, scene.lighting, "{g}");
+    }
+}

@@ -163,7 +163,12 @@ pub struct ManifoldLighting {
 
 impl Default for ManifoldLighting {
     fn default() -> Self {
-        let l = crate::trace::Lighting::default();
+        crate::trace::Lighting::default().into()
+    }
+}
+
+impl From<crate::trace::Lighting> for ManifoldLighting {
+    fn from(l: crate::trace::Lighting) -> Self {
         ManifoldLighting {
             images: l.images,
             shadows: l.shadows,

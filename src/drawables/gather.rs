@@ -5,6 +5,7 @@
 use super::components::{
     DomainEdges, ManifoldLight, ManifoldLighting, ManifoldMeshes, ManifoldScene, SpotCone, TracedBall,
 };
+use crate::geometry::isometry;
 use crate::placement::{InSpace, ManifoldSpace, Placement, SpaceMembers};
 use crate::trace::{Ball, Light, MAX_LIGHTS, Scene, Spot, max_radius};
 use bevy::color::{Color, LinearRgba};
@@ -184,7 +185,7 @@ pub fn gather_scenes(
 /// entities.
 pub fn spawn_scene(commands: &mut Commands, root: Entity, space: &crate::space::Space, scene: &Scene) {
     let g = space.geometry();
-    let at = |p: glam::DVec4| Placement::from_isometry(crate::geometry::isometry::translation_to(g, p));
+    let at = |p: glam::DVec4| Placement::from_isometry(isometry::translation_to(g, p));
     let color = |c: [f32; 3]| Color::linear_rgb(c[0], c[1], c[2]);
     for b in &scene.balls {
         commands.spawn((
@@ -197,9 +198,21 @@ pub fn spawn_scene(commands: &mut Commands, root: Entity, space: &crate::space::
         ));
     }
     for l in &scene.lights {
+        // A spot points along its placement's forward (local -z): the
+        // placement at the light turned so that -z is the spot's tangent
+        // there, carried back to the origin.
+        let placed = match l.spot {
+            Some(s) => {
+                let to = isometry::translation_to(g, l.position);
+                let axis = (isometry::inverse(g, to) * s.direction).truncate();
+                let turn = glam::DQuat::from_rotation_arc(glam::DVec3::NEG_Z, axis.normalize_or(glam::DVec3::NEG_Z));
+                Placement::from_isometry(to * glam::DMat4::from_quat(turn))
+            }
+            None => at(l.position),
+        };
         commands.spawn((
             ChildOf(root),
-            at(l.position),
+            placed,
             ManifoldLight {
                 intensity: l.intensity,
                 color: color(l.color),
@@ -215,8 +228,5 @@ pub fn spawn_scene(commands: &mut Commands, root: Entity, space: &crate::space::
     if let Some(radius) = scene.edge_radius {
         commands.entity(root).insert(DomainEdges { radius });
     }
-    commands.entity(root).insert(ManifoldLighting {
-        images: scene.lighting.images,
-        shadows: scene.lighting.shadows,
-    });
+    commands.entity(root).insert(ManifoldLighting::from(scene.lighting));
 }
