@@ -120,27 +120,24 @@ fn stopped(app: &App) -> Result<(), String> {
     }
 }
 
-/// Renders a frame and reads the image in `target` back (a [`target`]
-/// image); returns its RGBA bytes (sRGB-encoded, rows top to bottom).
+/// Renders a frame and reads the image in `target` back; returns its
+/// pixels' bytes in its own format, rows top to bottom, unpadded: RGBA
+/// sRGB-encoded for a [`target`] image, four `f16` a pixel for an
+/// `Rgba16Float` (HDR) one.
 ///
 /// # Errors
 /// When the image is unknown or nothing arrives within 200 frames and
 /// [`CAPTURE_WAIT`] (frames alone are no bound on a fast GPU, where 200
 /// of them can pass while a pipeline still compiles).
 pub fn capture(app: &mut App, target: &Handle<Image>) -> Result<Vec<u8>, String> {
-    capture_pixels(app, target, 4)
-}
-
-/// [`capture`] for an image of `bytes_per_pixel` bytes a pixel (8 for an
-/// `Rgba16Float` HDR target): its bytes, rows top to bottom, unpadded.
-///
-/// # Errors
-/// As [`capture`].
-pub fn capture_pixels(app: &mut App, target: &Handle<Image>, bytes_per_pixel: usize) -> Result<Vec<u8>, String> {
-    let (w, h) = {
+    let (w, h, bytes_per_pixel) = {
         let images = app.world().resource::<Assets<Image>>();
         let image = images.get(target).ok_or("capture: unknown image")?;
-        (image.width() as usize, image.height() as usize)
+        let format = image.texture_descriptor.format;
+        let bytes = format
+            .block_copy_size(None)
+            .ok_or_else(|| format!("capture: {format:?} has no single copy size"))?;
+        (image.width() as usize, image.height() as usize, bytes as usize)
     };
     let slot: Arc<Mutex<Option<Vec<u8>>>> = Arc::default();
     let out = slot.clone();

@@ -20,7 +20,7 @@ pub fn an_hdr_camera_gets_linear_radiance_above_one() {
     let camera = (ManifoldCamera { levels: 8, ..default() }, CellShading::Off, Hdr);
     offscreen::spawn_view(&mut app, &space, &scene, &image, camera);
     wait_for_pipelines(&mut app);
-    let bytes = capture_hdr(&mut app, &image);
+    let bytes = capture(&mut app, &image);
     let at = |x: u32, y: u32| hdr_pixel(&bytes, (y * W + x) as usize);
     // The CPU reference of the same view, unclamped.
     let settings = TraceSettings {

@@ -100,7 +100,7 @@ pub fn bevy_pbr_materials_and_lights_render_as_the_cpu_reference_says() {
     assert!(m.metallic_roughness.is_some() && m.emissive_texture.is_some());
     assert!(m.normal_map.is_none() && m.alpha_cutoff.is_none());
     wait_for_pipelines(&mut app);
-    let bytes = capture_hdr(&mut app, &image);
+    let bytes = capture(&mut app, &image);
     let at = |i: usize| hdr_pixel(&bytes, i);
     let settings = TraceSettings {
         width: W,

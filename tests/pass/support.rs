@@ -240,12 +240,8 @@ pub fn hdr_target(app: &mut App) -> Handle<Image> {
     images.add(image)
 }
 
-/// The bytes of an [`hdr_target`] after a frame (8 a pixel).
-pub fn capture_hdr(app: &mut App, target: &Handle<Image>) -> Vec<u8> {
-    offscreen::capture_pixels(app, target, 8).expect("capture")
-}
-
-/// The linear RGB of pixel `i` (row-major) of a [`capture_hdr`].
+/// The linear RGB of pixel `i` (row-major) of an [`hdr_target`]'s
+/// [`capture`] (8 bytes a pixel).
 pub fn hdr_pixel(bytes: &[u8], i: usize) -> [f32; 3] {
     let k = i * 8;
     [0, 1, 2].map(|c| f16_value(u16::from_le_bytes([bytes[k + 2 * c], bytes[k + 2 * c + 1]])))
