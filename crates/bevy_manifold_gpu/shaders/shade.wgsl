@@ -128,10 +128,8 @@ fn add_light(rgb: ptr<function, vec3<f32>>, lit: Lit, to_light: vec4<f32>, irrad
         return;
     }
 #endif
-    var spec = 0.0;
-    if hl > 1.0e-12 {
-        spec = pow(nh, 32.0) * 0.35;
-    }
+    // nh is 0 where the half-vector vanishes: no highlight.
+    let spec = pow(nh, 32.0) * 0.35;
     *rgb += (lit.albedo * lambert + spec) * irradiance * color;
 }
 

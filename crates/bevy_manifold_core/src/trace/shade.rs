@@ -76,11 +76,8 @@ impl<R: Real> Lit<R> {
         };
         let lambert = nl.f64() as f32;
         let Some(pbr) = self.pbr else {
-            let spec = if hl.f64() > 1e-12 {
-                nh.powi(32) as f32 * 0.35
-            } else {
-                0.0
-            };
+            // nh is 0 where the half-vector vanishes: no highlight.
+            let spec = nh.powi(32) as f32 * 0.35;
             for c in 0..3 {
                 rgb[c] += (self.albedo[c] * lambert + spec) * irradiance * color[c];
             }
