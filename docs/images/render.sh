@@ -17,6 +17,9 @@ out=docs/images
 cargo build --release -p bevy_manifold_app
 "${CARGO_TARGET_DIR:-target}/release/bevy_manifold" render --space torus --scene "$out/lighting_seam.scene.json" \
     --cpu --width 480 --height 270 --levels 4 --out "$out/lighting_seam.png"
+# Soft shadows of a light with a radius (manual, "Light and its images").
+"${CARGO_TARGET_DIR:-target}/release/bevy_manifold" render --space torus --scene "$out/soft_shadows_torus.scene.json" \
+    --samples 32 --width 480 --height 270 --out "$out/soft_shadows_torus.png"
 # Walls and hidden cells (README "Exact cells").
 "${CARGO_TARGET_DIR:-target}/release/bevy_manifold" render --space seifert-weber --walls 0.3 --hidden 0.6 --cells \
     --rule-seed 2 --out "$out/maze.png"

@@ -244,3 +244,66 @@ pub fn a_cone_traced_view_is_the_cpu_cone_trace_and_nearer_supersampling() {
         );
     }
 }
+
+/// A light with a radius under `ManifoldAccumulation`: each still frame
+/// aims the shadow rays at the next point of the light's disc
+/// (`GpuParams::sample`), so the pass settles on the CPU's accumulated
+/// soft shadows (`trace::accumulate`, its twin), and not on the hard
+/// shadows of the light's centre that a moving view shows.
+pub fn a_still_view_softens_the_shadows_of_a_light_with_a_radius() {
+    let space = catalog::poincare();
+    let mut scene = Scene::default_for(&space);
+    scene.lighting.shadows = true;
+    for l in &mut scene.lights {
+        l.radius = 0.15 * space.inradius();
+    }
+    let mut app = headless_app(true);
+    let image = target(&mut app, W, H);
+    let camera = (
+        ManifoldCamera { levels: 8, ..default() },
+        ManifoldAccumulation { samples: 8 },
+    );
+    let (root, _) = bevy_manifold::render::offscreen::spawn_view(&mut app, &space, &scene, &image, camera);
+    wait_for_pipelines(&mut app);
+    for _ in 0..10 {
+        app.update();
+    }
+    let shown = capture(&mut app, &image);
+    let scene = gathered_scene(&app, &space, root, false);
+    assert!(
+        scene.lighting.shadows && scene.lights.iter().all(|l| l.radius > 0.0),
+        "{:?}",
+        scene.lights
+    );
+    let settings = view_settings();
+    let soft = bevy_manifold::trace::accumulate::<f64>(&space, &scene, &settings, 8);
+    let hard_settings = TraceSettings {
+        light_sample: 0,
+        ..settings.clone()
+    };
+    let hard = bevy_manifold::trace::accumulate::<f64>(
+        &space,
+        &Scene {
+            lights: scene
+                .lights
+                .iter()
+                .map(|l| bevy_manifold::trace::Light {
+                    radius: 0.0,
+                    ..l.clone()
+                })
+                .collect(),
+            ..scene.clone()
+        },
+        &hard_settings,
+        8,
+    );
+    let (to_soft, to_hard) = (close_to(&shown, &soft, 2), close_to(&shown, &hard, 2));
+    eprintln!(
+        "8 samples with a light of radius {:.3}: within 2/255 of the CPU's soft shadows {:.2}%, of the hard ones {:.2}%",
+        scene.lights[0].radius,
+        to_soft * 100.0,
+        to_hard * 100.0
+    );
+    assert!(to_soft >= 0.97, "{to_soft}");
+    assert!(to_soft > to_hard + 0.02, "{to_soft} vs {to_hard}");
+}

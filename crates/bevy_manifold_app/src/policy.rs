@@ -2,7 +2,7 @@
 //! else on the CPU reference, and say which was used.
 
 use bevy_manifold_core::space::Space;
-use bevy_manifold_core::trace::{Scene, TraceImage, TraceSettings};
+use bevy_manifold_core::trace::{Frustum, Scene, TraceImage, TraceSettings, sample_offset};
 use bevy_manifold_gpu::{GpuError, GpuTracer};
 
 /// Which tracer [`render_any`] used.
@@ -58,4 +58,60 @@ pub fn render_any(
         bevy_manifold_core::trace::render::<f64>(space, scene, settings)
     };
     Ok((image, UsedTracer::Cpu { f32: cpu_f32, fallback }))
+}
+
+/// [`render_any`] `samples` times, as a still view accumulates them
+/// (`bevy_manifold_core::trace::accumulate`): the `k`-th trace with its
+/// pixel grid moved by `sample_offset(k)` and its shadow rays aimed at
+/// the `k`-th point of each light's disc (`TraceSettings::light_sample`),
+/// the colours averaged (anti-aliased edges, soft shadows of lights with
+/// a radius); ids and levels are the first, plain trace's. One tracer for
+/// all of them. 0 or 1 sample: [`render_any`].
+///
+/// # Errors
+/// As [`render_any`].
+pub fn render_samples(
+    space: &Space,
+    scene: &Scene,
+    settings: &TraceSettings,
+    samples: u32,
+    (cpu, cpu_f32): (bool, bool),
+) -> Result<(TraceImage, UsedTracer), GpuError> {
+    let mut gpu = if cpu { None } else { GpuTracer::new().ok() };
+    let adapter = gpu.as_ref().map(GpuTracer::adapter_name);
+    let mut trace = |scene: &Scene, settings: &TraceSettings| match gpu.as_mut() {
+        Some(gpu) => gpu.render(space, scene, settings),
+        None => render_any(space, scene, settings, true, cpu_f32).map(|(img, _)| img),
+    };
+    let (mut image, used) = match adapter {
+        Some(name) => (trace(scene, settings)?, UsedTracer::Gpu(name)),
+        // No adapter: the CPU, and why.
+        None => render_any(space, scene, settings, cpu, cpu_f32)?,
+    };
+    if samples <= 1 {
+        return Ok((image, used));
+    }
+    let (w, h) = (settings.width, settings.height);
+    let base = scene
+        .camera
+        .frustum
+        .unwrap_or_else(|| Frustum::symmetric(scene.camera.fov_y_degrees, f64::from(w) / f64::from(h.max(1))));
+    let mut sum: Vec<[f64; 3]> = image.pixels.iter().map(|p| p.color.map(f64::from)).collect();
+    let mut moved = scene.clone();
+    for k in 1..samples {
+        moved.camera.frustum = Some(base.jittered(sample_offset(k), w, h));
+        let sampled = TraceSettings {
+            light_sample: k,
+            ..settings.clone()
+        };
+        for (s, p) in sum.iter_mut().zip(&trace(&moved, &sampled)?.pixels) {
+            for (s, c) in s.iter_mut().zip(p.color) {
+                *s += f64::from(c);
+            }
+        }
+    }
+    for (p, s) in image.pixels.iter_mut().zip(&sum) {
+        p.color = s.map(|v| (v / f64::from(samples)) as f32);
+    }
+    Ok((image, used))
 }

@@ -79,7 +79,10 @@ struct Params {
     // FaceTables::near_scale * FlatScene::near_reach: the bound of
     // near_faces' test (step.wgsl); infinite when nothing is culled.
     near_reach: f32,
-    pad_a: u32,
+    // SOFT_SHADOWS: the point of each light's disc shadow rays aim at
+    // (light_sample_point of TraceSettings::light_sample), u here, v
+    // below; [0, 0] is the centre.
+    light_sample_u: f32,
     // How many leaves of the ball tree ball_nodes holds (0: no tree).
     // ball_tree.wgsl's cache_leaves reads them.
     ball_leaves: u32,
@@ -88,7 +91,7 @@ struct Params {
     // widest a pixel's cone grows.
     chart_stretch: f32,
     footprint_cap: f32,
-    pad_b: u32,
+    light_sample_v: f32,
     // An off-centre frustum (Frustum::half_extent_and_centre): half width,
     // half height, centre x, centre y, in slopes; all zero for the
     // symmetric one of tan_half_fov and the image's aspect.
@@ -202,6 +205,12 @@ struct Light {
     spot_scale: f32,
     spot_offset: f32,
     spot_dir: vec4<f32>,
+    // FlatLight::radius: soft shadows (SOFT_SHADOWS, shadow.wgsl's
+    // aim_at_light).
+    radius: f32,
+    pad_a: f32,
+    pad_b: f32,
+    pad_c: f32,
 }
 
 // Rust twin: GpuPixel in crates/bevy_manifold_gpu/src/layout.rs. What one

@@ -43,6 +43,9 @@
 #ifdef SHADOWS
 #import bevy_manifold::shadow::light_blocked
 #endif
+#ifdef SOFT_SHADOWS
+#import bevy_manifold::shadow::aim_at_light
+#endif
 
 // A light nearer a hit than this (|tangent towards it|^2) is on the hit
 // point, and lights it along the normal (toward_light).
@@ -252,7 +255,14 @@ fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>, c
                 continue;
             }
 #ifdef SHADOWS
-            if light_blocked(x, normal, dir, s, cell_matrix) {
+            var aim = dir;
+            var length = s;
+#ifdef SOFT_SHADOWS
+            let sampled = aim_at_light(x, dir, s, l.radius, vec2<f32>(params.light_sample_u, params.light_sample_v));
+            aim = sampled.dir;
+            length = sampled.length;
+#endif
+            if light_blocked(x, normal, aim, length, cell_matrix) {
                 continue;
             }
 #endif

@@ -80,16 +80,18 @@ pub struct GpuParams {
     /// `FaceTables::near_scale` times `FlatScene::near_reach`: the bound
     /// of `near_faces`' test.
     pub near_reach: f32,
-    /// Padding.
-    pub pad_a: u32,
+    /// The point of each light's disc shadow rays aim at
+    /// (`bevy_manifold_core::trace::light_sample_point` of
+    /// `TraceSettings::light_sample`), first coordinate...
+    pub light_sample_u: f32,
     /// How many leaves [`GpuObjects::ball_nodes`] holds (0: no tree).
     pub ball_leaves: u32,
     /// Cone tracing: `FaceTables::chart_stretch`...
     pub chart_stretch: f32,
     /// ... and `FlatScene::footprint_cap`.
     pub footprint_cap: f32,
-    /// Padding to 16 bytes.
-    pub pad_b: u32,
+    /// ... and second.
+    pub light_sample_v: f32,
     /// An off-centre frustum, `[half width, half height, centre x, centre
     /// y]` in slopes ([`bevy_manifold_core::trace::Frustum`]); all zero
     /// for the symmetric frustum of `tan_half_fov` and the image's aspect.
@@ -271,6 +273,14 @@ pub struct GpuLight {
     pub spot_offset: f32,
     /// `FlatLight::spot_dir`.
     pub spot_dir: [f32; 4],
+    /// `FlatLight::radius`: soft shadows (`SOFT_SHADOWS`).
+    pub radius: f32,
+    /// Padding to 16 bytes.
+    pub pad_a: f32,
+    /// Padding.
+    pub pad_b: f32,
+    /// Padding.
+    pub pad_c: f32,
 }
 
 /// WGSL twin: `Pixel` in `shaders/bindings.wgsl`.

@@ -61,6 +61,11 @@ pub struct TraceDefs {
     /// `SHADOWS`: shadow rays through the faces (`Lighting::shadows`,
     /// with light images and something to cast them).
     pub shadows: bool,
+    /// `SOFT_SHADOWS`: shadows with a light of finite size
+    /// (`Light::radius`), each trace's shadow rays aimed at one point of
+    /// its disc (`TraceSettings::light_sample`; an accumulating view adds
+    /// them up to the penumbra).
+    pub soft_shadows: bool,
     /// `MESHES`: triangle meshes through their BVH.
     pub meshes: bool,
     /// `MATERIALS`: some ball or mesh has metallic and roughness (the
@@ -156,6 +161,8 @@ impl TraceDefs {
                 && scene.lighting.images > 0
                 && scene.lighting.shadows
                 && (!scene.balls.is_empty() || scene.edge_radius.is_some() || !scene.meshes.is_empty()),
+            // Only a light image of finite size has a disc to sample.
+            soft_shadows: scene.lights.iter().any(|l| l.radius > 0.0),
             meshes: !scene.meshes.is_empty(),
             materials: scene.balls.iter().any(|b| b.pbr.is_some())
                 || scene.meshes.iter().any(|m| {
@@ -258,6 +265,7 @@ impl TraceDefs {
             lights: true,
             light_images: true,
             shadows: true,
+            soft_shadows: true,
             meshes: true,
             materials: true,
             alpha_mask: true,
@@ -309,6 +317,9 @@ impl TraceDefs {
                     // and without cones, without doubling the list.
                     light_images: on(4) && on(0),
                     shadows: on(4) && on(0) && on(1) && (on(2) || on(3) || on(5)),
+                    // Soft with the faces counted as a constant: on and
+                    // off with shadows.
+                    soft_shadows: on(4) && on(0) && on(1) && (on(2) || on(3) || on(5)) && on(6),
                     meshes: on(5),
                     // Materials with lights and the cell rules, the alpha
                     // mask with meshes and fog: each on and off.
@@ -362,6 +373,7 @@ impl TraceDefs {
             (self.lights, "LIGHTS"),
             (self.light_images, "LIGHT_IMAGES"),
             (self.shadows, "SHADOWS"),
+            (self.shadows && self.soft_shadows, "SOFT_SHADOWS"),
             (self.meshes, "MESHES"),
             (self.materials, "MATERIALS"),
             (self.alpha_mask && self.meshes, "ALPHA_MASK"),

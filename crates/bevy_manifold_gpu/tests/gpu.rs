@@ -41,7 +41,7 @@ fn gpu_and_cpu_agree_in_spaces_built_from_generators() {
 }
 
 /// The GPU trace against the CPU f32 and f64 references, plain and with
-/// fog, per-cell colour and shadows, 256x256 at 8 levels.
+/// fog, per-cell colour and soft shadows, 256x256 at 8 levels.
 fn agree(gpu: &mut bevy_manifold_gpu::GpuTracer, name: &str, space: &Space) {
     {
         let space = space.clone();
@@ -52,14 +52,20 @@ fn agree(gpu: &mut bevy_manifold_gpu::GpuTracer, name: &str, space: &Space) {
                     density: 0.4 / space.inradius(),
                     color: [0.7, 0.75, 0.8],
                 });
-                // And shadows through the faces (off by default).
+                // And shadows through the faces (off by default), soft:
+                // a light of finite size, its shadow rays aimed at the
+                // fifth point of its disc (SOFT_SHADOWS).
                 scene.lighting.shadows = true;
+                for l in &mut scene.lights {
+                    l.radius = 0.15 * space.inradius();
+                }
             }
             let settings = TraceSettings {
                 width: 256,
                 height: 256,
                 levels: 8,
                 cell_colors: cells,
+                light_sample: if fog { 5 } else { 0 },
                 ..TraceSettings::default()
             };
             let g = gpu

@@ -98,7 +98,7 @@ pub fn prepare_manifold_views(
         let sample = entry.samples;
         let trace = sample < view.samples;
         let params = if accumulate && trace && sample > 0 {
-            params.jittered(crate::trace::sample_offset(sample))
+            params.sample(sample)
         } else {
             params
         };
@@ -276,6 +276,7 @@ fn gpu_view(view: &ExtractedManifoldView, extracted: &ExtractedView, traced: Opt
         } else {
             0.0
         },
+        light_sample: [0.0; 2],
     }
 }
 

@@ -7,7 +7,7 @@ mod library;
 mod show;
 pub mod tour;
 
-use crate::policy::{UsedTracer, render_any};
+use crate::policy::{UsedTracer, render_samples};
 use bevy_manifold::prelude::*;
 use bevy_manifold::space::rule::{CellRule, OnOff, Walls};
 use bevy_manifold::trace::{write_ids_png, write_png};
@@ -183,6 +183,12 @@ struct RenderArgs {
     /// (`.hdr`): radiance above 1 kept for tonemapping elsewhere.
     #[arg(long)]
     hdr: Option<PathBuf>,
+    /// Traces per pixel, averaged as a still view accumulates them: each
+    /// with the pixel grid moved within the pixel (anti-aliasing) and the
+    /// shadow rays aimed at another point of each light (soft shadows of
+    /// lights with a radius). 1 to 256.
+    #[arg(long, default_value_t = 1)]
+    samples: u32,
     /// Most face transports per ray: the paper's levels (`--bounces` is
     /// the same flag under its earlier name).
     #[arg(long, visible_alias = "bounces", default_value_t = 8)]
@@ -349,6 +355,10 @@ pub fn resolve_space(name: &str) -> Result<Space, String> {
     catalog::resolve(name)
 }
 
+/// The most traces per pixel `render --samples` takes (as
+/// `ManifoldAccumulation::MAX_SAMPLES`).
+const MAX_SAMPLES: u32 = 256;
+
 fn render_command(args: &RenderArgs) -> Result<(), String> {
     let space = resolve_space(&args.space)?;
     let size_check = TraceSettings {
@@ -358,6 +368,12 @@ fn render_command(args: &RenderArgs) -> Result<(), String> {
         ..TraceSettings::default()
     };
     size_check.check().map_err(|e| format!("render: {e}"))?;
+    if !(1..=MAX_SAMPLES).contains(&args.samples) {
+        return Err(format!(
+            "--samples must be between 1 and {MAX_SAMPLES}, got {}",
+            args.samples
+        ));
+    }
     let mut scene = match &args.scene {
         Some(p) => Scene::load(p, &space).map_err(|e| e.to_string())?,
         None => Scene::paper_default(&space),
@@ -405,7 +421,8 @@ fn render_command(args: &RenderArgs) -> Result<(), String> {
         ..TraceSettings::default()
     };
     let start = std::time::Instant::now();
-    let (img, tracer) = render_any(&space, &scene, &settings, args.cpu, args.f32).map_err(|e| e.to_string())?;
+    let (img, tracer) =
+        render_samples(&space, &scene, &settings, args.samples, (args.cpu, args.f32)).map_err(|e| e.to_string())?;
     if let UsedTracer::Cpu {
         fallback: Some(why), ..
     } = &tracer
@@ -421,12 +438,17 @@ fn render_command(args: &RenderArgs) -> Result<(), String> {
         bevy_manifold::trace::write_hdr(&img, hdr).map_err(|e| format!("{}: {e}", hdr.display()))?;
     }
     eprintln!(
-        "rendered {} ({}x{}, {} levels{}, {tracer}) in {:.2} s -> {}",
+        "rendered {} ({}x{}, {} levels{}{}, {tracer}) in {:.2} s -> {}",
         space.name(),
         args.width,
         args.height,
         args.levels,
         if args.cones { ", cones" } else { "" },
+        if args.samples > 1 {
+            format!(", {} samples", args.samples)
+        } else {
+            String::new()
+        },
         secs,
         args.out.display()
     );

@@ -12,6 +12,13 @@
 //! `bevy_manifold_gpu`'s `shaders/upscale.wgsl`) blends each new trace
 //! into its history with weight `1 / (k + 1)`; [`accumulate`] is the same
 //! on the CPU.
+//!
+//! Shadows of lights with a radius soften the same way: the `k`-th trace
+//! aims each shadow ray at the `k`-th point of the light's disc
+//! ([`light_sample_point`], `TraceSettings::light_sample`), so the mean
+//! of `n` still frames holds `n` shadows of the light's points, the
+//! penumbra (the accumulation buffer's soft shadows, Haeberli and Akeley,
+//! SIGGRAPH 1990).
 
 use super::render::render;
 use super::scene::{Frustum, Scene};
@@ -31,11 +38,31 @@ use crate::space::Space;
 /// ```
 #[must_use]
 pub fn sample_offset(k: u32) -> [f64; 2] {
-    // 1/g and 1/g^2, g the plastic number (g^3 = g + 1).
-    const A: [f64; 2] = [0.754_877_666_246_692_7, 0.569_840_290_998_053_3];
     let k = f64::from(k);
-    A.map(|a| (0.5 + a * k).fract() - 0.5)
+    R2.map(|a| (0.5 + a * k).fract() - 0.5)
 }
+
+/// The `k`-th point of a light's disc a shadow ray aims at, in the unit
+/// square: the same R2 sequence as [`sample_offset`] without its shift,
+/// so `k = 0` is `[0, 0]`, the light's centre (hard shadows while the
+/// view moves), and the first `n` points cover the square evenly (the
+/// accumulated penumbra). See [`super::shadow::aim_at_light`].
+///
+/// ```
+/// use bevy_manifold_core::trace::light_sample_point;
+/// assert_eq!(light_sample_point(0), [0.0, 0.0]);
+/// let [u, v] = light_sample_point(7);
+/// assert!((0.0..1.0).contains(&u) && (0.0..1.0).contains(&v));
+/// ```
+#[must_use]
+pub fn light_sample_point(k: u32) -> [f64; 2] {
+    let k = f64::from(k);
+    R2.map(|a| (a * k).fract())
+}
+
+/// 1/g and 1/g^2, g the plastic number (g^3 = g + 1): Roberts' R2
+/// sequence.
+const R2: [f64; 2] = [0.754_877_666_246_692_7, 0.569_840_290_998_053_3];
 
 impl Frustum {
     /// The symmetric frustum of a vertical field of view (degrees) and an
@@ -84,7 +111,11 @@ pub fn accumulate<R: Real>(space: &Space, scene: &Scene, settings: &TraceSetting
     let mut moved = scene.clone();
     for k in 0..samples {
         moved.camera.frustum = Some(base.jittered(sample_offset(k), settings.width, settings.height));
-        let img = render::<R>(space, &moved, settings);
+        let sampled = TraceSettings {
+            light_sample: k,
+            ..settings.clone()
+        };
+        let img = render::<R>(space, &moved, &sampled);
         for (s, p) in sum.iter_mut().zip(&img.pixels) {
             for (s, c) in s.iter_mut().zip(p.color) {
                 *s += f64::from(c);

@@ -87,6 +87,9 @@ pub struct FlatLight<R: Real> {
     /// The least area its irradiance is divided by: the area of its
     /// sphere, at least [`super::light_images::MIN_AREA`].
     pub min_area: R,
+    /// Its radius: a light of finite size, whose shadows are soft
+    /// ([`super::shadow::aim_at_light`]); 0: a point.
+    pub radius: R,
     /// A spot light's axis at this image (a unit tangent), else zero.
     pub spot_dir: R::V4,
     /// The spot's fall-off `clamp(cos a * scale + offset, 0, 1)^2` at the

@@ -161,6 +161,7 @@ fn flat_light<R: Real>(g: Geometry, l: &Light, m: &DMat4, range: f64, min_area: 
         color: l.color,
         inv_range_sq: R::of(if range.is_finite() { 1.0 / (range * range) } else { 0.0 }),
         min_area: R::of(min_area),
+        radius: R::of(if l.radius.is_finite() { l.radius.max(0.0) } else { 0.0 }),
     }
 }
 

@@ -45,6 +45,12 @@ pub struct TraceSettings {
     /// flickering, and silhouettes are smooth. Off: one ray per pixel,
     /// hit or miss. The GPU twin is `params.footprint`.
     pub footprint: bool,
+    /// Which point of each light's disc shadow rays aim at
+    /// ([`super::light_sample_point`]): 0, the centre (hard shadows),
+    /// and the `k`-th trace of an accumulating view `k`, so that lights
+    /// with a radius cast soft shadows once still frames add up
+    /// ([`super::accumulate`]). The GPU twin is `params.light_sample`.
+    pub light_sample: u32,
 }
 
 /// How the pixels of an image map to view directions.
@@ -140,6 +146,7 @@ impl Default for TraceSettings {
             projection: Projection::Perspective,
             cull: true,
             footprint: false,
+            light_sample: 0,
         }
     }
 }

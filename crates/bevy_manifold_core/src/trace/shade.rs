@@ -9,13 +9,14 @@
 //! WGSL twin: `shaders/shade.wgsl` in `bevy_manifold_gpu` (the same
 //! names).
 
+use super::accumulate::light_sample_point;
 use super::flat::FlatLight;
 use super::flat::FlatScene;
 use super::light_images::{image_irradiance, spot_factor};
 use super::mesh_hit::{hit_uv, mesh_normal, mesh_surface};
 use super::nearest::Hit;
 use super::settings::TraceSettings;
-use super::shadow::light_blocked;
+use super::shadow::{aim_at_light, light_blocked};
 use super::step::{Ray, foot_on_line, normal_from};
 use crate::geometry::{Geometry, Real};
 use crate::material::{Cosines, Pbr, brdf};
@@ -177,6 +178,7 @@ pub(super) fn shade<R: Real>(
     } else {
         let density = flat.fog.map_or(R::of(0.0), |(d, _)| d);
         let tau = R::of(std::f64::consts::TAU);
+        let sample = light_sample_point(settings.light_sample).map(R::of);
         for l in &flat.lights {
             let d = g.distance::<R>(x, l.position);
             let to_light = toward_light::<R>(g, x, l.position, normal);
@@ -190,8 +192,11 @@ pub(super) fn shade<R: Real>(
                 if e <= R::of(0.0) || g.form::<R>(normal, dir) <= R::of(0.0) {
                     continue;
                 }
-                if flat.lighting.shadows && light_blocked(flat, (x, normal), dir, s, (cell_matrix, settings.cull)) {
-                    continue;
+                if flat.lighting.shadows {
+                    let (aim, length) = aim_at_light::<R>(g, x, (dir, s), l.radius, sample);
+                    if light_blocked(flat, (x, normal), aim, length, (cell_matrix, settings.cull)) {
+                        continue;
+                    }
                 }
                 lit.add(g, &mut rgb, dir, e.f64() as f32, l.color);
             }

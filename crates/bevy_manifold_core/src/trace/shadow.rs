@@ -5,6 +5,11 @@
 //! (glowing ones, the lamps, cast no shadow), edge tubes and meshes,
 //! ghost copies straddling a face included. It stops at the light.
 //!
+//! A light with a radius is a ball: each trace aims its shadow rays at
+//! one point of the disc the ball shows the hit ([`aim_at_light`]), the
+//! trace's `TraceSettings::light_sample`, so that the traces of a still
+//! view add up to the penumbra ([`super::accumulate`]).
+//!
 //! WGSL twin: `shaders/shadow.wgsl` in `bevy_manifold_gpu` (the same
 //! names).
 
@@ -14,7 +19,7 @@ use super::mesh_hit::hit_instance;
 use super::nearest::instance_shown;
 use super::step::{ALL_FACES, Ray, advance, hit_ball, hit_tube, may_hit, near_faces};
 use super::walk::Walker;
-use crate::geometry::Real;
+use crate::geometry::{Geometry, Real};
 
 /// How far off the surface a shadow ray starts, along the normal, so
 /// that the surface it leaves does not shadow itself.
@@ -24,6 +29,97 @@ pub const SHADOW_OFFSET: f64 = 1e-4;
 /// Most faces a shadow ray crosses; past them the light is taken as seen.
 /// WGSL twin: `SHADOW_LEVELS` in `shaders/shadow.wgsl`.
 pub const SHADOW_LEVELS: u32 = 24;
+
+/// The shadow ray's unit tangent and length from the hit `x` towards the
+/// point `u` (in the unit square, [`super::light_sample_point`]) of the
+/// disc a light of radius `radius` shows it, the light's centre lying
+/// at arc length `s` along the unit tangent `dir`: `(dir, s)` itself for
+/// a point light, `u = [0, 0]`, or `x` inside the light.
+///
+/// The disc is the cone of directions meeting the light's ball, of
+/// half-angle `a` with `sin a = sin_k(radius) / sin_k(s)` (`sin_k` the
+/// geometry's `r`, `sinh r`, `sin r`: the right triangle at the tangent
+/// point), and it is sampled evenly in solid angle, where the light's
+/// radiance is the same: `cos t = 1 - u0 (1 - cos a)` from `dir`, at the
+/// angle `2 pi u1` around it. The length is the arc to the ball's near
+/// surface along that direction ([`arc_to_sphere`]).
+/// WGSL twin: `aim_at_light` in `shaders/shadow.wgsl`.
+#[must_use]
+pub fn aim_at_light<R: Real>(g: Geometry, x: R::V4, (dir, s): (R::V4, R), radius: R, u: [R; 2]) -> (R::V4, R) {
+    let (zero, one) = (R::of(0.0), R::of(1.0));
+    if radius <= zero || u[0] <= zero {
+        return (dir, s);
+    }
+    let sin_a2 = g.sphere_area::<R>(radius) / g.sphere_area::<R>(s);
+    if !sin_a2.is_finite() || sin_a2 >= one {
+        return (dir, s);
+    }
+    let cos_a = (one - sin_a2).sqrt();
+    let cos_t = one - u[0] * (one - cos_a);
+    let sin_t = (one - cos_t * cos_t).max(zero).sqrt();
+    let b = longest_perpendicular::<R>(g, x, dir, dir * zero);
+    let c = longest_perpendicular::<R>(g, x, dir, b);
+    let phi = R::of(std::f64::consts::TAU) * u[1];
+    let out = dir * cos_t + (b * phi.cos() + c * phi.sin()) * sin_t;
+    (out, arc_to_sphere::<R>(g, s, cos_t, radius))
+}
+
+/// The tangent part at `x` of the longest of the axes x, y, z once made
+/// perpendicular to the unit tangent `a` and to `other` (zero, or a unit
+/// tangent perpendicular to `a`), normalised: twice, a frame about `a`.
+/// WGSL twin: `longest_perpendicular` in `shaders/shadow.wgsl`.
+fn longest_perpendicular<R: Real>(g: Geometry, x: R::V4, a: R::V4, other: R::V4) -> R::V4 {
+    let zero = R::of(0.0);
+    let mut best = (a * zero, zero);
+    for e in [glam::DVec4::X, glam::DVec4::Y, glam::DVec4::Z] {
+        let mut t = g.project_tangent::<R>(x, R::v4_of(e));
+        t = t - a * g.form::<R>(t, a);
+        t = t - other * g.form::<R>(t, other);
+        let n = g.form::<R>(t, t);
+        if n > best.1 {
+            best = (t, n);
+        }
+    }
+    best.0 * (R::of(1.0) / best.1.sqrt())
+}
+
+/// The arc length from a point to the near surface of a ball of radius
+/// `radius` whose centre lies at arc length `s`, along a geodesic at
+/// angle `t` (`cos_t`) from the centre's direction: the law of cosines
+/// of the geometry solved for the nearer root. E3: `s cos t -
+/// sqrt(r^2 - s^2 sin^2 t)`; S3: `cos r = cos s cos u + sin s sin u cos
+/// t`; H3: `cosh r = cosh s cosh u - sinh s sinh u cos t`. For `t` 0 it
+/// is `s - r` in all three.
+/// WGSL twin: `arc_to_sphere` in `shaders/shadow.wgsl`.
+#[must_use]
+pub fn arc_to_sphere<R: Real>(g: Geometry, s: R, cos_t: R, radius: R) -> R {
+    let (zero, one) = (R::of(0.0), R::of(1.0));
+    match g {
+        Geometry::Euclidean => {
+            let sin2 = (one - cos_t * cos_t).max(zero);
+            s * cos_t - (radius * radius - s * s * sin2).max(zero).sqrt()
+        }
+        Geometry::Spherical => {
+            // A cos u + B sin u = cos r, with R cos(u - phi) the left side.
+            let (a, b) = (s.cos(), s.sin() * cos_t);
+            let len = (a * a + b * b).sqrt();
+            let mut phi = b.atan2(a);
+            if phi < zero {
+                phi = phi + R::of(std::f64::consts::TAU);
+            }
+            let c = (radius.cos() / len).min(one);
+            phi - (one - c * c).max(zero).sqrt().atan2(c)
+        }
+        Geometry::Hyperbolic => {
+            // A cosh u - B sinh u = cosh r, with R cosh(u - phi) the left
+            // side.
+            let (a, b) = (s.cosh(), s.sinh() * cos_t);
+            let len = (a * a - b * b).max(R::of(1e-12)).sqrt();
+            let c = (radius.cosh() / len).max(one);
+            (b / a).atanh() - (c * c - one).sqrt().asinh()
+        }
+    }
+}
 
 /// True when something lies on the geodesic leaving the hit `x` (normal
 /// `normal`, in the cell `cell`) along the unit tangent `dir` within

@@ -58,6 +58,15 @@ pub struct GpuView {
     /// (`bevy_manifold_core::trace::pixel_half_angle`), read under the
     /// `FOOTPRINT` def; 0 for rays.
     pub footprint: f32,
+    /// The point of each light's disc its shadow rays aim at
+    /// ([`GpuParams::light_sample_u`]); `[0, 0]`, the centre, unless an
+    /// accumulating view's sample moves it ([`GpuParams::sample`]).
+    pub light_sample: [f32; 2],
+}
+
+/// `bevy_manifold_core::trace::light_sample_point(k)` as the GPU reads it.
+fn light_sample(k: u32) -> [f32; 2] {
+    bevy_manifold_core::trace::light_sample_point(k).map(|u| u as f32)
 }
 
 /// Everything one trace uploads.
@@ -148,11 +157,11 @@ impl GpuParams {
             projection: view.projection.0,
             eye_offset: view.projection.1,
             near_reach: packed.near_scale * objects.near_reach,
-            pad_a: 0,
+            light_sample_u: view.light_sample[0],
             ball_leaves: objects.ball_nodes.len().saturating_sub(2) as u32,
             chart_stretch: objects.cone[2],
             footprint_cap: objects.cone[3],
-            pad_b: 0,
+            light_sample_v: view.light_sample[1],
             frustum: view.frustum.unwrap_or([0.0; 4]),
             cone: [view.footprint, objects.cone[0], packed.near_scale, objects.cone[1]],
             occupied: occupied(&objects.groups),
@@ -169,11 +178,27 @@ impl GpuParams {
     /// `bevy_manifold_core::trace::Frustum::jittered`.
     #[must_use]
     pub fn jittered(mut self, [ox, oy]: [f64; 2]) -> Self {
+        self.jitter([ox, oy]);
+        self
+    }
+
+    /// The `k`-th sample of an accumulating view: its pixel grid moved by
+    /// `bevy_manifold_core::trace::sample_offset(k)` ([`GpuParams::jittered`])
+    /// and its shadow rays aimed at the `k`-th point of each light's disc
+    /// (`light_sample_point(k)`: soft shadows). CPU twin: the `k`-th
+    /// trace of `bevy_manifold_core::trace::accumulate`.
+    #[must_use]
+    pub fn sample(mut self, k: u32) -> Self {
+        self.jitter(bevy_manifold_core::trace::sample_offset(k));
+        [self.light_sample_u, self.light_sample_v] = light_sample(k);
+        self
+    }
+
+    fn jitter(&mut self, [ox, oy]: [f64; 2]) {
         let (w, h) = (f64::from(self.width), f64::from(self.height));
         let [hw, hh, cx, cy] = self.frustum.map(f64::from);
         self.frustum[2] = (cx + 2.0 * hw / w * ox) as f32;
         self.frustum[3] = (cy - 2.0 * hh / h * oy) as f32;
-        self
     }
 }
 
@@ -221,6 +246,7 @@ impl GpuScene {
             } else {
                 0.0
             },
+            light_sample: light_sample(settings.light_sample),
         };
         GpuScene {
             params: GpuParams::new(space, packed, &objects, &view),

@@ -111,6 +111,10 @@ impl GpuObjects {
                         spot_scale: l.spot_scale,
                         spot_offset: l.spot_offset,
                         spot_dir: v(l.spot_dir),
+                        radius: l.radius,
+                        pad_a: 0.0,
+                        pad_b: 0.0,
+                        pad_c: 0.0,
                     })
                     .collect(),
             ),
