@@ -238,10 +238,11 @@ fn render_writes_the_image_and_the_id_buffer() {
     assert!(img.pixels().any(|p| p.0 != first));
 }
 
-/// `render --hdr` writes the linear colour, unclamped: a ball glowing at
-/// three times its white albedo reads above 3 in the Radiance file, as the
-/// CPU reference traces it (RGBE keeps about 1%), where the PNG shows
-/// white.
+/// `render --hdr` and `--exr` write the linear colour, unclamped: a ball
+/// glowing at three times its white albedo reads above 3 in the Radiance
+/// file, as the CPU reference traces it (RGBE keeps about 1%), and in the
+/// OpenEXR file exactly (32-bit floats, found through the file's line
+/// offset table), where the PNG shows white.
 fn render_writes_linear_hdr() {
     use bevy_manifold_core::prelude::*;
     let space = catalog::torus(1.0);
@@ -250,7 +251,7 @@ fn render_writes_linear_hdr() {
     scene.balls[0].glow = 3.0;
     let scene_path = tmp("glow.scene.json");
     std::fs::write(&scene_path, scene.to_json()).expect("scene file");
-    let (png, hdr) = (tmp("glow.png"), tmp("glow.hdr"));
+    let (png, hdr, exr) = (tmp("glow.png"), tmp("glow.hdr"), tmp("glow.exr"));
     let o = run(&[
         "render",
         "--space",
@@ -265,6 +266,8 @@ fn render_writes_linear_hdr() {
         png.to_str().expect("utf-8"),
         "--hdr",
         hdr.to_str().expect("utf-8"),
+        "--exr",
+        exr.to_str().expect("utf-8"),
         "--cpu",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
@@ -283,8 +286,91 @@ fn render_writes_linear_hdr() {
     for c in 0..3 {
         assert!((got[c] - want[c]).abs() <= 0.02 * want[c], "{got:?} against {want:?}");
     }
+    // OpenEXR: magic number, then line 16's block through the offset
+    // table (after the header's closing zero byte), its y, and the
+    // channels B, G, R of 48 floats each.
+    let bytes = std::fs::read(&exr).expect("the OpenEXR file");
+    assert_eq!(bytes[..4], [0x76, 0x2f, 0x31, 0x01]);
+    let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().expect("4 bytes"));
+    let header_end = bytes.len() - 32 * (8 + 8 + 12 * 48);
+    assert_eq!(bytes[header_end - 1], 0, "the header ends in a zero byte");
+    let entry = header_end + 8 * 16;
+    let block = u64::from_le_bytes(bytes[entry..entry + 8].try_into().expect("8 bytes")) as usize;
+    assert_eq!(word(block), 16);
+    assert_eq!(word(block + 4), 12 * 48);
+    for (c, channel) in [2, 1, 0].into_iter().enumerate() {
+        let v = f32::from_bits(word(block + 8 + 4 * (48 * c + 24)));
+        assert!(
+            (v - want[channel]).abs() <= 1e-6 * want[channel],
+            "channel {channel}: {v} against {want:?}"
+        );
+    }
     let shown = image::open(&png).expect("PNG").to_rgba8();
     assert_eq!(&shown.get_pixel(24, 16).0[..3], &[255, 255, 255]);
+}
+
+/// `render --samples N` averages N traces (a still view's accumulation):
+/// the mean of the CPU reference's `trace::accumulate`, and a count out
+/// of range is refused by name.
+fn render_samples_average_the_accumulated_traces() {
+    use bevy_manifold_core::prelude::*;
+    let png = tmp("samples.png");
+    let o = run(&[
+        "render",
+        "--space",
+        "torus",
+        "--width",
+        "40",
+        "--height",
+        "24",
+        "--samples",
+        "0",
+        "--out",
+        png.to_str().expect("utf-8"),
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("--samples must be between 1 and 256, got 0"),
+        "{}",
+        stderr(&o)
+    );
+    let o = run(&[
+        "render",
+        "--space",
+        "torus",
+        "--width",
+        "40",
+        "--height",
+        "24",
+        "--samples",
+        "4",
+        "--cpu",
+        "--out",
+        png.to_str().expect("utf-8"),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains(", 4 samples,"), "{}", stderr(&o));
+    let space = catalog::torus(1.0);
+    let settings = TraceSettings {
+        width: 40,
+        height: 24,
+        ..TraceSettings::default()
+    };
+    let mean = bevy_manifold_core::trace::accumulate::<f64>(&space, &Scene::paper_default(&space), &settings, 4);
+    let plain = render::<f64>(&space, &Scene::paper_default(&space), &settings);
+    let shown = image::open(&png).expect("PNG").to_rgba8();
+    let within = |colors: &mut dyn Iterator<Item = [f32; 3]>| {
+        colors
+            .zip(shown.pixels())
+            .filter(|(c, p)| (0..3).all(|i| bevy_manifold_core::trace::srgb8(c[i]).abs_diff(p.0[i]) <= 1))
+            .count()
+    };
+    let (to_mean, to_plain) = (
+        within(&mut mean.iter().copied()),
+        within(&mut plain.pixels.iter().map(|p| p.color)),
+    );
+    assert_eq!(to_mean, 40 * 24, "{to_mean} pixels are the mean's");
+    assert!(to_plain < to_mean, "{to_plain} pixels are also the plain trace's");
 }
 
 /// `render --cones` traces cones: far edges fade to a haze of their
@@ -606,6 +692,7 @@ bevy_manifold_test_support::test_main! {
         a_broken_space_file_is_reported_with_its_name,
         render_writes_the_image_and_the_id_buffer,
         render_writes_linear_hdr,
+        render_samples_average_the_accumulated_traces,
         render_cones_trace_cones,
         render_reports_a_bad_scene_field,
         space_cell_reads_ten_thousand_words_in_one_process,

@@ -183,6 +183,10 @@ struct RenderArgs {
     /// (`.hdr`): radiance above 1 kept for tonemapping elsewhere.
     #[arg(long)]
     hdr: Option<PathBuf>,
+    /// Also write the linear colour, unclamped, as an OpenEXR file
+    /// (`.exr`, 32-bit float RGB).
+    #[arg(long)]
+    exr: Option<PathBuf>,
     /// Traces per pixel, averaged as a still view accumulates them: each
     /// with the pixel grid moved within the pixel (anti-aliasing) and the
     /// shadow rays aimed at another point of each light (soft shadows of
@@ -436,6 +440,9 @@ fn render_command(args: &RenderArgs) -> Result<(), String> {
     }
     if let Some(hdr) = &args.hdr {
         bevy_manifold::trace::write_hdr(&img, hdr).map_err(|e| format!("{}: {e}", hdr.display()))?;
+    }
+    if let Some(exr) = &args.exr {
+        bevy_manifold::trace::write_exr(&img, exr).map_err(|e| format!("{}: {e}", exr.display()))?;
     }
     eprintln!(
         "rendered {} ({}x{}, {} levels{}{}, {tracer}) in {:.2} s -> {}",

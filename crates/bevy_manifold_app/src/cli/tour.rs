@@ -62,6 +62,10 @@ pub struct TourRenderArgs {
     /// Also write each frame's id buffer (`ids_NNNNN.png`).
     #[arg(long)]
     ids: bool,
+    /// Also write each frame's linear colour, unclamped, as OpenEXR
+    /// (`frame_NNNNN.exr`, 32-bit float RGB) for grading elsewhere.
+    #[arg(long)]
+    exr: bool,
     /// Use the CPU reference tracer instead of the GPU (f64 unless --f32).
     #[arg(long)]
     cpu: bool,
@@ -224,6 +228,10 @@ fn render(args: &TourRenderArgs) -> Result<(), String> {
         };
         let file = args.out.join(format!("frame_{k:05}.png"));
         write_png(&image, &file).map_err(|e| format!("{}: {e}", file.display()))?;
+        if args.exr {
+            let file = args.out.join(format!("frame_{k:05}.exr"));
+            bevy_manifold::trace::write_exr(&image, &file).map_err(|e| format!("{}: {e}", file.display()))?;
+        }
         if args.ids {
             let file = args.out.join(format!("ids_{k:05}.png"));
             write_ids_png(&image, &file).map_err(|e| format!("{}: {e}", file.display()))?;

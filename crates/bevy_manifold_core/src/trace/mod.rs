@@ -49,6 +49,7 @@ mod cone;
 mod cull;
 mod drift;
 mod exact_cell;
+mod exr;
 mod face_groups;
 mod flat;
 mod flow;
@@ -79,6 +80,7 @@ pub use camera::{camera_ray, pixel_half_angle_of, view_ray, view_slopes};
 pub use cast::{CastBall, CastHit, CastWall, cast_balls, cast_with_rule};
 pub use cull::{Candidate, each_candidate};
 pub use drift::{RayDrift, ray_drift};
+pub use exr::{exr_bytes, write_exr};
 pub use face_groups::{FaceGroups, near_reach};
 pub use flat::{
     EDGE_ID, FaceTables, FlatBall, FlatInstance, FlatLight, FlatScene, FlatTube, MIN_BALL_TREE, ghost_centres,
