@@ -35,6 +35,9 @@
 #ifdef MESHES
 #import bevy_manifold::nearest::consider_instance
 #endif
+#ifdef SHADOWS
+#import bevy_manifold::nearest::{best, shadow_ray}
+#endif
 #ifdef FOOTPRINT
 #import bevy_manifold::footprint::BALL_GROWTH
 #import bevy_manifold::cone::{cone_grow, near_balls}
@@ -271,6 +274,14 @@ fn each_candidate(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) {
         }
     }
 #endif
+#ifdef SHADOWS
+    // A shadow ray wants any hit: once one is found, the rest (the mesh
+    // BVHs above all) are not walked. Rust twin: segment_blocked's
+    // visitor, which skips every test once blocked.
+    if shadow_ray && best.kind != 0u {
+        return;
+    }
+#endif
 #ifdef TUBES
     // The tubes with no edge bits whose faces are near, then for each near
     // face f the tube of each edge it shares with a near face g (Rust: FaceGroups::
@@ -306,10 +317,20 @@ fn each_candidate(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) {
     }
 #endif
 #ifdef MESHES
+#ifdef SHADOWS
+    if shadow_ray && best.kind != 0u {
+        return;
+    }
+#endif
     var rest_meshes = grouped & cached.occupied.z;
     var meshes_range = vec2<u32>(0u, groups[0].z);
     loop {
         for (var i = meshes_range.x; i < meshes_range.y; i++) {
+#ifdef SHADOWS
+            if shadow_ray && best.kind != 0u {
+                return;
+            }
+#endif
             consider_instance(ray, t_end, cell_point, near, i);
         }
         if rest_meshes == 0u {

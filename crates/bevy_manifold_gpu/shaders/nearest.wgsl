@@ -78,7 +78,7 @@ fn same_cell_point(a: vec4<f32>, b: vec4<f32>) -> bool {
 var<private> best: Hit;
 
 #ifdef SHADOWS
-// True while shadow.wgsl's light_blocked walks a shadow ray: the arms
+// True while shade.wgsl walks shadow rays (shadow.wgsl's shadow_step): the arms
 // below then keep any hit on [0, t_end] in `best` (under FOOTPRINT too),
 // and glowing balls are not hit. Rust twin: segment_blocked's visitor.
 var<private> shadow_ray: bool;

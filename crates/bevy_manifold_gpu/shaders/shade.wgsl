@@ -3,7 +3,7 @@
 // along its own geodesic (both arcs in S3) with the fall-off of the
 // geometry (1 / area of the geodesic sphere), the light's range and the
 // fog on its way (image_irradiance), and only if the way is free
-// (shadow.wgsl's light_blocked); per-cell colour and fog (shade); a wall between cells lit by a lamp at the eye
+// (shadow.wgsl's shadow_step); per-cell colour and fog (shade); a wall between cells lit by a lamp at the eye
 // (shade_wall); what lies past the table of exact ids under rules
 // (unknown_rules).
 //
@@ -41,7 +41,11 @@
 #import bevy_manifold::bindings::{lights, Light}
 #endif
 #ifdef SHADOWS
-#import bevy_manifold::shadow::light_blocked
+#import bevy_manifold::shadow::{ShadowWalk, shadow_walk_new, shadow_step, SHADOW_ON, SHADOW_FREE, SHADOW_LEVELS}
+#import bevy_manifold::nearest::{best, shadow_ray}
+#ifdef FOOTPRINT
+#import bevy_manifold::cone::near_balls
+#endif
 #endif
 #ifdef SOFT_SHADOWS
 #import bevy_manifold::shadow::aim_at_light
@@ -178,6 +182,33 @@ fn image_irradiance(l: Light, s: f32, fog_density: f32) -> f32 {
 }
 #endif
 
+#ifdef LIGHT_IMAGES
+// One arc from x to a light image: the unit tangent it leaves along, its
+// length, and the irradiance it brings (0 when none, or when it arrives
+// from behind the surface of normal `normal`).
+struct LightArc {
+    dir: vec4<f32>,
+    s: f32,
+    e: f32,
+}
+
+// Light image i's short arc to x, or (`long`, S3) the long way round,
+// arriving from the other side. Rust twin: the arcs of shade's loop.
+fn light_arc(x: vec4<f32>, normal: vec4<f32>, i: u32, long: bool, density: f32) -> LightArc {
+    let l = lights[i];
+    let d = distance(x, l.position);
+    let to_light = toward_light(x, l.position, normal);
+    let from_dir = from_light(l, x);
+    let s = select(d, 2.0 * PI - d, long);
+    let dir = select(to_light, -to_light, long);
+    var e = image_irradiance(l, s, density) * spot_factor(l, select(from_dir, -from_dir, long));
+    if form(normal, dir) <= 0.0 {
+        e = 0.0;
+    }
+    return LightArc(dir, s, e);
+}
+#endif
+
 // Lambert + Blinn (or the material's GGX) shading at the hit, lights with geometry-correct
 // fall-off (1 / area of the sphere of radius d), per-cell colour, fog.
 // The hit's chart parameter is where it is shaded; `normal_at`, when not
@@ -235,40 +266,76 @@ fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>, c
 #ifdef FOG
     density = cached.fog_density;
 #endif
-    for (var i = 0u; i < params.light_count; i++) {
-        let l = lights[i];
-        let d = distance(x, l.position);
-        let to_light = toward_light(x, l.position, normal);
-        // The short arc, and in S3 the long way round, arriving from the
-        // other side.
+    // The short arc, and in S3 the long way round, arriving from the
+    // other side.
 #ifdef GEOMETRY_SPHERICAL
-        let arcs = 2u;
+    let arcs = 2u;
 #else
-        let arcs = 1u;
+    let arcs = 1u;
 #endif
-        let from_dir = from_light(l, x);
-        for (var a = 0u; a < arcs; a++) {
-            let s = select(d, 2.0 * PI - d, a == 1u);
-            let dir = select(to_light, -to_light, a == 1u);
-            let e = image_irradiance(l, s, density) * spot_factor(l, select(from_dir, -from_dir, a == 1u));
-            if e <= 0.0 || form(normal, dir) <= 0.0 {
-                continue;
-            }
 #ifdef SHADOWS
-            var aim = dir;
-            var length = s;
+    // Each lane walks its own shadow rays side by side with the other
+    // lanes of its SIMD group, a segment per pass (shadow_step), taking
+    // its next light image arc when one ends: the group then pays for
+    // the longest of its lanes' walks, not, image by image, for every
+    // image some lane's ray goes to. The Rust twin's loop takes them one
+    // after the other; the terms and their order are the same.
+    let kept = best;
+#ifdef FOOTPRINT
+    let kept_near = near_balls;
+#endif
+    shadow_ray = true;
+    var next = 0u;
+    var walking = false;
+    var w: ShadowWalk;
+    var pending = LightArc(vec4<f32>(0.0), 0.0, 0.0);
+    var pending_light = 0u;
+    // At most every arc's walk, each at most SHADOW_LEVELS + 1 segments,
+    // plus one pass to find that none is left.
+    let rounds = params.light_count * arcs * (SHADOW_LEVELS + 2u) + 1u;
+    for (var round = 0u; round < rounds; round++) {
+        if !walking {
+            for (; next < params.light_count * arcs && !walking; next++) {
+                let arc = light_arc(x, normal, next / arcs, next % arcs == 1u, density);
+                if arc.e > 0.0 {
+                    var aim = arc.dir;
+                    var length = arc.s;
 #ifdef SOFT_SHADOWS
-            let sampled = aim_at_light(x, dir, s, l.radius, vec2<f32>(params.light_sample_u, params.light_sample_v));
-            aim = sampled.dir;
-            length = sampled.length;
+                    let sampled = aim_at_light(x, arc.dir, arc.s, lights[next / arcs].radius, vec2<f32>(params.light_sample_u, params.light_sample_v));
+                    aim = sampled.dir;
+                    length = sampled.length;
 #endif
-            if light_blocked(x, normal, aim, length, cell_matrix) {
-                continue;
+                    w = shadow_walk_new(x, normal, aim, length, cell_matrix);
+                    pending = arc;
+                    pending_light = next / arcs;
+                    walking = true;
+                }
             }
-#endif
-            add_light(&rgb, lit, dir, e, l.color);
+            if !walking {
+                break;
+            }
+        }
+        let state = shadow_step(&w);
+        if state != SHADOW_ON {
+            if state == SHADOW_FREE {
+                add_light(&rgb, lit, pending.dir, pending.e, lights[pending_light].color);
+            }
+            walking = false;
         }
     }
+    shadow_ray = false;
+    best = kept;
+#ifdef FOOTPRINT
+    near_balls = kept_near;
+#endif
+#else
+    for (var p = 0u; p < params.light_count * arcs; p++) {
+        let arc = light_arc(x, normal, p / arcs, p % arcs == 1u, density);
+        if arc.e > 0.0 {
+            add_light(&rgb, lit, arc.dir, arc.e, lights[p / arcs].color);
+        }
+    }
+#endif
 #else
     for (var i = 0u; i < params.light_count; i++) {
         let l = lights[i];

@@ -23,9 +23,9 @@
 #import bevy_manifold::geometry::{form, project_tangent, sphere_area, PI}
 #endif
 #import bevy_manifold::step::{Ray, near_faces, advance}
-#import bevy_manifold::walk::{walker_new, segment_end, walker_step}
+#import bevy_manifold::walk::{Walker, walker_new, segment_end, walker_step}
 #import bevy_manifold::cull::each_candidate
-#import bevy_manifold::nearest::{Hit, best, shadow_ray}
+#import bevy_manifold::nearest::{Hit, best}
 #ifdef FOOTPRINT
 #import bevy_manifold::cone::near_balls
 #endif
@@ -75,8 +75,8 @@ fn aim_at_light(x: vec4<f32>, dir: vec4<f32>, s: f32, radius: f32, u: vec2<f32>)
 // tangent perpendicular to a), normalised: twice, a frame about a.
 // Rust twin: longest_perpendicular.
 fn longest_perpendicular(x: vec4<f32>, a: vec4<f32>, other: vec4<f32>) -> vec4<f32> {
-    var best = vec4<f32>(0.0);
-    var best_n = 0.0;
+    var longest = vec4<f32>(0.0);
+    var longest_n = 0.0;
     for (var i = 0u; i < 3u; i++) {
         var e = vec4<f32>(0.0);
         e[i] = 1.0;
@@ -84,12 +84,12 @@ fn longest_perpendicular(x: vec4<f32>, a: vec4<f32>, other: vec4<f32>) -> vec4<f
         t -= a * form(t, a);
         t -= other * form(t, other);
         let n = form(t, t);
-        if n > best_n {
-            best = t;
-            best_n = n;
+        if n > longest_n {
+            longest = t;
+            longest_n = n;
         }
     }
-    return best / sqrt(best_n);
+    return longest / sqrt(longest_n);
 }
 
 // The arc length from a point to the near surface of a ball of radius
@@ -122,44 +122,56 @@ fn arc_to_sphere(s: f32, cos_t: f32, radius: f32) -> f32 {
 }
 #endif
 
-// True when something lies on the geodesic leaving the hit x (normal
-// `normal`, in the cell `cell`) along the unit tangent dir within
-// distance `length`, the arc to a light image. The walk's `best` (and a
-// cone's near_balls) are kept as they were. Rust twin: light_blocked.
-fn light_blocked(x: vec4<f32>, normal: vec4<f32>, dir: vec4<f32>, length: f32, cell: mat4x4<f32>) -> bool {
+// A shadow ray on its way, taken a segment at a time (shadow_step) so
+// that shade.wgsl can walk each lane's own rays side by side (the Rust
+// twin's light_blocked walks one to its end). Rust twin: ShadowWalk.
+struct ShadowWalk {
+    walk: Walker,
+    // The distance left to the light.
+    left: f32,
+    // Segments walked.
+    level: u32,
+}
+
+// What shadow_step found: the ray goes on, met something, reached the
+// light (or ran out of levels): what ShadowWalk::step returns, in
+// words.
+const SHADOW_ON: u32 = 0u;
+const SHADOW_BLOCKED: u32 = 1u;
+const SHADOW_FREE: u32 = 2u;
+
+// The walk of the geodesic leaving the hit x (normal `normal`, in the
+// cell `cell`) along the unit tangent dir for distance `length`, the arc
+// to a light image. Rust twin: ShadowWalk::new.
+fn shadow_walk_new(x: vec4<f32>, normal: vec4<f32>, dir: vec4<f32>, length: f32, cell: mat4x4<f32>) -> ShadowWalk {
     let origin = normalize_point(x + normal * SHADOW_OFFSET);
-    var walk = walker_new(Ray(origin, normalize_tangent(origin, dir)), cell, 0u);
-    var left = length - SHADOW_OFFSET;
-    let kept = best;
-#ifdef FOOTPRINT
-    let kept_near = near_balls;
-#endif
-    shadow_ray = true;
-    var blocked = false;
-    for (var i = 0u; i <= SHADOW_LEVELS; i++) {
-        if left <= 0.0 {
-            break;
-        }
-        let seg = segment_end(walk);
-        let seg_len = chart_to_distance(seg.t);
-        let last = left <= seg_len;
-        let t_stop = select(seg.t, distance_to_chart(left), last);
-        if segment_blocked(walk.ray, t_stop, walk.cell[3]) {
-            blocked = true;
-            break;
-        }
-        if last {
-            break;
-        }
-        walker_step(&walk, seg.face, advance(walk.ray, seg.t));
-        left -= seg_len;
+    return ShadowWalk(walker_new(Ray(origin, normalize_tangent(origin, dir)), cell, 0u), length - SHADOW_OFFSET, 0u);
+}
+
+// One segment of the walk: SHADOW_BLOCKED when it meets an object that
+// casts shadows, SHADOW_FREE when it reaches the light (or has crossed
+// SHADOW_LEVELS faces), else SHADOW_ON, the walk moved across the face.
+// Run with shadow_ray set; it overwrites `best` (and a cone's
+// near_balls). Rust twin: ShadowWalk::step.
+fn shadow_step(w: ptr<function, ShadowWalk>) -> u32 {
+    if (*w).left <= 0.0 || (*w).level > SHADOW_LEVELS {
+        return SHADOW_FREE;
     }
-    shadow_ray = false;
-    best = kept;
-#ifdef FOOTPRINT
-    near_balls = kept_near;
-#endif
-    return blocked;
+    var walk = (*w).walk;
+    let left = (*w).left;
+    let seg = segment_end(walk);
+    let seg_len = chart_to_distance(seg.t);
+    let last = left <= seg_len;
+    let t_stop = select(seg.t, distance_to_chart(left), last);
+    if segment_blocked(walk.ray, t_stop, walk.cell[3]) {
+        return SHADOW_BLOCKED;
+    }
+    if last {
+        return SHADOW_FREE;
+    }
+    walker_step(&walk, seg.face, advance(walk.ray, seg.t));
+    *w = ShadowWalk(walk, left - seg_len, (*w).level + 1u);
+    return SHADOW_ON;
 }
 
 // True when the segment of `ray` up to t_end meets an object that casts

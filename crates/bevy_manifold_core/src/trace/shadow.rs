@@ -70,17 +70,17 @@ pub fn aim_at_light<R: Real>(g: Geometry, x: R::V4, (dir, s): (R::V4, R), radius
 /// WGSL twin: `longest_perpendicular` in `shaders/shadow.wgsl`.
 fn longest_perpendicular<R: Real>(g: Geometry, x: R::V4, a: R::V4, other: R::V4) -> R::V4 {
     let zero = R::of(0.0);
-    let mut best = (a * zero, zero);
+    let mut longest = (a * zero, zero);
     for e in [glam::DVec4::X, glam::DVec4::Y, glam::DVec4::Z] {
         let mut t = g.project_tangent::<R>(x, R::v4_of(e));
         t = t - a * g.form::<R>(t, a);
         t = t - other * g.form::<R>(t, other);
         let n = g.form::<R>(t, t);
-        if n > best.1 {
-            best = (t, n);
+        if n > longest.1 {
+            longest = (t, n);
         }
     }
-    best.0 * (R::of(1.0) / best.1.sqrt())
+    longest.0 * (R::of(1.0) / longest.1.sqrt())
 }
 
 /// The arc length from a point to the near surface of a ball of radius
@@ -121,34 +121,55 @@ pub fn arc_to_sphere<R: Real>(g: Geometry, s: R, cos_t: R, radius: R) -> R {
     }
 }
 
-/// True when something lies on the geodesic leaving the hit `x` (normal
-/// `normal`, in the cell `cell`) along the unit tangent `dir` within
-/// distance `length`, the arc to a light image.
-/// WGSL twin: `light_blocked` in `shaders/shadow.wgsl`.
-pub fn light_blocked<R: Real>(
-    flat: &FlatScene<R>,
-    (x, normal): (R::V4, R::V4),
-    dir: R::V4,
-    length: R,
-    (cell, cull): (R::M4, bool),
-) -> bool {
-    let g = flat.faces.geometry;
-    let offset = R::of(SHADOW_OFFSET);
-    let origin = g.normalize_point::<R>(x + normal * offset);
-    let ray = Ray {
-        origin,
-        dir: g.normalize_tangent::<R>(origin, dir),
-    };
-    let mut walk = Walker::new(ray, cell);
-    let mut left = length - offset;
-    for _ in 0..=SHADOW_LEVELS {
-        if left <= R::of(0.0) {
-            return false;
+/// A shadow ray on its way: [`light_blocked`]'s walk, taken a segment at
+/// a time ([`ShadowWalk::step`]); the GPU walks each lane's own rays
+/// side by side this way. WGSL twin: `ShadowWalk` in
+/// `shaders/shadow.wgsl`.
+pub struct ShadowWalk<R: Real> {
+    walk: Walker<R>,
+    /// The distance left to the light.
+    left: R,
+    /// Segments walked.
+    level: u32,
+}
+
+impl<R: Real> ShadowWalk<R> {
+    /// The walk of the geodesic leaving the hit `x` (normal `normal`, in
+    /// the cell `cell`) along the unit tangent `dir` for distance
+    /// `length`, the arc to a light image. WGSL twin: `shadow_walk_new`.
+    pub fn new(flat: &FlatScene<R>, (x, normal): (R::V4, R::V4), dir: R::V4, length: R, cell: R::M4) -> Self {
+        let g = flat.faces.geometry;
+        let offset = R::of(SHADOW_OFFSET);
+        let origin = g.normalize_point::<R>(x + normal * offset);
+        let ray = Ray {
+            origin,
+            dir: g.normalize_tangent::<R>(origin, dir),
+        };
+        ShadowWalk {
+            walk: Walker::new(ray, cell),
+            left: length - offset,
+            level: 0,
         }
+    }
+
+    /// One segment of the walk: `Some(true)` when it meets an object that
+    /// casts shadows, `Some(false)` when it reaches the light (or has
+    /// crossed [`SHADOW_LEVELS`] faces), `None` when it goes on across
+    /// the face. WGSL twin: `shadow_step`.
+    pub fn step(&mut self, flat: &FlatScene<R>, cull: bool) -> Option<bool> {
+        let g = flat.faces.geometry;
+        if self.left <= R::of(0.0) || self.level > SHADOW_LEVELS {
+            return Some(false);
+        }
+        let walk = &mut self.walk;
         let (face, t_end) = walk.segment_end(&flat.faces);
         let seg = g.chart_to_distance::<R>(t_end);
-        let last = left <= seg;
-        let t_stop = if last { g.distance_to_chart::<R>(left) } else { t_end };
+        let last = self.left <= seg;
+        let t_stop = if last {
+            g.distance_to_chart::<R>(self.left)
+        } else {
+            t_end
+        };
         let near = if cull {
             near_faces(
                 &flat.faces.planes,
@@ -162,16 +183,37 @@ pub fn light_blocked<R: Real>(
         };
         let cell_point = walk.cell * R::v4_of(glam::DVec4::W);
         if segment_blocked(flat, &walk.ray, t_stop, cell_point, (near, cull)) {
-            return true;
+            return Some(true);
         }
         if last {
-            return false;
+            return Some(false);
         }
         let end = advance(g, &walk.ray, t_end);
         walk.step(&flat.faces, face, end, true);
-        left = left - seg;
+        self.left = self.left - seg;
+        self.level += 1;
+        None
     }
-    false
+}
+
+/// True when something lies on the geodesic leaving the hit `x` (normal
+/// `normal`, in the cell `cell`) along the unit tangent `dir` within
+/// distance `length`, the arc to a light image: the [`ShadowWalk`] to
+/// its end. The GPU takes these walks a segment at a time, each lane its
+/// own (`shade` in `shaders/shade.wgsl`).
+pub fn light_blocked<R: Real>(
+    flat: &FlatScene<R>,
+    (x, normal): (R::V4, R::V4),
+    dir: R::V4,
+    length: R,
+    (cell, cull): (R::M4, bool),
+) -> bool {
+    let mut walk = ShadowWalk::new(flat, (x, normal), dir, length, cell);
+    loop {
+        if let Some(blocked) = walk.step(flat, cull) {
+            return blocked;
+        }
+    }
 }
 
 /// True when the segment of `ray` up to `t_end` meets an object that

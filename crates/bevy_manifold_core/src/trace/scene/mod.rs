@@ -205,7 +205,8 @@ pub struct Lighting {
     /// A light image lights a point only if the geodesic between them is
     /// free: shadow rays cross the faces as camera rays do. Glowing balls
     /// (lamps) cast none. Off by default: a shadow ray per light image per
-    /// hit is the costliest part of a frame (see `BENCHMARKS.md`).
+    /// hit costs from about as much again as the frame (Seifert–Weber) to
+    /// many times it (the Poincaré space's 240 arcs; see `BENCHMARKS.md`).
     pub shadows: bool,
 }
 
