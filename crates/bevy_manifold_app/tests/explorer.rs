@@ -63,6 +63,10 @@ fn settings_round_trip_and_broken_files_are_replaced_not_lost() {
     };
     mine.save(&path).expect("saved");
     assert_eq!(settings::load(&path), (mine.clone(), Vec::new()));
+    // As a Windows editor saves it (a byte-order mark, CRLF): the same.
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::write(&path, format!("\u{feff}{}", text.replace('\n', "\r\n"))).unwrap();
+    assert_eq!(settings::load(&path), (mine.clone(), Vec::new()));
     // A file cut short: reported, defaults used, the file kept aside.
     let text = std::fs::read_to_string(&path).unwrap();
     std::fs::write(&path, &text[..text.len() / 2]).unwrap();

@@ -38,6 +38,7 @@ pub mod material;
 pub mod mesh;
 pub mod motion;
 pub mod space;
+pub mod text;
 pub mod tour;
 pub mod trace;
 

@@ -58,10 +58,17 @@ fn generator_files() {
     for (path, bytes) in kept("gen") {
         let _ = space_file(&String::from_utf8_lossy(&bytes), &path.display().to_string());
     }
+    // Each as written, and as a Windows editor saves it (a byte-order
+    // mark, CRLF line ends).
     let seeds: Vec<String> = library::names()
         .iter()
         .map(|n| library::by_name(n).expect("library").to_gen("seed"))
+        .flat_map(|t| [format!("\u{feff}{}", t.replace('\n', "\r\n")), t])
         .collect();
+    assert!(
+        seeds.iter().all(|t| space_file(t, "seed.gen")),
+        "every seed, BOM or not, is a space"
+    );
     let target = Target {
         format: "gen files",
         mutate: |t: &mut String, rng: &mut Rng| *t = mutate_text(t, rng),

@@ -656,6 +656,45 @@ fn generator_files_name_the_file_in_errors() {
     );
 }
 
+/// Curved Spaces' own files as a Windows editor saves them: a UTF-8
+/// byte-order mark first and CRLF line ends. Each reads as the file
+/// itself does: the same matrices, the same basepoint, the same space
+/// (or, for L(5,1), the same refusal).
+fn a_byte_order_mark_and_crlf_line_ends_read_as_the_plain_file() {
+    let dir = curved_spaces().expect("the shared Curved Spaces files");
+    for file in [
+        "3-torus.gen",
+        "half-turn.gen",
+        "poincare.gen",
+        "seifert-weber.gen",
+        "lens-5-1.gen",
+    ] {
+        let plain = std::fs::read_to_string(dir.join(file)).expect("readable");
+        let windows = format!("\u{feff}{}", plain.replace('\n', "\r\n"));
+        let (a, b) = (
+            Generators::parse_gen(&plain, file).expect(file),
+            Generators::parse_gen(&windows, file).unwrap_or_else(|e| panic!("{file} with a BOM: {e}")),
+        );
+        assert_eq!(a.matrices, b.matrices, "{file}");
+        assert_eq!(a.basepoint, b.basepoint, "{file}");
+        let path = std::env::temp_dir().join(format!("bom-{}-{file}", std::process::id()));
+        std::fs::write(&path, &windows).expect("written");
+        match (Space::load(dir.join(file)), Space::load(&path)) {
+            (Ok(a), Ok(b)) => {
+                assert_eq!(a.faces().len(), b.faces().len(), "{file}");
+                assert!((a.volume() - b.volume()).abs() < 1e-12, "{file}");
+            }
+            (Err(a), Err(b)) => assert_eq!(a.kind.to_string(), b.kind.to_string(), "{file}"),
+            (a, b) => panic!("{file}: plain {:?}, with a BOM {:?}", a.err(), b.err()),
+        }
+        let _ = std::fs::remove_file(&path);
+    }
+    // A JSON generator list with a BOM.
+    let json = "\u{feff}{\"name\": \"cube\", \"geometry\": \"euclidean\", \"generators\": [\r\n[[1,0,0,1],[0,1,0,0],[0,0,1,0],[0,0,0,1]],\r\n[[1,0,0,0],[0,1,0,1],[0,0,1,0],[0,0,0,1]],\r\n[[1,0,0,0],[0,1,0,0],[0,0,1,1],[0,0,0,1]]]}";
+    let gens = Generators::parse_json(json).unwrap_or_else(|e| panic!("a JSON list with a BOM: {e}"));
+    assert_eq!(gens.matrices.len(), 3);
+}
+
 bevy_manifold_test_support::test_main_requiring! {
     cpu: [
         the_spherical_library_has_the_right_volumes_orders_and_homology,
@@ -678,5 +717,8 @@ bevy_manifold_test_support::test_main_requiring! {
     requiring(
         "the shared Curved Spaces files",
         curved_spaces().map(|d| d.display().to_string())
-    ): [every_curved_spaces_file_loads_and_matches],
+    ): [
+        every_curved_spaces_file_loads_and_matches,
+        a_byte_order_mark_and_crlf_line_ends_read_as_the_plain_file,
+    ],
 }

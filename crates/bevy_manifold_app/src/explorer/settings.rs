@@ -373,7 +373,7 @@ pub fn load(path: &Path) -> (ExplorerSettings, Vec<String>) {
             );
         }
     };
-    match serde_json::from_str::<ExplorerSettings>(&text) {
+    match serde_json::from_str::<ExplorerSettings>(bevy_manifold_core::text::without_bom(&text)) {
         Ok(mut s) => {
             let warnings = s.sanitize();
             (s, warnings)

@@ -99,7 +99,8 @@ impl SpaceDesc {
             path: DisplayPath(path.to_path_buf()),
             kind,
         };
-        let desc: SpaceDesc = serde_json::from_str(text).map_err(|e| err(SpaceFileErrorKind::Json(e.to_string())))?;
+        let desc: SpaceDesc = serde_json::from_str(crate::text::without_bom(text))
+            .map_err(|e| err(SpaceFileErrorKind::Json(e.to_string())))?;
         desc.build().map_err(|e| err(SpaceFileErrorKind::Invalid(e)))
     }
 }
@@ -192,6 +193,7 @@ impl Space {
     /// # Errors
     /// As [`Space::load`].
     pub fn parse_file(text: &str, path: &Path) -> Result<Space, SpaceFileError> {
+        let text = crate::text::without_bom(text);
         let is_gen = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gen"));
         let is_list =
             !is_gen && serde_json::from_str::<serde_json::Value>(text).is_ok_and(|v| v.get("generators").is_some());

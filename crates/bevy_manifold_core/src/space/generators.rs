@@ -313,7 +313,7 @@ impl Generators {
         let mut matrices = Vec::new();
         let mut rows: Vec<[f64; 4]> = Vec::new();
         let (mut basepoint, mut manifold) = (None, false);
-        for (n, line) in text.lines().enumerate() {
+        for (n, line) in crate::text::without_bom(text).lines().enumerate() {
             if let Some(directive) = line.trim_start().strip_prefix("# @") {
                 let mut words = directive.split_whitespace();
                 match words.next() {
@@ -419,7 +419,8 @@ impl Generators {
     /// Malformed JSON, or the errors of [`Generators::new`] and
     /// [`Generators::of_geometry`], or a bad basepoint.
     pub fn parse_json(text: &str) -> Result<Self, GeneratorError> {
-        let desc: GeneratorsDesc = serde_json::from_str(text).map_err(|e| GeneratorError::Json(e.to_string()))?;
+        let desc: GeneratorsDesc =
+            serde_json::from_str(crate::text::without_bom(text)).map_err(|e| GeneratorError::Json(e.to_string()))?;
         desc.into_generators()
     }
 

@@ -288,7 +288,7 @@ impl TourDesc {
     /// # Errors
     /// Malformed JSON, a missing or unknown field.
     pub fn parse(text: &str, path: &str) -> Result<TourDesc, TourError> {
-        serde_json::from_str(text).map_err(|e| TourError::Json {
+        serde_json::from_str(crate::text::without_bom(text)).map_err(|e| TourError::Json {
             path: path.into(),
             message: e.to_string(),
         })

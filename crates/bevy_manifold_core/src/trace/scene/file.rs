@@ -213,7 +213,7 @@ impl Scene {
     /// # Errors
     /// As [`Scene::load`].
     pub fn parse(text: &str, path: &str, space: &Space) -> Result<Scene, SceneError> {
-        let desc: SceneDesc = serde_json::from_str(text).map_err(|e| SceneError::Json {
+        let desc: SceneDesc = serde_json::from_str(crate::text::without_bom(text)).map_err(|e| SceneError::Json {
             path: path.into(),
             message: e.to_string(),
         })?;
