@@ -445,3 +445,71 @@ fn the_vehicle_is_traced_where_a_plain_ray_caster_sees_it_and_in_the_other_copie
     assert!(far_off < 1e-4, "at the same distances");
     assert!(copies > 20, "its images in the other copies");
 }
+
+/// Base64 (RFC 4648, with padding), written here to embed files.
+fn base64(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for chunk in bytes.chunks(3) {
+        let n = chunk
+            .iter()
+            .enumerate()
+            .fold(0u32, |n, (i, &b)| n | u32::from(b) << (16 - 8 * i));
+        for k in 0..4 {
+            if k <= chunk.len() {
+                out.push(char::from(ALPHABET[(n >> (18 - 6 * k) & 63) as usize]));
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn a_gltf_with_its_buffer_and_images_embedded_loads_as_with_them_beside_it() {
+    // The material quad (a buffer and four PNG textures in files beside
+    // it), then the same glTF with each file embedded as a base64 data URI
+    // (Blender's "glTF Embedded"), alone in a folder of its own.
+    let root = std::env::temp_dir().join(format!("embedded-gltf-{}", std::process::id()));
+    let beside = bevy_manifold_test_support::materials::write_material_quad(&root.join("beside"));
+    let dir = beside.parent().expect("its folder").to_path_buf();
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&beside).expect("the .gltf")).expect("JSON");
+    let embed = |uri: &serde_json::Value, media: &str| {
+        let bytes = std::fs::read(dir.join(uri.as_str().expect("a file name"))).expect("the file");
+        serde_json::Value::String(format!("data:{media};base64,{}", base64(&bytes)))
+    };
+    json["buffers"][0]["uri"] = embed(&json["buffers"][0]["uri"], "application/octet-stream");
+    for i in 0..4 {
+        json["images"][i]["uri"] = embed(&json["images"][i]["uri"], "image/png");
+    }
+    let alone = root.join("alone");
+    std::fs::create_dir_all(&alone).expect("a folder");
+    let embedded = alone.join("quad.gltf");
+    std::fs::write(&embedded, json.to_string()).expect("written");
+    let (a, b) = (
+        load(&beside).expect("with its files"),
+        load(&embedded).unwrap_or_else(|e| panic!("embedded: {e}")),
+    );
+    assert_eq!(a.parts.len(), 1);
+    assert_eq!(b.parts.len(), 1);
+    assert_eq!(a.parts[0].mesh, b.parts[0].mesh);
+    assert_eq!(a.parts[0].material, b.parts[0].material);
+    assert!(b.parts[0].material.texture.is_some() && b.parts[0].material.normal_map.is_some());
+    assert!(b.warnings.is_empty(), "{:?}", b.warnings);
+    // A data URI that is not base64, and one whose base64 is broken: named.
+    for (uri, says) in [
+        ("data:application/octet-stream,%00%01", "not base64"),
+        ("data:application/octet-stream;base64,AB$=", "base64 is broken"),
+    ] {
+        json["buffers"][0]["uri"] = serde_json::Value::String(uri.into());
+        std::fs::write(&embedded, json.to_string()).expect("written");
+        let e = load(&embedded).expect_err(uri).to_string();
+        assert!(
+            e.contains("quad.gltf") && e.contains("buffers[0]") && e.contains(says),
+            "{e}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&root);
+}

@@ -145,12 +145,10 @@ fn read(bytes: &[u8], path: &Path) -> Result<Loaded, GltfError> {
                 .ok_or_else(|| parse("the GLB has no binary chunk".into()))?,
             gltf::buffer::Source::Uri(uri) => {
                 if uri.starts_with("data:") {
-                    return Err(parse(format!(
-                        "buffer {} is a data URI, which is not supported",
-                        b.index()
-                    )));
+                    data_uri(uri).map_err(|e| parse(format!("buffers[{}]: {e}", b.index())))?
+                } else {
+                    std::fs::read(dir.join(uri)).map_err(|e| parse(format!("buffer '{uri}': {e}")))?
                 }
-                std::fs::read(dir.join(uri)).map_err(|e| parse(format!("buffer '{uri}': {e}")))?
             }
         };
         buffers.push(data);
@@ -318,6 +316,27 @@ fn part(
     Ok((mesh, out))
 }
 
+/// The bytes of a base64 data URI, `data:[<media type>];base64,<data>`,
+/// as Blender's "glTF Embedded" export and many sample models embed their
+/// buffers and images. They are no larger than the file they are in
+/// (three bytes for four characters), and images go through the same
+/// decoder and caps as image files.
+fn data_uri(uri: &str) -> Result<Vec<u8>, String> {
+    use base64::Engine as _;
+    let Some((head, data)) = uri.split_once(',') else {
+        return Err("a data URI without a comma before its data".into());
+    };
+    if !head.ends_with(";base64") {
+        return Err(format!(
+            "a data URI that is not base64 ('{}'): glTF embeds base64 only",
+            head.chars().take(60).collect::<String>()
+        ));
+    }
+    base64::engine::general_purpose::STANDARD
+        .decode(data.trim_end())
+        .map_err(|e| format!("a data URI whose base64 is broken ({e})"))
+}
+
 fn texture(t: &gltf::Texture, buffers: &[Vec<u8>], dir: &Path) -> Result<Texture, String> {
     let bytes = match t.source().source() {
         gltf::image::Source::View { view, .. } => {
@@ -328,9 +347,10 @@ fn texture(t: &gltf::Texture, buffers: &[Vec<u8>], dir: &Path) -> Result<Texture
         }
         gltf::image::Source::Uri { uri, .. } => {
             if uri.starts_with("data:") {
-                return Err("data-URI images are not supported".into());
+                data_uri(uri)?
+            } else {
+                std::fs::read(dir.join(uri)).map_err(|e| format!("'{uri}': {e}"))?
             }
-            std::fs::read(dir.join(uri)).map_err(|e| format!("'{uri}': {e}"))?
         }
     };
     // The decoder refuses sizes past the cap before it allocates them.
