@@ -1,5 +1,6 @@
 //! The WGSL tracer, composed for every specialisation with Bevy's own
-//! preprocessor (naga_oil) and validated by naga: no GPU needed.
+//! preprocessor (naga_oil), validated by naga and written as SPIR-V by
+//! naga's writer, as wgpu's Vulkan backend writes it: no GPU needed.
 
 use bevy_manifold_core::geometry::Geometry;
 use bevy_manifold_core::prelude::*;
@@ -12,13 +13,26 @@ fn compose(defs: &TraceDefs) -> Result<naga::Module, String> {
 }
 
 fn validate(module: &naga::Module) -> Result<(), String> {
+    validated(module).map(|_| ())
+}
+
+fn validated(module: &naga::Module) -> Result<naga::valid::ModuleInfo, String> {
     naga::valid::Validator::new(
         naga::valid::ValidationFlags::all(),
         naga::valid::Capabilities::default(),
     )
     .validate(module)
-    .map(|_| ())
     .map_err(|e| format!("{e:?}"))
+}
+
+/// The module written as SPIR-V, as wgpu's Vulkan backend writes it
+/// (lavapipe and every Vulkan driver take this): naga's writer can fail,
+/// or panic, on a module that validates.
+fn spirv(module: &naga::Module, info: &naga::valid::ModuleInfo) -> Result<Vec<u32>, String> {
+    let options = naga::back::spv::Options::default();
+    std::panic::catch_unwind(|| naga::back::spv::write_vec(module, info, &options, None))
+        .map_err(|_| "naga's SPIR-V writer panicked".to_string())?
+        .map_err(|e| format!("{e:?}"))
 }
 
 #[test]
@@ -30,7 +44,9 @@ fn every_specialisation_composes_and_validates() {
     assert_eq!(all.len(), 7 * 64 * (1 + 2 + 4 + 4));
     for defs in &all {
         let module = compose(defs).unwrap_or_else(|e| panic!("{:?}: {e}", defs.names()));
-        validate(&module).unwrap_or_else(|e| panic!("{:?}: {e}", defs.names()));
+        let info = validated(&module).unwrap_or_else(|e| panic!("{:?}: {e}", defs.names()));
+        let words = spirv(&module, &info).unwrap_or_else(|e| panic!("{:?}: SPIR-V: {e}", defs.names()));
+        assert_eq!(words.first(), Some(&0x0723_0203), "the SPIR-V magic number");
         // The headless compute entry and the render pass's fragment entry.
         assert!(module.entry_points.iter().any(|e| e.name == "trace"));
         assert!(module.entry_points.iter().any(|e| e.name == "fragment"));
