@@ -315,39 +315,25 @@ fn render_writes_linear_hdr() {
 fn render_samples_average_the_accumulated_traces() {
     use bevy_manifold_core::prelude::*;
     let png = tmp("samples.png");
-    let o = run(&[
-        "render",
-        "--space",
-        "torus",
-        "--width",
-        "40",
-        "--height",
-        "24",
-        "--samples",
-        "0",
-        "--out",
-        png.to_str().expect("utf-8"),
-    ]);
+    let render_samples = |samples: &str, cpu: &[&str]| {
+        let size = ["--width", "40", "--height", "24"];
+        let out = png.to_str().expect("utf-8");
+        let args: Vec<&str> = ["render", "--space", "torus", "--samples", samples]
+            .into_iter()
+            .chain(size)
+            .chain(cpu.iter().copied())
+            .chain(["--out", out])
+            .collect();
+        run(&args)
+    };
+    let o = render_samples("0", &[]);
     assert!(!o.status.success());
     assert!(
         stderr(&o).contains("--samples must be between 1 and 256, got 0"),
         "{}",
         stderr(&o)
     );
-    let o = run(&[
-        "render",
-        "--space",
-        "torus",
-        "--width",
-        "40",
-        "--height",
-        "24",
-        "--samples",
-        "4",
-        "--cpu",
-        "--out",
-        png.to_str().expect("utf-8"),
-    ]);
+    let o = render_samples("4", &["--cpu"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains(", 4 samples,"), "{}", stderr(&o));
     let space = catalog::torus(1.0);
