@@ -2,7 +2,7 @@
 //! else on the CPU reference, and say which was used.
 
 use bevy_manifold_core::space::Space;
-use bevy_manifold_core::trace::{Frustum, Scene, TraceImage, TraceSettings, sample_offset};
+use bevy_manifold_core::trace::{Scene, TraceImage, TraceSettings, sample_frustum};
 use bevy_manifold_gpu::{GpuError, GpuTracer};
 
 /// Which tracer [`render_any`] used.
@@ -91,15 +91,10 @@ pub fn render_samples(
     if samples <= 1 {
         return Ok((image, used));
     }
-    let (w, h) = (settings.width, settings.height);
-    let base = scene
-        .camera
-        .frustum
-        .unwrap_or_else(|| Frustum::symmetric(scene.camera.fov_y_degrees, f64::from(w) / f64::from(h.max(1))));
     let mut sum: Vec<[f64; 3]> = image.pixels.iter().map(|p| p.color.map(f64::from)).collect();
     let mut moved = scene.clone();
     for k in 1..samples {
-        moved.camera.frustum = Some(base.jittered(sample_offset(k), w, h));
+        moved.camera.frustum = Some(sample_frustum(scene, settings, k));
         let sampled = TraceSettings {
             light_sample: k,
             ..settings.clone()

@@ -317,11 +317,6 @@ fn each_candidate(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) {
     }
 #endif
 #ifdef MESHES
-#ifdef SHADOWS
-    if shadow_ray && best.kind != 0u {
-        return;
-    }
-#endif
     var rest_meshes = grouped & cached.occupied.z;
     var meshes_range = vec2<u32>(0u, groups[0].z);
     loop {

@@ -192,20 +192,25 @@ struct LightArc {
     e: f32,
 }
 
-// Light image i's short arc to x, or (`long`, S3) the long way round,
-// arriving from the other side. Rust twin: the arcs of shade's loop.
-fn light_arc(x: vec4<f32>, normal: vec4<f32>, i: u32, long: bool, density: f32) -> LightArc {
+// Light image i's arcs to x: the short one, and in S3 (the second) the
+// long way round, arriving from the other side. Rust twin: the arcs of
+// shade's loop.
+fn light_arcs(x: vec4<f32>, normal: vec4<f32>, i: u32, density: f32) -> array<LightArc, 2> {
     let l = lights[i];
     let d = distance(x, l.position);
     let to_light = toward_light(x, l.position, normal);
     let from_dir = from_light(l, x);
-    let s = select(d, 2.0 * PI - d, long);
-    let dir = select(to_light, -to_light, long);
-    var e = image_irradiance(l, s, density) * spot_factor(l, select(from_dir, -from_dir, long));
-    if form(normal, dir) <= 0.0 {
-        e = 0.0;
+    var out = array<LightArc, 2>(LightArc(to_light, d, 0.0), LightArc(-to_light, 2.0 * PI - d, 0.0));
+#ifdef GEOMETRY_SPHERICAL
+    let count = 2u;
+#else
+    let count = 1u;
+#endif
+    for (var a = 0u; a < count; a++) {
+        let e = image_irradiance(l, out[a].s, density) * spot_factor(l, select(from_dir, -from_dir, a == 1u));
+        out[a].e = select(0.0, e, form(normal, out[a].dir) > 0.0);
     }
-    return LightArc(dir, s, e);
+    return out;
 }
 #endif
 
@@ -290,13 +295,18 @@ fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>, c
     var w: ShadowWalk;
     var pending = LightArc(vec4<f32>(0.0), 0.0, 0.0);
     var pending_light = 0u;
+    // The arcs of light next / arcs, worked out once for both.
+    var of_light = array<LightArc, 2>(pending, pending);
     // At most every arc's walk, each at most SHADOW_LEVELS + 1 segments,
     // plus one pass to find that none is left.
     let rounds = params.light_count * arcs * (SHADOW_LEVELS + 2u) + 1u;
     for (var round = 0u; round < rounds; round++) {
         if !walking {
             for (; next < params.light_count * arcs && !walking; next++) {
-                let arc = light_arc(x, normal, next / arcs, next % arcs == 1u, density);
+                if next % arcs == 0u {
+                    of_light = light_arcs(x, normal, next / arcs, density);
+                }
+                let arc = of_light[next % arcs];
                 if arc.e > 0.0 {
                     var aim = arc.dir;
                     var length = arc.s;
@@ -329,10 +339,12 @@ fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>, c
     near_balls = kept_near;
 #endif
 #else
-    for (var p = 0u; p < params.light_count * arcs; p++) {
-        let arc = light_arc(x, normal, p / arcs, p % arcs == 1u, density);
-        if arc.e > 0.0 {
-            add_light(&rgb, lit, arc.dir, arc.e, lights[p / arcs].color);
+    for (var i = 0u; i < params.light_count; i++) {
+        let of_light = light_arcs(x, normal, i, density);
+        for (var a = 0u; a < arcs; a++) {
+            if of_light[a].e > 0.0 {
+                add_light(&rgb, lit, of_light[a].dir, of_light[a].e, lights[i].color);
+            }
         }
     }
 #endif

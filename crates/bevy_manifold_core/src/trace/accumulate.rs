@@ -94,6 +94,19 @@ impl Frustum {
     }
 }
 
+/// The frustum of the `k`-th trace of an accumulating view of `scene`
+/// at the size of `settings`: the camera's own (or the symmetric one of
+/// its field of view) with every pixel moved by [`sample_offset`]`(k)`.
+#[must_use]
+pub fn sample_frustum(scene: &Scene, settings: &TraceSettings, k: u32) -> Frustum {
+    let (w, h) = (settings.width, settings.height);
+    let base = scene
+        .camera
+        .frustum
+        .unwrap_or_else(|| Frustum::symmetric(scene.camera.fov_y_degrees, f64::from(w) / f64::from(h.max(1))));
+    base.jittered(sample_offset(k), w, h)
+}
+
 /// The mean linear colour of `samples` traces of `scene`, the `k`-th with
 /// its pixel grid moved by [`sample_offset`]`(k)`: the CPU twin of the
 /// render pass's accumulation, row-major like [`render`]'s pixels.
@@ -101,16 +114,10 @@ impl Frustum {
 pub fn accumulate<R: Real>(space: &Space, scene: &Scene, settings: &TraceSettings, samples: u32) -> Vec<[f32; 3]> {
     let n = (settings.width * settings.height) as usize;
     let mut sum = vec![[0.0f64; 3]; n];
-    let base = scene.camera.frustum.unwrap_or_else(|| {
-        Frustum::symmetric(
-            scene.camera.fov_y_degrees,
-            f64::from(settings.width) / f64::from(settings.height.max(1)),
-        )
-    });
     let samples = samples.max(1);
     let mut moved = scene.clone();
     for k in 0..samples {
-        moved.camera.frustum = Some(base.jittered(sample_offset(k), settings.width, settings.height));
+        moved.camera.frustum = Some(sample_frustum(scene, settings, k));
         let sampled = TraceSettings {
             light_sample: k,
             ..settings.clone()

@@ -71,7 +71,7 @@ pub mod step;
 mod trace;
 mod walk;
 
-pub use accumulate::{accumulate, light_sample_point, sample_offset};
+pub use accumulate::{accumulate, light_sample_point, sample_frustum, sample_offset};
 pub use ball_tree::{
     BALL_LEAF_SIZE, BallTree, FULL_LEAF_SIZE, MAX_BALL_LEAVES, SMALL_LEAVES, UNBOUNDED, ball_box, chart_segment,
     leaf_count, tree_leaves,
