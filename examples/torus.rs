@@ -1,9 +1,11 @@
 //! The flat 3-torus, as in the paper's Fig. 3: the cube's opposite faces
 //! are glued by translations, so the one Suzanne (attached to the camera),
 //! the hands and the cube's edges are seen in every copy of the cube,
-//! tiling Euclidean space. `--fog` adds fog, as in Fig. 1 (right).
+//! tiling Euclidean space. `--fog` adds fog, as in Fig. 1 (right);
+//! `--mirror` a mirror ball in the middle of the cube, reflecting the
+//! space with one reflection a ray, as in Fig. 11.
 //!
-//! `cargo run --release --example torus [-- --fog] [-- --screenshot FILE.png [--size WxH]]`
+//! `cargo run --release --example torus [-- --fog] [-- --mirror] [-- --screenshot FILE.png [--size WxH]]`
 
 use bevy::prelude::*;
 use bevy_manifold::drawables::paper::{paper_camera, spawn_paper_scene};
@@ -27,7 +29,12 @@ fn setup(mut commands: Commands) {
     let root = commands.spawn(ManifoldSpace::new(space.clone())).id();
     let mut camera = commands.spawn((
         ChildOf(root),
-        ManifoldCamera::default(),
+        ManifoldCamera {
+            // One reflection a ray: the mirror shows the space, and the
+            // other surfaces their faint specular reflection.
+            reflections: u32::from(showcase::flag("--mirror")),
+            ..default()
+        },
         FlyCamera::default(),
         paper_camera(&space),
     ));
@@ -38,5 +45,9 @@ fn setup(mut commands: Commands) {
         });
     }
     let eye = camera.id();
-    spawn_paper_scene(&mut commands, root, eye, &space, PaperOptions::default());
+    let options = PaperOptions {
+        mirror: showcase::flag("--mirror"),
+        ..default()
+    };
+    spawn_paper_scene(&mut commands, root, eye, &space, options);
 }

@@ -8,6 +8,7 @@ bin="${CARGO_TARGET_DIR:-target}/release/examples"
 out=docs/images
 "$bin/torus" --screenshot "$out/torus.png"
 "$bin/torus" --fog --screenshot "$out/torus_fog.png"
+"$bin/torus" --mirror --screenshot "$out/torus_mirror.png"
 "$bin/seifert_weber" --screenshot "$out/seifert_weber.png"
 "$bin/poincare" --screenshot "$out/poincare.png"
 "$bin/mirrored_cube" --screenshot "$out/mirrored_cube.png"

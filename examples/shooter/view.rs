@@ -109,6 +109,7 @@ fn attach_eyes(
         ManifoldCamera {
             levels: settings.levels,
             max_distance: 40.0,
+            ..default()
         },
         Projection::Perspective(PerspectiveProjection {
             fov: 70f32.to_radians(),
@@ -130,6 +131,7 @@ fn attach_eyes(
             suzanne: SuzanneMode::Attached,
             hands: false,
             vehicle: false,
+            mirror: false,
         },
     );
     for e in &hud {

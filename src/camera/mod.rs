@@ -97,6 +97,12 @@ pub struct ManifoldCamera {
     pub levels: u32,
     /// Rays stop after this distance.
     pub max_distance: f32,
+    /// Reflections: how many times a ray may reflect off a surface with a
+    /// material (a `StandardMaterial`'s metallic and roughness, a
+    /// [`crate::drawables::TracedBall`]'s) and go on through the faces,
+    /// each reflection with `levels` of its own (at most
+    /// [`crate::trace::MAX_REFLECTIONS`]). 0, the default, costs nothing.
+    pub reflections: u32,
 }
 
 #[cfg(feature = "render")]
@@ -105,6 +111,7 @@ impl Default for ManifoldCamera {
         ManifoldCamera {
             levels: 8,
             max_distance: 100.0,
+            reflections: 0,
         }
     }
 }

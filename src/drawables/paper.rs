@@ -20,13 +20,13 @@
 //! App::new().add_plugins((DefaultPlugins, ManifoldPlugins::default())).add_systems(Startup, setup).run();
 //! ```
 
-use super::{CameraBody, DomainEdges, ManifoldLight, bevy_mesh};
+use super::{CameraBody, DomainEdges, ManifoldLight, TracedBall, bevy_mesh};
 use crate::geometry::isometry;
 use crate::placement::Placement;
 use crate::space::Space;
 use crate::trace::{
-    HAND_COLOR, PaperOptions, SUZANNE_COLOR, Scene, SuzanneMode, VEHICLE_COLOR, builtin, hand_offset, suzanne_offset,
-    vehicle_offset,
+    HAND_COLOR, PaperOptions, SUZANNE_COLOR, Scene, SuzanneMode, VEHICLE_COLOR, builtin, hand_offset, mirror_ball,
+    suzanne_offset, vehicle_offset,
 };
 use bevy::asset::RenderAssetUsages;
 use bevy::prelude::*;
@@ -92,6 +92,9 @@ pub struct PaperEntities {
     /// The vehicle (a child of the camera: the camera rides it), when
     /// asked for.
     pub vehicle: Option<Entity>,
+    /// The mirror ball (a child of the root, at the domain's centre), when
+    /// asked for: seen with [`crate::camera::ManifoldCamera::reflections`].
+    pub mirror: Option<Entity>,
     /// The light, where the camera starts.
     pub light: Entity,
 }
@@ -196,6 +199,19 @@ pub fn spawn_paper_scene(
             ))
             .id()
     });
+    let mirror = options.mirror.then(|| {
+        let ball = mirror_ball(space);
+        let [r, g, b] = ball.color;
+        let pbr = ball.pbr.unwrap_or_default();
+        commands
+            .spawn((
+                Name::new("mirror ball"),
+                ChildOf(root),
+                TracedBall::new(ball.radius, Color::linear_rgb(r, g, b)).with_pbr(pbr.metallic, pbr.roughness),
+                Placement::from_isometry(isometry::translation_to(space.geometry(), ball.center)),
+            ))
+            .id()
+    });
     let (s, h, v) = (suzanne, hands, vehicle);
     commands.queue(move |world: &mut World| {
         let assets = PaperAssets::get_or_add(world);
@@ -225,6 +241,7 @@ pub fn spawn_paper_scene(
         suzanne,
         hands,
         vehicle,
+        mirror,
         light: light_entity,
     }
 }

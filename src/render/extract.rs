@@ -39,6 +39,8 @@ pub struct ExtractedManifoldView {
     pub levels: u32,
     /// Rays stop after this distance.
     pub max_distance: f32,
+    /// Most reflections a ray follows ([`ManifoldCamera::reflections`]).
+    pub reflections: u32,
     /// The shader defs this view needs.
     pub defs: TraceDefs,
     /// Per-cell shading words ([`crate::space::cells::CellTint::words`]).
@@ -98,7 +100,8 @@ pub fn extract_manifold_views(
         let levels = mc.levels.min(crate::trace::MAX_LEVELS);
         let mut defs = TraceDefs::for_scene(space.space(), scene.scene(), tint.is_some())
             .for_rule(space.rule())
-            .for_footprint(footprint);
+            .for_footprint(footprint)
+            .for_reflections(mc.reflections);
         defs.fog = fog.is_some();
         commands.entity(render_entity.id()).insert(ExtractedManifoldView {
             root,
@@ -111,6 +114,7 @@ pub fn extract_manifold_views(
             levels,
             // NaN or not positive: the default distance.
             max_distance: if mc.max_distance > 0.0 { mc.max_distance } else { 100.0 },
+            reflections: mc.reflections.min(crate::trace::MAX_REFLECTIONS),
             defs,
             cell_tint: tint.unwrap_or_default().words(),
             scale: scale.map_or(1.0, |s| s.get()),

@@ -174,6 +174,51 @@ fn gen_files_import_show_and_render() {
     );
 }
 
+fn render_mirror_adds_the_mirror_ball_and_one_reflection() {
+    // The paper's scene with the mirror ball (id 1, ahead of the camera)
+    // seen once with the default reflection and once with none: the
+    // mirror's pixels differ; the edges and the background do not.
+    let (a, b, ids) = (tmp("mirror.png"), tmp("mirror_plain.png"), tmp("mirror_ids.png"));
+    let common = [
+        "render", "--space", "torus", "--mirror", "--cpu", "--width", "64", "--height", "36",
+    ];
+    let mut with = common.to_vec();
+    with.extend([
+        "--out",
+        a.to_str().expect("utf-8"),
+        "--ids",
+        ids.to_str().expect("utf-8"),
+    ]);
+    let o = run(&with);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mut without = common.to_vec();
+    without.extend(["--reflections", "0", "--out", b.to_str().expect("utf-8")]);
+    let o = run(&without);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (a, b) = (image::open(&a).unwrap().to_rgba8(), image::open(&b).unwrap().to_rgba8());
+    let ids = image::open(&ids).unwrap().to_rgba8();
+    assert_eq!(ids.get_pixel(32, 18).0[0], 1, "the mirror ball ahead");
+    let (mut mirror, mut changed, mut plain_changed) = (0, 0, 0);
+    for (x, y, id) in ids.enumerate_pixels() {
+        let differs = a.get_pixel(x, y) != b.get_pixel(x, y);
+        match id.0[0] {
+            1 => {
+                mirror += 1;
+                changed += usize::from(differs);
+            }
+            // Edges (no material) and the background reflect nothing;
+            // Suzanne and the hands (dielectrics) a little.
+            0 | 255 => plain_changed += usize::from(differs),
+            _ => {}
+        }
+    }
+    assert!(
+        mirror > 100 && changed * 5 > mirror,
+        "{changed} of {mirror} mirror pixels changed"
+    );
+    assert_eq!(plain_changed, 0, "edges and background are the same");
+}
+
 fn render_refuses_sizes_and_levels_no_tracer_takes() {
     let out = tmp("never.png");
     let out = out.to_str().expect("utf-8");
@@ -182,6 +227,7 @@ fn render_refuses_sizes_and_levels_no_tracer_takes() {
         (vec!["--width", "70000", "--height", "70000"], "70000x70000"),
         (vec!["--width", "0"], "0x360"),
         (vec!["--levels", "20000"], "20000 levels"),
+        (vec!["--reflections", "9"], "9 reflections: at most 8"),
         (vec!["--walls", "1.5"], "--walls must be a fraction"),
         (vec!["--hidden", "NaN"], "--hidden must be a fraction"),
     ] {
@@ -673,6 +719,7 @@ bevy_manifold_test_support::test_main! {
         space_list_prints_one_name_per_line,
         gen_files_import_show_and_render,
         render_refuses_sizes_and_levels_no_tracer_takes,
+        render_mirror_adds_the_mirror_ball_and_one_reflection,
         space_show_gives_the_invariants,
         export_then_load_the_file_by_path,
         a_broken_space_file_is_reported_with_its_name,

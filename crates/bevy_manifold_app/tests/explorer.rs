@@ -53,6 +53,8 @@ fn settings_round_trip_and_broken_files_are_replaced_not_lost() {
         suzanne: SuzanneMode::Free,
         hands: false,
         vehicle: true,
+        mirror: true,
+        reflections: 3,
         render_scale: 0.5,
         hold_frame_rate: true,
         target_fps: 90.0,
@@ -86,12 +88,13 @@ fn settings_round_trip_and_broken_files_are_replaced_not_lost() {
     // fields take their defaults.
     std::fs::write(
         &path,
-        r#"{"space": "nowhere", "levels": 1000, "fog_density": -1.0, "render_scale": 0.0, "pattern_on": 2.0, "edges": false, "target_fps": 1000, "still_samples": 0}"#,
+        r#"{"space": "nowhere", "levels": 1000, "fog_density": -1.0, "render_scale": 0.0, "pattern_on": 2.0, "edges": false, "target_fps": 1000, "still_samples": 0, "reflections": 99}"#,
     )
     .unwrap();
     let (s, warnings) = settings::load(&path);
-    assert_eq!(warnings.len(), 7, "{warnings:?}");
+    assert_eq!(warnings.len(), 8, "{warnings:?}");
     assert_eq!(s.target_fps, 144.0);
+    assert_eq!(s.reflections, bevy_manifold::trace::MAX_REFLECTIONS);
     assert_eq!(s.still_samples, 2);
     assert_eq!(s.space, "torus");
     assert_eq!(s.levels, settings::MAX_LEVEL);

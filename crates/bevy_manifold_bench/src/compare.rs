@@ -200,6 +200,7 @@ fn pass_app(case: &Case, settings: &TraceSettings) -> Result<(App, Handle<Image>
     let camera = ManifoldCamera {
         levels: case.levels,
         max_distance: settings.max_distance as f32,
+        reflections: settings.reflections,
     };
     let (root, _) = offscreen::spawn_view(
         &mut app,

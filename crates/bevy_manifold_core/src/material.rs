@@ -227,3 +227,33 @@ pub fn brdf(albedo: [f32; 3], pbr: Pbr, c: Cosines) -> [f32; 3] {
     }
     out
 }
+
+/// The share of the light arriving along the mirror direction that a PBR
+/// surface sends to the eye, per channel: the GGX lobe integrated over the
+/// hemisphere for the view's cosine `nv` (the "split sum" environment
+/// term), in the analytic fit of Karis ("Physically Based Shading on
+/// Mobile", 2014, after Lazarov): `F0 A + B` with `F0 = mix(0.04,
+/// albedo, metallic)`. What a reflected ray's colour is weighted by
+/// ([`crate::trace::TraceSettings::reflections`]). WGSL twin: `reflectance`
+/// in `shaders/shade.wgsl`.
+///
+/// ```
+/// use bevy_manifold_core::material::{Pbr, reflectance};
+/// // A smooth metal seen head on reflects its own colour (F = F0)...
+/// let silver = reflectance([0.95; 3], Pbr { metallic: 1.0, roughness: 0.0 }, 1.0);
+/// assert!((silver[0] - 0.95).abs() < 0.02);
+/// // ... a smooth dielectric about 4%, and at grazing angles nearly all.
+/// let glass = Pbr { metallic: 0.0, roughness: 0.0 };
+/// assert!((reflectance([0.5; 3], glass, 1.0)[0] - 0.04).abs() < 0.01);
+/// assert!(reflectance([0.5; 3], glass, 0.01)[0] > 0.7);
+/// ```
+#[must_use]
+pub fn reflectance(albedo: [f32; 3], pbr: Pbr, nv: f32) -> [f32; 3] {
+    let r = pbr.roughness.clamp(0.0, 1.0);
+    let nv = nv.clamp(0.0, 1.0);
+    let (r0, r1, r2, r3) = (1.0 - r, 0.0425 - 0.0275 * r, 1.04 - 0.572 * r, 0.022 * r - 0.04);
+    let a004 = (r0 * r0).min((-9.28 * nv).exp2()) * r0 + r1;
+    let (a, b) = (-1.04 * a004 + r2, 1.04 * a004 + r3);
+    let m = pbr.metallic;
+    [0, 1, 2].map(|i| ((DIELECTRIC_F0 * (1.0 - m) + albedo[i] * m) * a + b).clamp(0.0, 1.0))
+}

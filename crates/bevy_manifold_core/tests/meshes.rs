@@ -401,6 +401,7 @@ fn the_vehicle_is_traced_where_a_plain_ray_caster_sees_it_and_in_the_other_copie
         suzanne: SuzanneMode::Hidden,
         hands: false,
         vehicle: true,
+        mirror: false,
     };
     let scene = Scene::paper(&space, &options);
     assert_eq!(scene.meshes.len(), 1);

@@ -104,6 +104,11 @@ struct Params {
     // y, z): nearest_object walks only these of a segment's near faces.
     // WGSL only (GpuParams::occupied).
     occupied: vec4<u32>,
+    // REFLECTIONS: the most reflections a ray takes (TraceSettings::reflections).
+    reflections: u32,
+    pad_a: u32,
+    pad_b: u32,
+    pad_c: u32,
 }
 
 // Rust twin: GpuFace in crates/bevy_manifold_gpu/src/layout.rs.

@@ -3,7 +3,9 @@
 // along its own geodesic (both arcs in S3) with the fall-off of the
 // geometry (1 / area of the geodesic sphere), the light's range and the
 // fog on its way (image_irradiance), and only if the way is free
-// (shadow.wgsl's shadow_step); per-cell colour and fog (shade); a wall between cells lit by a lamp at the eye
+// (shadow.wgsl's shadow_step); per-cell colour and fog (shade); the ray a
+// surface with a material reflects (Mirror, mirror_ray, under
+// REFLECTIONS); a wall between cells lit by a lamp at the eye
 // (shade_wall); what lies past the table of exact ids under rules
 // (unknown_rules).
 //
@@ -14,7 +16,7 @@
 // Shader defs read: BALLS, TUBES, MESHES (which objects are shaded),
 // CELL_COLORS, LIGHTS, LIGHT_IMAGES (without it each light's copy in the
 // domain, as before light images), SHADOWS, MATERIALS (metallic and
-// roughness, emission, normal maps), FOG, GEOMETRY_SPHERICAL.
+// roughness, emission, normal maps), REFLECTIONS, FOG, GEOMETRY_SPHERICAL.
 #define_import_path bevy_manifold::shade
 
 #import bevy_manifold::bindings::{params, cached}
@@ -50,6 +52,33 @@
 #ifdef SOFT_SHADOWS
 #import bevy_manifold::shadow::aim_at_light
 #endif
+
+// How far off the surface a reflected ray starts (chart units along the
+// normal). Rust twin: MIRROR_OFFSET.
+const MIRROR_OFFSET: f32 = 1.0e-4;
+
+// The ray a surface reflects, the share of its light the eye sees and the
+// fog's transmittance to the hit; `on` false where the surface has no
+// material. Rust twin: Mirror in shade.rs (an Option there).
+struct Mirror {
+    ray: Ray,
+    weight: vec3<f32>,
+    fog_kept: f32,
+    on: bool,
+}
+
+// What the last shade() reflects (REFLECTIONS; Rust returns it).
+var<private> last_mirror: Mirror;
+
+// The reflected ray at x, normal `normal`, seen along `view` (towards the
+// eye): from MIRROR_OFFSET off the surface along 2 (n.v) n - v.
+// Rust twin: mirror_ray.
+fn mirror_ray(x: vec4<f32>, normal: vec4<f32>, view: vec4<f32>) -> Ray {
+    let nv = form(normal, view);
+    let dir = normal * (nv + nv) - view;
+    let origin = normalize_point(x + normal * MIRROR_OFFSET);
+    return Ray(origin, normalize_tangent(origin, dir));
+}
 
 // A light nearer a hit than this (|tangent towards it|^2) is on the hit
 // point, and lights it along the normal (toward_light).
@@ -100,6 +129,20 @@ fn brdf(albedo: vec3<f32>, metallic: f32, roughness: f32, nl_in: f32, nv_in: f32
     let f0 = DIELECTRIC_F0 * (1.0 - metallic) + albedo * metallic;
     let f = f0 + (1.0 - f0) * fresnel;
     return albedo * (1.0 - metallic) + PI * d * vis * f;
+}
+
+// The share of the light along the mirror direction a PBR surface sends
+// to the eye (Karis's fit of the split-sum GGX term: F0 A + B). Rust
+// twin: reflectance in crates/bevy_manifold_core/src/material.rs.
+fn reflectance(albedo: vec3<f32>, metallic: f32, roughness: f32, nv_in: f32) -> vec3<f32> {
+    let r = clamp(roughness, 0.0, 1.0);
+    let nv = clamp(nv_in, 0.0, 1.0);
+    let r0 = 1.0 - r;
+    let a004 = min(r0 * r0, exp2(-9.28 * nv)) * r0 + (0.0425 - 0.0275 * r);
+    let a = -1.04 * a004 + (1.04 - 0.572 * r);
+    let b = 1.04 * a004 + (0.022 * r - 0.04);
+    let f0 = DIELECTRIC_F0 * (1.0 - metallic) + albedo * metallic;
+    return clamp(f0 * a + b, vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
 // Rust twin: pack_pbr in crates/bevy_manifold_gpu/src/layout.rs (this
@@ -358,9 +401,19 @@ fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>, c
     }
 #endif
 #endif
+    var fog_kept = 1.0;
 #ifdef FOG
     let tr = exp(-(cached.fog_density * dist));
     rgb = rgb * tr + params.fog_color.xyz * (1.0 - tr);
+    fog_kept = tr;
+#endif
+#ifdef REFLECTIONS
+    last_mirror.on = pbr.x >= 0.0;
+    if last_mirror.on {
+        last_mirror.ray = mirror_ray(x, normal, view);
+        last_mirror.weight = reflectance(albedo, pbr.x, pbr.y, form(normal, view));
+        last_mirror.fog_kept = fog_kept;
+    }
 #endif
     return rgb;
 }

@@ -9,7 +9,8 @@
 //
 // Shader defs read: FOG (early stop, fog colour), CELL_RULES (hidden
 // cells, walls), FOOTPRINT (cone tracing), BALL_TREE (the leaves cached
-// once a ray); the rest through the imports.
+// once a ray), REFLECTIONS (the legs of a path off mirrors, trace_ray's
+// loop); the rest through the imports.
 //
 // Written for lavapipe too, which runs the body of every branch under a
 // mask whether or not any SIMD lane takes it (only loops end early, once
@@ -21,12 +22,15 @@
 #import bevy_manifold::geometry::chart_to_distance
 #import bevy_manifold::step::{Ray, near_faces}
 #import bevy_manifold::cells::cell_id
-#import bevy_manifold::walk::{walker_new, max_passes, segment_end, walk_segment}
+#import bevy_manifold::walk::{Walker, walker_new, max_passes, segment_end, walk_segment}
 #import bevy_manifold::cull::each_candidate
 #import bevy_manifold::nearest::{Hit, best, hit_id}
 #import bevy_manifold::shade::shade
 #ifdef BALL_TREE
 #import bevy_manifold::ball_tree::cache_leaves
+#endif
+#ifdef REFLECTIONS
+#import bevy_manifold::shade::{Mirror, last_mirror}
 #endif
 #ifdef CELL_RULES
 #import bevy_manifold::rule::cell_visible
@@ -87,15 +91,66 @@ fn segment_layers(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) {
 }
 #endif
 
-// Algorithm 1 for one ray (Rust twin: trace_ray): on each segment the
-// nearest object, else walk on through the exit face. Under FOOTPRINT
-// each segment's layers, front to back.
+// The most reflections a ray follows. Rust twin: MAX_REFLECTIONS.
+const MAX_REFLECTIONS: u32 = 8u;
+
+#ifdef REFLECTIONS
+// Where a leg of a path ended on a surface that reflects: its mirror (the
+// weight times the share of the pixel the surface took), the cell, the
+// distance travelled to it. Rust twin: Reflection in trace.rs.
+struct Reflection {
+    mirror: Mirror,
+    cell: mat4x4<f32>,
+    index: u32,
+    travelled: f32,
+}
+
+var<private> reflection: Reflection;
+
+// Keeps what the last shade() reflects as the leg's reflection, seen in
+// `share` of the pixel, at distance `dist` in the walk's cell.
+fn keep_reflection(walk: Walker, dist: f32, share: f32) {
+    reflection = Reflection(last_mirror, walk.cell, walk.index, dist);
+    reflection.mirror.weight *= share;
+}
+#endif
+
+// Algorithm 1 for one ray (Rust twin: trace_ray and trace_path): the
+// camera's leg, then under REFLECTIONS up to params.reflections legs off the
+// mirrors met, each from the mirror's cell with a fresh budget of levels,
+// their colours added in front of the fog.
 fn trace_ray(ray: Ray) -> Pixel {
     cache_params();
 #ifdef BALL_TREE
     cache_leaves();
 #endif
-    var walk = walker_new(ray, params.camera_cell, params.camera_cell_index);
+    var pixel = trace_leg(walker_new(ray, params.camera_cell, params.camera_cell_index));
+#ifdef REFLECTIONS
+    var weight = vec3<f32>(1.0);
+    for (var b = 0u; b < min(params.reflections, MAX_REFLECTIONS); b++) {
+        if !reflection.mirror.on {
+            break;
+        }
+        let off = reflection;
+        weight *= off.mirror.weight;
+        var walk = walker_new(off.mirror.ray, off.cell, off.index);
+        walk.travelled = off.travelled;
+        let leg = trace_leg(walk);
+        pixel.color = vec4<f32>(pixel.color.xyz + weight * (leg.color.xyz - background() * (1.0 - off.mirror.fog_kept)), pixel.color.w);
+    }
+#endif
+    return pixel;
+}
+
+// One leg of a path (Rust twin: trace_leg): on each segment the nearest
+// object, else walk on through the exit face. Under FOOTPRINT each
+// segment's layers, front to back. Under REFLECTIONS it leaves in
+// `reflection` the mirror of the surface it ends on (`on` false if none).
+fn trace_leg(start: Walker) -> Pixel {
+    var walk = start;
+#ifdef REFLECTIONS
+    reflection.mirror.on = false;
+#endif
 #ifdef FOOTPRINT
     cone_layers = Layers(vec3<f32>(0.0), 1.0, 0u);
     cone_has_front = false;
@@ -147,7 +202,13 @@ fn trace_ray(ray: Ray) -> Pixel {
                 cone_front = here;
                 cone_has_front = true;
             }
+#ifdef REFLECTIONS
+            let share = cone_layers.left;
+#endif
             if add_layer(&cone_layers, color, layer.part) {
+#ifdef REFLECTIONS
+                keep_reflection(walk, dist, share);
+#endif
                 return finish(here);
             }
             if layers_full(cone_layers) {
@@ -163,6 +224,9 @@ fn trace_ray(ray: Ray) -> Pixel {
                 cone_front = here;
                 cone_has_front = true;
             }
+#ifdef REFLECTIONS
+            keep_reflection(walk, dist, cone_layers.left);
+#endif
             add_layer(&cone_layers, color, 1.0);
             return finish(here);
         }
@@ -202,7 +266,11 @@ fn trace_ray(ray: Ray) -> Pixel {
     if hit.kind != 0u {
         let dist = walk.travelled + chart_to_distance(hit.t);
         let cid = cell_id(walk.cell, walk.index);
-        return Pixel(vec4<f32>(shade(walk.ray, hit, vec4<f32>(0.0), dist, cid, walk.cell), dist), hit_id(hit), walk.levels, cid.x, cid.y);
+        let color = shade(walk.ray, hit, vec4<f32>(0.0), dist, cid, walk.cell);
+#ifdef REFLECTIONS
+        keep_reflection(walk, dist, 1.0);
+#endif
+        return Pixel(vec4<f32>(color, dist), hit_id(hit), walk.levels, cid.x, cid.y);
     }
 #endif
     let cid = cell_id(walk.cell, walk.index);

@@ -106,6 +106,15 @@ pub struct GpuParams {
     /// groups cost no reads (WGSL only; the CPU's empty ranges cost
     /// nothing).
     pub occupied: [u32; 4],
+    /// Reflections (`REFLECTIONS`): the most reflections a ray takes
+    /// (`bevy_manifold_core::trace::TraceSettings::reflections`).
+    pub reflections: u32,
+    /// Padding to 16 bytes.
+    pub pad_a: u32,
+    /// Padding.
+    pub pad_b: u32,
+    /// Padding.
+    pub pad_c: u32,
 }
 
 /// WGSL twin: `Face` in `shaders/bindings.wgsl`.

@@ -73,6 +73,10 @@ pub struct TraceDefs {
     /// ([`bevy_manifold_core::material`]); without it every surface has
     /// the classic look and none of their reads is compiled.
     pub materials: bool,
+    /// `REFLECTIONS`: rays reflect off surfaces with a material
+    /// (`TraceSettings::reflections` above 0, [`TraceDefs::for_reflections`]);
+    /// without it no reflection is compiled and `params.reflections` is not read.
+    pub reflections: bool,
     /// `ALPHA_MASK`: some mesh has an alpha mask, tested at every
     /// triangle a ray meets.
     pub alpha_mask: bool,
@@ -169,6 +173,7 @@ impl TraceDefs {
                     let t = &m.material;
                     t.pbr.is_some() || t.emissive != [0.0; 3] || t.normal_map.is_some()
                 }),
+            reflections: false,
             alpha_mask: scene.meshes.iter().any(|m| m.material.alpha_cutoff.is_some()),
             // The interior balls, those a tree holds, are scene balls (a
             // ghost copy or a vertex joint lies near a face).
@@ -197,6 +202,23 @@ impl TraceDefs {
     #[must_use]
     pub fn for_footprint(mut self, on: bool) -> Self {
         self.footprint = on && (self.balls || self.tubes);
+        self
+    }
+
+    /// These defs with reflections when `reflections` is above 0 and some
+    /// surface has a material (`MATERIALS`): the others reflect nothing.
+    ///
+    /// ```
+    /// use bevy_manifold_core::prelude::*;
+    /// use bevy_manifold_gpu::TraceDefs;
+    /// let torus = catalog::torus(1.0);
+    /// let defs = TraceDefs::for_scene(&torus, &Scene::default_for(&torus), false);
+    /// assert!(!defs.for_reflections(1).reflections, "no surface has a material");
+    /// assert!(TraceDefs { materials: true, ..defs }.for_reflections(1).reflections);
+    /// ```
+    #[must_use]
+    pub fn for_reflections(mut self, reflections: u32) -> Self {
+        self.reflections = reflections > 0 && self.materials;
         self
     }
 
@@ -268,6 +290,7 @@ impl TraceDefs {
             soft_shadows: true,
             meshes: true,
             materials: true,
+            reflections: true,
             alpha_mask: true,
             ball_tree: true,
             ball_leaves: bevy_manifold_core::trace::MAX_BALL_LEAVES as u32,
@@ -324,6 +347,8 @@ impl TraceDefs {
                     // Materials with lights and the cell rules, the alpha
                     // mask with meshes and fog: each on and off.
                     materials: on(4) && on(7),
+                    // Reflections with materials and fog: on and off.
+                    reflections: on(4) && on(7) && on(1),
                     alpha_mask: on(5) && on(1),
                     face_count: on(6).then_some(12),
                     cell_rules: on(7),
@@ -376,6 +401,7 @@ impl TraceDefs {
             (self.shadows && self.soft_shadows, "SOFT_SHADOWS"),
             (self.meshes, "MESHES"),
             (self.materials, "MATERIALS"),
+            (self.reflections && self.materials, "REFLECTIONS"),
             (self.alpha_mask && self.meshes, "ALPHA_MASK"),
             (self.ball_tree, "BALL_TREE"),
             (self.many_unkeyed_tubes, "MANY_UNKEYED_TUBES"),

@@ -277,6 +277,7 @@ fn gpu_view(view: &ExtractedManifoldView, extracted: &ExtractedView, traced: Opt
             0.0
         },
         light_sample: [0.0; 2],
+        reflections: view.reflections,
     }
 }
 

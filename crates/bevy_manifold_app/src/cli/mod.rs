@@ -10,7 +10,7 @@ pub mod tour;
 use crate::policy::{UsedTracer, render_samples};
 use bevy_manifold::prelude::*;
 use bevy_manifold::space::rule::{CellRule, OnOff, Walls};
-use bevy_manifold::trace::{write_ids_png, write_png};
+use bevy_manifold::trace::{PaperOptions, write_ids_png, write_png};
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -197,6 +197,15 @@ struct RenderArgs {
     /// the same flag under its earlier name).
     #[arg(long, visible_alias = "bounces", default_value_t = 8)]
     levels: u32,
+    /// Reflections a ray follows off surfaces with a material (metallic
+    /// and roughness), each with the levels of its own; 0 to 8 (default
+    /// 0, or 1 with --mirror).
+    #[arg(long)]
+    reflections: Option<u32>,
+    /// Without --scene: add the mirror ball of the paper's Fig. 11 to the
+    /// paper's scene (and one reflection unless --reflections says).
+    #[arg(long, conflicts_with = "scene")]
+    mirror: bool,
     /// Fog density (adds fog, or overrides the scene's).
     #[arg(long)]
     fog: Option<f64>,
@@ -369,6 +378,7 @@ fn render_command(args: &RenderArgs) -> Result<(), String> {
         width: args.width,
         height: args.height,
         levels: args.levels,
+        reflections: args.reflections.unwrap_or(u32::from(args.mirror)),
         ..TraceSettings::default()
     };
     size_check.check().map_err(|e| format!("render: {e}"))?;
@@ -380,7 +390,13 @@ fn render_command(args: &RenderArgs) -> Result<(), String> {
     }
     let mut scene = match &args.scene {
         Some(p) => Scene::load(p, &space).map_err(|e| e.to_string())?,
-        None => Scene::paper_default(&space),
+        None => Scene::paper(
+            &space,
+            &PaperOptions {
+                mirror: args.mirror,
+                ..PaperOptions::default()
+            },
+        ),
     };
     for why in &scene.skipped {
         eprintln!("warning: {why}");
@@ -422,6 +438,7 @@ fn render_command(args: &RenderArgs) -> Result<(), String> {
             walls: args.walls.map(|density| Walls { density, seed }),
         },
         footprint: args.cones,
+        reflections: size_check.reflections,
         ..TraceSettings::default()
     };
     let start = std::time::Instant::now();

@@ -18,6 +18,7 @@ use bevy_manifold::geometry::Geometry;
 use bevy_manifold::placement::{DomainCell, Placement};
 use bevy_manifold::space::{catalog, library};
 use bevy_manifold::tour::FaceWord;
+use bevy_manifold::trace::MAX_REFLECTIONS;
 use bevy_manifold::trace::SuzanneMode;
 
 /// The panel and the view in the primary window. Needs
@@ -280,6 +281,16 @@ fn contents(
     });
     ui.checkbox(&mut s.hands, "hands");
     ui.checkbox(&mut s.vehicle, "ride the vehicle (W/S throttle, arrows steer)");
+    // A mirror is seen with reflections on: ticking it turns one on.
+    if ui
+        .checkbox(&mut s.mirror, "mirror ball (the paper's Fig. 11)")
+        .changed()
+        && s.mirror
+        && s.reflections == 0
+    {
+        s.reflections = 1;
+    }
+    ui.add(egui::Slider::new(&mut s.reflections, 0..=MAX_REFLECTIONS).text("reflections"));
     ui.separator();
     ui.add(egui::Slider::new(&mut s.render_scale, MIN_SCALE..=1.0).text("render scale"));
     ui.checkbox(&mut s.hold_frame_rate, "hold a frame rate (trace fewer pixels)");

@@ -27,7 +27,7 @@ use bevy_manifold::camera::{AdaptiveRenderScale, ManifoldAccumulation, ManifoldC
 use bevy_manifold::camera::{CellShading, ManifoldFog};
 use bevy_manifold::space::rule::{CellRule, OnOff, Walls};
 use bevy_manifold::space::{catalog, library};
-use bevy_manifold::trace::{PaperOptions, SuzanneMode};
+use bevy_manifold::trace::{MAX_REFLECTIONS, PaperOptions, SuzanneMode};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -104,6 +104,11 @@ pub struct ExplorerSettings {
     /// The camera rides the vehicle (the paper's airplane) instead of
     /// flying freely.
     pub vehicle: bool,
+    /// The mirror ball of the paper's Fig. 11 at the domain's centre.
+    pub mirror: bool,
+    /// Reflections a ray follows off surfaces with a material (0 to
+    /// [`bevy_manifold::trace::MAX_REFLECTIONS`]; 0: none, at no cost).
+    pub reflections: u32,
     /// Render resolution as a fraction of the view's pixels.
     pub render_scale: f32,
     /// Hold `target_fps` by tracing fewer pixels than `render_scale` asks
@@ -150,6 +155,8 @@ impl Default for ExplorerSettings {
             suzanne: SuzanneMode::Attached,
             hands: true,
             vehicle: false,
+            mirror: false,
+            reflections: 0,
             render_scale: 1.0,
             hold_frame_rate: false,
             target_fps: 30.0,
@@ -176,6 +183,7 @@ impl ExplorerSettings {
             ManifoldCamera {
                 levels: self.levels,
                 max_distance: self.max_distance,
+                reflections: self.reflections,
             },
             self.cell_shading(),
         )
@@ -250,6 +258,7 @@ impl ExplorerSettings {
             suzanne: self.suzanne,
             hands: self.hands,
             vehicle: self.vehicle,
+            mirror: self.mirror,
         }
     }
 
@@ -312,6 +321,10 @@ impl ExplorerSettings {
             };
             fix("render_scale", self.render_scale.to_string(), v.to_string());
             self.render_scale = v;
+        }
+        if self.reflections > MAX_REFLECTIONS {
+            fix("reflections", self.reflections.to_string(), MAX_REFLECTIONS.to_string());
+            self.reflections = MAX_REFLECTIONS;
         }
         if !(2..=ManifoldAccumulation::MAX_SAMPLES).contains(&self.still_samples) {
             let v = self.still_samples.clamp(2, ManifoldAccumulation::MAX_SAMPLES);

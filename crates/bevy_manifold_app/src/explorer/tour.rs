@@ -160,6 +160,8 @@ impl ExplorerTour {
                     hands: settings.hands,
                     suzanne: settings.suzanne,
                     vehicle: settings.vehicle,
+                    mirror: settings.mirror,
+                    reflections: settings.reflections,
                 },
                 keyframes: Vec::new(),
             }),

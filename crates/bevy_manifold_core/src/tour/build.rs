@@ -43,6 +43,13 @@ impl TourDesc {
         if !(fov > 0.0 && fov < 180.0) {
             return Err(field("fov_y_degrees".into(), format!("must be in (0, 180), got {fov}")));
         }
+        let reflections = self.scene.reflections;
+        if reflections > crate::trace::MAX_REFLECTIONS {
+            return Err(field(
+                "scene.reflections".into(),
+                format!("at most {}, got {reflections}", crate::trace::MAX_REFLECTIONS),
+            ));
+        }
         if self.keyframes.is_empty() {
             return Err(field("keyframes".into(), "a tour needs at least one keyframe".into()));
         }

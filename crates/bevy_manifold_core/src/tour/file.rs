@@ -6,7 +6,8 @@
 //! {"space": "seifert-weber",            catalog or library name, or a space
 //!                                       file relative to the tour file
 //!  "fov_y_degrees": 60,                 optional (60)
-//!  "scene": {"edges": true, "hands": true, "suzanne": "Attached", "vehicle": false},  optional
+//!  "scene": {"edges": true, "hands": true, "suzanne": "Attached", "vehicle": false,
+//!            "mirror": false, "reflections": 0},  optional
 //!  "keyframes": [
 //!    {"time": 0, "position": [0,0,0,1], "look": [0,0,-1], "up": [0,1,0],
 //!     "cell": [3, 7], "stop": true, "caption": "...", "levels": 8},
@@ -88,6 +89,11 @@ pub struct SceneDesc {
     pub suzanne: SuzanneMode,
     /// The camera rides the vehicle (the paper's airplane).
     pub vehicle: bool,
+    /// The mirror ball of the paper's Fig. 11 at the domain's centre.
+    pub mirror: bool,
+    /// Reflections a ray follows (`TraceSettings::reflections`, at most
+    /// [`crate::trace::MAX_REFLECTIONS`]).
+    pub reflections: u32,
 }
 
 impl Default for SceneDesc {
@@ -98,6 +104,8 @@ impl Default for SceneDesc {
             hands: p.hands,
             suzanne: p.suzanne,
             vehicle: p.vehicle,
+            mirror: p.mirror,
+            reflections: 0,
         }
     }
 }

@@ -164,6 +164,7 @@ impl Tour {
                 suzanne: s.suzanne,
                 hands: self.scene.hands,
                 vehicle: self.scene.vehicle,
+                mirror: self.scene.mirror,
             },
         );
         // The paper's meshes sit relative to its start camera: the body
@@ -187,6 +188,7 @@ impl Tour {
             levels: s.levels,
             cell_colors: s.cell_colors,
             cell_rule: s.rule,
+            reflections: self.scene.reflections,
             ..TraceSettings::default()
         };
         (scene, settings)

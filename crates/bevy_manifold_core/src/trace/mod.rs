@@ -100,12 +100,12 @@ pub use render::{TraceImage, render};
 pub use scene::MeshPart;
 pub use scene::{
     Ball, Camera, Fog, Frustum, HAND_COLOR, Light, Lighting, MAX_GLOW, MAX_LIGHTS, PaperOptions, SUZANNE_COLOR, Scene,
-    SceneError, SceneMesh, Spot, SuzanneMode, VEHICLE_COLOR, baked, hand_offset, max_radius, suzanne_offset,
-    vehicle_offset,
+    SceneError, SceneMesh, Spot, SuzanneMode, VEHICLE_COLOR, baked, hand_offset, max_radius, mirror_ball,
+    suzanne_offset, vehicle_offset,
 };
 #[cfg(feature = "gltf")]
 pub use scene::{builtin, meshes_of};
-pub use settings::{MAX_LEVELS, MAX_PIXELS, Projection, TraceSettings};
-pub use shade::LIGHT_AT_HIT;
-pub use trace::{FOG_CUT, PathStep, Stop, TracePixel, trace_ray};
+pub use settings::{MAX_LEVELS, MAX_PIXELS, MAX_REFLECTIONS, Projection, TraceSettings};
+pub use shade::{LIGHT_AT_HIT, MIRROR_OFFSET, Mirror, mirror_ray};
+pub use trace::{FOG_CUT, PathStep, Stop, TracePixel, trace_path, trace_ray};
 pub use walk::Walker;

@@ -51,6 +51,14 @@ pub struct TraceSettings {
     /// with a radius cast soft shadows once still frames add up
     /// ([`super::accumulate`]). The GPU twin is `params.light_sample`.
     pub light_sample: u32,
+    /// Reflections: how many times a ray may reflect off a surface with a
+    /// material ([`crate::material::Pbr`]) and go on along the geodesic
+    /// of its mirror direction, through the face pairings like a camera
+    /// ray (with a fresh budget of `levels`); its colour is weighted by
+    /// [`crate::material::reflectance`]. 0: no reflections (and none of
+    /// their code on the GPU, whose twin is the `REFLECTIONS` def and
+    /// `params.reflections`). At most [`MAX_REFLECTIONS`].
+    pub reflections: u32,
 }
 
 /// How the pixels of an image map to view directions.
@@ -98,6 +106,11 @@ pub const MAX_LEVELS: u32 = 16_384;
 /// Most pixels in one traced image (8192 x 8192).
 pub const MAX_PIXELS: u64 = 1 << 26;
 
+/// Most reflections a ray follows ([`TraceSettings::reflections`]): each
+/// reflection is a walk of up to `levels` crossings of its own. WGSL twin:
+/// `MAX_REFLECTIONS` in `shaders/trace.wgsl`.
+pub const MAX_REFLECTIONS: u32 = 8;
+
 impl TraceSettings {
     /// Checks the settings a tracer can honour: a size of at least one
     /// pixel and at most [`MAX_PIXELS`] (multiplied in 64 bits), levels at
@@ -124,6 +137,9 @@ impl TraceSettings {
         if self.levels > MAX_LEVELS {
             return Err(format!("{} levels: at most {MAX_LEVELS}", self.levels));
         }
+        if self.reflections > MAX_REFLECTIONS {
+            return Err(format!("{} reflections: at most {MAX_REFLECTIONS}", self.reflections));
+        }
         if self.max_distance.is_nan() || self.max_distance <= 0.0 {
             return Err(format!("max distance {}: it must be positive", self.max_distance));
         }
@@ -147,6 +163,7 @@ impl Default for TraceSettings {
             cull: true,
             footprint: false,
             light_sample: 0,
+            reflections: 0,
         }
     }
 }

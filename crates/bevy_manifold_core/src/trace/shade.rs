@@ -3,8 +3,9 @@
 //! ([`super::light_images()`]), each along its own geodesic (both arcs in
 //! S3) with the fall-off of the geometry (1 / area of the geodesic
 //! sphere), the light's range and the fog on its way, and only if the way
-//! is free ([`super::shadow`]); per-cell colour and fog ([`shade`]); a
-//! wall between cells lit by a lamp at the eye ([`shade_wall`]).
+//! is free ([`super::shadow`]); per-cell colour and fog ([`shade`]); the
+//! ray a surface with a material reflects ([`Mirror`]); a wall between
+//! cells lit by a lamp at the eye ([`shade_wall`]).
 //!
 //! WGSL twin: `shaders/shade.wgsl` in `bevy_manifold_gpu` (the same
 //! names).
@@ -19,7 +20,7 @@ use super::settings::TraceSettings;
 use super::shadow::{aim_at_light, light_blocked};
 use super::step::{Ray, foot_on_line, normal_from};
 use crate::geometry::{Geometry, Real};
-use crate::material::{Cosines, Pbr, brdf};
+use crate::material::{Cosines, Pbr, brdf, reflectance};
 use crate::space::cells::CellId;
 use crate::space::rule::WALL_COLOR;
 
@@ -27,6 +28,42 @@ use crate::space::rule::WALL_COLOR;
 /// point: `toward_light` lights it along the normal.
 /// WGSL twin: `LIGHT_AT_HIT` in `shaders/shade.wgsl`.
 pub const LIGHT_AT_HIT: f64 = 1e-10;
+
+/// How far off the surface a reflected ray starts (chart units along
+/// the normal), so that it does not meet the surface it leaves in `f32`.
+/// WGSL twin: `MIRROR_OFFSET` in `shaders/shade.wgsl`.
+pub const MIRROR_OFFSET: f64 = 1e-4;
+
+/// The ray a surface reflects ([`super::TraceSettings::reflections`]): from
+/// just off the hit (by [`MIRROR_OFFSET`] along the normal) along the
+/// mirror image of the way the eye's ray came, `2 (n.v) n - v`; the share
+/// of its light that reaches the eye ([`reflectance`]); and the fog's
+/// transmittance from the eye to the hit, by which the reflected ray's
+/// colour (fogged over the whole way) is put back in front of the fog.
+/// WGSL twin: `Mirror` and `mirror_ray` in `shaders/shade.wgsl`.
+#[derive(Clone, Copy, Debug)]
+pub struct Mirror<R: Real> {
+    /// The reflected ray.
+    pub ray: Ray<R>,
+    /// Linear RGB share of its colour the eye sees.
+    pub weight: [f32; 3],
+    /// `exp(-density * distance)` to the hit; 1 without fog.
+    pub fog_kept: f32,
+}
+
+/// The reflected ray of a surface at `x` with unit normal `normal`, seen
+/// along the unit tangent `view` (towards the eye): see [`Mirror`].
+/// WGSL twin: `mirror_ray` in `shaders/shade.wgsl`.
+#[must_use]
+pub fn mirror_ray<R: Real>(g: Geometry, x: R::V4, normal: R::V4, view: R::V4) -> Ray<R> {
+    let nv = g.form::<R>(normal, view);
+    let dir = normal * (nv + nv) - view;
+    let origin = g.normalize_point::<R>(x + normal * R::of(MIRROR_OFFSET));
+    Ray {
+        origin,
+        dir: g.normalize_tangent::<R>(origin, dir),
+    }
+}
 
 /// The unit tangent at `x` towards the light at `l`; `normal` when the
 /// light is on `x` (or, in S3, at its antipode), where the direction is
@@ -109,8 +146,10 @@ impl<R: Real> Lit<R> {
 /// Lambert + Blinn (or the material's GGX) shading at the hit (chart parameter `t`, with the
 /// object's normal there unless `normal_at` gives another: a cone's
 /// layer, see [`super::cone::cone_layer`]), lights with geometry-correct
-/// fall-off (1 / area of the sphere of radius d), per-cell colour, fog.
-/// WGSL twin: `shade` in `shaders/shade.wgsl`.
+/// fall-off (1 / area of the sphere of radius d), per-cell colour, fog;
+/// with `settings.reflections` above 0 and a material, the ray the surface
+/// reflects ([`Mirror`]). WGSL twin: `shade` in `shaders/shade.wgsl`
+/// (which leaves the mirror in its private `last_mirror`).
 #[expect(clippy::too_many_arguments, reason = "the shading inputs are all distinct")]
 pub(super) fn shade<R: Real>(
     g: Geometry,
@@ -121,7 +160,7 @@ pub(super) fn shade<R: Real>(
     dist: R,
     (cell, cell_matrix): (CellId, R::M4),
     settings: &TraceSettings,
-) -> [f32; 3] {
+) -> ([f32; 3], Option<Mirror<R>>) {
     let x = g.normalize_point::<R>(ray.origin + ray.dir * t);
     let view = -g.normalize_tangent::<R>(x, ray.dir);
     let (normal, albedo, glow, emissive, pbr) = match hit {
@@ -202,13 +241,23 @@ pub(super) fn shade<R: Real>(
             }
         }
     }
+    let mut fog_kept = 1.0;
     if let Some((density, fog_color)) = flat.fog {
         let tr = (-(density * dist)).exp().f64() as f32;
         for c in 0..3 {
             rgb[c] = rgb[c] * tr + fog_color[c] * (1.0 - tr);
         }
+        fog_kept = tr;
     }
-    rgb
+    let mirror = match pbr {
+        Some(p) if settings.reflections > 0 => Some(Mirror {
+            ray: mirror_ray::<R>(g, x, normal, view),
+            weight: reflectance(albedo, p, g.form::<R>(normal, view).f64() as f32),
+            fog_kept,
+        }),
+        _ => None,
+    };
+    (rgb, mirror)
 }
 
 /// A wall on face `plane`, met at distance `dist`: [`WALL_COLOR`] lit by

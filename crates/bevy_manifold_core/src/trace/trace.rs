@@ -15,8 +15,9 @@ use super::flat::FlatScene;
 use super::footprint::{Approach, BALL_GROWTH, Inflation, Layers, ball_approach, tube_approach};
 use super::mesh_hit::hit_instance;
 use super::nearest::{Hit, Nearest, instance_shown};
+use super::settings::MAX_REFLECTIONS;
 use super::settings::TraceSettings;
-use super::shade::{shade, shade_wall};
+use super::shade::{Mirror, shade, shade_wall};
 use super::step::{Ray, Segment, advance_or_raw, hit_ball, hit_tube, may_hit, on_edge};
 use super::walk::Walker;
 use crate::geometry::{Geometry, Real};
@@ -77,7 +78,9 @@ pub enum Stop {
 
 /// Traces one ray through the manifold (Algorithm 1): nearest object in the
 /// domain, else the exit face; transport through its pairing; repeat. Calls
-/// `on_step` for every segment. Returns the pixel and why the ray stopped.
+/// `on_step` for every segment. With [`TraceSettings::reflections`] the ray
+/// goes on off each surface with a material ([`trace_path`]). Returns the
+/// pixel and why the ray stopped.
 ///
 /// WGSL twin: `trace_ray` in `shaders/trace.wgsl`.
 pub fn trace_ray<R: Real>(
@@ -87,18 +90,83 @@ pub fn trace_ray<R: Real>(
     settings: &TraceSettings,
     on_step: &mut dyn FnMut(&PathStep<R>),
 ) -> (TracePixel, Stop) {
+    trace_path(space, flat, ray, settings, on_step, &mut |_, _| {})
+}
+
+/// [`trace_ray`], calling `on_leg` with what each leg of the path saw:
+/// the camera's ray first, then each reflected ray, up to
+/// [`TraceSettings::reflections`] of them. A leg ends at an object: where its
+/// surface has a material ([`crate::material::Pbr`]) and reflections are
+/// left, the next leg leaves it along the mirror direction
+/// ([`super::Mirror`]), from the same copy of the domain, with a fresh
+/// budget of levels and the distance so far (for the fog). The pixel
+/// names the first leg's object, cell and distance; its colour adds each
+/// leg's, weighted by the reflectances before it, in front of the fog:
+/// `c_0 + w_1 (c_1 - fog (1 - f_1)) + w_1 w_2 (c_2 - fog (1 - f_2)) + ...`,
+/// `f_i` the fog's transmittance to the `i`-th mirror.
+///
+/// WGSL twin: the `REFLECTIONS` loop of `trace_ray` in `shaders/trace.wgsl`.
+pub fn trace_path<R: Real>(
+    space: &Space,
+    flat: &FlatScene<R>,
+    ray: Ray<R>,
+    settings: &TraceSettings,
+    on_step: &mut dyn FnMut(&PathStep<R>),
+    on_leg: &mut dyn FnMut(&TracePixel, Stop),
+) -> (TracePixel, Stop) {
+    let table = TableRef::of(space, flat);
+    let exact = ExactCell::start(table, flat, settings.cell_rule.is_active());
+    let walk = Walker::new(ray, R::m4_of(flat.camera_cell));
+    let (mut pixel, stop, mut reflection) = trace_leg(space, flat, (walk, exact, R::of(0.0)), settings, on_step);
+    on_leg(&pixel, stop);
+    let fog = flat.fog.map_or([0.0; 3], |(_, c)| c);
+    let mut weight = [1.0f32; 3];
+    for _ in 0..settings.reflections.min(MAX_REFLECTIONS) {
+        let Some(b) = reflection.take() else { break };
+        for (w, m) in weight.iter_mut().zip(b.mirror.weight) {
+            *w *= m;
+        }
+        let walk = Walker::new(b.mirror.ray, b.cell);
+        let (leg, stop, next) = trace_leg(space, flat, (walk, b.exact, b.travelled), settings, on_step);
+        on_leg(&leg, stop);
+        for c in 0..3 {
+            pixel.color[c] += weight[c] * (leg.color[c] - fog[c] * (1.0 - b.mirror.fog_kept));
+        }
+        reflection = next;
+    }
+    (pixel, stop)
+}
+
+/// Where a leg of a path ends on a surface that reflects: its mirror, the
+/// cell it is in and the distance travelled to it. WGSL twin: `Reflection`
+/// in `shaders/trace.wgsl`.
+struct Reflection<R: Real> {
+    mirror: Mirror<R>,
+    cell: R::M4,
+    exact: ExactCell,
+    travelled: R,
+}
+
+/// One leg of a path (Algorithm 1 from `walk`, the cell's exact element
+/// `exact`, having travelled `travelled`): the pixel it sees, why it
+/// stopped and, when it ends on a surface that reflects, the reflection.
+/// WGSL twin: `trace_leg` in `shaders/trace.wgsl`.
+fn trace_leg<R: Real>(
+    space: &Space,
+    flat: &FlatScene<R>,
+    (mut walk, mut exact, mut travelled): (Walker<R>, ExactCell, R),
+    settings: &TraceSettings,
+    on_step: &mut dyn FnMut(&PathStep<R>),
+) -> (TracePixel, Stop, Option<Reflection<R>>) {
     let g = flat.faces.geometry;
     let fog_cut = R::of(FOG_CUT);
     let max_distance = R::of(settings.max_distance);
-    let mut walk = Walker::new(ray, R::m4_of(flat.camera_cell));
     // Where the space's ids are exact, or rules are on, the walk's cell
     // (by the table around the camera, then by exact elements), crossed
     // with the ray; otherwise the id comes from the walk's matrix.
     let rule = &settings.cell_rule;
     let table = TableRef::of(space, flat);
-    let mut exact = ExactCell::start(table, flat, rule.is_active());
     let cell_id = |walk: &Walker<R>, exact: &ExactCell| exact.id(table, space, walk);
-    let mut travelled = R::of(0.0);
     let background = flat.fog.map_or([0.0; 3], |(_, c)| c);
     // Cone tracing (settings.footprint): the pixel's half-angle, the
     // layers met so far, and the first layer covering half the pixel or
@@ -127,7 +195,7 @@ pub fn trace_ray<R: Real>(
             && density * travelled > fog_cut
         {
             let behind = pixel(background, 0, &walk, &exact, travelled);
-            return (finish(&layers, front, behind), Stop::Fog);
+            return (finish(&layers, front, behind), Stop::Fog, None);
         }
         let (face, t_end) = walk.segment_end(&flat.faces);
         let cell_point = walk.cell * R::v4_of(glam::DVec4::W);
@@ -160,7 +228,7 @@ pub fn trace_ray<R: Real>(
             };
             let dist = travelled + g.chart_to_distance::<R>(layer.t);
             let cell = cell_id(&walk, &exact);
-            let color = shade(
+            let (color, mirror) = shade(
                 g,
                 flat,
                 &walk.ray,
@@ -181,12 +249,24 @@ pub fn trace_ray<R: Real>(
             if part >= 0.5 && front.is_none() {
                 front = Some(this);
             }
+            // The share of the pixel this layer takes, if it is the last.
+            let left = layers.left;
             if layers.add(color, part) {
-                return (finish(&layers, front, this), Stop::Hit(hit.id(flat)));
+                // What it reflects is seen in its share of the pixel.
+                let reflection = mirror.map(|m| Reflection {
+                    mirror: Mirror {
+                        weight: m.weight.map(|w| w * left),
+                        ..m
+                    },
+                    cell: walk.cell,
+                    exact,
+                    travelled: dist,
+                });
+                return (finish(&layers, front, this), Stop::Hit(hit.id(flat)), reflection);
             }
             if layers.full() {
                 let behind = pixel(background, 0, &walk, &exact, travelled);
-                return (finish(&layers, front, behind), Stop::MaxLevel);
+                return (finish(&layers, front, behind), Stop::MaxLevel, None);
             }
         }
         let end = advance_or_raw(g, &walk.ray, t_end, settings.renormalize);
@@ -200,7 +280,7 @@ pub fn trace_ray<R: Real>(
         travelled = travelled + length;
         if travelled > max_distance {
             let behind = pixel(background, 0, &walk, &exact, travelled);
-            return (finish(&layers, front, behind), Stop::MaxDistance);
+            return (finish(&layers, front, behind), Stop::MaxDistance, None);
         }
         // The cell across the face, crossed once: for the wall test, then
         // for the walk.
@@ -215,11 +295,11 @@ pub fn trace_ray<R: Real>(
             let color = shade_wall(flat, &flat.faces.planes[f], &walk.ray, travelled);
             let wall = pixel(color, WALL_OBJECT, &walk, &exact, travelled);
             layers.add(color, 1.0);
-            return (finish(&layers, front, wall), Stop::Hit(WALL_OBJECT));
+            return (finish(&layers, front, wall), Stop::Hit(WALL_OBJECT), None);
         }
         if face.is_some() && walk.levels >= settings.levels {
             let behind = pixel(background, 0, &walk, &exact, travelled);
-            return (finish(&layers, front, behind), Stop::MaxLevel);
+            return (finish(&layers, front, behind), Stop::MaxLevel, None);
         }
         walk.step(&flat.faces, face, end, settings.renormalize);
         if let Some(f) = face
@@ -236,7 +316,7 @@ pub fn trace_ray<R: Real>(
         }
     }
     let behind = pixel(background, 0, &walk, &exact, travelled);
-    (finish(&layers, front, behind), Stop::MaxDistance)
+    (finish(&layers, front, behind), Stop::MaxDistance, None)
 }
 
 /// The nearest object along the ray with chart parameter in `[0, t_end]`,

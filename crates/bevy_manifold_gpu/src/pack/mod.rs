@@ -62,6 +62,9 @@ pub struct GpuView {
     /// ([`GpuParams::light_sample_u`]); `[0, 0]`, the centre, unless an
     /// accumulating view's sample moves it ([`GpuParams::sample`]).
     pub light_sample: [f32; 2],
+    /// Reflections: the most reflections a ray takes (read under the
+    /// `REFLECTIONS` def).
+    pub reflections: u32,
 }
 
 /// `bevy_manifold_core::trace::light_sample_point(k)` as the GPU reads it.
@@ -165,6 +168,10 @@ impl GpuParams {
             frustum: view.frustum.unwrap_or([0.0; 4]),
             cone: [view.footprint, objects.cone[0], packed.near_scale, objects.cone[1]],
             occupied: occupied(&objects.groups),
+            reflections: view.reflections.min(bevy_manifold_core::trace::MAX_REFLECTIONS),
+            pad_a: 0,
+            pad_b: 0,
+            pad_c: 0,
         }
     }
 }
@@ -247,6 +254,7 @@ impl GpuScene {
                 0.0
             },
             light_sample: light_sample(settings.light_sample),
+            reflections: settings.reflections,
         };
         GpuScene {
             params: GpuParams::new(space, packed, &objects, &view),

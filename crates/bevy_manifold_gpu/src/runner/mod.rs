@@ -435,6 +435,7 @@ fn scene_defs(space: &Space, scene: &Scene, settings: &TraceSettings) -> TraceDe
     TraceDefs::for_scene(space, scene, settings.cell_colors)
         .for_rule(&settings.cell_rule)
         .for_footprint(settings.footprint)
+        .for_reflections(settings.reflections)
 }
 
 /// A scene uploaded and bound for one compute entry.

@@ -15,7 +15,8 @@ pub use mesh::{SceneMesh, baked};
 #[cfg(feature = "gltf")]
 pub use presets::builtin;
 pub use presets::{
-    HAND_COLOR, PaperOptions, SUZANNE_COLOR, SuzanneMode, VEHICLE_COLOR, hand_offset, suzanne_offset, vehicle_offset,
+    HAND_COLOR, PaperOptions, SUZANNE_COLOR, SuzanneMode, VEHICLE_COLOR, hand_offset, mirror_ball, suzanne_offset,
+    vehicle_offset,
 };
 
 use glam::{DMat4, DVec4};

@@ -13,7 +13,7 @@
 //! let free = Scene::paper(&space, &PaperOptions { suzanne: SuzanneMode::Free, ..PaperOptions::default() });
 //! assert_eq!(free.meshes.len(), 3);
 //! assert!(!free.meshes[0].attached);
-//! let bare = Scene::paper(&space, &PaperOptions { suzanne: SuzanneMode::Hidden, hands: false, edges: false, vehicle: false });
+//! let bare = Scene::paper(&space, &PaperOptions { suzanne: SuzanneMode::Hidden, hands: false, edges: false, ..PaperOptions::default() });
 //! assert!(bare.meshes.is_empty() && bare.edge_radius.is_none());
 //! ```
 
@@ -60,6 +60,11 @@ pub struct PaperOptions {
     /// below the eye, seen in the home copy and every other.
     #[serde(default)]
     pub vehicle: bool,
+    /// A mirror ball ([`mirror_ball`]) in the middle of the domain, as in
+    /// the paper's Fig. 11: seen with reflections on
+    /// ([`crate::trace::TraceSettings::reflections`]).
+    #[serde(default)]
+    pub mirror: bool,
 }
 
 impl Default for PaperOptions {
@@ -69,7 +74,26 @@ impl Default for PaperOptions {
             suzanne: SuzanneMode::Attached,
             hands: true,
             vehicle: false,
+            mirror: false,
         }
+    }
+}
+
+/// The mirror ball of the paper's Fig. 11 in `space`: a smooth metal
+/// ([`crate::material::Pbr`] metallic 1, roughness 0) of radius 0.2
+/// inradii at the centre of the domain, silver (linear RGB 0.95, 0.93,
+/// 0.88).
+#[must_use]
+pub fn mirror_ball(space: &Space) -> Ball {
+    Ball {
+        center: DVec4::W,
+        radius: 0.2 * space.inradius(),
+        color: [0.95, 0.93, 0.88],
+        glow: 0.0,
+        pbr: Some(crate::material::Pbr {
+            metallic: 1.0,
+            roughness: 0.0,
+        }),
     }
 }
 
@@ -184,6 +208,9 @@ impl Scene {
         scene.balls.clear();
         if !options.edges {
             scene.edge_radius = None;
+        }
+        if options.mirror {
+            scene.balls.push(mirror_ball(space));
         }
         #[cfg(feature = "gltf")]
         add_models(&mut scene, space, options);
