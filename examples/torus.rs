@@ -30,8 +30,8 @@ fn setup(mut commands: Commands) {
     let mut camera = commands.spawn((
         ChildOf(root),
         ManifoldCamera {
-            // One reflection a ray: the mirror shows the space, and the
-            // other surfaces their faint specular reflection.
+            // One reflection a ray: the mirror shows the space (Suzanne
+            // and the hands are too rough to mirror anything).
             reflections: u32::from(showcase::flag("--mirror")),
             ..default()
         },

@@ -207,7 +207,8 @@ fn render_mirror_adds_the_mirror_ball_and_one_reflection() {
                 changed += usize::from(differs);
             }
             // Edges (no material) and the background reflect nothing;
-            // Suzanne and the hands (dielectrics) a little.
+            // Suzanne and the hands (roughness 0.5) neither, but what
+            // they show through the mirror's reflection may change.
             0 | 255 => plain_changed += usize::from(differs),
             _ => {}
         }

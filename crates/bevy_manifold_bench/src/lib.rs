@@ -14,6 +14,7 @@ mod lights;
 mod meshes;
 mod pass;
 mod plot;
+mod reflections;
 mod report;
 mod specialise;
 mod stability;
@@ -150,6 +151,23 @@ pub enum BenchCommand {
         #[arg(long, default_value = "bench-out")]
         out: std::path::PathBuf,
     },
+    /// Frame time of the paper's scene with the mirror ball (Fig. 11)
+    /// with 0, 1 and 2 reflections a ray, GPU and CPU f32, per catalog
+    /// space.
+    Reflections {
+        /// Image width.
+        #[arg(long, default_value_t = 640)]
+        width: u32,
+        /// Image height.
+        #[arg(long, default_value_t = 360)]
+        height: u32,
+        /// Runs per setting; the median (GPU) and best (CPU) are reported.
+        #[arg(long, default_value_t = 3)]
+        runs: u32,
+        /// Only the spaces whose name holds this.
+        #[arg(long, default_value = "")]
+        only: String,
+    },
     /// Frame time against the number of traced balls (1 to 254, a swarm
     /// of small balls), GPU and CPU f32, culling off and on, in the torus,
     /// Seifert-Weber and the Poincare sphere.
@@ -255,6 +273,12 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
             ref only,
             ref out,
         } => lights::run(width.max(1), height.max(1), runs.max(1), only, out),
+        BenchCommand::Reflections {
+            width,
+            height,
+            runs,
+            ref only,
+        } => reflections::run(width.max(1), height.max(1), runs.max(1), only),
         BenchCommand::Balls {
             width,
             height,

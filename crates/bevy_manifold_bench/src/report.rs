@@ -87,6 +87,11 @@ const AREAS: &[Area] = &[
         ],
     },
     Area {
+        title: "Reflections",
+        method: "GPU and CPU f32 frame time of the paper's scene with the mirror ball of its Fig. 11 (a smooth metal at the domain's centre; Suzanne and the hands are dielectrics, which reflect too) per catalog space, 8 levels, with 0, 1 and 2 reflections a ray; the ratios are over none. `reflect` is the share of pixels whose path takes a reflection.",
+        args: &["reflections", "--width", "320", "--height", "180", "--runs", "9"],
+    },
+    Area {
         title: "Run time against error",
         method: "GPU frame time and image error against the CPU f64 reference for levels 1 to 32, renormalisation and the fog's early stop on and off, in the Seifert-Weber space; the Pareto front of time against error. Writes `accuracy.csv` and `accuracy.png` to the output folder.",
         args: &[

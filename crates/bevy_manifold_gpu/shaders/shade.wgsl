@@ -67,6 +67,9 @@ struct Mirror {
     on: bool,
 }
 
+// The roughest surface that reflects. Rust twin: MAX_MIRROR_ROUGHNESS.
+const MAX_MIRROR_ROUGHNESS: f32 = 0.4;
+
 // What the last shade() reflects (REFLECTIONS; Rust returns it).
 var<private> last_mirror: Mirror;
 
@@ -408,7 +411,7 @@ fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>, c
     fog_kept = tr;
 #endif
 #ifdef REFLECTIONS
-    last_mirror.on = pbr.x >= 0.0;
+    last_mirror.on = pbr.x >= 0.0 && pbr.y <= MAX_MIRROR_ROUGHNESS;
     if last_mirror.on {
         last_mirror.ray = mirror_ray(x, normal, view);
         last_mirror.weight = reflectance(albedo, pbr.x, pbr.y, form(normal, view));

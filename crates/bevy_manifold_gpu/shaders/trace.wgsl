@@ -124,22 +124,34 @@ fn trace_ray(ray: Ray) -> Pixel {
 #ifdef BALL_TREE
     cache_leaves();
 #endif
-    var pixel = trace_leg(walker_new(ray, params.camera_cell, params.camera_cell_index));
+    var walk = walker_new(ray, params.camera_cell, params.camera_cell_index);
 #ifdef REFLECTIONS
+    // One call of trace_leg for every leg (each call site is a copy of
+    // the walk in the compiled shader): the first leg's pixel, then each
+    // reflected leg's colour added in front of the fog.
+    var pixel: Pixel;
     var weight = vec3<f32>(1.0);
-    for (var b = 0u; b < min(params.reflections, MAX_REFLECTIONS); b++) {
+    var kept = 1.0;
+    let legs = min(params.reflections, MAX_REFLECTIONS) + 1u;
+    for (var leg = 0u; leg < legs; leg++) {
+        let seen = trace_leg(walk);
+        if leg == 0u {
+            pixel = seen;
+        } else {
+            pixel.color = vec4<f32>(pixel.color.xyz + weight * (seen.color.xyz - background() * (1.0 - kept)), pixel.color.w);
+        }
         if !reflection.mirror.on {
             break;
         }
-        let off = reflection;
-        weight *= off.mirror.weight;
-        var walk = walker_new(off.mirror.ray, off.cell, off.index);
-        walk.travelled = off.travelled;
-        let leg = trace_leg(walk);
-        pixel.color = vec4<f32>(pixel.color.xyz + weight * (leg.color.xyz - background() * (1.0 - off.mirror.fog_kept)), pixel.color.w);
+        weight *= reflection.mirror.weight;
+        kept = reflection.mirror.fog_kept;
+        walk = walker_new(reflection.mirror.ray, reflection.cell, reflection.index);
+        walk.travelled = reflection.travelled;
     }
-#endif
     return pixel;
+#else
+    return trace_leg(walk);
+#endif
 }
 
 // One leg of a path (Rust twin: trace_leg): on each segment the nearest

@@ -209,6 +209,10 @@ fn the_shared_constants_are_equal_on_both_sides() {
         naga::Literal::F32(bevy_manifold_core::trace::MIRROR_OFFSET as f32)
     );
     assert_eq!(
+        constant(&module, "MAX_MIRROR_ROUGHNESS"),
+        naga::Literal::F32(bevy_manifold_core::trace::MAX_MIRROR_ROUGHNESS)
+    );
+    assert_eq!(
         constant(&module, "MAX_REFLECTIONS"),
         naga::Literal::U32(bevy_manifold_core::trace::MAX_REFLECTIONS)
     );

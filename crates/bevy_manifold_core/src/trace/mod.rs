@@ -106,6 +106,6 @@ pub use scene::{
 #[cfg(feature = "gltf")]
 pub use scene::{builtin, meshes_of};
 pub use settings::{MAX_LEVELS, MAX_PIXELS, MAX_REFLECTIONS, Projection, TraceSettings};
-pub use shade::{LIGHT_AT_HIT, MIRROR_OFFSET, Mirror, mirror_ray};
+pub use shade::{LIGHT_AT_HIT, MAX_MIRROR_ROUGHNESS, MIRROR_OFFSET, Mirror, mirror_ray};
 pub use trace::{FOG_CUT, PathStep, Stop, TracePixel, trace_path, trace_ray};
 pub use walk::Walker;

@@ -34,6 +34,14 @@ pub const LIGHT_AT_HIT: f64 = 1e-10;
 /// WGSL twin: `MIRROR_OFFSET` in `shaders/shade.wgsl`.
 pub const MIRROR_OFFSET: f64 = 1e-4;
 
+/// The roughest surface that reflects ([`Mirror`]): its lobe is narrow
+/// enough that the mirror direction stands for it (at 0.4 GGX's `alpha`
+/// is 0.16). A rougher one, whose reflection would be a wide blur rather
+/// than an image, keeps the direct light's highlight only (the path
+/// tracer takes every lobe whole). WGSL twin: `MAX_MIRROR_ROUGHNESS` in
+/// `shaders/shade.wgsl`.
+pub const MAX_MIRROR_ROUGHNESS: f32 = 0.4;
+
 /// The ray a surface reflects ([`super::TraceSettings::reflections`]): from
 /// just off the hit (by [`MIRROR_OFFSET`] along the normal) along the
 /// mirror image of the way the eye's ray came, `2 (n.v) n - v`; the share
@@ -250,7 +258,7 @@ pub(super) fn shade<R: Real>(
         fog_kept = tr;
     }
     let mirror = match pbr {
-        Some(p) if settings.reflections > 0 => Some(Mirror {
+        Some(p) if settings.reflections > 0 && p.roughness <= MAX_MIRROR_ROUGHNESS => Some(Mirror {
             ray: mirror_ray::<R>(g, x, normal, view),
             weight: reflectance(albedo, p, g.form::<R>(normal, view).f64() as f32),
             fog_kept,
