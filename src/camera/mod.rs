@@ -8,6 +8,8 @@
 //!   `render`): trace fewer pixels, or hold a frame rate;
 //! - [`ManifoldAccumulation`] and [`ManifoldFootprint`] (feature
 //!   `render`): anti-aliasing while still, and cone tracing;
+//! - [`ManifoldPathTracer`] (feature `render`): the view path traced,
+//!   converging while still;
 //! - [`FlyCamera`], [`Vehicle`] and [`FlyCameraPlugin`] (feature
 //!   `fly_camera`): flying the camera from the keyboard and mouse.
 
@@ -18,6 +20,8 @@ mod fly;
 #[cfg(feature = "render")]
 mod footprint;
 #[cfg(feature = "render")]
+mod path;
+#[cfg(feature = "render")]
 mod scale;
 mod view;
 
@@ -27,6 +31,8 @@ pub use accumulate::ManifoldAccumulation;
 pub use fly::{FlyCamera, FlyCameraPlugin, Vehicle, fly_camera_input, vehicle_input};
 #[cfg(feature = "render")]
 pub use footprint::ManifoldFootprint;
+#[cfg(feature = "render")]
+pub use path::ManifoldPathTracer;
 #[cfg(feature = "render")]
 pub use scale::{AdaptiveRenderScale, MIN_RENDER_SCALE, ManifoldRenderScale, adapt_render_scale};
 pub use view::{CellShading, ManifoldFog};
@@ -56,6 +62,7 @@ impl Plugin for ManifoldCameraPlugin {
             .register_type::<AdaptiveRenderScale>()
             .register_type::<ManifoldAccumulation>()
             .register_type::<ManifoldFootprint>()
+            .register_type::<ManifoldPathTracer>()
             .add_systems(PostUpdate, adapt_render_scale);
     }
 }

@@ -6,7 +6,8 @@
 
 use super::pass::ManifoldViewBinding;
 use crate::camera::{
-    CellShading, ManifoldAccumulation, ManifoldCamera, ManifoldFog, ManifoldFootprint, ManifoldRenderScale,
+    CellShading, ManifoldAccumulation, ManifoldCamera, ManifoldFog, ManifoldFootprint, ManifoldPathTracer,
+    ManifoldRenderScale,
 };
 use crate::drawables::ManifoldScene;
 use crate::placement::{DomainCell, InSpace, ManifoldSpace, Placement};
@@ -41,6 +42,11 @@ pub struct ExtractedManifoldView {
     pub max_distance: f32,
     /// Most reflections a ray follows ([`ManifoldCamera::reflections`]).
     pub reflections: u32,
+    /// Path tracing: the most bounces (0: off) and the seed
+    /// ([`crate::camera::ManifoldPathTracer`]).
+    pub path_depth: u32,
+    /// The paths' seed.
+    pub seed: u32,
     /// The shader defs this view needs.
     pub defs: TraceDefs,
     /// Per-cell shading words ([`crate::space::cells::CellTint::words`]).
@@ -65,6 +71,7 @@ type CameraData<'a> = (
     Option<&'a ManifoldRenderScale>,
     Option<&'a ManifoldAccumulation>,
     Has<ManifoldFootprint>,
+    Option<&'a ManifoldPathTracer>,
 );
 
 /// Copies every active [`ManifoldCamera`]'s view to its render entity, and
@@ -79,8 +86,21 @@ pub fn extract_manifold_views(
     mut warned: Local<HashSet<Entity>>,
 ) {
     let mut now = HashSet::new();
-    for (entity, render_entity, camera, mc, placement, cell, in_space, fog, shading, scale, accumulation, footprint) in
-        &cameras
+    for (
+        entity,
+        render_entity,
+        camera,
+        mc,
+        placement,
+        cell,
+        in_space,
+        fog,
+        shading,
+        scale,
+        accumulation,
+        footprint,
+        path,
+    ) in &cameras
     {
         if !camera.is_active {
             continue;
@@ -101,7 +121,8 @@ pub fn extract_manifold_views(
         let mut defs = TraceDefs::for_scene(space.space(), scene.scene(), tint.is_some())
             .for_rule(space.rule())
             .for_footprint(footprint)
-            .for_reflections(mc.reflections);
+            .for_reflections(mc.reflections)
+            .for_path(path.map_or(0, |p| p.depth.clamp(1, crate::trace::MAX_PATH_DEPTH)));
         defs.fog = fog.is_some();
         commands.entity(render_entity.id()).insert(ExtractedManifoldView {
             root,
@@ -115,6 +136,8 @@ pub fn extract_manifold_views(
             // NaN or not positive: the default distance.
             max_distance: if mc.max_distance > 0.0 { mc.max_distance } else { 100.0 },
             reflections: mc.reflections.min(crate::trace::MAX_REFLECTIONS),
+            path_depth: path.map_or(0, |p| p.depth.clamp(1, crate::trace::MAX_PATH_DEPTH)),
+            seed: path.map_or(0, |p| p.seed),
             defs,
             cell_tint: tint.unwrap_or_default().words(),
             scale: scale.map_or(1.0, |s| s.get()),

@@ -45,6 +45,7 @@ bevy_manifold_test_support::test_main! {
         an_adaptive_scale_lowers_the_pixels_traced_when_frames_are_slow,
         a_still_view_accumulates_jittered_samples_then_stops_tracing,
         a_still_view_softens_the_shadows_of_a_light_with_a_radius,
+        a_still_path_traced_view_is_the_cpus_mean_of_the_same_paths,
         a_scene_past_the_gpus_ball_copies_is_drawn_and_the_next_scene_is_right,
         a_view_keeps_drawing_its_balls_while_a_new_leaf_count_compiles,
         an_hdr_camera_gets_linear_radiance_above_one,

@@ -88,11 +88,32 @@ pub fn render_samples(
         // No adapter: the CPU, and why.
         None => render_any(space, scene, settings, cpu, cpu_f32)?,
     };
+    add_samples(&mut image, scene, settings, samples, &mut trace)?;
+    Ok((image, used))
+}
+
+/// Adds to `image` (the plain trace, sample 0, of `scene`) samples 1 to
+/// `samples - 1` traced by `trace`, the `k`-th with its pixel grid moved
+/// by `sample_offset(k)` and `TraceSettings::light_sample` `k` (the
+/// point of each light's disc; a path tracer's sample), and leaves the
+/// mean colour in it; ids stay the first trace's. With more than 8
+/// samples, a progress bar on stderr.
+///
+/// # Errors
+/// The first trace that fails.
+pub fn add_samples<E>(
+    image: &mut TraceImage,
+    scene: &Scene,
+    settings: &TraceSettings,
+    samples: u32,
+    trace: &mut dyn FnMut(&Scene, &TraceSettings) -> Result<TraceImage, E>,
+) -> Result<(), E> {
     if samples <= 1 {
-        return Ok((image, used));
+        return Ok(());
     }
     let mut sum: Vec<[f64; 3]> = image.pixels.iter().map(|p| p.color.map(f64::from)).collect();
     let mut moved = scene.clone();
+    let mut progress = (samples > 8).then(|| bevy_manifold_bench::Progress::new(samples as usize - 1));
     for k in 1..samples {
         moved.camera.frustum = Some(sample_frustum(scene, settings, k));
         let sampled = TraceSettings {
@@ -104,9 +125,12 @@ pub fn render_samples(
                 *s += f64::from(c);
             }
         }
+        if let Some(p) = progress.as_mut() {
+            p.step("samples");
+        }
     }
     for (p, s) in image.pixels.iter_mut().zip(&sum) {
         p.color = s.map(|v| (v / f64::from(samples)) as f32);
     }
-    Ok((image, used))
+    Ok(())
 }

@@ -229,6 +229,8 @@ fn render_refuses_sizes_and_levels_no_tracer_takes() {
         (vec!["--width", "0"], "0x360"),
         (vec!["--levels", "20000"], "20000 levels"),
         (vec!["--reflections", "9"], "9 reflections: at most 8"),
+        (vec!["--path-trace", "--depth", "65"], "a path depth of 65: at most 64"),
+        (vec!["--path-trace", "--depth", "0"], "--depth must be at least 1"),
         (vec!["--walls", "1.5"], "--walls must be a fraction"),
         (vec!["--hidden", "NaN"], "--hidden must be a fraction"),
     ] {
@@ -404,6 +406,49 @@ fn render_samples_average_the_accumulated_traces() {
     );
     assert_eq!(to_mean, 40 * 24, "{to_mean} pixels are the mean's");
     assert!(to_plain < to_mean, "{to_plain} pixels are also the plain trace's");
+}
+
+/// `render --path-trace` averages path samples: the PNG is the mean of
+/// the core's accumulated path samples of the same depth and seed.
+fn render_path_trace_averages_path_samples() {
+    use bevy_manifold_core::prelude::*;
+    let png = tmp("paths.png");
+    let o = run(&[
+        "render",
+        "--space",
+        "poincare",
+        "--width",
+        "32",
+        "--height",
+        "20",
+        "--path-trace",
+        "--depth",
+        "4",
+        "--seed",
+        "5",
+        "--samples",
+        "3",
+        "--cpu",
+        "--out",
+        png.to_str().expect("utf-8"),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let space = catalog::poincare();
+    let settings = TraceSettings {
+        width: 32,
+        height: 20,
+        path_depth: 4,
+        seed: 5,
+        ..TraceSettings::default()
+    };
+    let mean = bevy_manifold_core::trace::accumulate::<f64>(&space, &Scene::paper_default(&space), &settings, 3);
+    let shown = image::open(&png).expect("PNG").to_rgba8();
+    let same = mean
+        .iter()
+        .zip(shown.pixels())
+        .filter(|(c, p)| (0..3).all(|i| bevy_manifold_core::trace::srgb8(c[i]).abs_diff(p.0[i]) <= 1))
+        .count();
+    assert_eq!(same, 32 * 20, "{same} pixels are the mean of the path samples");
 }
 
 /// `render --cones` traces cones: far edges fade to a haze of their
@@ -721,6 +766,7 @@ bevy_manifold_test_support::test_main! {
         gen_files_import_show_and_render,
         render_refuses_sizes_and_levels_no_tracer_takes,
         render_mirror_adds_the_mirror_ball_and_one_reflection,
+        render_path_trace_averages_path_samples,
         space_show_gives_the_invariants,
         export_then_load_the_file_by_path,
         a_broken_space_file_is_reported_with_its_name,

@@ -106,9 +106,11 @@ struct Params {
     occupied: vec4<u32>,
     // REFLECTIONS: the most reflections a ray takes (TraceSettings::reflections).
     reflections: u32,
-    pad_a: u32,
-    pad_b: u32,
-    pad_c: u32,
+    // PATH_TRACE: the most bounces of a path, the seed, the sample's
+    // index (TraceSettings::path_depth, seed, light_sample).
+    path_depth: u32,
+    seed: u32,
+    sample: u32,
 }
 
 // Rust twin: GpuFace in crates/bevy_manifold_gpu/src/layout.rs.

@@ -59,10 +59,13 @@
 // disagree. `drift` (compute) is the drift probe; it walks rays with the
 // same walker as trace_ray.
 
-#import bevy_manifold::bindings::{params, pixels}
+#import bevy_manifold::bindings::{params, pixels, Pixel}
 #import bevy_manifold::camera::{camera_ray, view_ray, view_direction}
 #import bevy_manifold::trace::trace_ray
 #import bevy_manifold::drift::ray_drift
+#ifdef PATH_TRACE
+#import bevy_manifold::path::path_sample
+#endif
 #ifdef ENCODE_SRGB
 #import bevy_manifold::output::encode_srgb
 #endif
@@ -82,6 +85,16 @@ fn tile_pixel(tile: vec2<u32>, index: u32) -> vec2<u32> {
     return tile * 8u + vec2<u32>(x, y);
 }
 
+// The pixel at column i, row j: its ray traced, or under PATH_TRACE one
+// path sample of it. Rust twin: the body of `render`'s loop.
+fn pixel_at(i: u32, j: u32) -> Pixel {
+#ifdef PATH_TRACE
+    return path_sample(view_ray(i, j), j * params.width + i);
+#else
+    return trace_ray(view_ray(i, j));
+#endif
+}
+
 // Every pixel traced into `pixels`. Rust twin: `render`.
 @compute @workgroup_size(8, 8, 1)
 fn trace(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocation_index) index: u32) {
@@ -89,7 +102,7 @@ fn trace(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocation_index
     if p.x >= params.width || p.y >= params.height {
         return;
     }
-    pixels[p.y * params.width + p.x] = trace_ray(view_ray(p.x, p.y));
+    pixels[p.y * params.width + p.x] = pixel_at(p.x, p.y);
 }
 
 // The drift probe (Rust twin: ray_drift): see drift.wgsl.
@@ -110,7 +123,7 @@ struct FragmentOutput {
 fn fragment(@builtin(position) position: vec4<f32>) -> FragmentOutput {
     let i = u32(position.x) - params.origin_x;
     let j = u32(position.y) - params.origin_y;
-    let p = trace_ray(view_ray(i, j));
+    let p = pixel_at(i, j);
     var rgb = p.color.xyz;
 #ifdef ENCODE_SRGB
     rgb = encode_srgb(rgb);

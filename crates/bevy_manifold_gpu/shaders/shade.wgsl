@@ -265,7 +265,22 @@ fn light_arcs(x: vec4<f32>, normal: vec4<f32>, i: u32, density: f32) -> array<Li
 // The hit's chart parameter is where it is shaded; `normal_at`, when not
 // zero, the normal there in place of the object's own (a cone's layer,
 // cone.wgsl's cone_layer). Rust twin: `shade` (its `normal_at`).
-fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>, cell_matrix: mat4x4<f32>) -> vec3<f32> {
+// What a hit's surface is: the point, the unit tangent towards the eye,
+// the unit normal, albedo, glow, emission and material (pbr: metallic,
+// roughness; metallic -1 for the classic look). Rust twin: HitSurface.
+struct HitSurface {
+    x: vec4<f32>,
+    view: vec4<f32>,
+    normal: vec4<f32>,
+    albedo: vec3<f32>,
+    glow: f32,
+    emissive: vec3<f32>,
+    pbr: vec2<f32>,
+}
+
+// The surface of `hit` on `ray`, with the object's normal there unless
+// `normal_at` (not zero) gives another. Rust twin: surface.
+fn surface(ray: Ray, hit: Hit, normal_at: vec4<f32>) -> HitSurface {
     let x = normalize_point(ray.origin + ray.dir * hit.t);
     let view = -normalize_tangent(x, ray.dir);
     var normal = vec4<f32>(0.0);
@@ -295,22 +310,25 @@ fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>, c
         let inst = instances[hit.index];
         let h = MeshHit(0.0, hit.triangle, hit.u, hit.v);
         let uv = hit_uv(inst, hit.triangle, hit.u, hit.v);
-        let surface = mesh_surface(inst, uv);
+        let m = mesh_surface(inst, uv);
         normal = mesh_normal(inst, h, uv, x, view);
-        albedo = surface.albedo;
-        emissive = surface.emissive;
-        pbr = vec2<f32>(surface.metallic, surface.roughness);
+        albedo = m.albedo;
+        emissive = m.emissive;
+        pbr = vec2<f32>(m.metallic, m.roughness);
     }
 #endif
     if any(normal_at != vec4<f32>(0.0)) {
         normal = normal_at;
     }
-#ifdef CELL_COLORS
-    albedo *= cell_color(cell);
-#endif
-    // Ambient light, the object's own glow and its emission.
-    var rgb = albedo * (0.08 + glow) + emissive;
-    let lit = Lit(normal, view, albedo, pbr.x, pbr.y);
+    return HitSurface(x, view, normal, albedo, glow, emissive, pbr);
+}
+
+// The light of every light image the point x receives (each along its
+// own geodesic, both arcs in S3, its fall-off, range and fog, and only if
+// the way is free): add_light summed over them. Rust twin: direct.
+fn direct(x: vec4<f32>, lit: Lit, cell_matrix: mat4x4<f32>) -> vec3<f32> {
+    var rgb = vec3<f32>(0.0);
+    let normal = lit.normal;
 #ifdef LIGHTS
 #ifdef LIGHT_IMAGES
     var density = 0.0;
@@ -404,6 +422,23 @@ fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>, c
     }
 #endif
 #endif
+    return rgb;
+}
+
+fn shade(ray: Ray, hit: Hit, normal_at: vec4<f32>, dist: f32, cell: vec2<u32>, cell_matrix: mat4x4<f32>) -> vec3<f32> {
+    let s = surface(ray, hit, normal_at);
+    let x = s.x;
+    let view = s.view;
+    let normal = s.normal;
+    let pbr = s.pbr;
+    var albedo = s.albedo;
+#ifdef CELL_COLORS
+    albedo *= cell_color(cell);
+#endif
+    // Ambient light, the object's own glow and its emission.
+    var rgb = albedo * (0.08 + s.glow) + s.emissive;
+    let lit = Lit(normal, view, albedo, pbr.x, pbr.y);
+    rgb += direct(x, lit, cell_matrix);
     var fog_kept = 1.0;
 #ifdef FOG
     let tr = exp(-(cached.fog_density * dist));

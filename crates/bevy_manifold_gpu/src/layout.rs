@@ -109,12 +109,14 @@ pub struct GpuParams {
     /// Reflections (`REFLECTIONS`): the most reflections a ray takes
     /// (`bevy_manifold_core::trace::TraceSettings::reflections`).
     pub reflections: u32,
-    /// Padding to 16 bytes.
-    pub pad_a: u32,
-    /// Padding.
-    pub pad_b: u32,
-    /// Padding.
-    pub pad_c: u32,
+    /// Path tracing (`PATH_TRACE`): the most bounces of a path
+    /// (`bevy_manifold_core::trace::TraceSettings::path_depth`)...
+    pub path_depth: u32,
+    /// ... the paths' seed (`TraceSettings::seed`)...
+    pub seed: u32,
+    /// ... and the sample's index (`TraceSettings::light_sample`, the
+    /// `k` of [`GpuParams::sample`]).
+    pub sample: u32,
 }
 
 /// WGSL twin: `Face` in `shaders/bindings.wgsl`.

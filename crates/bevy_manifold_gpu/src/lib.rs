@@ -79,7 +79,7 @@ macro_rules! wgsl {
 /// of the core's `geometry/mod.rs`, `cells` and `rule` of its `space/`,
 /// `bvh` of its `mesh/`, and the others of its `trace/` (the tracer's
 /// stages: see `bevy_manifold_core::trace`).
-pub const SHADER_IMPORTS: [WgslModule; 20] = [
+pub const SHADER_IMPORTS: [WgslModule; 21] = [
     wgsl!("output"),
     wgsl!("bindings"),
     wgsl!("geometry"),
@@ -99,6 +99,7 @@ pub const SHADER_IMPORTS: [WgslModule; 20] = [
     wgsl!("shadow"),
     wgsl!("shade"),
     wgsl!("trace"),
+    wgsl!("path"),
     wgsl!("drift"),
 ];
 

@@ -77,6 +77,10 @@ pub struct TraceDefs {
     /// (`TraceSettings::reflections` above 0, [`TraceDefs::for_reflections`]);
     /// without it no reflection is compiled and `params.reflections` is not read.
     pub reflections: bool,
+    /// `PATH_TRACE`: each pixel is one sample of the rendering equation
+    /// (`TraceSettings::path_depth` above 0, [`TraceDefs::for_path`]),
+    /// `shaders/path.wgsl`'s `path_sample` in place of `trace_ray`.
+    pub path_trace: bool,
     /// `ALPHA_MASK`: some mesh has an alpha mask, tested at every
     /// triangle a ray meets.
     pub alpha_mask: bool,
@@ -174,6 +178,7 @@ impl TraceDefs {
                     t.pbr.is_some() || t.emissive != [0.0; 3] || t.normal_map.is_some()
                 }),
             reflections: false,
+            path_trace: false,
             alpha_mask: scene.meshes.iter().any(|m| m.material.alpha_cutoff.is_some()),
             // The interior balls, those a tree holds, are scene balls (a
             // ghost copy or a vertex joint lies near a face).
@@ -219,6 +224,30 @@ impl TraceDefs {
     #[must_use]
     pub fn for_reflections(mut self, reflections: u32) -> Self {
         self.reflections = reflections > 0 && self.materials;
+        self
+    }
+
+    /// These defs for path tracing when `depth` is above 0: `PATH_TRACE`,
+    /// without the cell rules, cones and reflections, which the path
+    /// tracer does not take (its paths take every lobe whole).
+    ///
+    /// ```
+    /// use bevy_manifold_core::prelude::*;
+    /// use bevy_manifold_gpu::TraceDefs;
+    /// let torus = catalog::torus(1.0);
+    /// let defs = TraceDefs::for_scene(&torus, &Scene::default_for(&torus), false).for_footprint(true);
+    /// let path = defs.for_path(8);
+    /// assert!(path.path_trace && !path.footprint);
+    /// assert_eq!(defs.for_path(0), defs);
+    /// ```
+    #[must_use]
+    pub fn for_path(mut self, depth: u32) -> Self {
+        if depth > 0 {
+            self.path_trace = true;
+            self.cell_rules = false;
+            self.footprint = false;
+            self.reflections = false;
+        }
         self
     }
 
@@ -291,6 +320,7 @@ impl TraceDefs {
             meshes: true,
             materials: true,
             reflections: true,
+            path_trace: false,
             alpha_mask: true,
             ball_tree: true,
             ball_leaves: bevy_manifold_core::trace::MAX_BALL_LEAVES as u32,
@@ -349,6 +379,9 @@ impl TraceDefs {
                     materials: on(4) && on(7),
                     // Reflections with materials and fog: on and off.
                     reflections: on(4) && on(7) && on(1),
+                    // Path tracing with lights, fog and the faces as a
+                    // constant, where rules and cones are off.
+                    path_trace: on(4) && on(1) && on(6) && !on(7) && !on(8),
                     alpha_mask: on(5) && on(1),
                     face_count: on(6).then_some(12),
                     cell_rules: on(7),
@@ -402,6 +435,7 @@ impl TraceDefs {
             (self.meshes, "MESHES"),
             (self.materials, "MATERIALS"),
             (self.reflections && self.materials, "REFLECTIONS"),
+            (self.path_trace, "PATH_TRACE"),
             (self.alpha_mask && self.meshes, "ALPHA_MASK"),
             (self.ball_tree, "BALL_TREE"),
             (self.many_unkeyed_tubes, "MANY_UNKEYED_TUBES"),

@@ -46,7 +46,7 @@ fn rust_layouts() -> Vec<RustLayout> {
             camera, camera_cell, fog_color, width, height, levels, face_count, ball_count, tube_count,
             light_count, camera_cell_index, tan_half_fov, max_distance, fog_density, tube_k, origin_x,
             origin_y, near, flags, cell_scale, instance_count, cell_mode, cell_a, cell_b, rule_hidden, rule_hidden_seed, rule_walls, rule_walls_seed,
-            projection, eye_offset, near_reach, light_sample_u, ball_leaves, chart_stretch, footprint_cap, light_sample_v, frustum, cone, occupied, reflections, pad_a, pad_b, pad_c,
+            projection, eye_offset, near_reach, light_sample_u, ball_leaves, chart_stretch, footprint_cap, light_sample_v, frustum, cone, occupied, reflections, path_depth, seed, sample,
         }),
         rust_layout!(GpuFace => "Face" { plane, pairing, crossing, partner, pad_a, pad_b, pad_c }),
         rust_layout!(GpuBall => "Ball" { center, color, k, id, face_mask, glow, pbr }),

@@ -513,6 +513,146 @@ fn gpu_reflections_agree_with_the_cpu_reference() {
     }
 }
 
+/// Per-pixel means and squared standard errors (red, green, blue summed)
+/// of `samples` path samples.
+fn path_means(samples: &[TraceImage]) -> Vec<(f64, f64)> {
+    let n = samples.len() as f64;
+    (0..samples[0].pixels.len())
+        .map(|i| {
+            let xs: Vec<f64> = samples
+                .iter()
+                .map(|img| img.pixels[i].color.iter().map(|&c| f64::from(c)).sum())
+                .collect();
+            let mean = xs.iter().sum::<f64>() / n;
+            let var = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
+            (mean, var / n)
+        })
+        .collect()
+}
+
+/// The GPU path tracer (`PATH_TRACE`) against the CPU's f32 twin in
+/// distribution: per-pixel means of 16 samples within 4 standard errors
+/// (or 2/255) of each other on 99% of pixels, in the torus,
+/// Seifert-Weber and the Poincare sphere (the default scene with a
+/// glossy metal ball, shadows and fog); and the white furnace on the
+/// GPU: a box of albedo 0.5 emitting 0.25 about the camera glows at 0.5.
+fn gpu_path_tracer_agrees_in_distribution_with_the_cpu() {
+    use bevy_manifold_core::material::{MeshMaterial, Pbr};
+    use bevy_manifold_core::mesh::{MeshData, TriMesh};
+    use bevy_manifold_core::trace::SceneMesh;
+    let mut gpu = tracer();
+    for space in [catalog::torus(1.0), catalog::seifert_weber(), catalog::poincare()] {
+        let mut scene = Scene::default_for(&space);
+        scene.balls[0].pbr = Some(Pbr {
+            metallic: 1.0,
+            roughness: 0.3,
+        });
+        scene.lighting.shadows = true;
+        scene.fog = Some(Fog {
+            density: 0.2 / space.inradius(),
+            color: [0.6, 0.65, 0.7],
+        });
+        let settings = TraceSettings {
+            width: 48,
+            height: 32,
+            path_depth: 6,
+            seed: 9,
+            ..TraceSettings::default()
+        };
+        let (mut g, mut c) = (Vec::new(), Vec::new());
+        for k in 0..16 {
+            let s = TraceSettings {
+                light_sample: k,
+                ..settings.clone()
+            };
+            g.push(gpu.render(&space, &scene, &s).expect("traced"));
+            c.push(render::<f32>(&space, &scene, &s));
+        }
+        let (mg, mc) = (path_means(&g), path_means(&c));
+        let agree = mg
+            .iter()
+            .zip(&mc)
+            .filter(|((a, va), (b, vb))| (a - b).abs() <= 4.0 * (va + vb).sqrt() || (a - b).abs() <= 2.0 / 255.0)
+            .count();
+        let ids = g[0]
+            .pixels
+            .iter()
+            .zip(&c[0].pixels)
+            .filter(|(p, q)| p.object == q.object)
+            .count();
+        eprintln!(
+            "{}: path means agree on {agree} of {} pixels, first-hit objects on {ids}",
+            space.name(),
+            mg.len()
+        );
+        assert!(
+            agree * 100 >= mg.len() * 99,
+            "{}: {agree} of {}",
+            space.name(),
+            mg.len()
+        );
+        assert!(
+            ids * 1000 >= mg.len() * 995,
+            "{}: ids {ids} of {}",
+            space.name(),
+            mg.len()
+        );
+    }
+    // The white furnace on the GPU.
+    let space = catalog::torus(1.0);
+    let mut positions = Vec::new();
+    let mut triangles = Vec::new();
+    for axis in 0..3 {
+        for sign in [-0.3f32, 0.3] {
+            let base = positions.len() as u32;
+            for (u, v) in [(-0.3f32, -0.3f32), (0.3, -0.3), (0.3, 0.3), (-0.3, 0.3)] {
+                let mut p = [0.0; 3];
+                p[axis] = sign;
+                p[(axis + 1) % 3] = u;
+                p[(axis + 2) % 3] = v;
+                positions.push(p);
+            }
+            triangles.push([base, base + 1, base + 2]);
+            triangles.push([base, base + 2, base + 3]);
+        }
+    }
+    let mesh = TriMesh::new(positions, None, None, triangles).expect("a box");
+    let mut scene = Scene::empty();
+    scene.camera.isometry = glam::DMat4::IDENTITY;
+    scene.meshes.push(SceneMesh::new(
+        MeshData::shared(mesh),
+        MeshMaterial {
+            base_color: [0.5; 3],
+            emissive: [0.25; 3],
+            ..MeshMaterial::default()
+        },
+        glam::DMat4::IDENTITY,
+        1.0,
+    ));
+    let mut all = Vec::new();
+    for k in 0..16 {
+        let s = TraceSettings {
+            width: 32,
+            height: 24,
+            path_depth: 40,
+            light_sample: k,
+            ..TraceSettings::default()
+        };
+        all.extend(
+            gpu.render(&space, &scene, &s)
+                .expect("traced")
+                .pixels
+                .iter()
+                .map(|p| f64::from(p.color[0])),
+        );
+    }
+    let n = all.len() as f64;
+    let mean = all.iter().sum::<f64>() / n;
+    let error = (all.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt();
+    eprintln!("GPU white furnace: {mean} +- {error}, want 0.5");
+    assert!((mean - 0.5).abs() < 4.0 * error && error < 0.01, "{mean} +- {error}");
+}
+
 /// The GPU's image and the CPU f64 reference's of one scene, which must
 /// agree on 99.5% of ids and 99% of colours; `what` names the case.
 fn gpu_against_cpu(
@@ -891,6 +1031,7 @@ bevy_manifold_test_support::test_main! {
         gpu_cone_tracing_agrees_with_the_cpu_reference,
         glowing_balls_show_their_glow_in_the_dark_on_the_gpu,
         gpu_reflections_agree_with_the_cpu_reference,
+        gpu_path_tracer_agrees_in_distribution_with_the_cpu,
         gpu_panoramas_agree_with_the_cpu_reference,
         gpu_off_centre_frustums_agree_with_the_cpu_reference,
         gpu_and_cpu_agree_in_every_space,

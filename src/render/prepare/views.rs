@@ -278,6 +278,7 @@ fn gpu_view(view: &ExtractedManifoldView, extracted: &ExtractedView, traced: Opt
         },
         light_sample: [0.0; 2],
         reflections: view.reflections,
+        path: [view.path_depth, view.seed, 0],
     }
 }
 

@@ -202,6 +202,17 @@ struct RenderArgs {
     /// 0, or 1 with --mirror).
     #[arg(long)]
     reflections: Option<u32>,
+    /// Path trace: each of the --samples is one sample of the rendering
+    /// equation (diffuse and GGX lobes, every light image at each bounce,
+    /// Russian roulette), their mean the image.
+    #[arg(long)]
+    path_trace: bool,
+    /// With --path-trace: the most bounces of a path (1 to 64).
+    #[arg(long, default_value_t = 8)]
+    depth: u32,
+    /// With --path-trace: the seed of the paths' random numbers.
+    #[arg(long, default_value_t = 0)]
+    seed: u32,
     /// Without --scene: add the mirror ball of the paper's Fig. 11 to the
     /// paper's scene (and one reflection unless --reflections says).
     #[arg(long, conflicts_with = "scene")]
@@ -379,8 +390,13 @@ fn render_command(args: &RenderArgs) -> Result<(), String> {
         height: args.height,
         levels: args.levels,
         reflections: args.reflections.unwrap_or(u32::from(args.mirror)),
+        path_depth: if args.path_trace { args.depth } else { 0 },
+        seed: args.seed,
         ..TraceSettings::default()
     };
+    if args.path_trace && args.depth == 0 {
+        return Err("--depth must be at least 1".into());
+    }
     size_check.check().map_err(|e| format!("render: {e}"))?;
     if !(1..=MAX_SAMPLES).contains(&args.samples) {
         return Err(format!(
@@ -439,6 +455,8 @@ fn render_command(args: &RenderArgs) -> Result<(), String> {
         },
         footprint: args.cones,
         reflections: size_check.reflections,
+        path_depth: size_check.path_depth,
+        seed: args.seed,
         ..TraceSettings::default()
     };
     let start = std::time::Instant::now();

@@ -4,7 +4,7 @@
 
 use bevy_manifold::space::Space;
 use bevy_manifold::tour::Tour;
-use bevy_manifold::trace::{Projection, TraceImage, TraceSettings, write_ids_png, write_png};
+use bevy_manifold::trace::{Projection, Scene, TraceImage, TraceSettings, write_ids_png, write_png};
 use bevy_manifold_gpu::GpuTracer;
 use clap::{Args, Subcommand, ValueEnum};
 use std::path::{Path, PathBuf};
@@ -66,6 +66,19 @@ pub struct TourRenderArgs {
     /// (`frame_NNNNN.exr`, 32-bit float RGB) for grading elsewhere.
     #[arg(long)]
     exr: bool,
+    /// Traces per pixel of each frame, averaged (anti-aliasing, soft
+    /// shadows; with --path-trace, path samples). 1 to 256.
+    #[arg(long, default_value_t = 1)]
+    samples: u32,
+    /// Path trace each frame (see `render --path-trace`).
+    #[arg(long)]
+    path_trace: bool,
+    /// With --path-trace: the most bounces of a path (1 to 64).
+    #[arg(long, default_value_t = 8)]
+    depth: u32,
+    /// With --path-trace: the seed of the paths' random numbers.
+    #[arg(long, default_value_t = 0)]
+    seed: u32,
     /// Use the CPU reference tracer instead of the GPU (f64 unless --f32).
     #[arg(long)]
     cpu: bool,
@@ -161,9 +174,16 @@ fn render(args: &TourRenderArgs) -> Result<(), String> {
     let check = TraceSettings {
         width: size.0,
         height: size.1,
+        path_depth: if args.path_trace { args.depth } else { 0 },
         ..TraceSettings::default()
     };
     check.check().map_err(|e| format!("tour render: {e}"))?;
+    if !(1..=256).contains(&args.samples) {
+        return Err(format!("--samples must be between 1 and 256, got {}", args.samples));
+    }
+    if args.path_trace && args.depth == 0 {
+        return Err("--depth must be at least 1".into());
+    }
     if !(args.eye_separation.is_finite() && args.eye_separation >= 0.0 && args.eye_separation < 1.0) {
         return Err(format!("--eye-separation {}: must be in [0, 1)", args.eye_separation));
     }
@@ -218,14 +238,22 @@ fn render(args: &TourRenderArgs) -> Result<(), String> {
     );
     let started = Instant::now();
     for k in first..end {
-        let (scene, settings) = frame_scene(&space, &tour, k, args.fps, size, projection);
-        let image: TraceImage = match gpu.as_mut() {
-            Some(g) => g
-                .render(&space, &scene, &settings)
-                .map_err(|e| format!("frame {k}: {e}"))?,
-            None if args.f32 => bevy_manifold::trace::render::<f32>(&space, &scene, &settings),
-            None => bevy_manifold::trace::render::<f64>(&space, &scene, &settings),
+        let (scene, mut settings) = frame_scene(&space, &tour, k, args.fps, size, projection);
+        if args.path_trace {
+            settings.path_depth = args.depth;
+            settings.seed = args.seed;
+        }
+        let mut trace = |scene: &Scene, settings: &TraceSettings| -> Result<TraceImage, String> {
+            Ok(match gpu.as_mut() {
+                Some(g) => g
+                    .render(&space, scene, settings)
+                    .map_err(|e| format!("frame {k}: {e}"))?,
+                None if args.f32 => bevy_manifold::trace::render::<f32>(&space, scene, settings),
+                None => bevy_manifold::trace::render::<f64>(&space, scene, settings),
+            })
         };
+        let mut image = trace(&scene, &settings)?;
+        crate::policy::add_samples(&mut image, &scene, &settings, args.samples, &mut trace)?;
         let file = args.out.join(format!("frame_{k:05}.png"));
         write_png(&image, &file).map_err(|e| format!("{}: {e}", file.display()))?;
         if args.exr {

@@ -18,8 +18,8 @@ use bevy_manifold::geometry::Geometry;
 use bevy_manifold::placement::{DomainCell, Placement};
 use bevy_manifold::space::{catalog, library};
 use bevy_manifold::tour::FaceWord;
-use bevy_manifold::trace::MAX_REFLECTIONS;
 use bevy_manifold::trace::SuzanneMode;
+use bevy_manifold::trace::{MAX_PATH_DEPTH, MAX_REFLECTIONS};
 
 /// The panel and the view in the primary window. Needs
 /// [`ExplorerPlugin`] (added when missing) and a window.
@@ -304,6 +304,15 @@ fn contents(
     });
     ui.label(scale_line(view.size, scale));
     ui.checkbox(&mut s.smooth_detail, "smooth far detail (cone tracing)");
+    ui.checkbox(&mut s.path_trace, "path traced (converges while still)");
+    ui.add_enabled_ui(s.path_trace, |ui| {
+        ui.add(egui::Slider::new(&mut s.path_depth, 1..=MAX_PATH_DEPTH).text("bounces a path"));
+        ui.add(
+            egui::Slider::new(&mut s.path_samples, 2..=ManifoldAccumulation::MAX_SAMPLES)
+                .logarithmic(true)
+                .text("path samples"),
+        );
+    });
     ui.checkbox(&mut s.refine_still, "refine while still (anti-aliasing)");
     ui.add_enabled_ui(s.refine_still, |ui| {
         ui.add(

@@ -23,11 +23,13 @@
 //! ```
 
 use bevy::prelude::*;
-use bevy_manifold::camera::{AdaptiveRenderScale, ManifoldAccumulation, ManifoldCamera, ManifoldFootprint};
+use bevy_manifold::camera::{
+    AdaptiveRenderScale, ManifoldAccumulation, ManifoldCamera, ManifoldFootprint, ManifoldPathTracer,
+};
 use bevy_manifold::camera::{CellShading, ManifoldFog};
 use bevy_manifold::space::rule::{CellRule, OnOff, Walls};
 use bevy_manifold::space::{catalog, library};
-use bevy_manifold::trace::{MAX_REFLECTIONS, PaperOptions, SuzanneMode};
+use bevy_manifold::trace::{MAX_PATH_DEPTH, MAX_REFLECTIONS, PaperOptions, SuzanneMode};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -109,6 +111,15 @@ pub struct ExplorerSettings {
     /// Reflections a ray follows off surfaces with a material (0 to
     /// [`bevy_manifold::trace::MAX_REFLECTIONS`]; 0: none, at no cost).
     pub reflections: u32,
+    /// Path trace the view ([`ManifoldPathTracer`]): one sample a frame,
+    /// averaged over `path_samples` while the view is still.
+    pub path_trace: bool,
+    /// The most bounces of a path (1 to
+    /// [`bevy_manifold::trace::MAX_PATH_DEPTH`]).
+    pub path_depth: u32,
+    /// Samples per pixel a still path-traced view converges to (2 to
+    /// [`ManifoldAccumulation::MAX_SAMPLES`]).
+    pub path_samples: u32,
     /// Render resolution as a fraction of the view's pixels.
     pub render_scale: f32,
     /// Hold `target_fps` by tracing fewer pixels than `render_scale` asks
@@ -157,6 +168,9 @@ impl Default for ExplorerSettings {
             vehicle: false,
             mirror: false,
             reflections: 0,
+            path_trace: false,
+            path_depth: 8,
+            path_samples: ManifoldAccumulation::MAX_SAMPLES,
             render_scale: 1.0,
             hold_frame_rate: false,
             target_fps: 30.0,
@@ -199,8 +213,22 @@ impl ExplorerSettings {
     /// The refinement of a still view, when asked for.
     #[must_use]
     pub fn accumulation(&self) -> Option<ManifoldAccumulation> {
+        if self.path_trace {
+            return Some(ManifoldAccumulation {
+                samples: self.path_samples,
+            });
+        }
         self.refine_still.then_some(ManifoldAccumulation {
             samples: self.still_samples,
+        })
+    }
+
+    /// The path tracer these settings ask for, if any.
+    #[must_use]
+    pub fn path_tracer(&self) -> Option<ManifoldPathTracer> {
+        self.path_trace.then_some(ManifoldPathTracer {
+            depth: self.path_depth,
+            seed: 0,
         })
     }
 
@@ -321,6 +349,16 @@ impl ExplorerSettings {
             };
             fix("render_scale", self.render_scale.to_string(), v.to_string());
             self.render_scale = v;
+        }
+        if !(1..=MAX_PATH_DEPTH).contains(&self.path_depth) {
+            let v = self.path_depth.clamp(1, MAX_PATH_DEPTH);
+            fix("path_depth", self.path_depth.to_string(), v.to_string());
+            self.path_depth = v;
+        }
+        if !(2..=ManifoldAccumulation::MAX_SAMPLES).contains(&self.path_samples) {
+            let v = self.path_samples.clamp(2, ManifoldAccumulation::MAX_SAMPLES);
+            fix("path_samples", self.path_samples.to_string(), v.to_string());
+            self.path_samples = v;
         }
         if self.reflections > MAX_REFLECTIONS {
             fix("reflections", self.reflections.to_string(), MAX_REFLECTIONS.to_string());

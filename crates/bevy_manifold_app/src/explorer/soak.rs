@@ -214,6 +214,7 @@ pub fn step_settings(base: &ExplorerSettings, spaces: &[String], k: u64) -> Expl
     s.suzanne = [SuzanneMode::Attached, SuzanneMode::Free, SuzanneMode::Hidden][pick(3)];
     s.mirror = k % 3 == 2;
     s.reflections = [0, 1, 2][pick(3)];
+    s.path_trace = k % 7 == 3;
     s.render_scale = [0.25, 0.35, 0.5][pick(3)];
     s.hold_frame_rate = k % 4 == 3;
     s.target_fps = [10.0, 30.0, 90.0][pick(3)];

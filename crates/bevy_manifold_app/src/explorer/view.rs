@@ -8,7 +8,9 @@ use super::settings::ExplorerSettings;
 use bevy::camera::RenderTarget;
 use bevy::prelude::*;
 use bevy_manifold::camera::ManifoldFog;
-use bevy_manifold::camera::{AdaptiveRenderScale, ManifoldAccumulation, ManifoldFootprint, ManifoldRenderScale};
+use bevy_manifold::camera::{
+    AdaptiveRenderScale, ManifoldAccumulation, ManifoldFootprint, ManifoldPathTracer, ManifoldRenderScale,
+};
 use bevy_manifold::camera::{FlyCamera, Vehicle};
 use bevy_manifold::drawables::paper::{paper_camera, spawn_paper_scene};
 use bevy_manifold::placement::{DomainCell, FaceCrossed, ManifoldSpace, Placement};
@@ -143,6 +145,10 @@ pub fn insert_scale(camera: &mut EntityCommands, settings: &ExplorerSettings) {
         Some(f) => camera.insert(f),
         None => camera.remove::<ManifoldFootprint>(),
     };
+    match settings.path_tracer() {
+        Some(p) => camera.insert(p),
+        None => camera.remove::<ManifoldPathTracer>(),
+    };
 }
 
 /// The camera's controller: the vehicle it rides (`vehicle`) or the fly
@@ -260,6 +266,7 @@ pub fn apply_settings(
     if settings.adaptive_scale() != world.applied.adaptive_scale()
         || settings.accumulation() != world.applied.accumulation()
         || settings.footprint() != world.applied.footprint()
+        || settings.path_tracer() != world.applied.path_tracer()
     {
         insert_scale(&mut camera, &settings);
     }

@@ -58,6 +58,7 @@ mod light_images;
 mod mesh_hit;
 mod nearest;
 mod output;
+pub mod path;
 mod render;
 pub mod scene;
 mod settings;
@@ -96,6 +97,7 @@ pub use nearest::same_cell_point;
 pub use output::{id_pixel, srgb8, upscale};
 #[cfg(feature = "png")]
 pub use output::{write_hdr, write_ids_png, write_png, write_rgba_png};
+pub use path::{Lobes, PathRng, path_sample};
 pub use render::{TraceImage, render};
 pub use scene::MeshPart;
 pub use scene::{
@@ -105,7 +107,7 @@ pub use scene::{
 };
 #[cfg(feature = "gltf")]
 pub use scene::{builtin, meshes_of};
-pub use settings::{MAX_LEVELS, MAX_PIXELS, MAX_REFLECTIONS, Projection, TraceSettings};
+pub use settings::{MAX_LEVELS, MAX_PATH_DEPTH, MAX_PIXELS, MAX_REFLECTIONS, Projection, TraceSettings};
 pub use shade::{LIGHT_AT_HIT, MAX_MIRROR_ROUGHNESS, MIRROR_OFFSET, Mirror, mirror_ray};
 pub use trace::{FOG_CUT, PathStep, Stop, TracePixel, trace_path, trace_ray};
 pub use walk::Walker;

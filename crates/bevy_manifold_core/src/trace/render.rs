@@ -7,6 +7,7 @@
 
 use super::camera::view_ray;
 use super::flat::FlatScene;
+use super::path::path_sample;
 use super::scene::Scene;
 use super::settings::TraceSettings;
 use super::trace::{TracePixel, trace_ray};
@@ -35,7 +36,8 @@ impl TraceImage {
 }
 
 /// Renders `scene` in `space`: one ray per pixel ([`view_ray`], then
-/// [`trace_ray`]), in parallel. WGSL twin: the `trace` entry point of
+/// [`trace_ray`], or with [`TraceSettings::path_depth`] one path sample,
+/// [`super::path_sample`]), in parallel. WGSL twin: the `trace` entry point of
 /// `shaders/render.wgsl`.
 #[must_use]
 pub fn render<R: Real>(space: &Space, scene: &Scene, settings: &TraceSettings) -> TraceImage {
@@ -48,7 +50,11 @@ pub fn render<R: Real>(space: &Space, scene: &Scene, settings: &TraceSettings) -
     let pixels = indices
         .map(|k| {
             let ray = view_ray(&flat, settings.projection, k % w, k / w, w, h);
-            trace_ray(space, &flat, ray, settings, &mut |_| {}).0
+            if settings.path_depth > 0 {
+                path_sample(space, &flat, ray, settings, k)
+            } else {
+                trace_ray(space, &flat, ray, settings, &mut |_| {}).0
+            }
         })
         .collect();
     TraceImage {

@@ -59,6 +59,16 @@ pub struct TraceSettings {
     /// their code on the GPU, whose twin is the `REFLECTIONS` def and
     /// `params.reflections`). At most [`MAX_REFLECTIONS`].
     pub reflections: u32,
+    /// Path tracing ([`super::path`]): above 0, each pixel is one sample
+    /// of the rendering equation, a path of up to this many bounces
+    /// (diffuse and GGX lobes sampled, the light images sampled at each
+    /// bounce), the `light_sample`-th of an accumulating view; 0: the
+    /// direct tracer. At most [`MAX_PATH_DEPTH`]. The GPU twin is the
+    /// `PATH_TRACE` def and `params.path_depth`.
+    pub path_depth: u32,
+    /// The path tracer's seed: the same seed, sample and pixel give the
+    /// same path on every run, CPU and GPU.
+    pub seed: u32,
 }
 
 /// How the pixels of an image map to view directions.
@@ -106,6 +116,10 @@ pub const MAX_LEVELS: u32 = 16_384;
 /// Most pixels in one traced image (8192 x 8192).
 pub const MAX_PIXELS: u64 = 1 << 26;
 
+/// Most bounces of a traced path ([`TraceSettings::path_depth`]).
+/// WGSL twin: `MAX_PATH_DEPTH` in `shaders/path.wgsl`.
+pub const MAX_PATH_DEPTH: u32 = 64;
+
 /// Most reflections a ray follows ([`TraceSettings::reflections`]): each
 /// reflection is a walk of up to `levels` crossings of its own. WGSL twin:
 /// `MAX_REFLECTIONS` in `shaders/trace.wgsl`.
@@ -137,6 +151,9 @@ impl TraceSettings {
         if self.levels > MAX_LEVELS {
             return Err(format!("{} levels: at most {MAX_LEVELS}", self.levels));
         }
+        if self.path_depth > MAX_PATH_DEPTH {
+            return Err(format!("a path depth of {}: at most {MAX_PATH_DEPTH}", self.path_depth));
+        }
         if self.reflections > MAX_REFLECTIONS {
             return Err(format!("{} reflections: at most {MAX_REFLECTIONS}", self.reflections));
         }
@@ -164,6 +181,8 @@ impl Default for TraceSettings {
             footprint: false,
             light_sample: 0,
             reflections: 0,
+            path_depth: 0,
+            seed: 0,
         }
     }
 }

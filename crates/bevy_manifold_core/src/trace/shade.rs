@@ -98,12 +98,12 @@ fn from_light<R: Real>(g: Geometry, l: &FlatLight<R>, x: R::V4) -> R::V4 {
 }
 
 /// What a hit's light is worked out from.
-struct Lit<R: Real> {
-    normal: R::V4,
-    view: R::V4,
-    albedo: [f32; 3],
+pub(super) struct Lit<R: Real> {
+    pub(super) normal: R::V4,
+    pub(super) view: R::V4,
+    pub(super) albedo: [f32; 3],
     /// The GGX lobe's metallic and roughness; `None`: the classic look.
-    pbr: Option<Pbr>,
+    pub(super) pbr: Option<Pbr>,
 }
 
 impl<R: Real> Lit<R> {
@@ -111,7 +111,7 @@ impl<R: Real> Lit<R> {
     /// tangent `to_light` with irradiance `irradiance`: Lambert plus a
     /// Blinn lobe, or with a material the GGX lobe of [`brdf`]. WGSL twin:
     /// `add_light` in `shaders/shade.wgsl`.
-    fn add(&self, g: Geometry, rgb: &mut [f32; 3], to_light: R::V4, irradiance: f32, color: [f32; 3]) {
+    pub(super) fn add(&self, g: Geometry, rgb: &mut [f32; 3], to_light: R::V4, irradiance: f32, color: [f32; 3]) {
         let nl = g.form::<R>(self.normal, to_light).max(R::of(0.0));
         let half = to_light + self.view;
         let hl = g.form::<R>(half, half).sqrt();
@@ -151,24 +151,30 @@ impl<R: Real> Lit<R> {
     }
 }
 
-/// Lambert + Blinn (or the material's GGX) shading at the hit (chart parameter `t`, with the
-/// object's normal there unless `normal_at` gives another: a cone's
-/// layer, see [`super::cone::cone_layer`]), lights with geometry-correct
-/// fall-off (1 / area of the sphere of radius d), per-cell colour, fog;
-/// with `settings.reflections` above 0 and a material, the ray the surface
-/// reflects ([`Mirror`]). WGSL twin: `shade` in `shaders/shade.wgsl`
-/// (which leaves the mirror in its private `last_mirror`).
-#[expect(clippy::too_many_arguments, reason = "the shading inputs are all distinct")]
-pub(super) fn shade<R: Real>(
+/// What a hit's surface is: the point, the unit tangent towards the eye,
+/// the unit normal, the albedo, glow, emission and material.
+/// WGSL twin: `HitSurface` in `shaders/shade.wgsl`.
+pub(super) struct HitSurface<R: Real> {
+    pub(super) x: R::V4,
+    pub(super) view: R::V4,
+    pub(super) normal: R::V4,
+    pub(super) albedo: [f32; 3],
+    pub(super) glow: f32,
+    pub(super) emissive: [f32; 3],
+    pub(super) pbr: Option<Pbr>,
+}
+
+/// The surface of `hit` at chart parameter `t` of `ray`, with the
+/// object's normal there unless `normal_at` gives another (a cone's
+/// layer, see [`super::cone::cone_layer`]). WGSL twin: `surface` in
+/// `shaders/shade.wgsl`.
+pub(super) fn surface<R: Real>(
     g: Geometry,
     flat: &FlatScene<R>,
     ray: &Ray<R>,
     (t, normal_at): (R, Option<R::V4>),
     hit: Hit<R>,
-    dist: R,
-    (cell, cell_matrix): (CellId, R::M4),
-    settings: &TraceSettings,
-) -> ([f32; 3], Option<Mirror<R>>) {
+) -> HitSurface<R> {
     let x = g.normalize_point::<R>(ray.origin + ray.dir * t);
     let view = -g.normalize_tangent::<R>(x, ray.dir);
     let (normal, albedo, glow, emissive, pbr) = match hit {
@@ -199,21 +205,32 @@ pub(super) fn shade<R: Real>(
             )
         }
     };
-    let normal = normal_at.unwrap_or(normal);
-    let mut albedo = albedo;
-    if settings.cell_colors {
-        let c = settings.cell_tint.tint(cell);
-        albedo = [albedo[0] * c[0], albedo[1] * c[1], albedo[2] * c[2]];
-    }
-    // Ambient light, the object's own glow and its emission.
-    let ambient = 0.08f32 + glow;
-    let mut rgb = [0, 1, 2].map(|c| albedo[c] * ambient + emissive[c]);
-    let lit = Lit::<R> {
-        normal,
+    HitSurface {
+        x,
         view,
+        normal: normal_at.unwrap_or(normal),
         albedo,
+        glow,
+        emissive,
         pbr,
-    };
+    }
+}
+
+/// The light of every light image a surface point `x` receives, each
+/// along its own geodesic (both arcs in S3), with the fall-off of the
+/// geometry, the light's range and the fog on its way, and only if the
+/// way is free ([`super::shadow`]): the sum of [`Lit::add`] over them.
+/// WGSL twin: `direct` in `shaders/shade.wgsl`.
+pub(super) fn direct<R: Real>(
+    g: Geometry,
+    flat: &FlatScene<R>,
+    lit: &Lit<R>,
+    x: R::V4,
+    cell_matrix: R::M4,
+    settings: &TraceSettings,
+) -> [f32; 3] {
+    let normal = lit.normal;
+    let mut rgb = [0.0f32; 3];
     if flat.lighting.images == 0 {
         for l in &flat.lights {
             let d = g.distance::<R>(x, l.position);
@@ -248,6 +265,54 @@ pub(super) fn shade<R: Real>(
                 lit.add(g, &mut rgb, dir, e.f64() as f32, l.color);
             }
         }
+    }
+    rgb
+}
+
+/// Lambert + Blinn (or the material's GGX) shading at the hit (chart parameter `t`, with the
+/// object's normal there unless `normal_at` gives another: a cone's
+/// layer, see [`super::cone::cone_layer`]), lights with geometry-correct
+/// fall-off (1 / area of the sphere of radius d), per-cell colour, fog;
+/// with `settings.reflections` above 0 and a material, the ray the surface
+/// reflects ([`Mirror`]). WGSL twin: `shade` in `shaders/shade.wgsl`
+/// (which leaves the mirror in its private `last_mirror`).
+#[expect(clippy::too_many_arguments, reason = "the shading inputs are all distinct")]
+pub(super) fn shade<R: Real>(
+    g: Geometry,
+    flat: &FlatScene<R>,
+    ray: &Ray<R>,
+    (t, normal_at): (R, Option<R::V4>),
+    hit: Hit<R>,
+    dist: R,
+    (cell, cell_matrix): (CellId, R::M4),
+    settings: &TraceSettings,
+) -> ([f32; 3], Option<Mirror<R>>) {
+    let HitSurface {
+        x,
+        view,
+        normal,
+        albedo,
+        glow,
+        emissive,
+        pbr,
+    } = surface(g, flat, ray, (t, normal_at), hit);
+    let mut albedo = albedo;
+    if settings.cell_colors {
+        let c = settings.cell_tint.tint(cell);
+        albedo = [albedo[0] * c[0], albedo[1] * c[1], albedo[2] * c[2]];
+    }
+    // Ambient light, the object's own glow and its emission.
+    let ambient = 0.08f32 + glow;
+    let mut rgb = [0, 1, 2].map(|c| albedo[c] * ambient + emissive[c]);
+    let lit = Lit::<R> {
+        normal,
+        view,
+        albedo,
+        pbr,
+    };
+    let direct = direct(g, flat, &lit, x, cell_matrix, settings);
+    for c in 0..3 {
+        rgb[c] += direct[c];
     }
     let mut fog_kept = 1.0;
     if let Some((density, fog_color)) = flat.fog {

@@ -327,7 +327,7 @@ fn trace_leg<R: Real>(
 /// nothing. WGSL twin: `nearest_object` in `shaders/trace.wgsl`. Its arms
 /// are `consider_ball`, `consider_tube` and `consider_instance` in
 /// `shaders/nearest.wgsl`.
-fn nearest_object<R: Real>(
+pub(super) fn nearest_object<R: Real>(
     g: Geometry,
     flat: &FlatScene<R>,
     ray: &Ray<R>,

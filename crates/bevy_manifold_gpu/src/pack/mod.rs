@@ -65,6 +65,9 @@ pub struct GpuView {
     /// Reflections: the most reflections a ray takes (read under the
     /// `REFLECTIONS` def).
     pub reflections: u32,
+    /// Path tracing (`PATH_TRACE`): the most bounces, the seed and the
+    /// sample's index.
+    pub path: [u32; 3],
 }
 
 /// `bevy_manifold_core::trace::light_sample_point(k)` as the GPU reads it.
@@ -169,9 +172,9 @@ impl GpuParams {
             cone: [view.footprint, objects.cone[0], packed.near_scale, objects.cone[1]],
             occupied: occupied(&objects.groups),
             reflections: view.reflections.min(bevy_manifold_core::trace::MAX_REFLECTIONS),
-            pad_a: 0,
-            pad_b: 0,
-            pad_c: 0,
+            path_depth: view.path[0].min(bevy_manifold_core::trace::MAX_PATH_DEPTH),
+            seed: view.path[1],
+            sample: view.path[2],
         }
     }
 }
@@ -198,6 +201,7 @@ impl GpuParams {
     pub fn sample(mut self, k: u32) -> Self {
         self.jitter(bevy_manifold_core::trace::sample_offset(k));
         [self.light_sample_u, self.light_sample_v] = light_sample(k);
+        self.sample = k;
         self
     }
 
@@ -255,6 +259,7 @@ impl GpuScene {
             },
             light_sample: light_sample(settings.light_sample),
             reflections: settings.reflections,
+            path: [settings.path_depth, settings.seed, settings.light_sample],
         };
         GpuScene {
             params: GpuParams::new(space, packed, &objects, &view),

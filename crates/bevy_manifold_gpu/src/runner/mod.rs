@@ -436,6 +436,7 @@ fn scene_defs(space: &Space, scene: &Scene, settings: &TraceSettings) -> TraceDe
         .for_rule(&settings.cell_rule)
         .for_footprint(settings.footprint)
         .for_reflections(settings.reflections)
+        .for_path(settings.path_depth)
 }
 
 /// A scene uploaded and bound for one compute entry.
