@@ -21,6 +21,12 @@ cargo build --release -p bevy_manifold_app
 # Soft shadows of a light with a radius (manual, "Light and its images").
 "${CARGO_TARGET_DIR:-target}/release/bevy_manifold" render --space torus --scene "$out/soft_shadows_torus.scene.json" \
     --samples 32 --width 480 --height 270 --out "$out/soft_shadows_torus.png"
+# Path-traced stills of the paper's spaces (manual, "Path tracing"): 64
+# samples of 6 bounces each, on the GPU.
+for s in torus seifert-weber poincare mirrored-cube mirrored-dodecahedron; do
+    "${CARGO_TARGET_DIR:-target}/release/bevy_manifold" render --space "$s" --path-trace --depth 6 --samples 64 \
+        --width 480 --height 270 --out "$out/path_$s.png"
+done
 # Walls and hidden cells (README "Exact cells").
 "${CARGO_TARGET_DIR:-target}/release/bevy_manifold" render --space seifert-weber --walls 0.3 --hidden 0.6 --cells \
     --rule-seed 2 --out "$out/maze.png"

@@ -13,6 +13,7 @@ mod frames;
 mod lights;
 mod meshes;
 mod pass;
+mod paths;
 mod plot;
 mod reflections;
 mod report;
@@ -151,6 +152,29 @@ pub enum BenchCommand {
         #[arg(long, default_value = "bench-out")]
         out: std::path::PathBuf,
     },
+    /// The path tracer's run time against its error per catalog space:
+    /// the mean of 1, 2, 4, ... samples against a reference of many,
+    /// GPU and CPU f32. Writes `paths.csv` and `paths.png`.
+    Paths {
+        /// Image width.
+        #[arg(long, default_value_t = 160)]
+        width: u32,
+        /// Image height.
+        #[arg(long, default_value_t = 90)]
+        height: u32,
+        /// GPU samples of the reference.
+        #[arg(long, default_value_t = 512)]
+        reference: u32,
+        /// The most samples of a mean (doubling from 1).
+        #[arg(long, default_value_t = 32)]
+        samples: u32,
+        /// Only the spaces whose name holds this.
+        #[arg(long, default_value = "")]
+        only: String,
+        /// Folder for `paths.csv` and `paths.png`.
+        #[arg(long, default_value = "bench-out")]
+        out: std::path::PathBuf,
+    },
     /// Frame time of the paper's scene with the mirror ball (Fig. 11)
     /// with 0, 1 and 2 reflections a ray, GPU and CPU f32, per catalog
     /// space.
@@ -273,6 +297,14 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
             ref only,
             ref out,
         } => lights::run(width.max(1), height.max(1), runs.max(1), only, out),
+        BenchCommand::Paths {
+            width,
+            height,
+            reference,
+            samples,
+            ref only,
+            ref out,
+        } => paths::run(width.max(1), height.max(1), reference.max(1), samples.max(1), only, out),
         BenchCommand::Reflections {
             width,
             height,
