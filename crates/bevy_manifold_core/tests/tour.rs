@@ -450,3 +450,40 @@ fn a_saved_tour_reads_back_the_same() {
     );
     assert!(max_abs(at.placement - pose) < 1e-9);
 }
+
+#[test]
+fn the_faces_a_tour_names_are_bounded_in_all_and_so_is_its_file() {
+    // Four keyframes of 4,096 faces each are the most the cells may name
+    // in all; a fifth is refused by name before any product of its word
+    // is taken (each face word is a product of exact elements).
+    let sw = catalog::seifert_weber();
+    let mut rng = Rng(5);
+    let keyframe = |i: usize, rng: &mut Rng| {
+        let word: Vec<String> = (0..4096).map(|_| (rng.below(12)).to_string()).collect();
+        format!(
+            r#"{{"time": {i}, "position": [0, 0, 0, 1], "cell": [{}]}}"#,
+            word.join(",")
+        )
+    };
+    let tour = |n: usize, rng: &mut Rng| {
+        let keys: Vec<String> = (0..n).map(|i| keyframe(i, rng)).collect();
+        format!(r#"{{"space": "seifert-weber", "keyframes": [{}]}}"#, keys.join(","))
+    };
+    let Err(TourError::Field { field, message, .. }) = build(&sw, &tour(5, &mut rng)) else {
+        panic!("5 keyframes of 4096 faces are refused");
+    };
+    assert_eq!(field, "keyframes[4].cell");
+    assert!(message.contains("20480 faces in all, more than 16384"), "{message}");
+    // A file past the cap is refused unread, by its size.
+    let dir = std::env::temp_dir().join(format!("bevy_manifold_tour_cap_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let big = dir.join("big.tour.json");
+    let file = std::fs::File::create(&big).unwrap();
+    file.set_len(bevy_manifold_core::tour::MAX_TOUR_BYTES + 1).unwrap();
+    let e = TourDesc::load(&big).unwrap_err().to_string();
+    assert!(
+        e.contains("big.tour.json") && e.contains("33554433 bytes, more than the 33554432"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

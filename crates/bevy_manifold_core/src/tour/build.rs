@@ -4,7 +4,7 @@
 //! the path through them built, and the settings and captions in force
 //! from each entry on.
 
-use super::file::{EntryDesc, MAX_KEYFRAMES, MAX_SECONDS, MAX_WORD, SceneDesc, TourDesc, TourError};
+use super::file::{EntryDesc, MAX_KEYFRAMES, MAX_SECONDS, MAX_TOTAL_WORDS, MAX_WORD, SceneDesc, TourDesc, TourError};
 use super::path::{PathKey, Segment, TourPath};
 use super::{Tour, TourSettings};
 use crate::geometry::isometry;
@@ -84,6 +84,13 @@ impl TourDesc {
         };
 
         let mut keys: Vec<PathKey> = Vec::new();
+        // The faces the cells name in all: bounded, so any file is
+        // checked in bounded time (each word is a product of exact
+        // elements).
+        let mut total_words = 0usize;
+        let too_many_faces = |total: usize| {
+            format!("the keyframes' cells and loops name {total} faces in all, more than {MAX_TOTAL_WORDS}")
+        };
         let mut segments = Vec::new();
         // The file entry each path key came from.
         let mut key_entry = Vec::new();
@@ -122,6 +129,10 @@ impl TourDesc {
                     ));
                 }
                 check_word(name("cell"), &e.cell)?;
+                total_words += e.cell.len();
+                if total_words > MAX_TOTAL_WORDS {
+                    return Err(field(name("cell"), too_many_faces(total_words)));
+                }
                 let local = match (e.position, e.isometry) {
                     (Some(_), Some(_)) => {
                         return Err(field(
@@ -222,6 +233,10 @@ impl TourDesc {
                 } else if let Some(l) = &e.loop_ {
                     let s = seconds(name("loop.seconds"), l.seconds)?;
                     check_word(name("loop.faces"), &l.faces)?;
+                    total_words += l.faces.len();
+                    if total_words > MAX_TOTAL_WORDS {
+                        return Err(field(name("loop.faces"), too_many_faces(total_words)));
+                    }
                     if l.faces.is_empty() || l.laps == 0 || l.laps as usize > MAX_KEYFRAMES {
                         return Err(field(name("loop"), "needs at least one face and 1 to 4096 laps".into()));
                     }
@@ -273,6 +288,10 @@ impl TourDesc {
                             format!("keyframes[{i}]"),
                             format!("the leg leads more than {MAX_WORD} faces from the origin copy"),
                         ));
+                    }
+                    total_words += next.word.len();
+                    if total_words > MAX_TOTAL_WORDS {
+                        return Err(field(format!("keyframes[{i}]"), too_many_faces(total_words)));
                     }
                     next.stop = false;
                     segments.push(Segment::Screw);

@@ -74,6 +74,16 @@ pub enum TourError {
 pub const MAX_KEYFRAMES: usize = 4096;
 /// Longest face word of a keyframe's `cell` (and of a loop).
 pub const MAX_WORD: usize = 4096;
+/// Most faces the keyframes' cells may name in all (the sum of their
+/// words' lengths, legs included): each is a product of exact elements,
+/// so this bounds the work of checking any tour file: four keyframes of
+/// 4,096 random faces each take 3 s in Seifert-Weber (exact integers
+/// grow along a word), where 4,096 such keyframes would take about 40
+/// minutes.
+pub const MAX_TOTAL_WORDS: usize = 16_384;
+/// Largest tour file read (32 MiB: 4,096 entries with the longest
+/// captions and every face the words may name take under 20 MiB).
+pub const MAX_TOUR_BYTES: u64 = 32 << 20;
 /// Longest tour, in seconds (a day).
 pub const MAX_SECONDS: f64 = 86_400.0;
 
@@ -284,9 +294,9 @@ impl TourDesc {
     /// Unreadable file or malformed JSON, named by the file.
     pub fn load(path: impl AsRef<Path>) -> Result<TourDesc, TourError> {
         let p = path.as_ref().display().to_string();
-        let text = std::fs::read_to_string(path.as_ref()).map_err(|e| TourError::Io {
+        let text = crate::text::read_capped(path.as_ref(), MAX_TOUR_BYTES).map_err(|message| TourError::Io {
             path: p.clone(),
-            message: e.to_string(),
+            message,
         })?;
         Self::parse(&text, &p)
     }

@@ -30,7 +30,7 @@ mod build;
 pub mod file;
 pub mod path;
 
-pub use file::{EntryDesc, SceneDesc, TourDesc, TourError};
+pub use file::{EntryDesc, MAX_TOTAL_WORDS, MAX_TOUR_BYTES, SceneDesc, TourDesc, TourError};
 pub use path::{PathFrame, PathKey, Segment, TourPath};
 
 use crate::space::Space;
