@@ -11,6 +11,7 @@ use std::process::Command;
 const FIGURES: &[(&str, &[&str], &str)] = &[
     ("torus", &[], "torus"),
     ("torus", &["--fog"], "torus_fog"),
+    ("torus", &["--mirror"], "torus_mirror"),
     ("seifert_weber", &[], "seifert_weber"),
     ("poincare", &[], "poincare"),
     ("mirrored_cube", &[], "mirrored_cube"),
@@ -109,6 +110,23 @@ fn the_shooter_refuses_bad_input_and_plays_a_script_headless() {
             String::from_utf8_lossy(&out.stderr).into_owned(),
         )
     };
+    // Unknown flags (a typo, another version's) and bad values are named,
+    // and nothing is played.
+    for (args, needle) in [
+        (&["--server"][..], "unexpected argument '--server'"),
+        (&["--join", "127.0.0.1:5000"][..], "unexpected argument '--join'"),
+        (&["--levels", "0"][..], "invalid value '0' for '--levels <LEVELS>'"),
+        (&["--seed", "x"][..], "invalid value 'x' for '--seed <SEED>'"),
+        (&["--screenshot", "s.png", "--size", "0x10"][..], "--size: WIDTHxHEIGHT"),
+    ] {
+        let (code, out, err) = run(args);
+        assert!(matches!(code, Some(1 | 2)), "{args:?}: {code:?} {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(out.is_empty() && !err.contains("panicked"), "{args:?}: {out} {err}");
+    }
+    let (code, out, _) = run(&["--help"]);
+    assert_eq!(code, Some(0));
+    assert!(out.contains("--space") && out.contains("--headless"), "{out}");
     let (code, _, err) = run(&["--space", "klein-bottle"]);
     assert_eq!(code, Some(1), "{err}");
     assert!(
@@ -144,9 +162,37 @@ fn the_shooter_refuses_bad_input_and_plays_a_script_headless() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// Without a display the shooter says so in one line and renders its
+/// opening view to `shooter.png` (as the explorer renders `explorer.png`)
+/// instead of panicking in winit.
+fn without_a_display_the_shooter_renders_shooter_png() {
+    let dir = std::env::temp_dir().join(format!("bevy_manifold_shooter_nodisplay_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let out = Command::new(example("shooter"))
+        .args(["--size", "160x90"])
+        .current_dir(&dir)
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("the shooter runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains("no display (neither DISPLAY nor WAYLAND_DISPLAY is set)"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    let img = image::open(dir.join("shooter.png")).expect("shooter.png").to_rgba8();
+    assert_eq!(img.dimensions(), (160, 90));
+    let first = img.get_pixel(0, 0);
+    assert!(img.pixels().any(|p| p != first), "not blank");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [the_shooter_refuses_bad_input_and_plays_a_script_headless],
     gpu: [
         every_example_renders_its_figure_headlessly,
+        without_a_display_the_shooter_renders_shooter_png,
     ],
 }

@@ -10,10 +10,15 @@
 //! cargo run --release --example shooter [-- --space seifert-weber]
 //!     [--difficulty easy|normal|hard] [--seed N] [--levels N]
 //!     [--record FILE.json] [--play FILE.json [--headless]]
-//!     [--screenshot FILE.png [--size WxH]]
+//!     [--screenshot FILE.png [--size WxH]] [--bot] [--headless [--ticks N]]
 //! cargo run --release --features xr --example shooter -- --xr [--world-scale M]
 //!     [--frames N --xr-capture DIR]
 //! ```
+//!
+//! The flags are parsed as the CLI's are (`args.rs`, `--help`): an
+//! unknown one is named and the game does not start. Without a display
+//! (no `DISPLAY` or `WAYLAND_DISPLAY`) it says so and renders the opening
+//! view to `shooter.png` instead of opening a window.
 //!
 //! The game's rules are `game.rs` (no rendering: the tests play it
 //! headless, `tests/shooter.rs`), its inputs and scripts `input.rs`, and
@@ -23,6 +28,7 @@
 //! `--xr` plays in a headset (`xr.rs`); without an OpenXR runtime it says
 //! so and plays on the desktop.
 
+mod args;
 mod bot;
 mod combat;
 mod game;
@@ -58,11 +64,11 @@ fn main() -> AppExit {
 }
 
 fn run() -> Result<AppExit, String> {
-    let arg = showcase::arg;
-    let script = arg("--play").map(|p| Script::read(p.as_ref())).transpose()?;
+    let args = <args::Args as clap::Parser>::parse();
+    let script = args.play.as_deref().map(Script::read).transpose()?;
     let mut config = script.as_ref().map_or_else(GameConfig::default, Script::config);
     if script.is_none() {
-        config.space = arg("--space").unwrap_or_else(|| "torus".into());
+        config.space.clone_from(&args.space);
         if catalog::by_name(&config.space).is_none() {
             return Err(format!(
                 "--space: no catalog space {:?} (one of {})",
@@ -70,38 +76,40 @@ fn run() -> Result<AppExit, String> {
                 catalog::NAMES.join(", ")
             ));
         }
-        if let Some(d) = arg("--difficulty") {
+        if let Some(d) = &args.difficulty {
             config.difficulty =
-                Difficulty::by_name(&d).ok_or(format!("--difficulty: easy, normal or hard, not {d:?}"))?;
+                Difficulty::by_name(d).ok_or(format!("--difficulty: easy, normal or hard, not {d:?}"))?;
         }
-        if let Some(s) = arg("--seed") {
-            config.seed = s.parse().map_err(|_| format!("--seed: a whole number, not {s:?}"))?;
+        if let Some(s) = args.seed {
+            config.seed = s;
         }
     }
-    let levels = match arg("--levels") {
-        Some(l) => l
-            .parse::<u32>()
-            .ok()
-            .filter(|l| (1..=64).contains(l))
-            .ok_or(format!("--levels: 1 to 64, not {l:?}"))?,
-        None => 6,
+    let levels = args.levels;
+    let bot = args.bot;
+    let size = match &args.size {
+        Some(s) => showcase::parse_size(s).ok_or(format!("--size: WIDTHxHEIGHT, both at least 1, not {s:?}"))?,
+        None => (640, 360),
     };
-    let bot = showcase::flag("--bot");
-    if showcase::flag("--headless") {
+    if args.headless {
         if bot {
-            let ticks = match arg("--ticks") {
-                Some(t) => t.parse().map_err(|_| format!("--ticks: a whole number, not {t:?}"))?,
-                None => 36_000,
-            };
+            let ticks = args.ticks.unwrap_or(36_000);
             return Ok(bot_headless(config, ticks.min(input::MAX_TICKS)));
         }
         let script = script.ok_or("--headless plays a script (--play FILE.json) or the bot (--bot)")?;
         return Ok(play_headless(config, script));
     }
-    if let Some(path) = arg("--screenshot") {
-        return Ok(screenshot(config, levels, path.into()));
+    if let Some(path) = args.screenshot {
+        return Ok(screenshot(config, levels, path, size));
     }
-    let record = arg("--record").map(PathBuf::from);
+    if !args.xr
+        && let Some(why) = args::no_display()
+    {
+        eprintln!(
+            "no display ({why}): rendering the game's opening view to shooter.png instead of opening a window (--headless --bot plays without one)"
+        );
+        return Ok(screenshot(config, levels, PathBuf::from("shooter.png"), size));
+    }
+    let record = args.record.clone();
     let menu = script.is_none();
     let mut app = App::new();
     let plugins = DefaultPlugins.set(WindowPlugin {
@@ -112,22 +120,19 @@ fn run() -> Result<AppExit, String> {
         }),
         ..default()
     });
-    let xr = showcase::flag("--xr");
-    let world_scale = match arg("--world-scale") {
-        Some(s) => s
-            .parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite() && *v > 0.0 && *v <= 1e6)
-            .ok_or(format!(
-                "--world-scale: a positive number of metres per unit, not {s:?}"
-            ))?,
+    let xr = args.xr;
+    let world_scale = match args.world_scale {
+        Some(v) if v.is_finite() && v > 0.0 && v <= 1e6 => v,
+        Some(v) => return Err(format!("--world-scale: a positive number of metres per unit, not {v}")),
         None => 4.0,
     };
     #[cfg(feature = "xr")]
     if xr {
         // With --frames N: both eyes read back at frame N - 30.
-        let frames = arg("--frames").and_then(|n| n.parse::<u32>().ok());
-        let capture = arg("--xr-capture").map(|d| (frames.unwrap_or(0).saturating_sub(30).max(1), PathBuf::from(d)));
+        let capture = args
+            .xr_capture
+            .clone()
+            .map(|d| (args.frames.unwrap_or(0).saturating_sub(30).max(1), d));
         app.add_plugins(bevy_mod_openxr::add_xr_plugins(plugins))
             .add_plugins(xr::ShooterXrPlugin { world_scale, capture });
     } else {
@@ -154,7 +159,7 @@ fn run() -> Result<AppExit, String> {
     if bot {
         with_bot(&mut app);
     }
-    if let Some(n) = arg("--frames").and_then(|n| n.parse::<u32>().ok()) {
+    if let Some(n) = args.frames {
         // In `PostUpdate`, so the recording below (in `Last`) sees the exit.
         app.add_systems(
             PostUpdate,
@@ -319,11 +324,7 @@ fn demo_script(config: &GameConfig) -> Script {
 /// Renders a frame of a game in progress offscreen and writes it: the demo
 /// script is played (150 ticks in one update), then the clock stops while
 /// the shaders compile, so the picture is always the same moment.
-fn screenshot(config: GameConfig, levels: u32, path: PathBuf) -> AppExit {
-    let (w, h) = showcase::arg("--size")
-        .as_deref()
-        .and_then(showcase::parse_size)
-        .unwrap_or((640, 360));
+fn screenshot(config: GameConfig, levels: u32, path: PathBuf, (w, h): (u32, u32)) -> AppExit {
     let script = demo_script(&config);
     let ticks = script.ticks;
     let mut app = App::new();
