@@ -97,6 +97,10 @@ fn the_white_furnace_glows_at_e_over_one_minus_rho_in_every_geometry() {
             let all: Vec<f64> = estimates(&space, &scene, &settings, 24).concat();
             let want = f64::from(e) / (1.0 - f64::from(rho));
             let (mean, error) = mean_and_error(&all);
+            eprintln!(
+                "{} rho {rho} E {e}: {mean:.4} +- {error:.4}, want {want:.4}",
+                space.name()
+            );
             assert!(
                 (mean - want).abs() < 4.0 * error && error < 0.02 * want,
                 "{} rho {rho}: {mean} +- {error}, want {want}",
