@@ -137,7 +137,7 @@ pub fn run(width: u32, height: u32, reference: u32, max_samples: u32, only: &str
     std::fs::write(&csv_path, csv).map_err(|e| format!("{}: {e}", csv_path.display()))?;
     let png = out.join("paths.png");
     let panels = [Panel {
-        title: "Path tracing: time against error, GPU (lavapipe) and CPU f32".into(),
+        title: "Path tracing: time against error".into(),
         x: "ms for the samples".into(),
         y: "relative RMS error against the reference".into(),
         series,

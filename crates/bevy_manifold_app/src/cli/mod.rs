@@ -202,17 +202,8 @@ struct RenderArgs {
     /// 0, or 1 with --mirror).
     #[arg(long)]
     reflections: Option<u32>,
-    /// Path trace: each of the --samples is one sample of the rendering
-    /// equation (diffuse and GGX lobes, every light image at each bounce,
-    /// Russian roulette), their mean the image.
-    #[arg(long)]
-    path_trace: bool,
-    /// With --path-trace: the most bounces of a path (1 to 64).
-    #[arg(long, default_value_t = 8)]
-    depth: u32,
-    /// With --path-trace: the seed of the paths' random numbers.
-    #[arg(long, default_value_t = 0)]
-    seed: u32,
+    #[command(flatten)]
+    path: PathArgs,
     /// Without --scene: add the mirror ball of the paper's Fig. 11 to the
     /// paper's scene (and one reflection unless --reflections says).
     #[arg(long, conflicts_with = "scene")]
@@ -251,6 +242,35 @@ struct RenderArgs {
     /// Shadows through the faces: on or off (overrides the scene's).
     #[arg(long)]
     shadows: Option<Switch>,
+}
+
+/// The path tracer's flags, of `render` and `tour render`.
+#[derive(Args)]
+pub(crate) struct PathArgs {
+    /// Path trace: each of the --samples is one sample of the rendering
+    /// equation (diffuse and GGX lobes, every light image at each bounce,
+    /// Russian roulette), their mean the image.
+    #[arg(long)]
+    path_trace: bool,
+    /// With --path-trace: the most bounces of a path (1 to 64).
+    #[arg(long, default_value_t = 8)]
+    depth: u32,
+    /// With --path-trace: the seed of the paths' random numbers.
+    #[arg(long, default_value_t = 0)]
+    seed: u32,
+}
+
+impl PathArgs {
+    /// `TraceSettings::path_depth` (0 without --path-trace) and `seed`.
+    ///
+    /// # Errors
+    /// --path-trace with --depth 0.
+    pub(crate) fn depth_and_seed(&self) -> Result<(u32, u32), String> {
+        if self.path_trace && self.depth == 0 {
+            return Err("--depth must be at least 1".into());
+        }
+        Ok((if self.path_trace { self.depth } else { 0 }, self.seed))
+    }
 }
 
 /// `on` or `off`.
@@ -385,18 +405,16 @@ const MAX_SAMPLES: u32 = 256;
 
 fn render_command(args: &RenderArgs) -> Result<(), String> {
     let space = resolve_space(&args.space)?;
+    let (path_depth, path_seed) = args.path.depth_and_seed()?;
     let size_check = TraceSettings {
         width: args.width,
         height: args.height,
         levels: args.levels,
         reflections: args.reflections.unwrap_or(u32::from(args.mirror)),
-        path_depth: if args.path_trace { args.depth } else { 0 },
-        seed: args.seed,
+        path_depth,
+        seed: path_seed,
         ..TraceSettings::default()
     };
-    if args.path_trace && args.depth == 0 {
-        return Err("--depth must be at least 1".into());
-    }
     size_check.check().map_err(|e| format!("render: {e}"))?;
     if !(1..=MAX_SAMPLES).contains(&args.samples) {
         return Err(format!(
@@ -455,8 +473,8 @@ fn render_command(args: &RenderArgs) -> Result<(), String> {
         },
         footprint: args.cones,
         reflections: size_check.reflections,
-        path_depth: size_check.path_depth,
-        seed: args.seed,
+        path_depth,
+        seed: path_seed,
         ..TraceSettings::default()
     };
     let start = std::time::Instant::now();

@@ -70,15 +70,8 @@ pub struct TourRenderArgs {
     /// shadows; with --path-trace, path samples). 1 to 256.
     #[arg(long, default_value_t = 1)]
     samples: u32,
-    /// Path trace each frame (see `render --path-trace`).
-    #[arg(long)]
-    path_trace: bool,
-    /// With --path-trace: the most bounces of a path (1 to 64).
-    #[arg(long, default_value_t = 8)]
-    depth: u32,
-    /// With --path-trace: the seed of the paths' random numbers.
-    #[arg(long, default_value_t = 0)]
-    seed: u32,
+    #[command(flatten)]
+    path: super::PathArgs,
     /// Use the CPU reference tracer instead of the GPU (f64 unless --f32).
     #[arg(long)]
     cpu: bool,
@@ -171,18 +164,16 @@ fn render(args: &TourRenderArgs) -> Result<(), String> {
         return Err(format!("--fps {}: must be in (0, 1000]", args.fps));
     }
     let size = parse_size(&args.size)?;
+    let (path_depth, seed) = args.path.depth_and_seed()?;
     let check = TraceSettings {
         width: size.0,
         height: size.1,
-        path_depth: if args.path_trace { args.depth } else { 0 },
+        path_depth,
         ..TraceSettings::default()
     };
     check.check().map_err(|e| format!("tour render: {e}"))?;
     if !(1..=256).contains(&args.samples) {
         return Err(format!("--samples must be between 1 and 256, got {}", args.samples));
-    }
-    if args.path_trace && args.depth == 0 {
-        return Err("--depth must be at least 1".into());
     }
     if !(args.eye_separation.is_finite() && args.eye_separation >= 0.0 && args.eye_separation < 1.0) {
         return Err(format!("--eye-separation {}: must be in [0, 1)", args.eye_separation));
@@ -239,10 +230,8 @@ fn render(args: &TourRenderArgs) -> Result<(), String> {
     let started = Instant::now();
     for k in first..end {
         let (scene, mut settings) = frame_scene(&space, &tour, k, args.fps, size, projection);
-        if args.path_trace {
-            settings.path_depth = args.depth;
-            settings.seed = args.seed;
-        }
+        settings.path_depth = path_depth;
+        settings.seed = seed;
         let mut trace = |scene: &Scene, settings: &TraceSettings| -> Result<TraceImage, String> {
             Ok(match gpu.as_mut() {
                 Some(g) => g
