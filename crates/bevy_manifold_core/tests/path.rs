@@ -2,14 +2,19 @@
 //! not come from it: the white furnace (an enclosure of albedo rho that
 //! emits E everywhere has radiance E / (1 - rho) at every point, whatever
 //! the geometry), the mean weight of a bounce against the BRDF's
-//! directional albedo by quadrature over the hemisphere, the 1/N fall of the estimate's variance, and
-//! finite, non-negative estimates in hostile scenes.
+//! directional albedo by quadrature over the hemisphere, the light a
+//! glowing ball gives a floor against its solid angle (the cone of
+//! half-angle `sin a = sin_k(r) / sin_k(d)`, by closed form for Lambert
+//! and by quadrature over the cone for GGX), the 1/N fall of the
+//! estimate's variance, and finite, non-negative estimates in hostile
+//! scenes.
 
 use bevy_manifold_core::geometry::Geometry;
 use bevy_manifold_core::material::{Cosines, MeshMaterial, Pbr, brdf};
 use bevy_manifold_core::mesh::{MeshData, TriMesh};
 use bevy_manifold_core::prelude::*;
-use bevy_manifold_core::trace::{Lobes, PathRng, SceneMesh};
+use bevy_manifold_core::trace::step::Ray;
+use bevy_manifold_core::trace::{FlatScene, Lobes, PathRng, SceneMesh, path_sample};
 use glam::{DMat4, DVec3, DVec4};
 
 /// A closed box of half-size `h` about the domain's centre (outward
@@ -106,6 +111,123 @@ fn the_white_furnace_glows_at_e_over_one_minus_rho_in_every_geometry() {
                 "{} rho {rho}: {mean} +- {error}, want {want}",
                 space.name()
             );
+        }
+    }
+}
+
+/// `sin_k(x)`: `x`, `sinh x` or `sin x`.
+fn sin_k(g: Geometry, x: f64) -> f64 {
+    match g {
+        Geometry::Euclidean => x,
+        Geometry::Hyperbolic => x.sinh(),
+        Geometry::Spherical => x.sin(),
+    }
+}
+
+#[test]
+fn a_glowing_ball_lights_a_floor_by_its_solid_angle() {
+    // A floor ball of albedo rho at the domain's centre and, a height h
+    // above its top point x, a ball of radius r glowing with radiance L.
+    // Seen straight down, x reflects what the cone of directions meeting
+    // the lamp brings, its half-angle `a` from `sin a = sin_k(r) /
+    // sin_k(h)` (radiance keeps along geodesics): a Lambert floor
+    // `rho L sin^2 a`; a GGX floor `2 L int_0^a brdf cos t sin t dt`
+    // (tracer units, `brdf` pi times the BRDF) by quadrature. One bounce
+    // and no levels: only this copy's lamp is seen. Next-event
+    // estimation keeps the spread small where the lobes alone would hit
+    // the lamp a few times in a hundred (relative spread sqrt((1-p)/p),
+    // 2 to 3 here).
+    let cases = [
+        (catalog::torus(4.0), 0.5, 0.8, 0.3),
+        (catalog::seifert_weber(), 0.2, 0.45, 0.15),
+        (catalog::poincare(), 0.08, 0.14, 0.06),
+    ];
+    let (rho, glow) = (0.6f32, 2.0f32);
+    for (space, floor, h, r) in cases {
+        let g = space.geometry();
+        let o = g.origin::<f64>();
+        let up = DVec4::new(0.0, 0.0, 1.0, 0.0);
+        let at = |s: f64| g.exp::<f64>(o, up, s);
+        for pbr in [
+            None,
+            Some(Pbr {
+                metallic: 0.0,
+                roughness: 0.3,
+            }),
+            Some(Pbr {
+                metallic: 1.0,
+                roughness: 0.3,
+            }),
+        ] {
+            let mut scene = Scene::empty();
+            scene.camera.isometry = DMat4::IDENTITY;
+            scene.balls.push(Ball {
+                center: o,
+                radius: floor,
+                color: [rho; 3],
+                glow: 0.0,
+                pbr,
+            });
+            scene.balls.push(Ball {
+                center: at(floor + h).0,
+                radius: r,
+                color: [1.0; 3],
+                glow,
+                pbr: None,
+            });
+            let flat = FlatScene::<f64>::new(&space, &scene);
+            // From halfway up, straight down at x.
+            let (eye, down) = at(floor + 0.5 * h);
+            let ray = Ray {
+                origin: eye,
+                dir: -down,
+            };
+            let sin_a = sin_k(g, r) / sin_k(g, h);
+            let a = sin_a.asin();
+            let want = match pbr {
+                None => f64::from(rho * glow) * sin_a * sin_a,
+                Some(p) => {
+                    let n = 20_000;
+                    let mut sum = 0.0;
+                    for i in 0..n {
+                        let t = a * (f64::from(i) + 0.5) / f64::from(n);
+                        let c = Cosines {
+                            nl: t.cos() as f32,
+                            nv: 1.0,
+                            nh: (t / 2.0).cos() as f32,
+                            vh: (t / 2.0).cos() as f32,
+                        };
+                        sum += f64::from(brdf([rho; 3], p, c)[0]) * t.cos() * t.sin() * (a / f64::from(n));
+                    }
+                    2.0 * f64::from(glow) * sum
+                }
+            };
+            let samples: Vec<f64> = (0..3000)
+                .map(|k| {
+                    let settings = TraceSettings {
+                        levels: 0,
+                        path_depth: 1,
+                        seed: 5,
+                        light_sample: k,
+                        ..TraceSettings::default()
+                    };
+                    f64::from(path_sample(&space, &flat, ray, &settings, 0).color[0])
+                })
+                .collect();
+            let (mean, error) = mean_and_error(&samples);
+            let spread = error * (samples.len() as f64).sqrt() / mean;
+            eprintln!(
+                "{} {pbr:?}: {mean:.5} +- {error:.5} (spread {spread:.3}), want {want:.5}",
+                space.name()
+            );
+            assert!(
+                (mean - want).abs() < (4.0 * error).max(1e-3 * want) && (mean - want).abs() < 0.01 * want,
+                "{} {pbr:?}: {mean} +- {error}, want {want}",
+                space.name()
+            );
+            // Lambert's lobe alone would spread by 2 to 3.
+            let bound = if pbr.is_none() { 0.25 } else { 0.6 };
+            assert!(spread < bound, "{} {pbr:?}: relative spread {spread}", space.name());
         }
     }
 }
@@ -222,9 +344,9 @@ fn a_bounce_returns_the_lobes_directional_albedo() {
                 let mut sum = 0.0f64;
                 for _ in 0..n {
                     let u = [rng.uniform(), rng.uniform(), rng.uniform()];
-                    if let Some((l, w)) = lobes.bounce(g, u) {
-                        assert!(g.form::<f64>(l, normal) > 0.0);
-                        sum += f64::from(w[0]);
+                    if let Some(b) = lobes.bounce(g, u) {
+                        assert!(g.form::<f64>(b.dir, normal) > 0.0);
+                        sum += f64::from(b.weight[0]);
                     }
                 }
                 let got = sum / f64::from(n);
@@ -253,7 +375,24 @@ fn hostile_scenes_give_finite_non_negative_estimates() {
         light.position = space
             .geometry()
             .normalize_point::<f64>(on_ball + DVec4::new(scene.balls[0].radius.sin(), 0.0, 0.0, 0.0));
+        let lamp = light.position;
         scene.lights.push(light);
+        // A lamp ball straddling the mirror's surface, and one about the
+        // camera.
+        scene.balls.push(Ball {
+            center: lamp,
+            radius: 0.05,
+            color: [1.0, 0.5, 0.0],
+            glow: 50.0,
+            pbr: None,
+        });
+        scene.balls.push(Ball {
+            center: scene.camera.isometry.w_axis,
+            radius: 0.02,
+            color: [0.3; 3],
+            glow: 1.0,
+            pbr: None,
+        });
         scene.lighting.shadows = true;
         scene.fog = Some(Fog {
             density: 0.5,

@@ -163,20 +163,12 @@ fn ball_pbr(w: u32) -> vec2<f32> {
 // lobe, or with a material (MATERIALS, metallic >= 0) brdf's GGX lobe.
 // Rust twin: Lit::add in shade.rs.
 fn add_light(rgb: ptr<function, vec3<f32>>, lit: Lit, to_light: vec4<f32>, irradiance: f32, color: vec3<f32>) {
-    let lambert = max(form(lit.normal, to_light), 0.0);
-    let half = to_light + lit.view;
-    let hl = sqrt(form(half, half));
-    var nh = 0.0;
-    if hl > 1.0e-12 {
-        nh = max(form(lit.normal, half) / hl, 0.0);
-    }
+    let c = cosines(lit.normal, lit.view, to_light);
+    let lambert = max(c.nl, 0.0);
+    let nh = max(c.nh, 0.0);
 #ifdef MATERIALS
     if lit.metallic >= 0.0 {
-        var vh = 0.0;
-        if hl > 1.0e-12 {
-            vh = form(lit.view, half) / hl;
-        }
-        let f = brdf(lit.albedo, lit.metallic, lit.roughness, lambert, form(lit.normal, lit.view), nh, vh);
+        let f = brdf(lit.albedo, lit.metallic, lit.roughness, lambert, c.nv, nh, c.vh);
         *rgb += f * lambert * irradiance * color;
         return;
     }
@@ -184,6 +176,29 @@ fn add_light(rgb: ptr<function, vec3<f32>>, lit: Lit, to_light: vec4<f32>, irrad
     // nh is 0 where the half-vector vanishes: no highlight.
     let spec = pow(nh, 32.0) * 0.35;
     *rgb += (lit.albedo * lambert + spec) * irradiance * color;
+}
+
+// The cosines of the unit tangent l (towards a light, or a path's next
+// direction) at a surface of unit normal `normal` seen along the unit
+// tangent `view`: n.l, n.v, and the half-vector's n.h and v.h (0 where it
+// vanishes). Unclamped. Rust twin: cosines (Cosines in material.rs).
+struct Cosines {
+    nl: f32,
+    nv: f32,
+    nh: f32,
+    vh: f32,
+}
+
+fn cosines(normal: vec4<f32>, view: vec4<f32>, l: vec4<f32>) -> Cosines {
+    let half = l + view;
+    let hl = sqrt(form(half, half));
+    var nh = 0.0;
+    var vh = 0.0;
+    if hl > 1.0e-12 {
+        nh = form(normal, half) / hl;
+        vh = form(view, half) / hl;
+    }
+    return Cosines(form(normal, l), form(normal, view), nh, vh);
 }
 
 #ifdef LIGHTS

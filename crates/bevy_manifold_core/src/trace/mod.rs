@@ -97,7 +97,7 @@ pub use nearest::same_cell_point;
 pub use output::{id_pixel, srgb8, upscale};
 #[cfg(feature = "png")]
 pub use output::{write_hdr, write_ids_png, write_png, write_rgba_png};
-pub use path::{Lobes, PathRng, path_sample};
+pub use path::{Bounce, Lobes, PathRng, path_sample, power_heuristic};
 pub use render::{TraceImage, render};
 pub use scene::MeshPart;
 pub use scene::{

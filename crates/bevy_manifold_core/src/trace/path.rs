@@ -34,12 +34,13 @@
 //! ```
 
 use super::cone::SegmentReach;
-use super::flat::FlatScene;
+use super::exact_cell::{ExactCell, TableRef};
+use super::flat::{FlatBall, FlatScene};
 use super::nearest::Hit;
 use super::settings::{MAX_PATH_DEPTH, TraceSettings};
-use super::shade::{Lit, MIRROR_OFFSET, direct, surface};
+use super::shade::{HitSurface, Lit, MIRROR_OFFSET, cosines, direct, surface};
 use super::step::{Ray, advance_or_raw};
-use super::trace::{FOG_CUT, TracePixel, nearest_object};
+use super::trace::{FOG_CUT, MAX_EXACT_LEVELS, TracePixel, nearest_object};
 use super::walk::Walker;
 use crate::geometry::{Geometry, Real};
 use crate::material::{Cosines, MIN_ROUGHNESS, Pbr, brdf};
@@ -90,14 +91,17 @@ pub(super) struct Found<R: Real> {
 
 /// Walks `walk` through the faces to the first object it meets
 /// (Algorithm 1 without the shading), adding the distance to
-/// `travelled`; `None` when it runs out of levels or distance, or fog has
-/// hidden everything further. WGSL twin: `next_hit` in
-/// `shaders/path.wgsl`.
+/// `travelled` and telling `on_cross` each face it crosses (with the
+/// walk's levels after it); `None` when it runs out of levels or
+/// distance, or fog has hidden everything further. WGSL twin: `next_hit`
+/// in `shaders/path.wgsl` (where the walker's table index follows the
+/// crossings itself).
 pub(super) fn next_hit<R: Real>(
     flat: &FlatScene<R>,
     walk: &mut Walker<R>,
     travelled: &mut R,
     settings: &TraceSettings,
+    on_cross: &mut dyn FnMut(usize, u32),
 ) -> Option<Found<R>> {
     let g = flat.faces.geometry;
     let max_passes = settings.levels as usize + settings.max_distance.min(1e4) as usize + 2;
@@ -121,6 +125,9 @@ pub(super) fn next_hit<R: Real>(
             return None;
         }
         walk.step(&flat.faces, face, end, settings.renormalize);
+        if let Some(f) = face {
+            on_cross(f, walk.levels);
+        }
     }
     None
 }
@@ -195,6 +202,21 @@ pub struct Lobes<R: Real> {
     pub pbr: Option<Pbr>,
 }
 
+/// A direction a surface's lobes drew ([`Lobes::bounce`]): the unit
+/// tangent, the path's weight along it (`brdf cos / (pi pdf)` per
+/// channel) and the mixture's density `pdf` there (per unit solid
+/// angle), which multiple importance sampling weighs against the
+/// emitters'. WGSL twin: `Bounce` in `shaders/path.wgsl`.
+#[derive(Clone, Copy, Debug)]
+pub struct Bounce<R: Real> {
+    /// The unit tangent the path goes on along.
+    pub dir: R::V4,
+    /// The path's weight along it, per channel.
+    pub weight: [f32; 3],
+    /// The lobe mixture's density at `dir` ([`lobe_pdf`]).
+    pub pdf: f32,
+}
+
 impl<R: Real> Lobes<R> {
     /// A direction drawn from the lobes with the numbers `u`, and the
     /// path's weight along it: with probability [`specular_share`] a GGX
@@ -205,7 +227,7 @@ impl<R: Real> Lobes<R> {
     /// `None` when the direction falls below the surface. WGSL twin:
     /// `bounce` in `shaders/path.wgsl`.
     #[must_use]
-    pub fn bounce(&self, g: Geometry, u: [f32; 3]) -> Option<(R::V4, [f32; 3])> {
+    pub fn bounce(&self, g: Geometry, u: [f32; 3]) -> Option<Bounce<R>> {
         let (t1, t2) = tangent_frame::<R>(g, self.x, self.normal);
         let along = |cos: f32, phi: f32| {
             let sin = (1.0 - cos * cos).max(0.0).sqrt();
@@ -226,43 +248,168 @@ impl<R: Real> Lobes<R> {
         if g.form::<R>(self.normal, l) <= R::of(0.0) {
             return None;
         }
-        let c = self.cosines(g, l);
-        let Some(p) = self.pbr else {
-            return Some((l, self.albedo));
-        };
+        let c = cosines::<R>(g, self.normal, self.view, l);
         let pdf = lobe_pdf(self.pbr, c);
         if pdf <= 0.0 {
             return None;
         }
-        let f = brdf(self.albedo, p, c);
-        Some((l, f.map(|f| f * c.nl / (std::f32::consts::PI * pdf))))
+        Some(Bounce {
+            dir: l,
+            weight: self.weight(c, pdf),
+            pdf,
+        })
     }
 
-    /// The cosines of the direction `l`.
-    fn cosines(&self, g: Geometry, l: R::V4) -> Cosines {
-        let half = l + self.view;
-        let hl = g.form::<R>(half, half).sqrt();
-        let (nh, vh) = if hl.f64() > 1e-12 {
-            (
-                (g.form::<R>(self.normal, half) / hl).f64() as f32,
-                (g.form::<R>(self.view, half) / hl).f64() as f32,
-            )
-        } else {
-            (0.0, 0.0)
+    /// The path's weight along a direction of cosines `c` drawn with
+    /// density `pdf`: `brdf cos / (pi pdf)`, or for Lambert alone drawn
+    /// by its own cosine density, `albedo`.
+    /// WGSL twin: `lobe_weight` in `shaders/path.wgsl`.
+    fn weight(&self, c: Cosines, pdf: f32) -> [f32; 3] {
+        let Some(p) = self.pbr else {
+            return self.albedo.map(|a| a * c.nl / (std::f32::consts::PI * pdf));
         };
-        Cosines {
-            nl: g.form::<R>(self.normal, l).f64() as f32,
-            nv: g.form::<R>(self.normal, self.view).f64() as f32,
-            nh,
-            vh,
+        let f = brdf(self.albedo, p, c);
+        f.map(|f| f * c.nl / (std::f32::consts::PI * pdf))
+    }
+}
+
+/// True for a ball the path tracer aims at as a light (next-event
+/// estimation): one that glows.
+/// WGSL twin: `is_emitter` in `shaders/path.wgsl`.
+fn is_emitter<R: Real>(b: &FlatBall<R>) -> bool {
+    b.glow > 0.0 && b.color.iter().any(|&c| c > 0.0)
+}
+
+/// The cone of directions at `x` that meet the ball `b`: the unit
+/// tangent towards its centre and the cosine of the half-angle `a`,
+/// `sin a = sin_k(r) / sin_k(s)` for a centre at arc length `s` (the
+/// right triangle at the tangent point, as for a light's disc). `None`
+/// when `x` is inside the ball (or, in S3, inside its antipodal image).
+/// WGSL twin: `emitter_cone` in `shaders/path.wgsl`.
+fn emitter_cone<R: Real>(g: Geometry, b: &FlatBall<R>, x: R::V4) -> Option<(R::V4, f32)> {
+    let s = g.distance::<R>(x, b.center);
+    // sin_k(r)^2 from the ball's k: r^2, cos r or cosh r.
+    let sin_r2 = match g {
+        Geometry::Euclidean => b.k,
+        Geometry::Spherical => R::of(1.0) - b.k * b.k,
+        Geometry::Hyperbolic => b.k * b.k - R::of(1.0),
+    };
+    let sin_a2 = (sin_r2 * R::of(4.0 * std::f64::consts::PI) / g.sphere_area::<R>(s)).f64();
+    if sin_a2.is_nan() || sin_a2 >= 1.0 {
+        return None;
+    }
+    let t = g.project_tangent::<R>(x, b.center);
+    let len2 = g.form::<R>(t, t).abs();
+    if len2.f64().is_nan() || len2.f64() <= 1e-12 {
+        return None;
+    }
+    Some((t * (R::of(1.0) / len2.sqrt()), (1.0 - sin_a2).sqrt() as f32))
+}
+
+/// The density (per unit solid angle) with which [`aim_at_emitter`]
+/// draws the unit tangent `l` at `x`: the mean over the `count` emitters
+/// of their cones' even densities `1 / (2 pi (1 - cos a))`, the cone of
+/// the emitter `drawn` (its index among the balls) counted whatever the
+/// rounding says. WGSL twin: `emitter_pdf` in `shaders/path.wgsl`.
+fn emitter_pdf<R: Real>(g: Geometry, flat: &FlatScene<R>, x: R::V4, l: R::V4, count: u32, drawn: usize) -> f32 {
+    let mut sum = 0.0f32;
+    for (i, b) in flat.balls.iter().enumerate() {
+        if !is_emitter(b) {
+            continue;
+        }
+        let Some((dir, cos_a)) = emitter_cone::<R>(g, b, x) else {
+            continue;
+        };
+        if i == drawn || g.form::<R>(l, dir).f64() as f32 >= cos_a {
+            sum += 1.0 / (std::f32::consts::TAU * (1.0 - cos_a).max(1e-7));
         }
     }
+    sum / count.max(1) as f32
+}
+
+/// A direction at `x` towards one of the `count` emitters, drawn with the
+/// numbers `u`: the emitter `floor(u0 count)`, then a direction of its
+/// cone, evenly in solid angle (`cos t = 1 - u1 (1 - cos a)`, at the
+/// angle `2 pi u2` about the centre's direction); with the density
+/// [`emitter_pdf`] of drawing it. `None` when `x` is inside that
+/// emitter. WGSL twin: `aim_at_emitter` in `shaders/path.wgsl`.
+fn aim_at_emitter<R: Real>(
+    g: Geometry,
+    flat: &FlatScene<R>,
+    x: R::V4,
+    count: u32,
+    u: [f32; 3],
+) -> Option<(R::V4, f32)> {
+    let k = ((u[0] * count as f32) as u32).min(count.saturating_sub(1));
+    let (drawn, b) = flat
+        .balls
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| is_emitter(b))
+        .nth(k as usize)?;
+    let (dir, cos_a) = emitter_cone::<R>(g, b, x)?;
+    let cos_t = 1.0 - u[1] * (1.0 - cos_a);
+    let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+    let phi = std::f32::consts::TAU * u[2];
+    let (t1, t2) = tangent_frame::<R>(g, x, dir);
+    let l = dir * R::of(f64::from(cos_t))
+        + t1 * R::of(f64::from(sin_t * phi.cos()))
+        + t2 * R::of(f64::from(sin_t * phi.sin()));
+    let l = g.normalize_tangent::<R>(x, l);
+    Some((l, emitter_pdf::<R>(g, flat, x, l, count, drawn)))
+}
+
+/// The power heuristic (Veach 1997, beta 2): the weight of a strategy of
+/// density `a` against one of density `b` for the same direction.
+/// WGSL twin: `power_heuristic` in `shaders/path.wgsl`.
+#[must_use]
+pub fn power_heuristic(a: f32, b: f32) -> f32 {
+    let (a2, b2) = (a * a, b * b);
+    if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
+}
+
+/// What a surface gives off: its emission and its glow.
+fn emitted<R: Real>(s: &HitSurface<R>) -> [f32; 3] {
+    [0, 1, 2].map(|c| s.emissive[c] + s.albedo[c] * s.glow)
+}
+
+/// Where a path left a surface, for multiple importance sampling of the
+/// emitter its next leg may meet: the point, the unit tangent it left
+/// along and the lobes' density there.
+struct Left<R: Real> {
+    x: R::V4,
+    dir: R::V4,
+    pdf: f32,
+}
+
+/// The walk of a leg leaving `x` (normal `normal`) along the unit tangent
+/// `dir`, in the copy `cell` (table index kept by the GPU twin), having
+/// travelled `travelled`.
+fn leave<R: Real>(g: Geometry, (x, normal): (R::V4, R::V4), dir: R::V4, cell: R::M4, travelled: R) -> (Walker<R>, R) {
+    let origin = g.normalize_point::<R>(x + normal * R::of(MIRROR_OFFSET));
+    let walk = Walker::new(
+        Ray {
+            origin,
+            dir: g.normalize_tangent::<R>(origin, dir),
+        },
+        cell,
+    );
+    (walk, travelled)
 }
 
 /// One sample of the rendering equation for the pixel of `ray`
 /// (`pixel` its row-major index): the estimate in `color`, the first
-/// leg's object, levels, cell and distance in the ids (the cell from the
-/// walk's matrix). WGSL twin: `path_sample` in `shaders/path.wgsl`.
+/// leg's object, levels, cell and distance in the ids (the cell as the
+/// direct tracer names it: by the table around the camera, then by exact
+/// elements, where the space has them).
+///
+/// At each surface the light of the glowing balls is taken twice and
+/// weighed by the power heuristic (multiple importance sampling): a
+/// direction towards one of them ([`aim_at_emitter`]) walked through
+/// the faces to what it meets, and the lobes' own next direction when it
+/// meets something that glows. Emission a path meets right after the
+/// camera, and what meshes give off, count in full.
+/// WGSL twin: `path_sample` in `shaders/path.wgsl`.
 #[must_use]
 pub fn path_sample<R: Real>(
     space: &Space,
@@ -274,15 +421,29 @@ pub fn path_sample<R: Real>(
     let g = flat.faces.geometry;
     let mut rng = PathRng::new(settings.seed, settings.light_sample, pixel);
     let mut walk = Walker::new(ray, R::m4_of(flat.camera_cell));
+    let table = TableRef::of(space, flat);
+    let mut exact = ExactCell::start(table, flat, false);
     let mut travelled = R::of(0.0);
     let (density, fog) = flat.fog.map_or((R::of(0.0), [0.0; 3]), |(d, c)| (d, c));
+    let emitters = flat.balls.iter().filter(|b| is_emitter(b)).count() as u32;
     let mut throughput = [1.0f32; 3];
     let mut radiance = [0.0f32; 3];
     let mut first: Option<TracePixel> = None;
-    let cell_of = |walk: &Walker<R>| space.cell_id(&R::m4_f64(walk.cell));
+    let mut left: Option<Left<R>> = None;
     for bounce in 0..=settings.path_depth.min(MAX_PATH_DEPTH) {
         let start = travelled;
-        let Some(found) = next_hit(flat, &mut walk, &mut travelled, settings) else {
+        let found = if bounce == 0 {
+            next_hit(flat, &mut walk, &mut travelled, settings, &mut |f, levels| {
+                if levels > MAX_EXACT_LEVELS {
+                    exact = ExactCell::Off;
+                } else if !exact.is_off() {
+                    exact = exact.crossed(table, space, flat, f);
+                }
+            })
+        } else {
+            next_hit(flat, &mut walk, &mut travelled, settings, &mut |_, _| {})
+        };
+        let Some(found) = found else {
             // Nothing met: the fog's colour (black without fog), as the
             // direct tracer's background.
             for c in 0..3 {
@@ -296,7 +457,7 @@ pub fn path_sample<R: Real>(
                 color: [0.0; 3],
                 object: found.hit.id(flat),
                 levels: walk.levels,
-                cell: cell_of(&walk),
+                cell: exact.id(table, space, &walk),
                 distance: dist.f64() as f32,
             });
         }
@@ -307,6 +468,14 @@ pub fn path_sample<R: Real>(
             throughput[c] *= kept;
         }
         let s = surface(g, flat, &walk.ray, (found.t, None), found.hit);
+        // What it gives off, weighed against the emitters' aim when the
+        // lobes of the last surface drew this way.
+        let mis = match &left {
+            Some(l) if emitters > 0 => {
+                power_heuristic(l.pdf, emitter_pdf::<R>(g, flat, l.x, l.dir, emitters, usize::MAX))
+            }
+            _ => 1.0,
+        };
         let lit = Lit {
             normal: s.normal,
             view: s.view,
@@ -314,11 +483,10 @@ pub fn path_sample<R: Real>(
             pbr: s.pbr,
         };
         let light = direct(g, flat, &lit, s.x, walk.cell, settings);
+        let glow = emitted(&s);
         for c in 0..3 {
-            let emitted = s.emissive[c] + s.albedo[c] * s.glow;
-            radiance[c] += throughput[c] * (emitted + light[c]);
+            radiance[c] += throughput[c] * (glow[c] * mis + light[c]);
         }
-        // On along a direction the lobes draw, weighted.
         let lobes = Lobes::<R> {
             x: s.x,
             normal: s.normal,
@@ -326,10 +494,32 @@ pub fn path_sample<R: Real>(
             albedo: s.albedo,
             pbr: s.pbr,
         };
+        // Next-event estimation towards the glowing balls.
         let u = [rng.uniform(), rng.uniform(), rng.uniform()];
-        let Some((l, w)) = lobes.bounce(g, u) else { break };
-        for c in 0..3 {
-            throughput[c] *= w[c];
+        if emitters > 0
+            && let Some((l, p_light)) = aim_at_emitter::<R>(g, flat, s.x, emitters, u)
+        {
+            let c = cosines::<R>(g, s.normal, s.view, l);
+            if c.nl > 0.0 {
+                let w = lobes.weight(c, p_light);
+                let mis = power_heuristic(p_light, lobe_pdf(s.pbr, c));
+                let (mut aim, mut to) = leave(g, (s.x, s.normal), l, walk.cell, dist);
+                if let Some(hit) = next_hit(flat, &mut aim, &mut to, settings, &mut |_, _| {}) {
+                    let there = surface(g, flat, &aim.ray, (hit.t, None), hit.hit);
+                    let far = to + g.chart_to_distance::<R>(hit.t);
+                    let through = (-(density * (far - dist))).exp().f64() as f32;
+                    let e = emitted(&there);
+                    for c in 0..3 {
+                        radiance[c] += throughput[c] * w[c] * mis * through * e[c];
+                    }
+                }
+            }
+        }
+        // On along a direction the lobes draw, weighted.
+        let u = [rng.uniform(), rng.uniform(), rng.uniform()];
+        let Some(next) = lobes.bounce(g, u) else { break };
+        for (t, w) in throughput.iter_mut().zip(next.weight) {
+            *t *= w;
         }
         if bounce >= ROULETTE_AFTER {
             let keep = throughput.iter().fold(0.0f32, |m, &t| m.max(t)).min(0.95);
@@ -343,16 +533,12 @@ pub fn path_sample<R: Real>(
         if throughput.iter().all(|&t| t <= 0.0) {
             break;
         }
-        let origin = g.normalize_point::<R>(s.x + s.normal * R::of(MIRROR_OFFSET));
-        let cell = walk.cell;
-        walk = Walker::new(
-            Ray {
-                origin,
-                dir: g.normalize_tangent::<R>(origin, l),
-            },
-            cell,
-        );
-        travelled = dist;
+        left = Some(Left {
+            x: s.x,
+            dir: next.dir,
+            pdf: next.pdf,
+        });
+        (walk, travelled) = leave(g, (s.x, s.normal), next.dir, walk.cell, dist);
     }
     let mut pixel = first.unwrap_or(TracePixel {
         color: [0.0; 3],

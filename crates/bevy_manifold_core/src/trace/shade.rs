@@ -112,42 +112,45 @@ impl<R: Real> Lit<R> {
     /// Blinn lobe, or with a material the GGX lobe of [`brdf`]. WGSL twin:
     /// `add_light` in `shaders/shade.wgsl`.
     pub(super) fn add(&self, g: Geometry, rgb: &mut [f32; 3], to_light: R::V4, irradiance: f32, color: [f32; 3]) {
-        let nl = g.form::<R>(self.normal, to_light).max(R::of(0.0));
-        let half = to_light + self.view;
-        let hl = g.form::<R>(half, half).sqrt();
-        let nh = if hl.f64() > 1e-12 {
-            (g.form::<R>(self.normal, half) / hl).max(R::of(0.0)).f64()
-        } else {
-            0.0
-        };
-        let lambert = nl.f64() as f32;
+        let c = cosines::<R>(g, self.normal, self.view, to_light);
+        let lambert = c.nl.max(0.0);
+        let nh = c.nh.max(0.0);
         let Some(pbr) = self.pbr else {
             // nh is 0 where the half-vector vanishes: no highlight.
-            let spec = nh.powi(32) as f32 * 0.35;
+            let spec = nh.powi(32) * 0.35;
             for c in 0..3 {
                 rgb[c] += (self.albedo[c] * lambert + spec) * irradiance * color[c];
             }
             return;
         };
-        let vh = if hl.f64() > 1e-12 {
-            (g.form::<R>(self.view, half) / hl).f64() as f32
-        } else {
-            0.0
-        };
-        let nv = g.form::<R>(self.normal, self.view).f64() as f32;
-        let f = brdf(
-            self.albedo,
-            pbr,
-            Cosines {
-                nl: lambert,
-                nv,
-                nh: nh as f32,
-                vh,
-            },
-        );
+        let f = brdf(self.albedo, pbr, Cosines { nl: lambert, nh, ..c });
         for c in 0..3 {
             rgb[c] += f[c] * lambert * irradiance * color[c];
         }
+    }
+}
+
+/// The cosines of the unit tangent `l` (towards a light, or a path's next
+/// direction) at a surface of unit normal `normal` seen along the unit
+/// tangent `view`: `n.l`, `n.v`, and the half-vector's `n.h` and `v.h`
+/// (0 where it vanishes, `l` opposite `view`). Unclamped; each user
+/// clamps what it needs. WGSL twin: `cosines` in `shaders/shade.wgsl`.
+pub(super) fn cosines<R: Real>(g: Geometry, normal: R::V4, view: R::V4, l: R::V4) -> Cosines {
+    let half = l + view;
+    let hl = g.form::<R>(half, half).sqrt();
+    let (nh, vh) = if hl.f64() > 1e-12 {
+        (
+            (g.form::<R>(normal, half) / hl).f64() as f32,
+            (g.form::<R>(view, half) / hl).f64() as f32,
+        )
+    } else {
+        (0.0, 0.0)
+    };
+    Cosines {
+        nl: g.form::<R>(normal, l).f64() as f32,
+        nv: g.form::<R>(normal, view).f64() as f32,
+        nh,
+        vh,
     }
 }
 
