@@ -97,8 +97,8 @@ pub mod prelude {
     pub use crate::assets::{ManifoldAssetsPlugin, ManifoldSpaceSource, SpaceAsset, TourAsset, TourSource};
     #[cfg(feature = "render")]
     pub use crate::camera::{
-        AdaptiveRenderScale, ManifoldAccumulation, ManifoldCamera, ManifoldFootprint, ManifoldPathTracer,
-        ManifoldRenderScale,
+        AccumulationProgress, AdaptiveRenderScale, ManifoldAccumulation, ManifoldCamera, ManifoldFootprint,
+        ManifoldPathTracer, ManifoldRenderScale,
     };
     pub use crate::camera::{CellShading, ManifoldCameraPlugin, ManifoldFog};
     #[cfg(feature = "fly_camera")]

@@ -9,6 +9,8 @@
 //! [`crate::render::upscale`].
 
 use bevy::prelude::*;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU32, Ordering};
 
 /// Accumulates up to `samples` jittered traces of a still view (1: off).
 /// A moving view costs what it did without it (one trace a frame, the
@@ -40,5 +42,38 @@ impl Default for ManifoldAccumulation {
     /// 16 samples.
     fn default() -> Self {
         ManifoldAccumulation { samples: 16 }
+    }
+}
+
+/// How many samples a camera's [`ManifoldAccumulation`] has averaged in
+/// the image last drawn: put it beside the accumulation and read
+/// [`AccumulationProgress::samples`] in the main world (the explorer shows
+/// it for the path tracer). The render world writes it each frame it
+/// draws the view; clones share the count.
+///
+/// ```
+/// use bevy::prelude::*;
+/// use bevy_manifold::prelude::*;
+///
+/// fn report(cameras: Query<(&ManifoldAccumulation, &AccumulationProgress)>) {
+///     for (wanted, progress) in &cameras {
+///         info!("{} of {} samples", progress.samples(), wanted.samples);
+///     }
+/// }
+/// # let _ = report;
+/// ```
+#[derive(Component, Clone, Debug, Default)]
+pub struct AccumulationProgress(Arc<AtomicU32>);
+
+impl AccumulationProgress {
+    /// Samples averaged in the image last drawn (0 before the first).
+    #[must_use]
+    pub fn samples(&self) -> u32 {
+        self.0.load(Ordering::Relaxed)
+    }
+
+    /// Sets the count (the render world does, each frame it draws).
+    pub fn set(&self, samples: u32) {
+        self.0.store(samples, Ordering::Relaxed);
     }
 }

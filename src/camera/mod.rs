@@ -26,7 +26,7 @@ mod scale;
 mod view;
 
 #[cfg(feature = "render")]
-pub use accumulate::ManifoldAccumulation;
+pub use accumulate::{AccumulationProgress, ManifoldAccumulation};
 #[cfg(feature = "fly_camera")]
 pub use fly::{FlyCamera, FlyCameraPlugin, Vehicle, fly_camera_input, vehicle_input};
 #[cfg(feature = "render")]

@@ -6,8 +6,8 @@
 
 use super::pass::ManifoldViewBinding;
 use crate::camera::{
-    CellShading, ManifoldAccumulation, ManifoldCamera, ManifoldFog, ManifoldFootprint, ManifoldPathTracer,
-    ManifoldRenderScale,
+    AccumulationProgress, CellShading, ManifoldAccumulation, ManifoldCamera, ManifoldFog, ManifoldFootprint,
+    ManifoldPathTracer, ManifoldRenderScale,
 };
 use crate::drawables::ManifoldScene;
 use crate::placement::{DomainCell, InSpace, ManifoldSpace, Placement};
@@ -55,6 +55,9 @@ pub struct ExtractedManifoldView {
     pub scale: f32,
     /// Samples accumulated while still ([`ManifoldAccumulation`]; 1: off).
     pub samples: u32,
+    /// Where the count of samples drawn goes, if the camera asks
+    /// ([`AccumulationProgress`]).
+    pub progress: Option<AccumulationProgress>,
 }
 
 /// Main-world data of one manifold camera.
@@ -72,6 +75,7 @@ type CameraData<'a> = (
     Option<&'a ManifoldAccumulation>,
     Has<ManifoldFootprint>,
     Option<&'a ManifoldPathTracer>,
+    Option<&'a AccumulationProgress>,
 );
 
 /// Copies every active [`ManifoldCamera`]'s view to its render entity, and
@@ -100,6 +104,7 @@ pub fn extract_manifold_views(
         accumulation,
         footprint,
         path,
+        progress,
     ) in &cameras
     {
         if !camera.is_active {
@@ -142,6 +147,7 @@ pub fn extract_manifold_views(
             cell_tint: tint.unwrap_or_default().words(),
             scale: scale.map_or(1.0, |s| s.get()),
             samples: accumulation.map_or(1, |a| a.samples.clamp(1, ManifoldAccumulation::MAX_SAMPLES)),
+            progress: progress.cloned(),
         });
         now.insert(render_entity.id());
     }

@@ -132,16 +132,19 @@ pub fn a_still_view_accumulates_jittered_samples_then_stops_tracing() {
         let mut app = headless_app(true);
         let image = target(&mut app, W, H);
         let (root, camera) = spawn_view(&mut app, &space, &image, false, false);
+        let progress = bevy_manifold::camera::AccumulationProgress::default();
         app.world_mut()
             .entity_mut(camera)
-            .insert(ManifoldAccumulation { samples: 8 });
+            .insert((ManifoldAccumulation { samples: 8 }, progress.clone()));
         wait_for_pipelines(&mut app);
         for _ in 0..10 {
             app.update();
         }
         let shown = capture(&mut app, &image);
-        // All samples in: the pass no longer traces.
+        // All samples in: the pass no longer traces, and says so to the
+        // main world.
         assert_eq!(tracing(&mut app), [Some(false)], "{name}");
+        assert_eq!(progress.samples(), 8, "{name}");
         let scene = gathered_scene(&app, &space, root, false);
         let settings = TraceSettings {
             width: W,
@@ -190,6 +193,7 @@ pub fn a_still_view_accumulates_jittered_samples_then_stops_tracing() {
         app.world_mut().get_mut::<Placement>(camera).unwrap().isometry = moved;
         app.update();
         assert_eq!(tracing(&mut app), [Some(true)], "{name}");
+        assert_eq!(progress.samples(), 1, "{name}: the count starts again");
         for _ in 0..12 {
             app.update();
         }

@@ -97,6 +97,9 @@ pub fn prepare_manifold_views(
         entry.still = pipelines_ready.then_some((params, scene_key.0, scene_key.1, view.samples));
         let sample = entry.samples;
         let trace = sample < view.samples;
+        if let Some(progress) = &view.progress {
+            progress.set(if trace { sample + 1 } else { view.samples });
+        }
         let params = if accumulate && trace && sample > 0 {
             params.sample(sample)
         } else {

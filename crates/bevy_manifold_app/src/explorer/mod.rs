@@ -25,6 +25,7 @@
 
 pub mod fallback;
 pub mod panel;
+pub mod progress;
 pub mod settings;
 pub mod soak;
 pub mod tour;

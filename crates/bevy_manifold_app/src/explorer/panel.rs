@@ -2,6 +2,7 @@
 //! setting, the frame times, the adapter and the camera's cell, and the
 //! traced view filling the rest of the window at the render scale.
 
+use super::progress::SampleClock;
 use super::settings::{CellMode, ExplorerSettings, MAX_LEVEL, MIN_SCALE, TARGET_FPS};
 use super::tour::ExplorerTour;
 use super::tour_panel;
@@ -13,7 +14,7 @@ use bevy_egui::egui::{self, Color32, LayerId, Ui, UiBuilder};
 use bevy_egui::{
     EguiContexts, EguiGlobalSettings, EguiPlugin, EguiPrimaryContextPass, EguiTextureHandle, PrimaryEguiContext,
 };
-use bevy_manifold::camera::{AdaptiveRenderScale, ManifoldAccumulation, ManifoldRenderScale};
+use bevy_manifold::camera::{AccumulationProgress, AdaptiveRenderScale, ManifoldAccumulation, ManifoldRenderScale};
 use bevy_manifold::geometry::Geometry;
 use bevy_manifold::placement::{DomainCell, Placement};
 use bevy_manifold::space::{catalog, library};
@@ -52,6 +53,7 @@ impl Plugin for ExplorerPanelPlugin {
 struct PanelState {
     path: String,
     texture: Option<(AssetId<Image>, egui::TextureId)>,
+    clock: SampleClock,
 }
 
 /// The window's own camera: it draws egui (and clears); the manifold
@@ -72,6 +74,7 @@ fn panel(
     scales: Query<(Option<&ManifoldRenderScale>, Option<&AdaptiveRenderScale>), With<ExplorerCamera>>,
     adapter: Option<Res<RenderAdapterInfo>>,
     mut tour: ResMut<ExplorerTour>,
+    (progress, time): (Query<&AccumulationProgress, With<ExplorerCamera>>, Res<Time>),
 ) -> Result {
     // The view's texture in egui follows the image (replaced on resize).
     let texture = match state.texture {
@@ -93,6 +96,14 @@ fn panel(
             .layer_id(LayerId::background())
             .max_rect(ctx.viewport_rect()),
     );
+    // The still view's samples, and the time they took.
+    let samples = settings
+        .accumulation()
+        .zip(progress.get(world.camera).ok())
+        .map(|(wanted, p)| {
+            let spent = state.clock.tick(p.samples(), wanted.samples, time.delta());
+            SampleClock::line(p.samples(), wanted.samples, spent)
+        });
     // Edit a copy, so the settings change (and are saved, and applied)
     // only when a widget changed something.
     let mut s = settings.clone();
@@ -118,7 +129,7 @@ fn panel(
                         cell,
                         adapter.as_deref(),
                         &view,
-                        scale,
+                        (scale, samples.as_deref()),
                     );
                 });
             });
@@ -139,6 +150,9 @@ fn panel(
     }
     Ok(())
 }
+
+/// The camera's render scale components, as the panel reads them.
+type ScaleOf<'a> = Option<(Option<&'a ManifoldRenderScale>, Option<&'a AdaptiveRenderScale>)>;
 
 /// What the panel says of the pixels traced: the image's size, and under
 /// a held frame rate the scale chosen and the smoothed frame time.
@@ -172,7 +186,7 @@ fn contents(
     cell: Option<&DomainCell>,
     adapter: Option<&RenderAdapterInfo>,
     view: &ExplorerView,
-    scale: Option<(Option<&ManifoldRenderScale>, Option<&AdaptiveRenderScale>)>,
+    (scale, samples): (ScaleOf, Option<&str>),
 ) {
     ui.heading("bevy_manifold");
     ui.label("Space");
@@ -313,6 +327,9 @@ fn contents(
                 .text("path samples"),
         );
     });
+    if let Some(line) = samples {
+        ui.label(line);
+    }
     ui.checkbox(&mut s.refine_still, "refine while still (anti-aliasing)");
     ui.add_enabled_ui(s.refine_still, |ui| {
         ui.add(

@@ -9,7 +9,8 @@ use bevy::camera::RenderTarget;
 use bevy::prelude::*;
 use bevy_manifold::camera::ManifoldFog;
 use bevy_manifold::camera::{
-    AdaptiveRenderScale, ManifoldAccumulation, ManifoldFootprint, ManifoldPathTracer, ManifoldRenderScale,
+    AccumulationProgress, AdaptiveRenderScale, ManifoldAccumulation, ManifoldFootprint, ManifoldPathTracer,
+    ManifoldRenderScale,
 };
 use bevy_manifold::camera::{FlyCamera, Vehicle};
 use bevy_manifold::drawables::paper::{paper_camera, spawn_paper_scene};
@@ -138,8 +139,8 @@ pub fn insert_scale(camera: &mut EntityCommands, settings: &ExplorerSettings) {
         None => camera.remove::<(AdaptiveRenderScale, ManifoldRenderScale)>(),
     };
     match settings.accumulation() {
-        Some(a) => camera.insert(a),
-        None => camera.remove::<ManifoldAccumulation>(),
+        Some(a) => camera.insert(a).insert_if_new(AccumulationProgress::default()),
+        None => camera.remove::<(ManifoldAccumulation, AccumulationProgress)>(),
     };
     match settings.footprint() {
         Some(f) => camera.insert(f),
