@@ -396,6 +396,23 @@ pub fn trace_ms(
     Ok(t.device_ms.unwrap_or(t.wall_ms))
 }
 
+/// Three times of one table row and the ratios of the last two over the
+/// first, as `bench lights` and `bench reflections` print them for the
+/// GPU and again for the CPU: `t0 t1 t2 t1/t0 t2/t0`, the times with
+/// `decimals` decimals.
+#[must_use]
+pub fn times_and_ratios(t: [f64; 3], decimals: usize) -> String {
+    format!(
+        "{:>9.d$} {:>9.d$} {:>9.d$} {:>6.2}x {:>6.2}x",
+        t[0],
+        t[1],
+        t[2],
+        t[1] / t[0],
+        t[2] / t[0],
+        d = decimals
+    )
+}
+
 /// The benchmarks' fog: density 0.4 per inradius, so about half a domain
 /// away light keeps 80% and fog hides what lies past 14 inradii.
 #[must_use]
@@ -450,6 +467,14 @@ impl Progress {
 #[cfg(test)]
 mod tests {
     use super::ball_counts;
+
+    #[test]
+    fn a_row_gives_the_times_and_their_ratios_over_the_first() {
+        assert_eq!(
+            super::times_and_ratios([2.0, 3.0, 5.0], 1),
+            "      2.0       3.0       5.0   1.50x   2.50x"
+        );
+    }
 
     #[test]
     fn ball_counts_add_the_one_ball_scene_in_order_and_refuse_out_of_range() {

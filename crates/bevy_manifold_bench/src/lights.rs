@@ -15,7 +15,7 @@
 //!    that budget (shadows off). Writes `lights.csv` and `lights.png`.
 
 use crate::plot::{Panel, Series, draw, pareto_front};
-use crate::{best_ms, trace_ms};
+use crate::{best_ms, times_and_ratios, trace_ms};
 use bevy_manifold::prelude::*;
 use bevy_manifold_core::geometry::Geometry;
 use bevy_manifold_core::trace::{FlatLight, image_irradiance, light_images};
@@ -80,20 +80,7 @@ pub fn run(width: u32, height: u32, runs: u32, only: &str, out: &Path) -> Result
             gpu[k] = trace_ms(&mut tracer, &space, &scene, &settings, runs)?;
             cpu[k] = best_ms(runs, || Ok(render::<f32>(&space, &scene, &settings)))?;
         }
-        println!(
-            "{:<24} {:>9.1} {:>9.1} {:>9.1} {:>6.2}x {:>6.2}x {:>9.1} {:>9.1} {:>9.1} {:>6.2}x {:>6.2}x",
-            name,
-            gpu[0],
-            gpu[1],
-            gpu[2],
-            gpu[1] / gpu[0],
-            gpu[2] / gpu[0],
-            cpu[0],
-            cpu[1],
-            cpu[2],
-            cpu[1] / cpu[0],
-            cpu[2] / cpu[0]
-        );
+        println!("{name:<24} {} {}", times_and_ratios(gpu, 1), times_and_ratios(cpu, 1));
     }
     errors(&mut tracer, &names, &settings, runs, out)
 }

@@ -97,14 +97,13 @@ pub fn run(width: u32, height: u32, reference: u32, max_samples: u32, only: &str
             path_depth: DEPTH,
             ..TraceSettings::default()
         };
-        let mut gpu_trace = |s: &TraceSettings| tracer.render(&space, &scene, s).map_err(|e| e.to_string());
-        let truth = mean(&mut gpu_trace, &settings, 1, reference)?;
         let gpu_ms = trace_ms(&mut tracer, &space, &scene, &settings, 3)?;
         let cpu_ms = best_ms(2, || Ok(render::<f32>(&space, &scene, &settings)))?;
+        let mut gpu_trace = |s: &TraceSettings| tracer.render(&space, &scene, s).map_err(|e| e.to_string());
+        let truth = mean(&mut gpu_trace, &settings, 1, reference)?;
         let (mut gpu_pts, mut cpu_pts) = (Vec::new(), Vec::new());
         let mut n = 1;
         while n <= max_samples {
-            let mut gpu_trace = |s: &TraceSettings| tracer.render(&space, &scene, s).map_err(|e| e.to_string());
             let g = rel_rms(&mean(&mut gpu_trace, &settings, 2, n)?, &truth);
             let mut cpu_trace = |s: &TraceSettings| Ok(render::<f32>(&space, &scene, s));
             let c = rel_rms(&mean(&mut cpu_trace, &settings, 2, n)?, &truth);

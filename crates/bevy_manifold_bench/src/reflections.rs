@@ -6,7 +6,7 @@
 //! (best), and the ratios over no reflection. The share of pixels whose
 //! path reflects at all is printed beside them.
 
-use crate::{best_ms, trace_ms};
+use crate::{best_ms, times_and_ratios, trace_ms};
 use bevy_manifold::prelude::*;
 use bevy_manifold_core::trace::{FlatScene, PaperOptions, Projection, trace_path, view_ray};
 use bevy_manifold_gpu::GpuTracer;
@@ -51,18 +51,10 @@ pub fn run(width: u32, height: u32, runs: u32, only: &str) -> Result<(), String>
             cpu[k] = best_ms(runs, || Ok(render::<f32>(&space, &scene, &settings)))?;
         }
         println!(
-            "{name:<24} {:>7.1}% {:>9.2} {:>9.2} {:>9.2} {:>6.2}x {:>6.2}x {:>9.1} {:>9.1} {:>9.1} {:>6.2}x {:>6.2}x",
+            "{name:<24} {:>7.1}% {} {}",
             100.0 * reflecting_share(&space, &scene, width, height),
-            gpu[0],
-            gpu[1],
-            gpu[2],
-            gpu[1] / gpu[0],
-            gpu[2] / gpu[0],
-            cpu[0],
-            cpu[1],
-            cpu[2],
-            cpu[1] / cpu[0],
-            cpu[2] / cpu[0]
+            times_and_ratios(gpu, 2),
+            times_and_ratios(cpu, 1)
         );
     }
     Ok(())
