@@ -134,6 +134,56 @@ fn dodecahedral_spaces_return_along_an_axis_turned_by_the_twist() {
     }
 }
 
+/// Lens spaces and RP3, whose domains have no vertices: a mover leaving
+/// the centre across a face (RP3: towards the face a quarter turn away)
+/// at twice the inradius a second is back at the centre after a second,
+/// through that one face, placed where the cover says: the crossing's
+/// inverse times its straight path in S3.
+#[test]
+fn lens_movers_return_to_the_centre_through_one_face() {
+    for name in ["rp3", "lens-3-1", "lens-5-1"] {
+        let space = bevy_manifold::space::library::by_name(name)
+            .expect("library")
+            .dirichlet_domain()
+            .expect("builds");
+        let g = space.geometry();
+        let r = space.inradius();
+        let face = 0;
+        let u = match space.faces()[face].plane.truncate().normalize() {
+            n if n.is_finite() => n,
+            _ => DVec3::X, // RP3: its face is the sphere at w = 0
+        };
+        let mut app = app(Duration::from_millis(10));
+        let root = spawn_space(&mut app, space.clone());
+        let e = app
+            .world_mut()
+            .spawn((
+                ChildOf(root),
+                GeodesicVelocity {
+                    linear: u * 2.0 * r,
+                    ..default()
+                },
+            ))
+            .id();
+        run_until(&mut app, Duration::from_secs(1));
+        let p = app.world().get::<Placement>(e).unwrap().isometry;
+        assert!(
+            (p.w_axis - DVec4::W).length() < 1e-9,
+            "{name}: back at the centre: {:?}",
+            p.w_axis
+        );
+        let cell = app.world().get::<DomainCell>(e).unwrap();
+        let cover = isometry::translation(g, u * 2.0 * r);
+        assert!(
+            max_abs(cell.element * p - cover) < 1e-9,
+            "{name}: the cell times the placement is the path in the cover"
+        );
+        assert!(max_abs(cell.element - space.crossing(face)) < 1e-9, "{name}");
+        let crossed = &app.world().resource::<Crossings>().0;
+        assert_eq!(crossed.len(), 1, "{name}: one face crossed");
+    }
+}
+
 #[test]
 fn mirrored_cube_crossings_flip_parity() {
     let mut app = app(Duration::from_millis(10));

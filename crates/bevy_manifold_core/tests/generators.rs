@@ -36,6 +36,11 @@ fn expect(s: &Space, volume: f64, faces: usize, order: Option<usize>, h1: &str) 
     assert_eq!(s.group_order(), order, "{name}: group order");
     assert_eq!(s.first_homology().expect("homology").to_string(), h1, "{name}: H1");
     assert!(s.is_manifold(), "{name} is a manifold");
+    if s.lens().is_some() {
+        // A lens or hemisphere: no vertices, no edges.
+        assert!(s.vertices().is_empty() && s.edges().is_empty(), "{name}");
+        return;
+    }
     // Euler: V - E + F = 2 for the polyhedron's boundary sphere.
     assert_eq!(
         s.vertices().len() + faces,
@@ -52,6 +57,30 @@ fn the_spherical_library_has_the_right_volumes_orders_and_homology() {
         assert_eq!(s.group_order(), Some(p));
         expect(&s, spherical_volume(p), s.faces().len(), Some(p), &format!("Z/{p}"));
         assert!(s.faces().len() >= 4 && s.faces().len().is_multiple_of(2), "{q}");
+    }
+    // L(p, 1): every orbit a great circle, so the domain is a lens of two
+    // faces at a dihedral angle of 2 pi / p, a quarter turn across (its
+    // inradius pi / p); RP3 = L(2, 1) a hemisphere, its one face glued to
+    // itself by the antipodal map.
+    for p in library::LENS_ROUND {
+        let name = if p == 2 {
+            "rp3".to_string()
+        } else {
+            format!("lens-{p}-1")
+        };
+        let s = build(&name);
+        let faces = if p == 2 { 1 } else { 2 };
+        let order = p as usize;
+        expect(&s, spherical_volume(order), faces, Some(order), &format!("Z/{p}"));
+        let shape = s.lens().expect("a lens");
+        assert!((shape.dihedral - TAU / f64::from(p)).abs() < 1e-9, "{name}: {shape:?}");
+        assert!(
+            (s.inradius() - PI / f64::from(p)).abs() < 1e-9,
+            "{name}: {}",
+            s.inradius()
+        );
+        assert!((s.circumradius() - PI / 2.0).abs() < 1e-12, "{name}");
+        assert!((s.surface_area() - 4.0 * PI).abs() < 1e-9, "{name}");
     }
     // S3/Q8: the Voronoi cell of 1 among {+-1, +-i, +-j, +-k} is a cube.
     expect(&build("quaternionic"), spherical_volume(8), 6, Some(8), "Z/2 + Z/2");
@@ -426,17 +455,27 @@ fn every_curved_spaces_file_loads_and_matches() {
         assert!((s.volume() - 1.0).abs() < 1e-12, "{file}");
         assert_eq!(s.first_homology().expect("homology").to_string(), h1, "{file}");
     }
-    // L(5,1): its generators load (a rotation of order 5, spherical), but
-    // every Dirichlet domain of L(p,1) is a lens whose edge is a whole great
-    // circle, which no chart holds: a clear error naming the file.
+    // L(5,1): a rotation of order 5 whose orbit of the basepoint is one
+    // great circle, so the domain about it is a lens: two faces meeting at
+    // 72 degrees in the great circle a quarter turn away, volume 2 pi^2 / 5.
+    // The pairings are the file's own generator and its inverse, in the
+    // file's coordinates: the basepoint stays where the file puts it.
     let gens = Generators::load(weeks("lens-5-1.gen")).unwrap();
     assert_eq!(gens.geometry, Geometry::Spherical);
     let m = gens.matrices[0];
     let fifth = m * m * m * m * m;
     assert!(fifth.abs_diff_eq(DMat4::IDENTITY, 1e-12), "order 5");
-    let err = Space::load(weeks("lens-5-1.gen")).unwrap_err();
-    let text = err.to_string();
-    assert!(text.contains("lens-5-1.gen") && text.contains("L(p, 1)"), "{text}");
+    let lens = Space::load(weeks("lens-5-1.gen")).unwrap();
+    expect(&lens, spherical_volume(5), 2, Some(5), "Z/5");
+    assert!((lens.lens().expect("a lens").dihedral - TAU / 5.0).abs() < 1e-9);
+    let inverse = isometry::inverse(Geometry::Spherical, m);
+    for f in lens.faces() {
+        assert!(
+            f.pairing.abs_diff_eq(m, 1e-12) || f.pairing.abs_diff_eq(inverse, 1e-12),
+            "a pairing that is not the file's generator or its inverse: {:?}",
+            f.pairing
+        );
+    }
 }
 
 /// A matrix's text in `.gen` rows (row-vector convention: rows are our
@@ -625,6 +664,42 @@ fn a_basepoint_centres_the_domain_there() {
     ));
 }
 
+/// L(5, 2) about the origin, a point of the orbit circle of the zw-plane:
+/// every image of the origin lies on that circle, so the domain there is a
+/// lens (two faces at 72 degrees, the rim the xy circle), built where the
+/// file asks, its pairings powers of the file's own generator (not
+/// conjugates of them about some other point). About a point of the
+/// Clifford torus the same group gives a polyhedron.
+fn a_lens_about_a_point_of_an_orbit_circle_keeps_the_files_group() {
+    let (a, b) = (TAU / 5.0, 2.0 * TAU / 5.0);
+    let g = DMat4::from_cols(
+        DVec4::new(a.cos(), a.sin(), 0.0, 0.0),
+        DVec4::new(-a.sin(), a.cos(), 0.0, 0.0),
+        DVec4::new(0.0, 0.0, b.cos(), b.sin()),
+        DVec4::new(0.0, 0.0, -b.sin(), b.cos()),
+    );
+    let mut gens = Generators::new("l52", vec![g]).unwrap();
+    gens.manifold = true;
+    let s = gens.dirichlet_domain().unwrap();
+    expect(&s, spherical_volume(5), 2, Some(5), "Z/5");
+    assert!((s.lens().expect("a lens").dihedral - TAU / 5.0).abs() < 1e-9);
+    let powers: Vec<DMat4> = (1..5)
+        .scan(DMat4::IDENTITY, |m, _| {
+            *m = g * *m;
+            Some(*m)
+        })
+        .collect();
+    for f in s.faces() {
+        let k = powers.iter().position(|p| p.abs_diff_eq(f.pairing, 1e-12));
+        assert!(k.is_some(), "a pairing outside the file's group: {:?}", f.pairing);
+    }
+    // The faces' pairings are g^2 and g^3 = g^-2: the images of the
+    // origin nearest it are a fifth of a turn away on the circle.
+    assert!((s.inradius() - PI / 5.0).abs() < 1e-9);
+    let generic = library::lens(5, 2).dirichlet_domain().unwrap();
+    assert!(generic.lens().is_none() && generic.faces().len() >= 4);
+}
+
 fn generator_files_name_the_file_in_errors() {
     let dir = std::env::temp_dir().join(format!("bevy_manifold_gens_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -712,6 +787,7 @@ bevy_manifold_test_support::test_main_requiring! {
         broken_generator_lists_give_their_own_errors,
         orbifolds_move_the_basepoint_and_manifold_files_refuse_them,
         a_basepoint_centres_the_domain_there,
+        a_lens_about_a_point_of_an_orbit_circle_keeps_the_files_group,
         generator_files_name_the_file_in_errors,
     ],
     requiring(

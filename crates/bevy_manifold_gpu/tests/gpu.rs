@@ -19,10 +19,15 @@ fn gpu_and_cpu_agree_in_every_space() {
 
 /// Spaces built from generators by their Dirichlet domains are traced like
 /// the catalog's: up to 20 faces (the Weeks manifold), a glide reflection,
-/// lens and prism domains, a screw space on a hexagonal lattice.
+/// lens and prism domains, a screw space on a hexagonal lattice, and
+/// the domains without vertices: RP3's hemisphere and the lenses of
+/// L(3, 1) and L(5, 1), whose rims lie at the chart's infinity.
 fn gpu_and_cpu_agree_in_spaces_built_from_generators() {
     let mut gpu = tracer();
     for name in [
+        "rp3",
+        "lens-3-1",
+        "lens-5-1",
         "binary-octahedral",
         "lens-8-3",
         "prism-5",
@@ -38,6 +43,50 @@ fn gpu_and_cpu_agree_in_spaces_built_from_generators() {
             .expect("builds");
         agree(&mut gpu, name, &space);
     }
+}
+
+/// A ball near the rim of L(5, 1)'s lens, where the lens is thinnest and
+/// the ball straddles both faces, seen from the centre along the rim's
+/// direction: the GPU's f32 against the CPU's f64, ids and colours.
+fn gpu_and_cpu_agree_near_a_lens_rim() {
+    use glam::{DMat4, DVec4};
+    let mut gpu = tracer();
+    let space = bevy_manifold_core::space::library::by_name("lens-5-1")
+        .expect("library")
+        .dirichlet_domain()
+        .expect("builds");
+    let axis = space.faces()[0].plane.truncate().normalize();
+    let along = axis.any_orthonormal_vector();
+    let mut scene = Scene::default_for(&space);
+    scene.balls = vec![Ball {
+        center: (along * 1.4f64.sin()).extend(1.4f64.cos()),
+        radius: 0.08,
+        color: [0.9, 0.3, 0.2],
+        glow: 0.0,
+        pbr: None,
+    }];
+    // Look from the centre along the rim's direction.
+    let forward = (-along).extend(0.0);
+    let up = axis.extend(0.0);
+    let right = (along.cross(axis)).extend(0.0);
+    scene.camera.isometry = DMat4::from_cols(right, up, forward, DVec4::W);
+    let settings = TraceSettings {
+        width: 160,
+        height: 160,
+        levels: 8,
+        ..TraceSettings::default()
+    };
+    let g = gpu.render(&space, &scene, &settings).expect("traced");
+    let c = render::<f64>(&space, &scene, &settings);
+    let (ids, colors) = agreement(&g, &c);
+    let seen = c.pixels.iter().filter(|p| p.object == 1).count();
+    eprintln!(
+        "lens-5-1 near the rim: ids {:.3}%, colours {:.3}%; the rim ball covers {seen} pixels",
+        ids * 100.0,
+        colors * 100.0
+    );
+    assert!(seen > 200, "the rim ball is in view: {seen} pixels");
+    assert!(ids >= 0.995 && colors >= 0.99, "ids {ids}, colours {colors}");
 }
 
 /// The GPU trace against the CPU f32 and f64 references, plain and with
@@ -1046,6 +1095,7 @@ bevy_manifold_test_support::test_main! {
         gpu_and_cpu_agree_in_every_space,
         gpu_culling_leaves_the_image_unchanged,
         gpu_and_cpu_agree_in_spaces_built_from_generators,
+        gpu_and_cpu_agree_near_a_lens_rim,
         a_ball_straddling_a_torus_face_is_seen_whole_from_either_side,
         the_fragment_entry_draws_what_the_compute_entry_computes,
         a_light_on_the_hit_point_is_lit_head_on_on_the_gpu,

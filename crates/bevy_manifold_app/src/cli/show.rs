@@ -13,6 +13,22 @@ pub fn describe(s: &Space) -> String {
     let _ = writeln!(o, "faces:         {}", s.faces().len());
     let _ = writeln!(o, "vertices:      {}", s.vertices().len());
     let _ = writeln!(o, "edges:         {}", s.edges().len());
+    match s.lens() {
+        Some(_) if s.faces().len() == 1 => {
+            let _ = writeln!(
+                o,
+                "shape:         a hemisphere (its face a quarter turn from the centre)"
+            );
+        }
+        Some(l) => {
+            let _ = writeln!(
+                o,
+                "shape:         a lens (its rim a quarter turn from the centre, at {:.6} deg)",
+                l.dihedral.to_degrees()
+            );
+        }
+        None => {}
+    }
     let mut dihedrals: Vec<f64> = s.edges().iter().map(|e| e.dihedral.to_degrees()).collect();
     dihedrals.sort_by(f64::total_cmp);
     dihedrals.dedup_by(|a, b| (*a - *b).abs() < 1e-9);

@@ -215,11 +215,22 @@ pub(super) fn abelian_relations(space: &Space) -> AbelianRelations {
         rows.push(row);
     }
     for (i, f) in faces.iter().enumerate() {
-        if f.kind == FaceKind::Mirror {
+        // A mirror, and the hemisphere's face glued to itself: T^2 = 1.
+        if f.kind == FaceKind::Mirror || (f.partner == i && space.lens.is_some()) {
             let mut row = vec![0i128; gens.len()];
             row[letters[i].0] = 2;
             rows.push(row);
         }
+    }
+    // A lens's rim, the edge it has in place of cycles: its pairing turns
+    // the rim by the rim's angle, so T^k = 1 once k angles make a turn.
+    if let Some(shape) = space.lens
+        && faces.len() == 2
+        && faces.iter().all(|f| f.kind == FaceKind::Glue)
+    {
+        let mut row = vec![0i128; gens.len()];
+        row[letters[0].0] = (std::f64::consts::TAU / shape.dihedral).round() as i128;
+        rows.push(row);
     }
     AbelianRelations {
         generators: gens.len(),

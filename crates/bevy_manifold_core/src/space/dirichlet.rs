@@ -411,6 +411,10 @@ fn attempt(gens: &Generators, basepoint: Option<DVec4>) -> Result<Space, Failure
 /// bisector of one element (or one of the six sides of the starting box).
 struct Polytope {
     faces: Vec<(usize, DVec4, Vec<DVec3>)>,
+    /// A lens or hemisphere of S3 ([`super::lens`]): its faces have no
+    /// polygons (they reach the chart's infinity) and its rim lies a
+    /// quarter turn away.
+    lens: bool,
 }
 
 const BOX_FACE: usize = usize::MAX;
@@ -441,6 +445,12 @@ impl Polytope {
             }
         }
         let boxed = poly.faces.iter().any(|f| f.0 == BOX_FACE);
+        if boxed
+            && g == Geometry::Spherical
+            && let Some(lens) = Polytope::lens(search, candidates)
+        {
+            return Ok(lens);
+        }
         let outside = g == Geometry::Hyperbolic
             && poly
                 .faces
@@ -484,7 +494,44 @@ impl Polytope {
                 faces.push((BOX_FACE, n.extend(-h), corners.to_vec()));
             }
         }
-        Polytope { faces }
+        Polytope { faces, lens: false }
+    }
+
+    /// The lens (or hemisphere) the `candidates`' bisectors bound in S3,
+    /// if they bound one: every bisector but the antipode's is a plane
+    /// of the chart normal to one axis (every image of the origin lies on
+    /// one great circle), and the nearest on each side of the origin are
+    /// the two faces; with the antipode's alone (RP3) the one face is the
+    /// great sphere a quarter turn away, `w = 0`.
+    fn lens(search: &Search<'_>, candidates: &[usize]) -> Option<Self> {
+        let mut axis: Option<DVec3> = None;
+        let mut sides: [Option<(f64, usize, DVec4)>; 2] = [None, None];
+        let mut antipode = None;
+        for &i in candidates {
+            let n = bisector(Geometry::Spherical, search.elements[i].m.w_axis);
+            let normal = n.truncate();
+            let len = normal.length();
+            if len < 1e-9 {
+                antipode = Some(i);
+                continue;
+            }
+            let u = *axis.get_or_insert(normal / len);
+            if normal.cross(u).length() > 1e-9 * len {
+                return None;
+            }
+            // The plane normal . x = -w, at -w / |normal| along its normal.
+            let side = usize::from(normal.dot(u) < 0.0);
+            let offset = -n.w / len;
+            if sides[side].is_none_or(|(o, _, _)| offset < o) {
+                sides[side] = Some((offset, i, n));
+            }
+        }
+        let faces = match (sides, antipode) {
+            ([Some((_, a, na)), Some((_, b, nb))], _) => vec![(a, na, Vec::new()), (b, nb, Vec::new())],
+            ([None, None], Some(i)) => vec![(i, DVec4::new(0.0, 0.0, 0.0, -1.0), Vec::new())],
+            _ => return None,
+        };
+        Some(Polytope { faces, lens: true })
     }
 
     fn vertices(&self) -> impl Iterator<Item = &DVec3> {
@@ -492,6 +539,9 @@ impl Polytope {
     }
 
     fn circumradius(&self, g: Geometry) -> f64 {
+        if self.lens {
+            return core::f64::consts::FRAC_PI_2;
+        }
         self.vertices()
             .map(|c| g.distance::<f64>(DVec4::W, g.normalize_point::<f64>(c.extend(1.0))))
             .fold(0.0, f64::max)
@@ -603,14 +653,26 @@ fn pair_faces(gens: &Generators, search: &Search<'_>, poly: &Polytope) -> Result
                 ),
             })?;
         let kind = if partner == i {
-            let fixes = poly.faces[i].2.iter().all(|c| {
-                let p = g.normalize_point::<f64>(c.extend(1.0));
-                g.distance::<f64>(m * p, p) < 1e-7
-            });
-            if !fixes {
+            // The face's corners, or for a face without any (a lens's,
+            // a hemisphere's) three points spanning its great sphere.
+            let points: Vec<DVec4> = if poly.faces[i].2.is_empty() {
+                super::lens::face_points(poly.faces[i].1).to_vec()
+            } else {
+                poly.faces[i]
+                    .2
+                    .iter()
+                    .map(|c| g.normalize_point::<f64>(c.extend(1.0)))
+                    .collect()
+            };
+            let fixes = points.iter().all(|p| g.distance::<f64>(m * *p, *p) < 1e-7);
+            if fixes {
+                FaceKind::Mirror
+            } else if poly.lens && super::lens::is_free(m) {
+                // RP3's hemisphere, glued to itself by the antipodal map.
+                FaceKind::Glue
+            } else {
                 return Err(GeneratorError::SelfPairedHalfTurn { face: i }.into());
             }
-            FaceKind::Mirror
         } else {
             FaceKind::Glue
         };

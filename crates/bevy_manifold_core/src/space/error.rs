@@ -7,10 +7,19 @@ use std::path::PathBuf;
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum SpaceError {
     /// Fewer faces than any compact polyhedron has.
-    #[error("a space needs at least 4 faces, this one has {count}")]
+    #[error(
+        "a space needs at least 4 faces (in S3 also the 2 of a lens or the 1 of a hemisphere), this one has {count}"
+    )]
     TooFewFaces {
         /// How many faces were given.
         count: usize,
+    },
+    /// A lens or hemisphere (a spherical domain without vertices) whose
+    /// gluing fails Poincaré's condition ([`super::lens`]).
+    #[error("the lens: {detail}")]
+    Lens {
+        /// What fails.
+        detail: String,
     },
     /// More faces than a space may have (the polyhedron's construction is
     /// quartic in them).

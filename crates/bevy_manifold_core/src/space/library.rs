@@ -34,10 +34,16 @@ use crate::geometry::{Geometry, isometry};
 use glam::{DMat4, DVec3, DVec4};
 use std::f64::consts::{FRAC_1_SQRT_2, PI, TAU};
 
-/// The lens spaces in the library, as `(p, q)`. `L(p, +-1)` are left out:
-/// their Dirichlet domains are lenses with two faces whose edge is a whole
-/// great circle, which no single chart holds.
+/// The lens spaces in the library whose domains are polyhedra, as
+/// `(p, q)`.
 pub const LENS: [(u32, u32); 5] = [(5, 2), (7, 2), (8, 3), (10, 3), (12, 5)];
+
+/// The lens spaces `L(p, 1)` in the library, as `p`: every orbit is a
+/// great circle (a Hopf fibre), so about any point the Dirichlet domain
+/// is a lens of two faces meeting in a whole great circle
+/// ([`super::lens`]). `L(2, 1)` is RP3, elliptic space, named `rp3`: its
+/// domain is a hemisphere.
+pub const LENS_ROUND: [u32; 3] = [2, 3, 5];
 
 /// The prism manifolds S3/D*_4m in the library, as `m`.
 pub const PRISM: [u32; 3] = [3, 4, 5];
@@ -46,6 +52,7 @@ pub const PRISM: [u32; 3] = [3, 4, 5];
 #[must_use]
 pub fn names() -> Vec<String> {
     let mut out: Vec<String> = LENS.iter().map(|(p, q)| format!("lens-{p}-{q}")).collect();
+    out.extend(LENS_ROUND.iter().map(|&p| round_name(p)));
     out.push("quaternionic".into());
     out.extend(PRISM.iter().map(|m| format!("prism-{m}")));
     out.extend(
@@ -68,13 +75,27 @@ pub fn names() -> Vec<String> {
     out
 }
 
+/// The library's name of `L(p, 1)`: `rp3` for `p = 2`.
+fn round_name(p: u32) -> String {
+    if p == 2 { "rp3".into() } else { format!("lens-{p}-1") }
+}
+
 /// A library space's generators by name (`None` for an unknown name).
 #[must_use]
 pub fn by_name(name: &str) -> Option<Generators> {
+    if name == "rp3" {
+        // L(2, 1): the half-turn in both planes is the antipodal map,
+        // written exactly.
+        let mut gens = lens(2, 1);
+        gens.name = "rp3".into();
+        gens.matrices = vec![-DMat4::IDENTITY];
+        return Some(gens);
+    }
     if let Some(rest) = name.strip_prefix("lens-") {
         let (p, q) = rest.split_once('-')?;
         let (p, q) = (p.parse().ok()?, q.parse().ok()?);
-        return (LENS.contains(&(p, q))).then(|| lens(p, q));
+        let round = q == 1 && p != 2 && LENS_ROUND.contains(&p);
+        return (LENS.contains(&(p, q)) || round).then(|| lens(p, q));
     }
     if let Some(m) = name.strip_prefix("prism-") {
         let m = m.parse().ok()?;
@@ -140,7 +161,9 @@ pub fn by_name(name: &str) -> Option<Generators> {
 /// generators were computed.
 #[must_use]
 pub fn header(name: &str) -> String {
-    let what = if let Some(rest) = name.strip_prefix("lens-") {
+    let what = if name == "rp3" {
+        "Elliptic space RP3 = L(2,1): the antipodal map of S3, domain the hemisphere about a point of the Clifford torus".into()
+    } else if let Some(rest) = name.strip_prefix("lens-") {
         let (p, q) = rest.split_once('-').unwrap_or((rest, "?"));
         format!(
             "Lens space L({p},{q}): the rotation by 2 pi/{p} in the xy-plane and 2 pi {q}/{p} in the zw-plane of R^4, domain centred on the Clifford torus"

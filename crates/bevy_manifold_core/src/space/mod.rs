@@ -27,6 +27,7 @@ mod error;
 pub mod exact;
 pub mod file;
 pub mod generators;
+pub mod lens;
 pub mod library;
 mod polyhedron;
 pub mod rule;
@@ -105,6 +106,9 @@ pub struct Space {
     geometry: Geometry,
     faces: Vec<Face>,
     poly: Polyhedron,
+    /// The lens or hemisphere the faces bound, for a spherical domain
+    /// without vertices ([`lens`]).
+    lens: Option<lens::LensShape>,
     cycles: Vec<EdgeCycle>,
     inradius: f64,
     circumradius: f64,
@@ -125,6 +129,9 @@ impl Space {
         space.check_pairings()?;
         space.cycles = cycles::edge_cycles(&space)?;
         cycles::check_cycles(&space.cycles)?;
+        if let Some(shape) = space.lens {
+            lens::check(shape, &space.faces)?;
+        }
         space.cells = CellScheme::for_space(&space);
         Ok(space)
     }
@@ -132,7 +139,7 @@ impl Space {
     /// Derives the polyhedron, radii and volume from the planes; the
     /// pairings, edge cycles and cells are checked and derived by `new`.
     fn build(name: String, geometry: Geometry, mut faces: Vec<Face>) -> Result<Self, SpaceError> {
-        if faces.len() < 4 {
+        if faces.is_empty() || (faces.len() < 4 && geometry != Geometry::Spherical) || faces.len() == 3 {
             return Err(SpaceError::TooFewFaces { count: faces.len() });
         }
         if faces.len() > MAX_FACES {
@@ -179,6 +186,9 @@ impl Space {
                 });
             }
             match (f.kind, f.partner == i) {
+                // The hemisphere's face, glued to itself by the antipodal
+                // map (checked by lens::check).
+                (FaceKind::Glue, true) if count == 1 => {}
                 (FaceKind::Mirror, false) => {
                     return Err(SpaceError::KindPartner {
                         face: i,
@@ -199,20 +209,42 @@ impl Space {
             }
         }
         let planes: Vec<DVec4> = faces.iter().map(|f| f.plane).collect();
-        let poly = Polyhedron::from_planes(geometry, &planes)?;
+        let lens = if planes.len() < 4 {
+            Some(lens::shape(geometry, &planes).ok_or_else(|| SpaceError::NotCompact {
+                detail: format!(
+                    "{} faces bound no lens (two faces meeting in the great circle a quarter turn from the origin) or hemisphere (the one face w = 0)",
+                    planes.len()
+                ),
+            })?)
+        } else {
+            None
+        };
+        let poly = match lens {
+            Some(_) => Polyhedron::without_vertices(planes.len()),
+            None => Polyhedron::from_planes(geometry, &planes)?,
+        };
         let origin = DVec4::W;
         let inradius = planes
             .iter()
             .map(|&n| -plane::signed_distance(geometry, n, origin))
             .fold(f64::INFINITY, f64::min);
-        let circumradius = poly
-            .vertices
-            .iter()
-            .map(|v| geometry.distance::<f64>(origin, v.point))
-            .fold(0.0, f64::max);
+        // A lens's rim (and the hemisphere's face) is a quarter turn from
+        // the origin.
+        let circumradius = match lens {
+            Some(_) => core::f64::consts::FRAC_PI_2,
+            None => poly
+                .vertices
+                .iter()
+                .map(|v| geometry.distance::<f64>(origin, v.point))
+                .fold(0.0, f64::max),
+        };
         let points: Vec<DVec4> = poly.vertices.iter().map(|v| v.point).collect();
-        let volume = volume::polyhedron_volume(geometry, &planes, &points, &poly.face_vertices);
+        let volume = match lens {
+            Some(shape) => shape.volume(),
+            None => volume::polyhedron_volume(geometry, &planes, &points, &poly.face_vertices),
+        };
         let space = Space {
+            lens,
             name,
             geometry,
             faces,
@@ -237,7 +269,11 @@ impl Space {
     /// The [`SpaceError`] that names the face or edge cycle and the property.
     pub fn validate(&self) -> Result<(), SpaceError> {
         self.check_pairings()?;
-        cycles::check_cycles(&cycles::edge_cycles(self)?)
+        cycles::check_cycles(&cycles::edge_cycles(self)?)?;
+        match self.lens {
+            Some(shape) => lens::check(shape, &self.faces),
+            None => Ok(()),
+        }
     }
 
     fn check_pairings(&self) -> Result<(), SpaceError> {
@@ -336,6 +372,14 @@ impl Space {
         &self.poly
     }
 
+    /// The lens or hemisphere the domain is when it has no vertices
+    /// (lens spaces about a point of an orbit circle, RP3); `None` for a
+    /// polyhedron.
+    #[must_use]
+    pub fn lens(&self) -> Option<lens::LensShape> {
+        self.lens
+    }
+
     /// The vertices of the fundamental polyhedron.
     #[must_use]
     pub fn vertices(&self) -> &[Vertex] {
@@ -375,6 +419,9 @@ impl Space {
     /// ```
     #[must_use]
     pub fn surface_area(&self) -> f64 {
+        if self.lens.is_some() {
+            return lens::area(self.faces.len());
+        }
         let points: Vec<_> = self.poly.vertices.iter().map(|v| v.point).collect();
         polyhedron_area(self.geometry, &points, &self.poly.face_vertices)
     }

@@ -135,6 +135,17 @@ impl Polyhedron {
         })
     }
 
+    /// The polyhedron of a domain without vertices (a lens or hemisphere,
+    /// [`super::lens`]): `faces` faces, no vertices, no edges.
+    #[must_use]
+    pub fn without_vertices(faces: usize) -> Self {
+        Polyhedron {
+            vertices: Vec::new(),
+            edges: Vec::new(),
+            face_vertices: vec![Vec::new(); faces],
+        }
+    }
+
     /// The edge joining two vertices, if any.
     #[must_use]
     pub fn edge_between(&self, a: usize, b: usize) -> Option<usize> {
