@@ -656,6 +656,30 @@ fn a_basepoint_centres_the_domain_there() {
     let mut p = library::by_name("poincare-generators").unwrap();
     p.basepoint = Some(isometry::translation(Geometry::Spherical, DVec3::new(0.1, 0.2, 0.05)).w_axis);
     same_shape(&p.dirichlet_domain().unwrap(), &catalog::poincare());
+    // A third-turn about the z-axis through the origin (with the
+    // hexagonal lattice, an orbifold): the origin is fixed, so the domain
+    // is built about a generic point, and says which; asked for that
+    // basepoint, it is built there and says nothing moved. The volume is
+    // a third of the lattice's cell, sqrt 3 / 2.
+    let mut third = Generators::new(
+        "p3",
+        vec![
+            isometry::translation(e, DVec3::X),
+            isometry::translation(e, DVec3::new(0.5, 3f64.sqrt() / 2.0, 0.0)),
+            isometry::translation(e, DVec3::Z),
+            isometry::rotation(DVec3::Z, TAU / 3.0),
+        ],
+    )
+    .unwrap();
+    let cell = 3f64.sqrt() / 2.0 / 3.0;
+    let (s, moved) = third.dirichlet_domain_and_basepoint().unwrap();
+    let p = moved.expect("the origin is fixed: moved");
+    assert!(e.distance::<f64>(p, DVec4::W) > 1e-3, "{p:?}");
+    assert!((s.volume() - cell).abs() < 1e-9, "a third of the cell: {}", s.volume());
+    third.basepoint = Some(p);
+    let (again, moved) = third.dirichlet_domain_and_basepoint().unwrap();
+    assert!(moved.is_none());
+    assert!((again.volume() - cell).abs() < 1e-9);
     // A bad basepoint in a JSON list is named.
     let json = r#"{"name": "x", "generators": [[[1,0,0,1],[0,1,0,0],[0,0,1,0],[0,0,0,1]]], "basepoint": [0, 0, 0, 0]}"#;
     assert!(matches!(

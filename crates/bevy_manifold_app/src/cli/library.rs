@@ -29,7 +29,17 @@ pub fn import(file: &Path, out: Option<&Path>, basepoint: Option<&[f64]>, manifo
     }
     gens.manifold |= manifold;
     let start = std::time::Instant::now();
-    let space = gens.dirichlet_domain().map_err(named)?;
+    let (space, moved) = gens.dirichlet_domain_and_basepoint().map_err(named)?;
+    if let Some(p) = moved {
+        eprintln!(
+            "{}: an element fixes the origin, so the domain is built about the generic point ({:.6}, {:.6}, {:.6}, {:.6}), now the chart origin: the written pairings are the file's elements conjugated by that move (--basepoint picks another point)",
+            file.display(),
+            p.x,
+            p.y,
+            p.z,
+            p.w
+        );
+    }
     eprintln!(
         "{}: {} geometry, {} faces, volume {:.9}, group order {}, built in {:.3} s",
         space.name(),

@@ -52,6 +52,22 @@ impl Generators {
     /// a property of spaces, an orbifold where a manifold was declared,
     /// and the other [`GeneratorError`]s, each saying what it saw.
     pub fn dirichlet_domain(&self) -> Result<Space, GeneratorError> {
+        self.dirichlet_domain_and_basepoint().map(|(space, _)| space)
+    }
+
+    /// [`Generators::dirichlet_domain`], and the point it was built
+    /// about when that is not the one asked for: `Some(p)` when an
+    /// element fixes the origin (or the basepoint the file gives is not
+    /// given, and the origin would not do) and the domain was built about
+    /// the generic point `p` instead. The space then has `p` at its chart
+    /// origin, and its pairings are the group's elements conjugated by the
+    /// move from the origin to `p` (a domain about a fixed point of an
+    /// element has that point on its boundary, where no chart origin may
+    /// lie). `None`: built where asked, the pairings the group's own.
+    ///
+    /// # Errors
+    /// As [`Generators::dirichlet_domain`].
+    pub fn dirichlet_domain_and_basepoint(&self) -> Result<(Space, Option<DVec4>), GeneratorError> {
         let basepoints: Vec<Option<DVec4>> = match self.basepoint {
             Some(p) => vec![Some(p)],
             None => std::iter::once(None)
@@ -61,7 +77,7 @@ impl Generators {
         let mut last = None;
         for point in basepoints {
             match attempt(self, point) {
-                Ok(space) => return Ok(space),
+                Ok(space) => return Ok((space, point.filter(|_| self.basepoint.is_none()))),
                 Err(Failure::Retry(e)) if self.basepoint.is_none() => last = Some(e),
                 Err(Failure::Retry(e) | Failure::Fatal(e)) => return Err(e),
             }
