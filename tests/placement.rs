@@ -51,6 +51,27 @@ fn max_abs(m: DMat4) -> f64 {
     m.to_cols_array().iter().fold(0.0f64, |a, x| a.max(x.abs()))
 }
 
+/// A mover leaving the centre of `space` with velocity `linear` for one
+/// second (at twice the inradius, back at the centre): the app, the mover
+/// and its placement then, asserted to be at the centre.
+fn back_at_the_centre(space: &Space, linear: DVec3) -> (App, Entity, DMat4) {
+    let mut app = app(Duration::from_millis(10));
+    let root = spawn_space(&mut app, space.clone());
+    let e = app
+        .world_mut()
+        .spawn((ChildOf(root), GeodesicVelocity { linear, ..default() }))
+        .id();
+    run_until(&mut app, Duration::from_secs(1));
+    let p = app.world().get::<Placement>(e).unwrap().isometry;
+    assert!(
+        (p.w_axis - DVec4::W).length() < 1e-9,
+        "{}: back at the centre: {:?}",
+        space.name(),
+        p.w_axis
+    );
+    (app, e, p)
+}
+
 #[test]
 fn torus_mover_crosses_the_x_face_once_per_unit_of_time() {
     let mut app = app(Duration::from_millis(10));
@@ -96,27 +117,8 @@ fn dodecahedral_spaces_return_along_an_axis_turned_by_the_twist() {
         let (face, r) = (2, space.inradius());
         let u = space.faces()[face].plane.truncate().normalize();
         let expected_cell = space.crossing(face);
-        let mut app = app(Duration::from_millis(10));
-        let root = spawn_space(&mut app, space.clone());
         // Speed 2r per second: back at the centre after exactly one second.
-        let e = app
-            .world_mut()
-            .spawn((
-                ChildOf(root),
-                GeodesicVelocity {
-                    linear: u * 2.0 * r,
-                    ..default()
-                },
-            ))
-            .id();
-        run_until(&mut app, Duration::from_secs(1));
-        let p = app.world().get::<Placement>(e).unwrap().isometry;
-        assert!(
-            (p.w_axis - DVec4::W).length() < 1e-9,
-            "{}: back at the centre: {:?}",
-            space.name(),
-            p.w_axis
-        );
+        let (app, e, p) = back_at_the_centre(&space, u * 2.0 * r);
         // The frame is turned about the direction of travel by the twist.
         let turned = isometry::rotation(u, twist);
         assert!(max_abs(p - turned) < 1e-9, "{}: frame turned by {twist}", space.name());
@@ -153,25 +155,7 @@ fn lens_movers_return_to_the_centre_through_one_face() {
             n if n.is_finite() => n,
             _ => DVec3::X, // RP3: its face is the sphere at w = 0
         };
-        let mut app = app(Duration::from_millis(10));
-        let root = spawn_space(&mut app, space.clone());
-        let e = app
-            .world_mut()
-            .spawn((
-                ChildOf(root),
-                GeodesicVelocity {
-                    linear: u * 2.0 * r,
-                    ..default()
-                },
-            ))
-            .id();
-        run_until(&mut app, Duration::from_secs(1));
-        let p = app.world().get::<Placement>(e).unwrap().isometry;
-        assert!(
-            (p.w_axis - DVec4::W).length() < 1e-9,
-            "{name}: back at the centre: {:?}",
-            p.w_axis
-        );
+        let (app, e, p) = back_at_the_centre(&space, u * 2.0 * r);
         let cell = app.world().get::<DomainCell>(e).unwrap();
         let cover = isometry::translation(g, u * 2.0 * r);
         assert!(
