@@ -115,7 +115,9 @@ pub struct Ball {
     pub color: [f32; 3],
     /// Light it gives off, in units of its albedo: it shows at least
     /// `color * glow` with no light on it (a shot, a lamp); 0 for a plain
-    /// ball. It lights nothing else.
+    /// ball. The direct tracer lights nothing else by it; the path tracer
+    /// takes it as an area light, aiming paths at it
+    /// ([`crate::trace::path`]).
     pub glow: f32,
     /// Metallic and roughness (the GGX lobe, as a mesh's
     /// [`crate::material::MeshMaterial::pbr`]); `None`: the classic look.
