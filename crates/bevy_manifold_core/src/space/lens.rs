@@ -48,11 +48,31 @@ impl LensShape {
     pub fn volume(self) -> f64 {
         PI * self.dihedral
     }
+
+    /// The domain's surface: `4 pi` whatever the angle, two half great
+    /// spheres for a lens, the whole great sphere for the hemisphere.
+    #[must_use]
+    pub fn area(self) -> f64 {
+        4.0 * PI
+    }
 }
 
 /// The component of `v` orthogonal to the unit vectors `basis`.
 fn reject(v: DVec4, basis: &[DVec4]) -> DVec4 {
     basis.iter().fold(v, |r, b| r - *b * r.dot(*b))
+}
+
+/// `N` orthonormal vectors orthogonal to the orthonormal `given` and to
+/// each other, from the axes in turn (`N` at most `4 - given.len()`).
+fn complement<const N: usize>(given: &[DVec4]) -> [DVec4; N] {
+    let mut basis = given.to_vec();
+    for e in [DVec4::X, DVec4::Y, DVec4::Z, DVec4::W] {
+        let r = reject(e, &basis);
+        if basis.len() < given.len() + N && r.length() > 1e-6 {
+            basis.push(r.normalize());
+        }
+    }
+    std::array::from_fn(|k| basis[given.len() + k])
 }
 
 /// The lens or hemisphere the normalised face covectors `planes` bound
@@ -120,14 +140,14 @@ pub(crate) fn is_free(m: DMat4) -> bool {
 pub(crate) fn check(shape: LensShape, faces: &[Face]) -> Result<(), SpaceError> {
     // A mirror fixes its face (a polyhedron's vertices show it; here three
     // points spanning the face's great sphere do).
-    for f in faces.iter().filter(|f| f.kind == FaceKind::Mirror) {
+    for (face, f) in faces.iter().enumerate().filter(|(_, f)| f.kind == FaceKind::Mirror) {
         let moved = face_points(f.plane)
             .iter()
             .map(|p| (f.pairing * *p - *p).length())
             .fold(0.0, f64::max);
         if moved > 1e-8 {
             return Err(SpaceError::NotReflection {
-                face: faces.iter().position(|g| std::ptr::eq(g, f)).unwrap_or(0),
+                face,
                 detail: format!("it moves its own face by up to {moved:.3e}"),
             });
         }
@@ -196,41 +216,12 @@ pub(crate) fn check(shape: LensShape, faces: &[Face]) -> Result<(), SpaceError> 
 /// Two orthonormal vectors spanning the rim of the faces `a` and `b`.
 fn rim(a: DVec4, b: DVec4) -> [DVec4; 2] {
     let a = a.normalize();
-    let b = reject(b, &[a]).normalize();
-    let mut out = [DVec4::ZERO; 2];
-    let mut k = 0;
-    for e in [DVec4::X, DVec4::Y, DVec4::Z, DVec4::W] {
-        let basis: Vec<DVec4> = [a, b].into_iter().chain(out[..k].iter().copied()).collect();
-        let r = reject(e, &basis);
-        if k < 2 && r.length() > 1e-6 {
-            out[k] = r.normalize();
-            k += 1;
-        }
-    }
-    out
-}
-
-/// Surface area: `2 pi` for each half great sphere of a lens, `4 pi` for
-/// the hemisphere's whole great sphere.
-#[must_use]
-pub fn area(faces: usize) -> f64 {
-    if faces == 1 { 4.0 * PI } else { 2.0 * PI * faces as f64 }
+    complement(&[a, reject(b, &[a]).normalize()])
 }
 
 /// Three points spanning the face `n`'s great sphere, for tests of what a
 /// pairing does to a face that has no vertices.
 #[must_use]
 pub fn face_points(n: DVec4) -> [DVec4; 3] {
-    let n = n.normalize();
-    let mut out = [DVec4::ZERO; 3];
-    let mut k = 0;
-    for e in [DVec4::X, DVec4::Y, DVec4::Z, DVec4::W] {
-        let basis: Vec<DVec4> = std::iter::once(n).chain(out[..k].iter().copied()).collect();
-        let r = reject(e, &basis);
-        if k < 3 && r.length() > 1e-6 {
-            out[k] = r.normalize();
-            k += 1;
-        }
-    }
-    out
+    complement(&[n.normalize()])
 }

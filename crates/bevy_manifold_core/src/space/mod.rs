@@ -419,8 +419,8 @@ impl Space {
     /// ```
     #[must_use]
     pub fn surface_area(&self) -> f64 {
-        if self.lens.is_some() {
-            return lens::area(self.faces.len());
+        if let Some(shape) = self.lens {
+            return shape.area();
         }
         let points: Vec<_> = self.poly.vertices.iter().map(|v| v.point).collect();
         polyhedron_area(self.geometry, &points, &self.poly.face_vertices)
