@@ -289,9 +289,14 @@ fn emitter_pdf(x: vec4<f32>, l: vec4<f32>, count: u32, drawn: u32) -> f32 {
 
 // A direction at x towards one of the `count` emitters drawn with u (the
 // emitter floor(u.x count), then its cone evenly in solid angle) and the
-// density of drawing it (w); w 0 when x is inside that emitter. Rust
-// twin: aim_at_emitter.
-fn aim_at_emitter(x: vec4<f32>, count: u32, u: vec3<f32>) -> vec4<f32> {
+// density of drawing it; pdf 0 when x is inside that emitter. Rust twin:
+// aim_at_emitter (None there for pdf 0).
+struct Aimed {
+    dir: vec4<f32>,
+    pdf: f32,
+}
+
+fn aim_at_emitter(x: vec4<f32>, count: u32, u: vec3<f32>) -> Aimed {
     let k = min(u32(u.x * f32(count)), count - 1u);
     var seen = 0u;
     var drawn = 0u;
@@ -305,22 +310,17 @@ fn aim_at_emitter(x: vec4<f32>, count: u32, u: vec3<f32>) -> vec4<f32> {
         }
     }
 #endif
-    aimed_pdf = 0.0;
     let ec = emitter_cone(drawn, x);
     if !ec.ok {
-        return vec4<f32>(0.0);
+        return Aimed(vec4<f32>(0.0), 0.0);
     }
     let cos_t = 1.0 - u.y * (1.0 - ec.cos_a);
     let sin_t = sqrt(max(1.0 - cos_t * cos_t, 0.0));
     let phi = 2.0 * PI * u.z;
     let frame = tangent_frame(x, ec.dir);
     let l = normalize_tangent(x, ec.dir * cos_t + frame[0] * (sin_t * cos(phi)) + frame[1] * (sin_t * sin(phi)));
-    aimed_pdf = emitter_pdf(x, l, count, drawn);
-    return l;
+    return Aimed(l, emitter_pdf(x, l, count, drawn));
 }
-
-// The density of the last aim_at_emitter's direction.
-var<private> aimed_pdf: f32;
 
 // The walk of a leg leaving x (normal n) along the unit tangent dir from
 // the copy of `walk`, having travelled `travelled`. Rust twin: leave.
@@ -384,12 +384,12 @@ fn path_sample(ray: Ray, pixel: u32) -> Pixel {
         // Next-event estimation towards the glowing balls.
         let u_aim = vec3<f32>(rng_uniform(), rng_uniform(), rng_uniform());
         if emitters > 0u {
-            let l = aim_at_emitter(s.x, emitters, u_aim);
-            let c = cosines(s.normal, s.view, l);
-            if aimed_pdf > 0.0 && c.nl > 0.0 {
-                let w = lobe_weight(lit, c, aimed_pdf);
-                let weight = power_heuristic(aimed_pdf, lobe_pdf(lit.metallic, lit.roughness, c.nl, c.nh, c.vh));
-                var aim = leave(s.x, s.normal, l, walk, dist);
+            let aimed = aim_at_emitter(s.x, emitters, u_aim);
+            let c = cosines(s.normal, s.view, aimed.dir);
+            if aimed.pdf > 0.0 && c.nl > 0.0 {
+                let w = lobe_weight(lit, c, aimed.pdf);
+                let weight = power_heuristic(aimed.pdf, lobe_pdf(lit.metallic, lit.roughness, c.nl, c.nh, c.vh));
+                var aim = leave(s.x, s.normal, aimed.dir, walk, dist);
                 if next_hit(&aim) {
                     let there = surface(aim.ray, found, vec4<f32>(0.0));
                     let far = aim.travelled + chart_to_distance(found.t);

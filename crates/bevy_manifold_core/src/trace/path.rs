@@ -383,18 +383,17 @@ struct Left<R: Real> {
 }
 
 /// The walk of a leg leaving `x` (normal `normal`) along the unit tangent
-/// `dir`, in the copy `cell` (table index kept by the GPU twin), having
-/// travelled `travelled`.
-fn leave<R: Real>(g: Geometry, (x, normal): (R::V4, R::V4), dir: R::V4, cell: R::M4, travelled: R) -> (Walker<R>, R) {
+/// `dir`, in the copy `cell` (table index kept by the GPU twin, whose
+/// walker also carries the distance travelled).
+fn leave<R: Real>(g: Geometry, (x, normal): (R::V4, R::V4), dir: R::V4, cell: R::M4) -> Walker<R> {
     let origin = g.normalize_point::<R>(x + normal * R::of(MIRROR_OFFSET));
-    let walk = Walker::new(
+    Walker::new(
         Ray {
             origin,
             dir: g.normalize_tangent::<R>(origin, dir),
         },
         cell,
-    );
-    (walk, travelled)
+    )
 }
 
 /// One sample of the rendering equation for the pixel of `ray`
@@ -503,7 +502,8 @@ pub fn path_sample<R: Real>(
             if c.nl > 0.0 {
                 let w = lobes.weight(c, p_light);
                 let mis = power_heuristic(p_light, lobe_pdf(s.pbr, c));
-                let (mut aim, mut to) = leave(g, (s.x, s.normal), l, walk.cell, dist);
+                let mut aim = leave(g, (s.x, s.normal), l, walk.cell);
+                let mut to = dist;
                 if let Some(hit) = next_hit(flat, &mut aim, &mut to, settings, &mut |_, _| {}) {
                     let there = surface(g, flat, &aim.ray, (hit.t, None), hit.hit);
                     let far = to + g.chart_to_distance::<R>(hit.t);
@@ -538,7 +538,8 @@ pub fn path_sample<R: Real>(
             dir: next.dir,
             pdf: next.pdf,
         });
-        (walk, travelled) = leave(g, (s.x, s.normal), next.dir, walk.cell, dist);
+        walk = leave(g, (s.x, s.normal), next.dir, walk.cell);
+        travelled = dist;
     }
     let mut pixel = first.unwrap_or(TracePixel {
         color: [0.0; 3],
