@@ -61,11 +61,3 @@ pub struct Args {
     #[arg(long)]
     pub xr_capture: Option<PathBuf>,
 }
-
-/// Why a window cannot open here, if it cannot: neither `DISPLAY` nor
-/// `WAYLAND_DISPLAY` is set (the explorer's test).
-#[must_use]
-pub fn no_display() -> Option<&'static str> {
-    let set = |v: &str| std::env::var_os(v).is_some_and(|s| !s.is_empty());
-    (!set("DISPLAY") && !set("WAYLAND_DISPLAY")).then_some("neither DISPLAY nor WAYLAND_DISPLAY is set")
-}

@@ -102,10 +102,10 @@ fn run() -> Result<AppExit, String> {
         return Ok(screenshot(config, levels, path, size));
     }
     if !args.xr
-        && let Some(why) = args::no_display()
+        && let Some(why) = bevy_manifold::render::offscreen::no_display()
     {
         eprintln!(
-            "no display ({why}): rendering the game's opening view to shooter.png instead of opening a window (--headless --bot plays without one)"
+            "{why}: rendering the game's opening view to shooter.png instead of opening a window (--headless --bot plays without one)"
         );
         return Ok(screenshot(config, levels, PathBuf::from("shooter.png"), size));
     }

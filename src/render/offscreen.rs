@@ -65,6 +65,16 @@ pub fn plugins() -> bevy::app::PluginGroupBuilder {
         })
 }
 
+/// Why a window cannot open here, if it cannot: on Linux and the BSDs,
+/// neither `DISPLAY` nor `WAYLAND_DISPLAY` is set. The explorer and the
+/// shooter then render a picture instead.
+#[must_use]
+pub fn no_display() -> Option<&'static str> {
+    let set = |k: &str| std::env::var_os(k).is_some_and(|v| !v.is_empty());
+    (cfg!(all(unix, not(target_os = "macos"))) && !set("DISPLAY") && !set("WAYLAND_DISPLAY"))
+        .then_some("no display (neither DISPLAY nor WAYLAND_DISPLAY is set)")
+}
+
 /// A `w` x `h` sRGB image a camera can render into and [`capture`] can
 /// read back.
 pub fn target(app: &mut App, w: u32, h: u32) -> Handle<Image> {

@@ -19,9 +19,8 @@ use std::path::Path;
 /// # Errors
 /// The reason, in one line.
 pub fn window_adapter() -> Result<wgpu::AdapterInfo, String> {
-    let set = |k: &str| std::env::var_os(k).is_some_and(|v| !v.is_empty());
-    if cfg!(all(unix, not(target_os = "macos"))) && !set("DISPLAY") && !set("WAYLAND_DISPLAY") {
-        return Err("no display (neither DISPLAY nor WAYLAND_DISPLAY is set)".into());
+    if let Some(why) = bevy_manifold::render::offscreen::no_display() {
+        return Err(why.into());
     }
     probe_adapter_info().map_err(|e| format!("no window: {e}"))
 }
