@@ -261,19 +261,11 @@ pub fn a_still_view_softens_the_shadows_of_a_light_with_a_radius() {
     for l in &mut scene.lights {
         l.radius = 0.15 * space.inradius();
     }
-    let mut app = headless_app(true);
-    let image = target(&mut app, W, H);
     let camera = (
         ManifoldCamera { levels: 8, ..default() },
         ManifoldAccumulation { samples: 8 },
     );
-    let (root, _) = bevy_manifold::render::offscreen::spawn_view(&mut app, &space, &scene, &image, camera);
-    wait_for_pipelines(&mut app);
-    for _ in 0..10 {
-        app.update();
-    }
-    let shown = capture(&mut app, &image);
-    let scene = gathered_scene(&app, &space, root, false);
+    let (shown, scene) = settled_view(&space, &scene, camera);
     assert!(
         scene.lighting.shadows && scene.lights.iter().all(|l| l.radius > 0.0),
         "{:?}",
@@ -322,20 +314,12 @@ pub fn a_still_view_softens_the_shadows_of_a_light_with_a_radius() {
 pub fn a_still_path_traced_view_is_the_cpus_mean_of_the_same_paths() {
     let space = catalog::torus(1.0);
     let scene = Scene::default_for(&space);
-    let mut app = headless_app(true);
-    let image = target(&mut app, W, H);
     let camera = (
         ManifoldCamera { levels: 8, ..default() },
         ManifoldPathTracer { depth: 4, seed: 3 },
         ManifoldAccumulation { samples: 8 },
     );
-    let (root, _) = bevy_manifold::render::offscreen::spawn_view(&mut app, &space, &scene, &image, camera);
-    wait_for_pipelines(&mut app);
-    for _ in 0..10 {
-        app.update();
-    }
-    let shown = capture(&mut app, &image);
-    let scene = gathered_scene(&app, &space, root, false);
+    let (shown, scene) = settled_view(&space, &scene, camera);
     let settings = TraceSettings {
         path_depth: 4,
         seed: 3,

@@ -56,6 +56,22 @@ pub fn fog_of(space: &Space) -> Fog {
     }
 }
 
+/// A still view of `scene` in `space` through a camera of `camera`'s
+/// components, drawn offscreen at W x H until its pipelines are in and
+/// ten frames more (an accumulating view's eight samples): what it shows,
+/// and the scene the plugin gathered.
+pub fn settled_view(space: &Space, scene: &Scene, camera: impl Bundle) -> (Vec<u8>, Scene) {
+    let mut app = headless_app(true);
+    let image = target(&mut app, W, H);
+    let (root, _) = offscreen::spawn_view(&mut app, space, scene, &image, camera);
+    wait_for_pipelines(&mut app);
+    for _ in 0..10 {
+        app.update();
+    }
+    let shown = capture(&mut app, &image);
+    (shown, gathered_scene(&app, space, root, false))
+}
+
 /// The scene the app gathered for `root`, with the camera and fog the test
 /// gave it: what the CPU reference traces.
 pub fn gathered_scene(app: &App, space: &Space, root: Entity, fog: bool) -> Scene {
