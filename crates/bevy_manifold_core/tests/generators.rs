@@ -688,6 +688,93 @@ fn a_basepoint_centres_the_domain_there() {
     ));
 }
 
+/// The p3 group (the hexagonal lattice with a third-turn about the z-axis
+/// through the origin) fixes the origin, so its domain is built about a
+/// generic point `p`, and the chart's pairings are conjugates. The space
+/// keeps the move as its file frame, through which each pairing is an
+/// element of the file's group: by the group's own description, a linear
+/// part `R^k` (a turn by a multiple of 120 degrees about z) and a
+/// translation with integer coordinates in the lattice basis. The file's
+/// origin, on the turn's axis, is on the domain's boundary. The frame
+/// survives the space file; a frame that is not an isometry is named.
+fn a_moved_domain_keeps_the_files_group_through_its_frame() {
+    let e = Geometry::Euclidean;
+    let v = DVec3::new(0.5, 3f64.sqrt() / 2.0, 0.0);
+    let gens = Generators::new(
+        "p3",
+        vec![
+            isometry::translation(e, DVec3::X),
+            isometry::translation(e, v),
+            isometry::translation(e, DVec3::Z),
+            isometry::rotation(DVec3::Z, TAU / 3.0),
+        ],
+    )
+    .unwrap();
+    let (s, moved) = gens.dirichlet_domain_and_basepoint().unwrap();
+    let p = moved.expect("the origin is fixed: moved");
+    assert!(
+        (s.file_frame().w_axis - p).length() < 1e-12,
+        "the frame carries the origin to p"
+    );
+    // Coordinates of a translation in the basis (X, v, Z).
+    let lattice = glam::DMat3::from_cols(DVec3::X, v, DVec3::Z).inverse();
+    let in_group = |m: DMat4| {
+        let linear = glam::DMat3::from_mat4(m);
+        let turn = (0..3).any(|k| {
+            let r = glam::DMat3::from_mat4(isometry::rotation(DVec3::Z, TAU * f64::from(k) / 3.0));
+            (linear - r).to_cols_array().iter().all(|x| x.abs() < 1e-9)
+        });
+        let t = lattice * m.w_axis.truncate();
+        turn && (t - t.round()).abs().max_element() < 1e-9
+    };
+    let turns = s
+        .faces()
+        .iter()
+        .filter(|f| (f.pairing.x_axis.x - 1.0).abs() > 1e-6)
+        .count();
+    assert!(turns > 0, "some face is paired by a turn");
+    for i in 0..s.faces().len() {
+        assert!(in_group(s.file_pairing(i)), "face {i}: {:?}", s.file_pairing(i));
+    }
+    // The chart's own pairings of the turned faces are conjugates, about
+    // p rather than the axis: not in the file's group.
+    assert!(s.faces().iter().any(|f| !in_group(f.pairing)));
+    // The file's origin in the chart: on a face, outside none.
+    let o = s.from_file_frame(DMat4::IDENTITY).w_axis;
+    assert!(s.outside_face(o, 1e-9).is_none());
+    let nearest = s
+        .faces()
+        .iter()
+        .map(|f| f.plane.dot(o).abs())
+        .fold(f64::INFINITY, f64::min);
+    assert!(nearest < 1e-9, "the axis is on the boundary: {nearest}");
+    assert!(
+        s.to_file_frame(s.from_file_frame(DMat4::IDENTITY))
+            .abs_diff_eq(DMat4::IDENTITY, 1e-12)
+    );
+    // Through the space file and back.
+    let path = Path::new("p3.json");
+    let again = SpaceDesc::parse(&s.to_json(), path).unwrap();
+    assert!(again.file_frame().abs_diff_eq(s.file_frame(), 1e-12));
+    // A built-in space has none.
+    assert!(!catalog::poincare().to_json().contains("file_frame"));
+    let mut desc = s.to_desc();
+    desc.file_frame = Some([
+        [2.0, 0.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ]);
+    let text = serde_json::to_string(&desc).unwrap();
+    let err = SpaceDesc::parse(&text, path).unwrap_err().to_string();
+    assert!(
+        err.contains("p3.json") && err.contains("file frame") && err.contains("not an isometry"),
+        "{err}"
+    );
+    let err = s.clone().with_file_frame(DMat4::NAN).unwrap_err();
+    assert!(matches!(err, SpaceError::FileFrame { .. }), "{err}");
+}
+
 /// L(5, 2) about the origin, a point of the orbit circle of the zw-plane:
 /// every image of the origin lies on that circle, so the domain there is a
 /// lens (two faces at 72 degrees, the rim the xy circle), built where the
@@ -811,6 +898,7 @@ bevy_manifold_test_support::test_main_requiring! {
         broken_generator_lists_give_their_own_errors,
         orbifolds_move_the_basepoint_and_manifold_files_refuse_them,
         a_basepoint_centres_the_domain_there,
+        a_moved_domain_keeps_the_files_group_through_its_frame,
         a_lens_about_a_point_of_an_orbit_circle_keeps_the_files_group,
         generator_files_name_the_file_in_errors,
     ],

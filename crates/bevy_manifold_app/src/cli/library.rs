@@ -32,7 +32,7 @@ pub fn import(file: &Path, out: Option<&Path>, basepoint: Option<&[f64]>, manifo
     let (space, moved) = gens.dirichlet_domain_and_basepoint().map_err(named)?;
     if let Some(p) = moved {
         eprintln!(
-            "{}: an element fixes the origin, so the domain is built about the generic point ({:.6}, {:.6}, {:.6}, {:.6}), now the chart origin: the written pairings are the file's elements conjugated by that move (--basepoint picks another point)",
+            "{}: an element fixes the origin, so the domain is built about the generic point ({:.6}, {:.6}, {:.6}, {:.6}), the chart origin; the space keeps that move as its file frame (\"file_frame\"), through which its pairings are the file's own elements (--basepoint picks another point)",
             file.display(),
             p.x,
             p.y,

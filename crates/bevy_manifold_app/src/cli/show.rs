@@ -29,6 +29,14 @@ pub fn describe(s: &Space) -> String {
         }
         None => {}
     }
+    if s.file_frame() != glam::DMat4::IDENTITY {
+        let o_file = s.file_frame().w_axis;
+        let _ = writeln!(
+            o,
+            "file frame:    the chart origin is ({:.6}, {:.6}, {:.6}, {:.6}) of the generators' coordinates",
+            o_file.x, o_file.y, o_file.z, o_file.w
+        );
+    }
     let mut dihedrals: Vec<f64> = s.edges().iter().map(|e| e.dihedral.to_degrees()).collect();
     dihedrals.sort_by(f64::total_cmp);
     dihedrals.dedup_by(|a, b| (*a - *b).abs() < 1e-9);

@@ -25,8 +25,10 @@
 //!    group.
 //!
 //! The space comes out in coordinates that put the basepoint at the chart
-//! origin (the generators conjugated by the translation from the origin to
-//! the basepoint).
+//! origin (the generators conjugated by the translation `F` from the
+//! origin to the basepoint), and keeps `F` as its file frame
+//! ([`super::frame`]): `F T F^-1` is the file's own element for each
+//! pairing `T`, and the file's coordinates are one product away.
 
 use super::generators::{GeneratorError, Generators};
 use super::{Face, FaceKind, Space, max_abs_diff};
@@ -60,10 +62,12 @@ impl Generators {
     /// element fixes the origin (or the basepoint the file gives is not
     /// given, and the origin would not do) and the domain was built about
     /// the generic point `p` instead. The space then has `p` at its chart
-    /// origin, and its pairings are the group's elements conjugated by the
-    /// move from the origin to `p` (a domain about a fixed point of an
-    /// element has that point on its boundary, where no chart origin may
-    /// lie). `None`: built where asked, the pairings the group's own.
+    /// origin (a domain about a fixed point of an element has that point on
+    /// its boundary, where no chart origin may lie), and its pairings are
+    /// the group's elements conjugated by the move `F` from the origin to
+    /// `p`, which the space keeps as its file frame: [`Space::file_pairing`]
+    /// gives the group's own elements, [`Space::from_file_frame`] the
+    /// file's placements in the chart. `None`: built where asked.
     ///
     /// # Errors
     /// As [`Generators::dirichlet_domain`].
@@ -387,7 +391,7 @@ fn attempt(gens: &Generators, basepoint: Option<DVec4>) -> Result<Space, Failure
                     match pair_faces(gens, &search, &poly) {
                         Ok(space) => {
                             prove(gens, &letters[..n], &space)?;
-                            return Ok(space);
+                            return Ok(space.with_file_frame(shift).map_err(GeneratorError::Domain)?);
                         }
                         Err(_) if beyond == 0.0 => {
                             beyond = step;

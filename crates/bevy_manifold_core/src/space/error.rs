@@ -21,6 +21,12 @@ pub enum SpaceError {
         /// What fails.
         detail: String,
     },
+    /// A file frame ([`super::frame`]) that is not an isometry.
+    #[error("the file frame: {detail}")]
+    FileFrame {
+        /// What fails.
+        detail: String,
+    },
     /// More faces than a space may have (the polyhedron's construction is
     /// quartic in them).
     #[error("a space may have at most {max} faces, this one has {count}")]

@@ -4,10 +4,14 @@
 //! {"name": "...", "geometry": "euclidean" | "hyperbolic" | "spherical",
 //!  "faces": [{"plane": [a,b,c,d], "partner": j, "kind": "glue" | "mirror",
 //!             "pairing": [[..4..],[..4..],[..4..],[..4..]]}, ...],
-//!  "vertices": [[x,y,z,w], ...], "volume": v}
+//!  "vertices": [[x,y,z,w], ...], "volume": v,
+//!  "file_frame": [[..4..],[..4..],[..4..],[..4..]]}
 //! ```
 //! Matrices are row-major and act on column vectors, `w` last. `vertices`
 //! and `volume` are derived from the faces; when present they are checked.
+//! `file_frame` (optional, the identity when absent) places the chart in
+//! the coordinates of the generators the space was built from
+//! ([`super::frame`]).
 
 use super::{DisplayPath, Face, FaceKind, Generators, Space, SpaceError, SpaceFileError, SpaceFileErrorKind};
 use glam::{DMat4, DVec4};
@@ -44,6 +48,10 @@ pub struct SpaceDesc {
     /// The volume (optional on input).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub volume: Option<f64>,
+    /// The chart's place in its generators' coordinates, row-major
+    /// (optional; the identity when absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file_frame: Option<[[f64; 4]; 4]>,
 }
 
 /// Row-major array of a matrix acting on column vectors.
@@ -74,7 +82,10 @@ impl SpaceDesc {
                 pairing: from_rows(f.pairing),
             })
             .collect();
-        let space = Space::new(self.name.clone(), self.geometry, faces)?;
+        let mut space = Space::new(self.name.clone(), self.geometry, faces)?;
+        if let Some(rows) = self.file_frame {
+            space = space.with_file_frame(from_rows(rows))?;
+        }
         if let Some(vs) = &self.vertices {
             check_vertices(&space, vs)?;
         }
@@ -162,6 +173,7 @@ impl Space {
                 .collect(),
             vertices: Some(self.vertices().iter().map(|v| v.point.to_array()).collect()),
             volume: Some(self.volume()),
+            file_frame: (self.file_frame() != DMat4::IDENTITY).then(|| to_rows(self.file_frame())),
         }
     }
 

@@ -26,6 +26,7 @@ pub mod element;
 mod error;
 pub mod exact;
 pub mod file;
+pub mod frame;
 pub mod generators;
 pub mod lens;
 pub mod library;
@@ -109,6 +110,8 @@ pub struct Space {
     /// The lens or hemisphere the faces bound, for a spherical domain
     /// without vertices ([`lens`]).
     lens: Option<lens::LensShape>,
+    /// The chart's place in the generators' coordinates ([`frame`]).
+    file_frame: DMat4,
     cycles: Vec<EdgeCycle>,
     inradius: f64,
     circumradius: f64,
@@ -245,6 +248,7 @@ impl Space {
         };
         let space = Space {
             lens,
+            file_frame: DMat4::IDENTITY,
             name,
             geometry,
             faces,
