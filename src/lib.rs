@@ -86,7 +86,7 @@ pub mod tour;
 pub mod xr;
 
 pub use bevy_manifold_core;
-pub use bevy_manifold_core::{geometry, material, mesh, motion, space, trace};
+pub use bevy_manifold_core::{contact, geometry, material, mesh, motion, space, trace};
 pub use bevy_manifold_gpu;
 pub use plugin::ManifoldPlugins;
 
@@ -110,8 +110,9 @@ pub mod prelude {
         TracedBall,
     };
     pub use crate::placement::{
-        DomainCell, FaceCrossed, GeodesicVelocity, InSpace, ManifoldCollider, ManifoldRayCast, ManifoldSpace,
-        ManifoldSystems, Placement, PlacementPlugin, RayCastSettings, RayHit, SpaceMembers, WallHit,
+        ContactEnded, ContactEvents, ContactStarted, DomainCell, FaceCrossed, GeodesicVelocity, InSpace,
+        ManifoldCollider, ManifoldContacts, ManifoldRayCast, ManifoldSpace, ManifoldSystems, Overlap, Placement,
+        PlacementPlugin, RayCastSettings, RayHit, SpaceMembers, WallHit,
     };
     #[cfg(feature = "render")]
     pub use crate::render::ManifoldRenderPlugin;

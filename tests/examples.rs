@@ -21,6 +21,8 @@ const FIGURES: &[(&str, &[&str], &str)] = &[
         &["--no-edges"],
         "mirrored_dodecahedron_no_edges",
     ),
+    // A Bevy scene placed by its transforms alone.
+    ("bevy_scene", &[], "bevy_scene"),
     // A game in progress (150 ticks of its demo script).
     ("shooter", &["--space", "torus"], "shooter_torus"),
     ("shooter", &["--space", "seifert-weber"], "shooter_seifert_weber"),

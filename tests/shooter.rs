@@ -359,43 +359,6 @@ fn torus_nearest(p: DVec3, q: DVec3) -> f64 {
     (d - d.round()).length()
 }
 
-#[test]
-fn the_nearest_image_is_the_shortest_route_through_the_faces() {
-    let mut rng = bevy_manifold_test_support::Rng(5);
-    // The torus against the closed form.
-    let torus = catalog::torus(1.0);
-    for _ in 0..200 {
-        let p = rng.ray_inside(&torus).origin;
-        let q = rng.ray_inside(&torus).origin;
-        let (_, d) = combat::nearest_image(&torus, p, q).expect("distinct");
-        let want = torus_nearest(p.truncate(), q.truncate());
-        assert!((d - want).abs() < 1e-9, "{p:?} {q:?}: {d} against {want}");
-    }
-    // Seifert-Weber against every word of up to three face pairings: never
-    // longer than the best of them.
-    let sw = catalog::seifert_weber();
-    let g = sw.geometry();
-    let mut words = vec![DMat4::IDENTITY];
-    let mut last = vec![DMat4::IDENTITY];
-    for _ in 0..3 {
-        last = last
-            .iter()
-            .flat_map(|m| sw.faces().iter().map(move |f| *m * f.pairing))
-            .collect();
-        words.extend(&last);
-    }
-    for _ in 0..30 {
-        let p = rng.ray_inside(&sw).origin;
-        let q = rng.ray_inside(&sw).origin;
-        let (_, d) = combat::nearest_image(&sw, p, q).expect("distinct");
-        let best = words
-            .iter()
-            .map(|w| g.distance::<f64>(p, g.normalize_point::<f64>(*w * q)))
-            .fold(f64::INFINITY, f64::min);
-        assert!(d <= best + 1e-9, "{d} is longer than a route of {best}");
-    }
-}
-
 fn spawn_enemy_at(app: &mut App, v: DVec3) {
     app.world_mut()
         .run_system_once(

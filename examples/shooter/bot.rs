@@ -4,10 +4,10 @@
 //! It is how the long play-tests ran (`--bot --headless --ticks 36000` is
 //! ten minutes of play), and a demo to watch.
 
-use crate::combat::images_by_distance;
 use crate::game::{Enemy, Game, Player, Target};
 use crate::input::{InputSource, TickInput};
 use bevy::prelude::*;
+use bevy_manifold::contact;
 use bevy_manifold::geometry::isometry;
 use bevy_manifold::prelude::*;
 use glam::DVec3;
@@ -50,8 +50,12 @@ pub fn autopilot(
     let mut best: Option<(DVec3, f64, f64, bool)> = None;
     for (entity, p, enemy) in &aims {
         let weight = if enemy { 0.6 } else { 1.0 };
-        for (dir, d) in images_by_distance(space, me.position(), p.position())
+        // Every image within the domain's diameter (the nearest is one).
+        let images = contact::images_within(space, me.position(), p.position(), 2.0 * space.circumradius());
+        for (dir, d) in images
             .into_iter()
+            .filter(|i| i.distance > 0.0)
+            .map(|i| (i.direction, i.distance))
             .take(8)
         {
             if best.is_some_and(|b| b.2 <= d * weight) {

@@ -1,42 +1,16 @@
-//! The fight, each tick: the shortest route through the faces
-//! ([`nearest_image`]), which the enemies fly and aim along
-//! ([`enemies_fly_and_fire`], [`enemies_ram`]), and every shot's step swept
-//! as a geodesic ray cast against every image of every target
-//! ([`sweep_shots`]).
+//! The fight, each tick: the shortest route through the faces (the
+//! plugin's nearest image, [`contact::nearest_image`]), which the enemies
+//! fly and aim along ([`enemies_fly_and_fire`]), contacts through the faces
+//! ([`ManifoldContacts`]: an enemy touching any image of the player rams
+//! it, [`enemies_ram`]), and every shot's step swept as a geodesic ray
+//! cast against every image of every target ([`sweep_shots`]).
 
 use crate::game::{Enemy, Game, GameEvent, Player, Shot, TICK_HZ, Target, random_placement, spawn_shot, spawn_target};
 use bevy::prelude::*;
+use bevy_manifold::contact;
 use bevy_manifold::geometry::isometry;
 use bevy_manifold::prelude::*;
-use bevy_manifold::trace::ghost_centres;
 use glam::{DMat4, DVec3, DVec4};
-
-/// The image of `target` (a point in the domain) nearest to `from` (a
-/// point in the domain): the shortest route between them through the
-/// faces, as the unit tangent at `from` and the distance. `None` when the
-/// two coincide.
-///
-/// The route never leaves a ball of the domain's diameter around `from`,
-/// so the images of `target` within that distance of the domain are all
-/// that can be nearest ([`ghost_centres`]).
-#[must_use]
-pub fn nearest_image(space: &Space, from: DVec4, target: DVec4) -> Option<(DVec4, f64)> {
-    images_by_distance(space, from, target).into_iter().next()
-}
-
-/// Every image of `target` within the domain's diameter of the domain,
-/// seen from `from`: the unit tangent towards it and its distance,
-/// nearest first.
-#[must_use]
-pub fn images_by_distance(space: &Space, from: DVec4, target: DVec4) -> Vec<(DVec4, f64)> {
-    let g = space.geometry();
-    let mut images: Vec<_> = ghost_centres(space, target, 2.0 * space.circumradius())
-        .into_iter()
-        .filter_map(|q| g.log::<f64>(from, q))
-        .collect();
-    images.sort_by(|a, b| a.1.total_cmp(&b.1));
-    images
-}
 
 /// A tangent at the entity's position, in its own frame.
 fn local_direction(g: Geometry, placement: &Placement, tangent: DVec4) -> DVec3 {
@@ -71,11 +45,15 @@ pub fn enemies_fly_and_fire(
     let rules = game.rules;
     let mut fired = Vec::new();
     for (entity, mut placement, cell, mut velocity, mut enemy) in &mut enemies {
-        let Some((toward, distance)) = nearest_image(space, placement.position(), target.position()) else {
+        // Where the two coincide there is no way to face.
+        let Some(near) =
+            contact::nearest_image(space, placement.position(), target.position()).filter(|i| i.distance > 0.0)
+        else {
             velocity.linear = DVec3::ZERO;
             continue;
         };
-        *placement = facing(&placement, local_direction(g, &placement, toward));
+        let distance = near.distance;
+        *placement = facing(&placement, local_direction(g, &placement, near.direction));
         if game.tick >= enemy.wake {
             velocity.linear = DVec3::NEG_Z * rules.enemy_speed;
         }
@@ -191,20 +169,16 @@ pub fn sweep_shots(
     }
 }
 
-/// An enemy that touches any image of the player rams it and is destroyed.
+/// An enemy whose collider touches any image of the player's rams it and
+/// is destroyed.
 pub fn enemies_ram(
     mut commands: Commands,
     mut game: ResMut<Game>,
-    spaces: Query<&ManifoldSpace>,
-    player: Query<&Placement, With<Player>>,
-    enemies: Query<(Entity, &Placement), With<Enemy>>,
+    contacts: ManifoldContacts,
+    enemies: Query<Entity, With<Enemy>>,
 ) {
-    let (Ok(ms), Ok(p)) = (spaces.get(game.root), player.get(game.player)) else {
-        return;
-    };
-    let touch = game.rules.enemy_radius + game.rules.player_radius;
-    for (e, placement) in &enemies {
-        if nearest_image(ms.space(), placement.position(), p.position()).is_none_or(|(_, d)| d <= touch) {
+    for e in &enemies {
+        if !contacts.contacts(e, game.player).is_empty() {
             game.health -= 20.0;
             game.event(GameEvent::Rammed);
             commands.entity(e).despawn();

@@ -12,10 +12,11 @@
 //!   ([`ManifoldRayCast`]) before it moves, so no speed tunnels and every
 //!   image of every target is hit through the faces, under the space's
 //!   per-cell rule (an image in an "off" cell is passed through);
-//! - [`crate::combat::nearest_image`] is the shortest route through the faces, which the
-//!   enemies fly and aim along.
+//! - the plugin's nearest image ([`bevy_manifold::contact::nearest_image`]) is the
+//!   shortest route through the faces, which the enemies fly and aim along, and its
+//!   contact queries ([`ManifoldContacts`]) say when an enemy rams the player.
 
-use crate::combat::{enemies_fly_and_fire, enemies_ram, nearest_image, sweep_shots};
+use crate::combat::{enemies_fly_and_fire, enemies_ram, sweep_shots};
 use crate::input::{InputSource, TickInput};
 use bevy::prelude::*;
 use bevy_manifold::motion::advance_placement;
@@ -458,7 +459,7 @@ pub(crate) fn random_placement(rng: &mut SplitMix, space: &Space, player_at: DVe
     for _ in 0..8 {
         let d = r * (0.2 + 0.65 * rng.unit());
         let p = Placement::at(space, rng.direction() * d);
-        let away = nearest_image(space, p.position(), player_at).map_or(0.0, |(_, d)| d);
+        let away = bevy_manifold::contact::nearest_image(space, p.position(), player_at).map_or(0.0, |i| i.distance);
         if away > best.0 {
             best = (away, p);
         }

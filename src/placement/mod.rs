@@ -29,6 +29,8 @@
 //! ```
 
 mod components;
+mod contact;
+mod from_transform;
 mod membership;
 mod raycast;
 mod systems;
@@ -37,6 +39,7 @@ pub mod tracked;
 pub use components::{
     DomainCell, FaceCrossed, GeodesicVelocity, ManifoldCollider, ManifoldSpace, Placement, WallHit, WrapOrigin,
 };
+pub use contact::{ContactEnded, ContactEvents, ContactStarted, ManifoldContacts, Overlap, Touching, detect_contacts};
 pub use membership::{InSpace, SpaceMembers};
 pub use raycast::{ManifoldRayCast, RayCastSettings, RayHit};
 pub use systems::{MAX_CROSSINGS_PER_STEP, integrate_velocities, sync_transforms, wrap_placements};
@@ -56,6 +59,9 @@ pub enum ManifoldSystems {
     /// crossed; update [`DomainCell`] and parity; re-orthonormalise; send
     /// [`FaceCrossed`].
     Wrap,
+    /// Find the contacts of colliders with [`ContactEvents`]; send
+    /// [`ContactStarted`] and [`ContactEnded`].
+    Contacts,
     /// Write chart positions into `Transform` (before Bevy propagates
     /// transforms).
     Sync,
@@ -89,8 +95,13 @@ impl PlacementPlugin {
 impl Plugin for PlacementPlugin {
     fn build(&self, app: &mut App) {
         membership::observe(app);
+        app.add_observer(from_transform::place_from_transform);
         app.add_message::<FaceCrossed>()
             .add_message::<WallHit>()
+            .add_message::<ContactStarted>()
+            .add_message::<ContactEnded>()
+            .init_resource::<Touching>()
+            .register_type::<ContactEvents>()
             .register_type::<Placement>()
             .register_type::<DomainCell>()
             .register_type::<GeodesicVelocity>()
@@ -98,7 +109,12 @@ impl Plugin for PlacementPlugin {
             .register_type::<TrackedPose>()
             .configure_sets(
                 self.schedule,
-                (ManifoldSystems::Integrate, ManifoldSystems::Wrap, ManifoldSystems::Sync)
+                (
+                    ManifoldSystems::Integrate,
+                    ManifoldSystems::Wrap,
+                    ManifoldSystems::Contacts,
+                    ManifoldSystems::Sync,
+                )
                     .chain()
                     .before(TransformSystems::Propagate),
             )
@@ -107,6 +123,7 @@ impl Plugin for PlacementPlugin {
                 (
                     integrate_velocities.in_set(ManifoldSystems::Integrate),
                     wrap_placements.in_set(ManifoldSystems::Wrap),
+                    detect_contacts.in_set(ManifoldSystems::Contacts),
                     sync_transforms.in_set(ManifoldSystems::Sync),
                 ),
             );

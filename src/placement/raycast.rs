@@ -88,7 +88,52 @@ impl ManifoldRayCast<'_, '_> {
             return Vec::new();
         };
         let cell = cell.cloned().unwrap_or_default();
-        self.cast_in(ms, placement, &cell, direction, settings)
+        self.cast_in(ms, placement, &cell, direction, 0.0, settings)
+    }
+
+    /// A shape cast: `shape` swept from the entity `from` along the
+    /// geodesic in the direction `direction` of its frame, against the
+    /// colliders of its space, through the faces. A ball of radius `r`
+    /// first touches a ball of radius `R` when its centre comes within
+    /// `r + R` of the other's, in any geometry, so this is the ray cast
+    /// against every collider grown by `r`: each hit's `distance` is how
+    /// far the shape travelled before touching and its `point` where the
+    /// shape's centre then is. Every hit, nearest first.
+    ///
+    /// ```
+    /// use bevy::prelude::*;
+    /// use bevy_manifold::prelude::*;
+    /// fn dash(cast: ManifoldRayCast, players: Query<Entity, With<GeodesicVelocity>>) {
+    ///     for player in &players {
+    ///         let settings = RayCastSettings { max_distance: 2.0, exclude: Some(player), ..default() };
+    ///         let shape = ManifoldCollider::Ball { radius: 0.1 };
+    ///         if let Some(hit) = cast.shape_cast(player, shape, glam::DVec3::NEG_Z, &settings).first() {
+    ///             info!("blocked by {} after {:.2}", hit.entity, hit.distance);
+    ///         }
+    ///     }
+    /// }
+    /// # bevy::ecs::system::assert_is_system(dash);
+    /// ```
+    #[must_use]
+    pub fn shape_cast(
+        &self,
+        from: Entity,
+        shape: ManifoldCollider,
+        direction: DVec3,
+        settings: &RayCastSettings,
+    ) -> Vec<RayHit> {
+        let Ok((placement, cell)) = self.placed.get(from) else {
+            return Vec::new();
+        };
+        let Some(ms) = space_of(from, &self.members, &self.spaces) else {
+            return Vec::new();
+        };
+        let ManifoldCollider::Ball { radius } = shape;
+        if !(radius.is_finite() && radius >= 0.0) {
+            return Vec::new();
+        }
+        let cell = cell.cloned().unwrap_or_default();
+        self.cast_in(ms, placement, &cell, direction, radius, settings)
     }
 
     /// The wall of the space's rule ([`ManifoldSpace::with_rule`]) that
@@ -100,7 +145,7 @@ impl ManifoldRayCast<'_, '_> {
         let (placement, cell) = self.placed.get(from).ok()?;
         let ms = space_of(from, &self.members, &self.spaces)?;
         let cell = cell.cloned().unwrap_or_default();
-        self.cast_raw(ms, placement, &cell, direction, settings).1
+        self.cast_raw(ms, placement, &cell, direction, 0.0, settings).1
     }
 
     fn cast_raw(
@@ -109,6 +154,7 @@ impl ManifoldRayCast<'_, '_> {
         placement: &Placement,
         cell: &DomainCell,
         direction: DVec3,
+        grow: f64,
         settings: &RayCastSettings,
     ) -> (Vec<CastHit<Entity>>, Option<CastWall>) {
         let space = ms.space();
@@ -129,7 +175,7 @@ impl ManifoldRayCast<'_, '_> {
                 ManifoldCollider::Ball { radius } => CastBall {
                     key: e,
                     center: p.isometry.w_axis,
-                    radius,
+                    radius: radius + grow,
                 },
             })
             .collect();
@@ -151,10 +197,11 @@ impl ManifoldRayCast<'_, '_> {
         placement: &Placement,
         cell: &DomainCell,
         direction: DVec3,
+        grow: f64,
         settings: &RayCastSettings,
     ) -> Vec<RayHit> {
         let space = ms.space();
-        let (hits, _) = self.cast_raw(ms, placement, cell, direction, settings);
+        let (hits, _) = self.cast_raw(ms, placement, cell, direction, grow, settings);
         hits.into_iter()
             .map(|h| {
                 // The hit's cell seen from the caster's: exact where the

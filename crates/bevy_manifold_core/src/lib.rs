@@ -33,6 +33,7 @@
 //! assert!(image.pixels.iter().any(|p| p.object == 1));
 //! ```
 
+pub mod contact;
 pub mod geometry;
 pub mod material;
 pub mod mesh;

@@ -1,0 +1,166 @@
+//! Contacts through the face pairings against what the geometry says
+//! independently: the torus's nearest images in closed form (each
+//! coordinate of the difference reduced to `[-1/2, 1/2]`), and in the
+//! Seifert-Weber and Poincaré spaces against the group enumerated here
+//! from the face pairings (every word up to a length, or the whole finite
+//! group).
+
+use bevy_manifold_core::contact::{self, Image};
+use bevy_manifold_core::prelude::*;
+use bevy_manifold_test_support::Rng;
+use glam::{DMat4, DVec4};
+
+/// The group elements reached by words of at most `length` face
+/// pairings, one per distinct matrix.
+fn words(space: &Space, length: usize) -> Vec<DMat4> {
+    let mut all = vec![DMat4::IDENTITY];
+    let mut last = vec![DMat4::IDENTITY];
+    for _ in 0..length {
+        let mut next = Vec::new();
+        for m in &last {
+            for f in space.faces() {
+                let w = *m * f.pairing;
+                if !all.iter().chain(&next).any(|o: &DMat4| o.abs_diff_eq(w, 1e-6)) {
+                    next.push(w);
+                }
+            }
+        }
+        all.extend(&next);
+        last = next;
+    }
+    all
+}
+
+fn torus_nearest(p: DVec4, q: DVec4) -> f64 {
+    let d = (q - p).truncate();
+    (d - d.round()).length()
+}
+
+#[test]
+fn the_nearest_image_is_the_shortest_route_through_the_faces() {
+    let mut rng = Rng(5);
+    let torus = catalog::torus(1.0);
+    for _ in 0..200 {
+        let p = rng.ray_inside(&torus).origin;
+        let q = rng.ray_inside(&torus).origin;
+        let near = contact::nearest_image(&torus, p, q).expect("finite");
+        let want = torus_nearest(p, q);
+        assert!(
+            (near.distance - want).abs() < 1e-9,
+            "{p:?} {q:?}: {} against {want}",
+            near.distance
+        );
+        // The direction points at the image, the element makes it.
+        let image = near.element * q;
+        assert!((p + near.direction * near.distance - image).length() < 1e-9);
+    }
+    // Seifert-Weber: never longer than the best word of three pairings.
+    let sw = catalog::seifert_weber();
+    let g = sw.geometry();
+    let group = words(&sw, 3);
+    for _ in 0..30 {
+        let p = rng.ray_inside(&sw).origin;
+        let q = rng.ray_inside(&sw).origin;
+        let near = contact::nearest_image(&sw, p, q).expect("finite");
+        let best = group
+            .iter()
+            .map(|w| g.distance::<f64>(p, g.normalize_point::<f64>(*w * q)))
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            near.distance <= best + 1e-9,
+            "{} is longer than a route of {best}",
+            near.distance
+        );
+    }
+}
+
+/// In the Poincaré space (a group of 120) the images within a distance
+/// are exactly those of the whole group, enumerated from the pairings.
+#[test]
+fn the_images_within_a_distance_are_all_the_groups() {
+    let poincare = catalog::poincare();
+    let g = poincare.geometry();
+    let group = words(&poincare, 12);
+    assert_eq!(group.len(), 120, "the binary icosahedral group");
+    let mut rng = Rng(11);
+    for reach in [0.3, 0.8, 1.6] {
+        for _ in 0..10 {
+            let p = rng.ray_inside(&poincare).origin;
+            let q = rng.ray_inside(&poincare).origin;
+            let mut want: Vec<f64> = group
+                .iter()
+                .map(|w| g.distance::<f64>(p, g.normalize_point::<f64>(*w * q)))
+                .filter(|d| *d <= reach)
+                .collect();
+            want.sort_by(f64::total_cmp);
+            let got: Vec<f64> = contact::images_within(&poincare, p, q, reach)
+                .iter()
+                .map(|i: &Image| i.distance)
+                .collect();
+            assert_eq!(got.len(), want.len(), "reach {reach}: {got:?} against {want:?}");
+            for (a, b) in got.iter().zip(&want) {
+                assert!((a - b).abs() < 1e-9, "reach {reach}: {a} against {b}");
+            }
+        }
+    }
+}
+
+/// Two balls near opposite faces of the torus touch through the face, one
+/// contact, its depth the radii less the closed-form distance, its point
+/// on the face; a ball wider than half the cube touches its own images
+/// (six of them, one through each face); in H3 the contact point is at
+/// the distance the depth puts it.
+#[test]
+fn balls_touch_through_the_faces_as_deep_as_the_geometry_says() {
+    let torus = catalog::torus(1.0);
+    let a = DVec4::new(-0.45, 0.1, 0.0, 1.0);
+    let b = DVec4::new(0.42, 0.1, 0.0, 1.0);
+    // 0.13 apart through x = 1/2 (0.87 across the cube).
+    let touches = contact::ball_contacts(&torus, (a, 0.1), (b, 0.05));
+    assert_eq!(touches.len(), 1);
+    let c = touches[0];
+    assert!((c.image.distance - 0.13).abs() < 1e-12, "{}", c.image.distance);
+    assert!((c.depth - 0.02).abs() < 1e-12, "{}", c.depth);
+    assert!((c.image.point - DVec4::new(-0.58, 0.1, 0.0, 1.0)).length() < 1e-12);
+    // Midway through the overlap: 0.1 - 0.01 from a, through x = -1/2.
+    assert!(
+        (c.point - DVec4::new(-0.54, 0.1, 0.0, 1.0)).length() < 1e-12,
+        "{:?}",
+        c.point
+    );
+    // Radii 0.05 + 0.05 do not reach across 0.13.
+    assert!(contact::ball_contacts(&torus, (a, 0.05), (b, 0.05)).is_empty());
+    // A ball of radius 0.55 about the centre overlaps its six neighbours.
+    let o = DVec4::W;
+    let own = contact::ball_contacts(&torus, (o, 0.55), (o, 0.55));
+    // Itself (distance 0) and the six copies one edge away (distance 1).
+    assert_eq!(own.len(), 7);
+    assert!(
+        own[1..]
+            .iter()
+            .all(|c| (c.image.distance - 1.0).abs() < 1e-12 && (c.depth - 0.1).abs() < 1e-12)
+    );
+    // Seifert-Weber: centre and a point 0.5 up the z axis, radii 0.3 and
+    // 0.4: depth 0.2, the contact 0.2 from the centre (cosh of it the
+    // point's w).
+    let sw = catalog::seifert_weber();
+    let g = sw.geometry();
+    let up = g.normalize_point::<f64>(DVec4::new(0.0, 0.0, 0.5f64.tanh(), 1.0));
+    let hit = contact::ball_contacts(&sw, (DVec4::W, 0.3), (up, 0.4));
+    let c = hit.first().expect("they overlap");
+    assert!((c.depth - 0.2).abs() < 1e-9);
+    assert!(
+        (c.point - DVec4::new(0.0, 0.0, 0.2f64.sinh(), 0.2f64.cosh())).length() < 1e-9,
+        "{:?}",
+        c.point
+    );
+}
+
+/// Bad input gives nothing, never a panic.
+#[test]
+fn non_finite_points_and_negative_reaches_give_no_images() {
+    let torus = catalog::torus(1.0);
+    assert!(contact::nearest_image(&torus, DVec4::NAN, DVec4::W).is_none());
+    assert!(contact::images_within(&torus, DVec4::W, DVec4::W, -1.0).is_empty());
+    assert!(contact::images_within(&torus, DVec4::W, DVec4::W, f64::NAN).is_empty());
+}
