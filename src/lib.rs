@@ -75,6 +75,8 @@
 
 #[cfg(feature = "asset")]
 pub mod assets;
+#[cfg(feature = "audio")]
+pub mod audio;
 pub mod camera;
 pub mod drawables;
 pub mod placement;

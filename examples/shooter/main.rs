@@ -33,6 +33,8 @@ mod bot;
 mod combat;
 mod game;
 mod input;
+#[cfg(feature = "audio")]
+mod sound;
 mod view;
 #[cfg(feature = "xr")]
 mod xr;
@@ -156,6 +158,10 @@ fn run() -> Result<AppExit, String> {
         }),
     ))
     .insert_resource(InputSource { script, ..default() });
+    // Sound, heard through the faces (Bevy's audio is in the window's
+    // DefaultPlugins).
+    #[cfg(feature = "audio")]
+    app.add_plugins(sound::SoundPlugin);
     if bot {
         with_bot(&mut app);
     }

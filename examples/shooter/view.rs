@@ -204,13 +204,16 @@ fn spawn_hud(mut commands: Commands, mut gizmos: ResMut<GizmoConfigStore>) {
     ));
 }
 
-/// The keyboard and mouse, as the game's live input.
+/// The keyboard and mouse (and with the `gamepad` feature every gamepad:
+/// sticks, triggers and bumpers fly and turn as the fly camera's, the
+/// south or west button fires), as the game's live input.
 fn read_devices(
     keys: Res<ButtonInput<KeyCode>>,
     buttons: Res<ButtonInput<MouseButton>>,
     mouse: Res<AccumulatedMouseMotion>,
     time: Res<Time>,
     game: Option<Res<Game>>,
+    #[cfg(feature = "gamepad")] gamepads: Query<&Gamepad>,
     mut source: ResMut<InputSource>,
 ) {
     let axis = |pos: KeyCode, neg: KeyCode| f64::from(i8::from(keys.pressed(pos)) - i8::from(keys.pressed(neg)));
@@ -233,10 +236,21 @@ fn read_devices(
         let per = 0.003 / (dt * game.rules.turn_rate);
         turn += DVec3::new(-f64::from(mouse.delta.y), -f64::from(mouse.delta.x), 0.0) * per;
     }
-    source.live.thrust = thrust;
-    source.live.turn = turn.clamp(DVec3::splat(-1.0), DVec3::splat(1.0));
-    source.live.fire =
+    #[cfg_attr(not(feature = "gamepad"), expect(unused_mut, reason = "only a gamepad adds to it"))]
+    let mut thrust = thrust;
+    #[cfg_attr(not(feature = "gamepad"), expect(unused_mut, reason = "only a gamepad adds to it"))]
+    let mut fire =
         buttons.pressed(MouseButton::Left) || keys.pressed(KeyCode::KeyF) || keys.pressed(KeyCode::ControlLeft);
+    #[cfg(feature = "gamepad")]
+    for pad in &gamepads {
+        let (linear, angular) = bevy_manifold::camera::gamepad_motion(pad);
+        thrust += linear;
+        turn += angular;
+        fire |= pad.pressed(GamepadButton::South) || pad.pressed(GamepadButton::West);
+    }
+    source.live.thrust = thrust.clamp(DVec3::splat(-1.0), DVec3::splat(1.0));
+    source.live.turn = turn.clamp(DVec3::splat(-1.0), DVec3::splat(1.0));
+    source.live.fire = fire;
 }
 
 /// The menu: choose the space and the difficulty, then play.

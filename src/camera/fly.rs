@@ -13,6 +13,11 @@
 //! | Space / Left Shift | up / down |
 //! | Q / E | roll |
 //! | arrows, mouse | yaw and pitch (the mouse only while [`FlyCamera::mouse_button`] is held, when set) |
+//!
+//! With the `gamepad` feature every connected gamepad flies it too: the
+//! left stick moves (forward, back and sideways, as far as it is pushed),
+//! the right stick turns, the triggers go up (right) and down (left), the
+//! bumpers roll.
 
 use crate::placement::{GeodesicVelocity, ManifoldSystems};
 use bevy::input::mouse::AccumulatedMouseMotion;
@@ -92,23 +97,35 @@ pub fn fly_camera_input(
     keys: Option<Res<ButtonInput<KeyCode>>>,
     mouse: Option<Res<AccumulatedMouseMotion>>,
     buttons: Option<Res<ButtonInput<MouseButton>>>,
+    #[cfg(feature = "gamepad")] gamepads: Query<&Gamepad>,
     mut cameras: Query<(&FlyCamera, &mut GeodesicVelocity)>,
 ) {
     let held = |k: KeyCode| keys.as_ref().is_some_and(|keys| keys.pressed(k));
     let axis = |pos: KeyCode, neg: KeyCode| f64::from(u8::from(held(pos))) - f64::from(u8::from(held(neg)));
     let dt = time.delta_secs_f64();
+    #[cfg(feature = "gamepad")]
+    let (pad_linear, pad_angular) = gamepads.iter().fold((DVec3::ZERO, DVec3::ZERO), |(l, a), pad| {
+        let (ml, ma) = gamepad_motion(pad);
+        (l + ml, a + ma)
+    });
+    #[cfg(not(feature = "gamepad"))]
+    let (pad_linear, pad_angular) = (DVec3::ZERO, DVec3::ZERO);
     for (fly, mut velocity) in &mut cameras {
         let linear = DVec3::new(
             axis(KeyCode::KeyD, KeyCode::KeyA),
             axis(KeyCode::Space, KeyCode::ShiftLeft),
             axis(KeyCode::KeyS, KeyCode::KeyW),
-        );
-        let angular = DVec3::new(
+        ) + pad_linear;
+        let angular = (DVec3::new(
             axis(KeyCode::ArrowUp, KeyCode::ArrowDown),
             axis(KeyCode::ArrowLeft, KeyCode::ArrowRight),
             axis(KeyCode::KeyQ, KeyCode::KeyE),
-        ) * fly.turn_rate;
-        velocity.linear = linear.normalize_or_zero() * fly.speed;
+        ) + pad_angular)
+            .clamp(DVec3::splat(-1.0), DVec3::splat(1.0))
+            * fly.turn_rate;
+        // Keys give full speed in any direction; a stick pushed part way,
+        // part of it.
+        velocity.linear = linear.clamp_length_max(1.0) * fly.speed;
         velocity.angular = angular
             + mouse_turn(
                 mouse.as_deref(),
@@ -118,6 +135,25 @@ pub fn fly_camera_input(
                 dt,
             );
     }
+}
+
+/// A gamepad's motion in the fly camera's terms, each component in
+/// `[-1, 1]`: the linear velocity (left stick; triggers up and down) and
+/// the turn (right stick pitch and yaw; bumpers roll).
+#[cfg(feature = "gamepad")]
+#[must_use]
+pub fn gamepad_motion(pad: &Gamepad) -> (DVec3, DVec3) {
+    let v = |input: GamepadAxis| f64::from(pad.get(input).unwrap_or(0.0));
+    let b = |button: GamepadButton| f64::from(pad.get(button).unwrap_or(0.0));
+    let linear = DVec3::new(
+        v(GamepadAxis::LeftStickX),
+        b(GamepadButton::RightTrigger2) - b(GamepadButton::LeftTrigger2),
+        -v(GamepadAxis::LeftStickY),
+    );
+    let roll = f64::from(u8::from(pad.pressed(GamepadButton::LeftTrigger)))
+        - f64::from(u8::from(pad.pressed(GamepadButton::RightTrigger)));
+    let angular = DVec3::new(v(GamepadAxis::RightStickY), -v(GamepadAxis::RightStickX), roll);
+    (linear, angular)
 }
 
 /// Rides an entity (usually the manifold camera, with the paper's vehicle

@@ -27,6 +27,8 @@ mod view;
 
 #[cfg(feature = "render")]
 pub use accumulate::{AccumulationProgress, ManifoldAccumulation};
+#[cfg(feature = "gamepad")]
+pub use fly::gamepad_motion;
 #[cfg(feature = "fly_camera")]
 pub use fly::{FlyCamera, FlyCameraPlugin, Vehicle, fly_camera_input, vehicle_input};
 #[cfg(feature = "render")]
