@@ -50,13 +50,11 @@ pub fn autopilot(
     let mut best: Option<(DVec3, f64, f64, bool)> = None;
     for (entity, p, enemy) in &aims {
         let weight = if enemy { 0.6 } else { 1.0 };
-        // Every image within the domain's diameter (the nearest is one).
-        let images = contact::images_within(space, me.position(), p.position(), 2.0 * space.circumradius());
-        for (dir, d) in images
+        // The nearest few images, nearest first.
+        for (dir, d) in contact::nearest_images(space, me.position(), p.position(), 8)
             .into_iter()
             .filter(|i| i.distance > 0.0)
             .map(|i| (i.direction, i.distance))
-            .take(8)
         {
             if best.is_some_and(|b| b.2 <= d * weight) {
                 break;

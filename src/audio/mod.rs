@@ -184,13 +184,9 @@ pub fn heard_images(
 ) -> Vec<Heard> {
     let g = space.geometry();
     let count = count.clamp(1, MAX_SOUND_IMAGES);
-    // The nearest image is within the domain's diameter; a few more images
-    // are within a diameter or two more.
-    let reach = 2.0 * space.circumradius() * count.min(3) as f64;
     let back = isometry::inverse(g, listener.isometry);
-    contact::images_within(space, listener.position(), source, reach)
+    contact::nearest_images(space, listener.position(), source, count)
         .into_iter()
-        .take(count)
         .map(|image| {
             let local = (back * image.direction).truncate();
             Heard {

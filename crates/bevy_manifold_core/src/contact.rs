@@ -6,10 +6,11 @@
 //! face. Two points of the domain are as near as their nearest images,
 //! `min_h d(p, h q)` over the group, and the route between them (the
 //! geodesic to that image) crosses the faces on the way. The images within
-//! a distance `r` of a point of the domain are among those whose ball of
-//! radius `r` reaches into the domain, which [`ghost_elements`] walks (the
-//! tracer's ghost copies), so nothing here enumerates more of the group
-//! than the distance asks for.
+//! a distance `r` of a point of the domain lie in the copies of the domain
+//! that the ball of radius `r` around it meets; the walk behind
+//! [`images_within`] and [`nearest_images`] goes through copies nearest
+//! first and stops where the distance asked for ends, so nothing here
+//! enumerates more of the group than that distance needs.
 //!
 //! ```
 //! use bevy_manifold_core::contact;
@@ -28,9 +29,12 @@
 //! assert!((touch[0].depth - 0.1).abs() < 1e-12);
 //! ```
 
+use crate::geometry::{isometry, plane};
 use crate::space::Space;
-use crate::trace::ghost_elements;
+use crate::space::cells::CellId;
+use core::cmp::Reverse;
 use glam::{DMat4, DVec4};
+use std::collections::{BinaryHeap, HashSet};
 
 /// One image `h q` of a point `q`, seen from a point `p`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -60,31 +64,97 @@ pub struct Contact {
     pub point: DVec4,
 }
 
+/// Most copies of the domain one query walks (a reach far larger than the
+/// domain, in H3, meets exponentially many): past it the list holds what
+/// the walk reached, nearest copies first.
+pub const MAX_CELLS_WALKED: usize = 4096;
+
 /// Every image of `target` within `reach` of `from`, nearest first. Both
 /// points are in the domain (as placements are, once wrapped); the list
-/// is complete within `reach`.
+/// is complete within `reach` (up to [`MAX_CELLS_WALKED`] copies).
 #[must_use]
 pub fn images_within(space: &Space, from: DVec4, target: DVec4, reach: f64) -> Vec<Image> {
+    if reach.is_nan() || reach < 0.0 {
+        return Vec::new();
+    }
+    let mut images = walk(space, from, target, reach, usize::MAX);
+    images.retain(|i| i.distance <= reach);
+    images
+}
+
+/// The `count` images of `target` nearest to `from` (both in the domain),
+/// nearest first: fewer only in a finite group with fewer elements, or
+/// past [`MAX_CELLS_WALKED`].
+#[must_use]
+pub fn nearest_images(space: &Space, from: DVec4, target: DVec4, count: usize) -> Vec<Image> {
+    let mut images = walk(space, from, target, f64::INFINITY, count);
+    images.truncate(count);
+    images
+}
+
+/// The walk behind both: through the copies `h D` of the domain, nearest
+/// first by a lower bound of their distance from `from` (the largest
+/// distance of `h^-1 from` outside one of the domain's faces), from face
+/// to face, until the next copy's bound passes `reach` or the `count`-th
+/// image found so far. A geodesic from `from` to an image crosses only
+/// copies whose bound is at most that image's distance (an open path can
+/// avoid the edges), so every image within the stopping bound is found.
+fn walk(space: &Space, from: DVec4, target: DVec4, reach: f64, count: usize) -> Vec<Image> {
     let g = space.geometry();
-    if reach.is_nan() || reach < 0.0 || !from.is_finite() || !target.is_finite() {
+    if count == 0 || !from.is_finite() || !target.is_finite() {
         return Vec::new();
     }
     let from = g.normalize_point::<f64>(from);
     let target = g.normalize_point::<f64>(target);
-    let mut images: Vec<Image> = ghost_elements(space, target, reach)
-        .into_iter()
-        .filter_map(|h| {
-            let point = g.normalize_point::<f64>(h * target);
-            let distance = g.distance::<f64>(from, point);
-            (distance <= reach).then(|| Image {
+    let bound = |h: &DMat4| {
+        let seen_from = g.normalize_point::<f64>(isometry::inverse(g, *h) * from);
+        space
+            .faces()
+            .iter()
+            .map(|face| plane::signed_distance(g, face.plane, seen_from))
+            .fold(0.0f64, f64::max)
+    };
+    let mut seen: HashSet<CellId> = HashSet::from([space.cell_id(&DMat4::IDENTITY)]);
+    // Min-heap on the bound (non-negative, so its bits order as it does).
+    let mut heap = BinaryHeap::from([(Reverse(0u64), 0usize)]);
+    let mut elements = vec![DMat4::IDENTITY];
+    let mut images: Vec<Image> = Vec::new();
+    while let Some((Reverse(bits), index)) = heap.pop() {
+        let lower = f64::from_bits(bits);
+        let kth = if images.len() >= count {
+            images[count - 1].distance
+        } else {
+            f64::INFINITY
+        };
+        if lower > reach + 1e-9 || lower > kth + 1e-9 {
+            break;
+        }
+        let h = elements[index];
+        let point = g.normalize_point::<f64>(h * target);
+        let distance = g.distance::<f64>(from, point);
+        let at = images.partition_point(|i| i.distance <= distance);
+        images.insert(
+            at,
+            Image {
                 element: h,
                 point,
                 direction: g.log::<f64>(from, point).map_or(DVec4::ZERO, |(d, _)| d),
                 distance,
-            })
-        })
-        .collect();
-    images.sort_by(|a, b| a.distance.total_cmp(&b.distance));
+            },
+        );
+        for f in space.faces() {
+            // The copy across face `f` of `h D` is `h T_f D`.
+            let next = isometry::orthonormalize(g, h * f.pairing);
+            if seen.len() >= MAX_CELLS_WALKED || !seen.insert(space.cell_id(&next)) {
+                continue;
+            }
+            let b = bound(&next);
+            if b <= reach + 1e-9 {
+                heap.push((Reverse(b.max(0.0).to_bits()), elements.len()));
+                elements.push(next);
+            }
+        }
+    }
     images
 }
 
@@ -93,11 +163,7 @@ pub fn images_within(space: &Space, from: DVec4, target: DVec4, reach: f64) -> V
 /// that are not finite.
 #[must_use]
 pub fn nearest_image(space: &Space, from: DVec4, target: DVec4) -> Option<Image> {
-    // Every point of the domain is within its diameter of every other,
-    // so the nearest image is within twice the circumradius.
-    images_within(space, from, target, 2.0 * space.circumradius() + 1e-9)
-        .into_iter()
-        .next()
+    nearest_images(space, from, target, 1).into_iter().next()
 }
 
 /// The contacts of the ball `(a, ra)` with the images of the ball

@@ -105,6 +105,51 @@ fn the_images_within_a_distance_are_all_the_groups() {
     }
 }
 
+/// The `k` nearest images, against the whole Poincaré group and, in the
+/// torus, against the lattice's nearest points in closed form (the 27
+/// offsets of the difference's rounding, sorted).
+#[test]
+fn the_nearest_few_images_are_the_groups_nearest() {
+    let poincare = catalog::poincare();
+    let g = poincare.geometry();
+    let group = words(&poincare, 12);
+    let mut rng = Rng(21);
+    for _ in 0..10 {
+        let p = rng.ray_inside(&poincare).origin;
+        let q = rng.ray_inside(&poincare).origin;
+        let mut want: Vec<f64> = group
+            .iter()
+            .map(|w| g.distance::<f64>(p, g.normalize_point::<f64>(*w * q)))
+            .collect();
+        want.sort_by(f64::total_cmp);
+        let got = contact::nearest_images(&poincare, p, q, 7);
+        assert_eq!(got.len(), 7);
+        for (a, b) in got.iter().zip(&want) {
+            assert!((a.distance - b).abs() < 1e-9, "{} against {b}", a.distance);
+        }
+        // All of a finite group, when asked for more than it has.
+        assert_eq!(contact::nearest_images(&poincare, p, q, 500).len(), 120);
+    }
+    let torus = catalog::torus(1.0);
+    for _ in 0..50 {
+        let p = rng.ray_inside(&torus).origin;
+        let q = rng.ray_inside(&torus).origin;
+        let d = (q - p).truncate();
+        let base = d - d.round();
+        let mut want: Vec<f64> = (-1..=1)
+            .flat_map(|x| {
+                (-1..=1).flat_map(move |y| (-1..=1).map(move |z| glam::DVec3::new(x as f64, y as f64, z as f64)))
+            })
+            .map(|o| (base + o).length())
+            .collect();
+        want.sort_by(f64::total_cmp);
+        let got = contact::nearest_images(&torus, p, q, 4);
+        for (a, b) in got.iter().zip(&want) {
+            assert!((a.distance - b).abs() < 1e-9, "{} against {b}", a.distance);
+        }
+    }
+}
+
 /// Two balls near opposite faces of the torus touch through the face, one
 /// contact, its depth the radii less the closed-form distance, its point
 /// on the face; a ball wider than half the cube touches its own images
