@@ -14,6 +14,8 @@ out=docs/images
 "$bin/mirrored_cube" --screenshot "$out/mirrored_cube.png"
 "$bin/mirrored_dodecahedron" --screenshot "$out/mirrored_dodecahedron.png"
 "$bin/mirrored_dodecahedron" --no-edges --screenshot "$out/mirrored_dodecahedron_no_edges.png"
+# A Bevy scene placed by its transforms (manual, "The examples").
+"$bin/bevy_scene" --screenshot "$out/bevy_scene.png"
 # The lighting seam of the README's "Known limits of the picture" (CPU f64).
 cargo build --release -p bevy_manifold_app
 "${CARGO_TARGET_DIR:-target}/release/bevy_manifold" render --space torus --scene "$out/lighting_seam.scene.json" \
