@@ -127,20 +127,18 @@ fn in_the_torus_a_shot_comes_back_after_one_period_and_hits_its_shooter() {
         .find(|(_, e)| matches!(e, GameEvent::PlayerHit { .. }))
         .cloned()
         .expect("the shot came back");
-    // One period (1) less the player's radius, from its centre.
+    // One period (1) less the player's and the shot's radii (the shot is
+    // a ball), from its centre.
     let GameEvent::PlayerHit { own, distance } = hit else {
         unreachable!()
     };
     assert!(own);
-    assert!(
-        (distance - (1.0 - rules.player_radius)).abs() < 1e-9,
-        "hit after {distance}"
-    );
-    // At the shot's speed, in the tick that covers that distance, after
-    // the grace period.
-    let expected_tick = ((1.0 - rules.player_radius - rules.player_radius - 2.0 * rules.shot_radius)
-        / (rules.shot_speed * TICK))
-        .floor() as u64;
+    let reach = 1.0 - rules.player_radius - rules.shot_radius;
+    assert!((distance - reach).abs() < 1e-9, "hit after {distance}");
+    // At the shot's speed, in the tick that covers that distance from
+    // where the shot appears, after the grace period.
+    let expected_tick =
+        ((reach - rules.player_radius - 2.0 * rules.shot_radius) / (rules.shot_speed * TICK)).floor() as u64;
     assert!(
         tick.abs_diff(expected_tick) <= 1,
         "tick {tick}, expected {expected_tick}"
@@ -156,7 +154,8 @@ fn a_target_seen_through_a_face_is_hit_at_the_distance_through_the_face() {
     // 0.2 + 0.2 away through the face x = -1/2 (0.6 the other way).
     place_player(&mut app, DVec3::new(-0.3, 0.0, 0.0), DVec3::NEG_X, None);
     let target = spawn_target_at(&mut app, DVec3::new(0.3, 0.0, 0.0));
-    let r = game(&app).rules.target_radius;
+    // The target's radius and the shot's: the shot is a ball.
+    let r = game(&app).rules.target_radius + game(&app).rules.shot_radius;
     play_until(&mut app, 120, |g| g.hits > 0);
     let hit = events(&app)
         .into_iter()
@@ -209,7 +208,7 @@ fn a_shot_at_100_per_second_at_10_ticks_per_second_never_tunnels() {
         spawn_target_at(&mut app, target);
         let rules = game(&app).rules;
         let ahead = rules.player_radius + 2.0 * rules.shot_radius;
-        let want = first_torus_hit(p, dir, target, rules.target_radius, ahead);
+        let want = first_torus_hit(p, dir, target, rules.target_radius + rules.shot_radius, ahead);
         play_until(&mut app, 4, |g| g.hits > 0);
         let distance = events(&app).into_iter().find_map(|e| match e {
             GameEvent::TargetHit { distance, .. } => Some(distance),
@@ -270,7 +269,7 @@ fn an_image_in_an_off_cell_is_passed_through_and_one_in_an_on_cell_is_hit() {
             Some(copy_along_x(&space, k)),
         );
         spawn_target_at(&mut app, DVec3::new(0.3, 0.0, 0.0));
-        let r = game(&app).rules.target_radius;
+        let r = game(&app).rules.target_radius + game(&app).rules.shot_radius;
         play_until(&mut app, 200, |g| g.hits > 0);
         let (distance, cell) = events(&app)
             .into_iter()
@@ -349,7 +348,8 @@ fn in_seifert_weber_a_shot_along_a_face_axis_returns_turned_by_three_fifths_of_p
         _ => None,
     });
     let d = hit.expect("hit by its own shot");
-    assert!((d - (two_r - rules.player_radius)).abs() < 1e-9, "hit after {d}");
+    let reach = two_r - rules.player_radius - rules.shot_radius;
+    assert!((d - reach).abs() < 1e-9, "hit after {d}");
 }
 
 /// The nearest image in the torus, in closed form: each coordinate of the

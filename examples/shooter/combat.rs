@@ -2,8 +2,8 @@
 //! plugin's nearest image, [`contact::nearest_image`]), which the enemies
 //! fly and aim along ([`enemies_fly_and_fire`]), contacts through the faces
 //! ([`ManifoldContacts`]: an enemy touching any image of the player rams
-//! it, [`enemies_ram`]), and every shot's step swept as a geodesic ray
-//! cast against every image of every target ([`sweep_shots`]).
+//! it, [`enemies_ram`]), and every shot's step swept as a ball along the
+//! geodesic against every image of every target ([`sweep_shots`]).
 
 use crate::game::{Enemy, Game, GameEvent, Player, Shot, TICK_HZ, Target, random_placement, spawn_shot, spawn_target};
 use bevy::prelude::*;
@@ -69,8 +69,9 @@ pub fn enemies_fly_and_fire(
     }
 }
 
-/// Each shot's step this tick, cast as a geodesic ray before it moves:
-/// the first thing it can hit along the whole step is hit, at any speed,
+/// Each shot's step this tick, swept as a ball along the geodesic before
+/// it moves ([`ManifoldRayCast::shape_cast`]): the first thing its surface
+/// touches along the whole step is hit, at any speed,
 /// through the faces, against every image (those in "off" cells are
 /// passed through, as the tracer passes them). Shots past their life go.
 #[expect(
@@ -113,15 +114,23 @@ pub fn sweep_shots(
             max_distance: reach,
             ..settings
         };
-        let hit = cast.cast(from, DVec3::NEG_Z, &settings).into_iter().find(|h| {
-            let (target, enemy, player) = kinds.get(h.entity).unwrap_or_default();
-            !dead.contains(&h.entity)
-                && if shot.by_player {
-                    target || enemy || player
-                } else {
-                    player
-                }
-        });
+        // The shot is a ball: swept along its step, it hits what its
+        // surface first touches.
+        let shot_ball = ManifoldCollider::Ball {
+            radius: rules.shot_radius,
+        };
+        let hit = cast
+            .shape_cast(from, shot_ball, DVec3::NEG_Z, &settings)
+            .into_iter()
+            .find(|h| {
+                let (target, enemy, player) = kinds.get(h.entity).unwrap_or_default();
+                !dead.contains(&h.entity)
+                    && if shot.by_player {
+                        target || enemy || player
+                    } else {
+                        player
+                    }
+            });
         shot.age += dt;
         if let Some(h) = hit {
             let distance = before + h.distance;

@@ -8,8 +8,8 @@
 //! The parts a game developer would copy:
 //! - shots are entities with a [`GeodesicVelocity`]; the placement plugin
 //!   moves them along geodesics and wraps them through the faces exactly;
-//! - [`crate::combat::sweep_shots`] casts each shot's whole step as a geodesic ray
-//!   ([`ManifoldRayCast`]) before it moves, so no speed tunnels and every
+//! - [`crate::combat::sweep_shots`] sweeps each shot's ball along its whole step
+//!   ([`ManifoldRayCast::shape_cast`]) before it moves, so no speed tunnels and every
 //!   image of every target is hit through the faces, under the space's
 //!   per-cell rule (an image in an "off" cell is passed through);
 //! - the plugin's nearest image ([`bevy_manifold::contact::nearest_image`]) is the
