@@ -139,6 +139,21 @@ fn emitters_follow_the_images_and_go_with_their_source() {
     app.world_mut().entity_mut(source).despawn();
     app.update();
     assert!(emitters(&mut app).is_empty());
+    // A volume that is not a number is silence, not a NaN handed to Bevy.
+    let handle = app
+        .world_mut()
+        .resource_mut::<Assets<AudioSource>>()
+        .add(wav_source(&tone, 44_100));
+    app.world_mut().spawn((
+        ChildOf(root),
+        Placement::at(&torus, DVec3::X * 0.4),
+        ManifoldSound {
+            volume: f32::NAN,
+            ..ManifoldSound::looping(handle)
+        },
+    ));
+    app.update();
+    assert_eq!(emitters(&mut app).iter().map(|e| e.1).collect::<Vec<_>>(), vec![0.0]);
 }
 
 /// A gamepad flies the fly camera: the left stick pushed half way forward

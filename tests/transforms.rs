@@ -162,6 +162,13 @@ fn placements_given_children_and_tracked_entities_are_left_alone() {
     assert!(close(m.isometry.x_axis, -DVec4::X));
     // The mirror image written back: the same negative x scale.
     assert!(app.world().get::<Transform>(mirrored).unwrap().scale.x < 0.0);
+    // A transform that is not finite places nothing (a warning says so).
+    let broken = app
+        .world_mut()
+        .spawn((ChildOf(root), Transform::from_xyz(f32::NAN, 0.0, 0.0)))
+        .id();
+    app.update();
+    assert!(app.world().get::<Placement>(broken).is_none());
     // By hand, the same placement.
     let by_hand = Placement::from_transform(
         &space,

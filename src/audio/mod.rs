@@ -225,6 +225,13 @@ impl SoundEmitters {
     }
 }
 
+/// A sound's volume times an image's gain, as Bevy takes it: a volume
+/// that is negative or not finite is silence.
+fn level(volume: f32, gain: f64) -> f32 {
+    let v = volume * gain as f32;
+    if v.is_finite() && v > 0.0 { v } else { 0.0 }
+}
+
 /// Marks the Bevy `SpatialListener` this plugin owns.
 #[derive(Component, Clone, Copy, Debug)]
 pub struct ManifoldEars;
@@ -290,7 +297,7 @@ pub fn hear_sounds(
                             AudioPlayer::new(sound.source.clone()),
                             PlaybackSettings {
                                 mode: sound.mode,
-                                volume: Volume::Linear(sound.volume * gain as f32),
+                                volume: Volume::Linear(level(sound.volume, gain)),
                                 spatial: true,
                                 ..PlaybackSettings::ONCE
                             },
@@ -333,7 +340,7 @@ pub fn hear_sounds(
                 transform.translation = translation;
             }
             if let Some(mut sink) = sink {
-                sink.set_volume(Volume::Linear(sound.volume * gain as f32));
+                sink.set_volume(Volume::Linear(level(sound.volume, gain)));
             }
         }
     }
