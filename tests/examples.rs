@@ -147,8 +147,9 @@ fn the_shooter_refuses_bad_input_and_plays_a_script_headless() {
         "{err}"
     );
     // Fire straight ahead in the torus (period 1, inradius 0.5) for 2 s:
-    // each shot comes back after one period less the player's radius
-    // (0.12 of the inradius), 20 health a hit, and the fifth ends it.
+    // each shot (a ball of 0.03 of the inradius) comes back after one
+    // period less its radius and the player's (0.12 of the inradius):
+    // 1 - 0.015 - 0.06; 20 health a hit, and the fifth ends it.
     let good = dir.join("good.json");
     std::fs::write(
         &good,
@@ -157,7 +158,7 @@ fn the_shooter_refuses_bad_input_and_plays_a_script_headless() {
     .expect("writes");
     let (code, out, err) = run(&["--play", good.to_str().unwrap(), "--headless"]);
     assert_eq!(code, Some(0), "{err}");
-    let hits = out.matches("PlayerHit { own: true, distance: 0.9399999").count();
+    let hits = out.matches("PlayerHit { own: true, distance: 0.92499999").count();
     assert_eq!(hits, 5, "{out}");
     assert!(out.contains("GameOver"), "{out}");
     assert!(out.contains("score 0 level 1 health 0 after"), "{out}");
