@@ -236,21 +236,22 @@ fn read_devices(
         let per = 0.003 / (dt * game.rules.turn_rate);
         turn += DVec3::new(-f64::from(mouse.delta.y), -f64::from(mouse.delta.x), 0.0) * per;
     }
-    #[cfg_attr(not(feature = "gamepad"), expect(unused_mut, reason = "only a gamepad adds to it"))]
-    let mut thrust = thrust;
-    #[cfg_attr(not(feature = "gamepad"), expect(unused_mut, reason = "only a gamepad adds to it"))]
-    let mut fire =
-        buttons.pressed(MouseButton::Left) || keys.pressed(KeyCode::KeyF) || keys.pressed(KeyCode::ControlLeft);
     #[cfg(feature = "gamepad")]
-    for pad in &gamepads {
-        let (linear, angular) = bevy_manifold::camera::gamepad_motion(pad);
-        thrust += linear;
-        turn += angular;
-        fire |= pad.pressed(GamepadButton::South) || pad.pressed(GamepadButton::West);
-    }
-    source.live.thrust = thrust.clamp(DVec3::splat(-1.0), DVec3::splat(1.0));
-    source.live.turn = turn.clamp(DVec3::splat(-1.0), DVec3::splat(1.0));
-    source.live.fire = fire;
+    let (pad_thrust, pad_turn, pad_fire) = gamepads
+        .iter()
+        .fold((DVec3::ZERO, DVec3::ZERO, false), |(l, a, f), pad| {
+            let (linear, angular) = bevy_manifold::camera::gamepad_motion(pad);
+            let fire = pad.pressed(GamepadButton::South) || pad.pressed(GamepadButton::West);
+            (l + linear, a + angular, f || fire)
+        });
+    #[cfg(not(feature = "gamepad"))]
+    let (pad_thrust, pad_turn, pad_fire) = (DVec3::ZERO, DVec3::ZERO, false);
+    source.live.thrust = (thrust + pad_thrust).clamp(DVec3::splat(-1.0), DVec3::splat(1.0));
+    source.live.turn = (turn + pad_turn).clamp(DVec3::splat(-1.0), DVec3::splat(1.0));
+    source.live.fire = pad_fire
+        || buttons.pressed(MouseButton::Left)
+        || keys.pressed(KeyCode::KeyF)
+        || keys.pressed(KeyCode::ControlLeft);
 }
 
 /// The menu: choose the space and the difficulty, then play.

@@ -225,6 +225,14 @@ impl SoundEmitters {
     }
 }
 
+/// Where emitter `k` sits and its gain: image `k`'s, or silence ahead
+/// when fewer images are heard.
+fn image(heard: &[Heard], k: usize) -> (Vec3, f64) {
+    heard
+        .get(k)
+        .map_or((Vec3::NEG_Z, 0.0), |h| (h.direction.as_vec3(), h.gain))
+}
+
 /// A sound's volume times an image's gain, as Bevy takes it: a volume
 /// that is negative or not finite is silence.
 fn level(volume: f32, gain: f64) -> f32 {
@@ -289,9 +297,7 @@ pub fn hear_sounds(
             let count = sound.images.clamp(1, MAX_SOUND_IMAGES);
             let emitters: Vec<Entity> = (0..count)
                 .map(|k| {
-                    let (at, gain) = heard
-                        .get(k)
-                        .map_or((Vec3::NEG_Z, 0.0), |h| (h.direction.as_vec3(), h.gain));
+                    let (at, gain) = image(&heard, k);
                     commands
                         .spawn((
                             AudioPlayer::new(sound.source.clone()),
@@ -332,9 +338,7 @@ pub fn hear_sounds(
             let Ok((mut transform, sink)) = emitters.get_mut(e) else {
                 continue;
             };
-            let (at, gain) = heard
-                .get(k)
-                .map_or((Vec3::NEG_Z, 0.0), |h| (h.direction.as_vec3(), h.gain));
+            let (at, gain) = image(&heard, k);
             let translation = at * EMITTER_DISTANCE;
             if transform.translation != translation {
                 transform.translation = translation;

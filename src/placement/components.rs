@@ -253,6 +253,16 @@ pub enum ManifoldCollider {
     },
 }
 
+impl ManifoldCollider {
+    /// How far the shape reaches from the entity's position.
+    #[must_use]
+    pub fn radius(&self) -> f64 {
+        match *self {
+            ManifoldCollider::Ball { radius } => radius,
+        }
+    }
+}
+
 /// Where the wrap system last left the entity: the chord of the next motion
 /// starts here. Kept by the plugin; game code can ignore it.
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq)]

@@ -24,7 +24,7 @@
 
 use super::components::{ManifoldCollider, ManifoldSpace, Placement};
 use super::membership::InSpace;
-use super::systems::space_of;
+use super::systems::{lives_in, space_of};
 use crate::contact::{self, Contact, Image};
 use bevy::ecs::system::SystemParam;
 use bevy::platform::collections::HashSet;
@@ -96,13 +96,6 @@ pub struct ManifoldContacts<'w, 's> {
     colliders: Query<'w, 's, (Entity, &'static Placement, &'static ManifoldCollider)>,
 }
 
-/// A collider's radius.
-fn radius(c: &ManifoldCollider) -> f64 {
-    match *c {
-        ManifoldCollider::Ball { radius } => radius,
-    }
-}
-
 impl ManifoldContacts<'_, '_> {
     /// The colliders of the space at `root` overlapping `shape` placed at
     /// `at` (in that space's domain), each with its contacts; the nearest
@@ -112,7 +105,7 @@ impl ManifoldContacts<'_, '_> {
         let Ok(ms) = self.spaces.get(root) else {
             return Vec::new();
         };
-        self.overlapping_in(ms, None, (at.position(), radius(&shape)))
+        self.overlapping_in(ms, None, (at.position(), shape.radius()))
     }
 
     /// The other colliders that `entity`'s collider touches, through any
@@ -126,7 +119,7 @@ impl ManifoldContacts<'_, '_> {
         let Some(ms) = space_of(entity, &self.members, &self.spaces) else {
             return Vec::new();
         };
-        self.overlapping_in(ms, Some(entity), (placement.position(), radius(collider)))
+        self.overlapping_in(ms, Some(entity), (placement.position(), collider.radius()))
     }
 
     /// The contacts between the colliders of `a` and `b` (one per image of
@@ -140,7 +133,7 @@ impl ManifoldContacts<'_, '_> {
         let Some(ms) = self.shared_space(a, b) else {
             return Vec::new();
         };
-        contact::ball_contacts(ms.space(), (pa.position(), radius(ca)), (pb.position(), radius(cb)))
+        contact::ball_contacts(ms.space(), (pa.position(), ca.radius()), (pb.position(), cb.radius()))
     }
 
     /// The image of `b` nearest to `a` (any placed entities of one space):
@@ -164,11 +157,9 @@ impl ManifoldContacts<'_, '_> {
         let mut out: Vec<Overlap> = self
             .colliders
             .iter()
-            .filter(|(e, ..)| {
-                space_of(*e, &self.members, &self.spaces).is_some_and(|s| core::ptr::eq(s.space(), space))
-            })
+            .filter(|(e, ..)| lives_in(*e, &self.members, &self.spaces, space))
             .filter_map(|(e, p, c)| {
-                let mut contacts = contact::ball_contacts(space, shape, (p.position(), radius(c)));
+                let mut contacts = contact::ball_contacts(space, shape, (p.position(), c.radius()));
                 if Some(e) == me {
                     // Itself, where it is: not a contact.
                     contacts.retain(|c| c.image.distance > 0.0);

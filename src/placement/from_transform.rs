@@ -57,13 +57,19 @@ impl Placement {
     pub fn from_transform(space: &Space, transform: &Transform) -> Self {
         let g = space.geometry();
         let mut frame = DMat3::from_quat(transform.rotation.normalize().as_dquat());
-        if transform.scale.x * transform.scale.y * transform.scale.z < 0.0 {
+        if turns_over(transform) {
             // As `sync_transforms` writes a mirror image: x turned over.
             frame.x_axis = -frame.x_axis;
         }
         let to = isometry::translation(g, transform.translation.as_dvec3());
         Placement::from_isometry(isometry::orthonormalize(g, to * DMat4::from_mat3(frame)))
     }
+}
+
+/// Whether a transform's scale turns an odd number of axes over (a mirror
+/// image, as `sync_transforms` writes one).
+fn turns_over(transform: &Transform) -> bool {
+    transform.scale.x * transform.scale.y * transform.scale.z < 0.0
 }
 
 /// The observer: an entity that joins a space as a child of the root, with
@@ -90,9 +96,7 @@ pub(super) fn place_from_transform(
     };
     let root = in_space.space();
     let unplaced = placement.is_none_or(|p| *p == Placement::default());
-    let moved = transform.translation != Vec3::ZERO
-        || transform.rotation != Quat::IDENTITY
-        || transform.scale.x * transform.scale.y * transform.scale.z < 0.0;
+    let moved = transform.translation != Vec3::ZERO || transform.rotation != Quat::IDENTITY || turns_over(transform);
     if parent.parent() != root || !unplaced || !moved {
         return;
     }

@@ -3,7 +3,7 @@
 
 use super::components::{DomainCell, ManifoldCollider, ManifoldSpace, Placement};
 use super::membership::InSpace;
-use super::systems::space_of;
+use super::systems::{lives_in, space_of};
 use crate::space::cells::CellId;
 use crate::trace::step::Ray;
 use crate::trace::{CastBall, CastHit, CastWall, cast_with_rule};
@@ -128,7 +128,7 @@ impl ManifoldRayCast<'_, '_> {
         let Some(ms) = space_of(from, &self.members, &self.spaces) else {
             return Vec::new();
         };
-        let ManifoldCollider::Ball { radius } = shape;
+        let radius = shape.radius();
         if !(radius.is_finite() && radius >= 0.0) {
             return Vec::new();
         }
@@ -168,15 +168,11 @@ impl ManifoldRayCast<'_, '_> {
             .colliders
             .iter()
             .filter(|(e, ..)| Some(*e) != settings.exclude)
-            .filter(|(e, ..)| {
-                space_of(*e, &self.members, &self.spaces).is_some_and(|s| core::ptr::eq(s.space(), space))
-            })
-            .map(|(e, p, c)| match *c {
-                ManifoldCollider::Ball { radius } => CastBall {
-                    key: e,
-                    center: p.isometry.w_axis,
-                    radius: radius + grow,
-                },
+            .filter(|(e, ..)| lives_in(*e, &self.members, &self.spaces, space))
+            .map(|(e, p, c)| CastBall {
+                key: e,
+                center: p.isometry.w_axis,
+                radius: c.radius() + grow,
             })
             .collect();
         cast_with_rule(

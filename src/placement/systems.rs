@@ -4,7 +4,7 @@ use super::components::{DomainCell, FaceCrossed, GeodesicVelocity, ManifoldSpace
 use super::membership::InSpace;
 use crate::geometry::isometry;
 use crate::motion::{Moved, advance_placement, chart_position, move_placement};
-use crate::space::FaceKind;
+use crate::space::{FaceKind, Space};
 use bevy::prelude::*;
 
 /// Most faces one entity may cross in one step before the nearest-face rule
@@ -18,6 +18,17 @@ pub(crate) fn space_of<'a>(
     spaces: &'a Query<&ManifoldSpace>,
 ) -> Option<&'a ManifoldSpace> {
     spaces.get(members.get(entity).ok()?.space()).ok()
+}
+
+/// Whether `entity` lives in `space` (the ray casts' and contact queries'
+/// filter over every collider).
+pub(crate) fn lives_in(
+    entity: Entity,
+    members: &Query<&InSpace>,
+    spaces: &Query<&ManifoldSpace>,
+    space: &Space,
+) -> bool {
+    space_of(entity, members, spaces).is_some_and(|s| core::ptr::eq(s.space(), space))
 }
 
 /// Moves entities along geodesics, `M <- M exp(v dt, w dt)`, in

@@ -31,6 +31,17 @@ fn words(space: &Space, length: usize) -> Vec<DMat4> {
     all
 }
 
+/// The distances from `p` of every image of `q` under `group`, sorted.
+fn group_distances(space: &Space, group: &[DMat4], p: DVec4, q: DVec4) -> Vec<f64> {
+    let g = space.geometry();
+    let mut all: Vec<f64> = group
+        .iter()
+        .map(|w| g.distance::<f64>(p, g.normalize_point::<f64>(*w * q)))
+        .collect();
+    all.sort_by(f64::total_cmp);
+    all
+}
+
 fn torus_nearest(p: DVec4, q: DVec4) -> f64 {
     let d = (q - p).truncate();
     (d - d.round()).length()
@@ -56,16 +67,12 @@ fn the_nearest_image_is_the_shortest_route_through_the_faces() {
     }
     // Seifert-Weber: never longer than the best word of three pairings.
     let sw = catalog::seifert_weber();
-    let g = sw.geometry();
     let group = words(&sw, 3);
     for _ in 0..30 {
         let p = rng.ray_inside(&sw).origin;
         let q = rng.ray_inside(&sw).origin;
         let near = contact::nearest_image(&sw, p, q).expect("finite");
-        let best = group
-            .iter()
-            .map(|w| g.distance::<f64>(p, g.normalize_point::<f64>(*w * q)))
-            .fold(f64::INFINITY, f64::min);
+        let best = group_distances(&sw, &group, p, q)[0];
         assert!(
             near.distance <= best + 1e-9,
             "{} is longer than a route of {best}",
@@ -79,7 +86,6 @@ fn the_nearest_image_is_the_shortest_route_through_the_faces() {
 #[test]
 fn the_images_within_a_distance_are_all_the_groups() {
     let poincare = catalog::poincare();
-    let g = poincare.geometry();
     let group = words(&poincare, 12);
     assert_eq!(group.len(), 120, "the binary icosahedral group");
     let mut rng = Rng(11);
@@ -87,12 +93,8 @@ fn the_images_within_a_distance_are_all_the_groups() {
         for _ in 0..10 {
             let p = rng.ray_inside(&poincare).origin;
             let q = rng.ray_inside(&poincare).origin;
-            let mut want: Vec<f64> = group
-                .iter()
-                .map(|w| g.distance::<f64>(p, g.normalize_point::<f64>(*w * q)))
-                .filter(|d| *d <= reach)
-                .collect();
-            want.sort_by(f64::total_cmp);
+            let mut want = group_distances(&poincare, &group, p, q);
+            want.retain(|d| *d <= reach);
             let got: Vec<f64> = contact::images_within(&poincare, p, q, reach)
                 .iter()
                 .map(|i: &Image| i.distance)
@@ -111,17 +113,12 @@ fn the_images_within_a_distance_are_all_the_groups() {
 #[test]
 fn the_nearest_few_images_are_the_groups_nearest() {
     let poincare = catalog::poincare();
-    let g = poincare.geometry();
     let group = words(&poincare, 12);
     let mut rng = Rng(21);
     for _ in 0..10 {
         let p = rng.ray_inside(&poincare).origin;
         let q = rng.ray_inside(&poincare).origin;
-        let mut want: Vec<f64> = group
-            .iter()
-            .map(|w| g.distance::<f64>(p, g.normalize_point::<f64>(*w * q)))
-            .collect();
-        want.sort_by(f64::total_cmp);
+        let want = group_distances(&poincare, &group, p, q);
         let got = contact::nearest_images(&poincare, p, q, 7);
         assert_eq!(got.len(), 7);
         for (a, b) in got.iter().zip(&want) {
