@@ -26,6 +26,9 @@ const FIGURES: &[(&str, &[&str], &str)] = &[
     // A game in progress (150 ticks of its demo script).
     ("shooter", &["--space", "torus"], "shooter_torus"),
     ("shooter", &["--space", "seifert-weber"], "shooter_seifert_weber"),
+    // The billiards break, 0.7 s after the first stroke.
+    ("billiards", &["--space", "torus"], "billiards_torus"),
+    ("billiards", &["--space", "seifert-weber"], "billiards_seifert_weber"),
 ];
 
 /// The example binaries cargo built next to this test's (`cargo test`
@@ -165,6 +168,50 @@ fn the_shooter_refuses_bad_input_and_plays_a_script_headless() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// The billiards' bad arguments end in one line naming what is wrong,
+/// exit 1 or 2, no panic; `--help` lists the flags.
+fn the_billiards_refuses_bad_input() {
+    let run = |args: &[&str]| {
+        let out = Command::new(example("billiards"))
+            .args(args)
+            .env_remove("DISPLAY")
+            .env_remove("WAYLAND_DISPLAY")
+            .output()
+            .expect("the billiards runs");
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    for (args, code_want, needle) in [
+        (
+            &["--space", "klein-bottle"][..],
+            1,
+            "error: --space: no catalog space \"klein-bottle\"",
+        ),
+        (&["--levels", "65"][..], 2, "invalid value '65' for '--levels <LEVELS>'"),
+        (&["--size", "0x10"][..], 1, "--size: WIDTHxHEIGHT"),
+        (
+            &["--xr", "--world-scale", "0"][..],
+            1,
+            "--world-scale: a positive number",
+        ),
+        (&["--cue"][..], 2, "unexpected argument '--cue'"),
+    ] {
+        let (code, out, err) = run(args);
+        assert_eq!(code, Some(code_want), "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(out.is_empty() && !err.contains("panicked"), "{args:?}: {out} {err}");
+    }
+    let (code, out, _) = run(&["--help"]);
+    assert_eq!(code, Some(0));
+    assert!(
+        out.contains("--space") && out.contains("--screenshot") && out.contains("--xr"),
+        "{out}"
+    );
+}
+
 /// Without a display the shooter says so in one line and renders its
 /// opening view to `shooter.png` (as the explorer renders `explorer.png`)
 /// instead of panicking in winit.
@@ -193,7 +240,10 @@ fn without_a_display_the_shooter_renders_shooter_png() {
 }
 
 bevy_manifold_test_support::test_main! {
-    cpu: [the_shooter_refuses_bad_input_and_plays_a_script_headless],
+    cpu: [
+        the_shooter_refuses_bad_input_and_plays_a_script_headless,
+        the_billiards_refuses_bad_input,
+    ],
     gpu: [
         every_example_renders_its_figure_headlessly,
         without_a_display_the_shooter_renders_shooter_png,

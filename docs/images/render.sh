@@ -36,3 +36,6 @@ done
 "$bin/shooter" --space torus --screenshot "$out/shooter_torus.png"
 "$bin/shooter" --space seifert-weber --screenshot "$out/shooter_seifert_weber.png"
 "$bin/shooter" --space poincare --screenshot "$out/shooter_poincare.png"
+# Billiards, the break in two spaces (manual, "Billiards").
+"$bin/billiards" --space torus --screenshot "$out/billiards_torus.png"
+"$bin/billiards" --space seifert-weber --screenshot "$out/billiards_seifert_weber.png"
