@@ -11,6 +11,7 @@
 //! cargo run --release --example billiards [-- --space seifert-weber]
 //!     [--levels N] [--screenshot FILE.png [--size WxH]] [--frames N]
 //! cargo run --release --features xr --example billiards -- --xr [--world-scale M]
+//!     [--frames N --xr-capture DIR]
 //! ```
 //!
 //! | key | what |
@@ -83,6 +84,10 @@ struct Args {
     /// With --xr: metres of the room per unit of the space.
     #[arg(long)]
     world_scale: Option<f64>,
+    /// With --xr --frames N: write both eyes' images to this folder at
+    /// frame N - 30.
+    #[arg(long)]
+    xr_capture: Option<PathBuf>,
 }
 
 fn main() -> AppExit {
@@ -137,8 +142,13 @@ fn run() -> Result<AppExit, String> {
     });
     #[cfg(feature = "xr")]
     if args.xr {
+        // With --frames N: both eyes read back at frame N - 30.
+        let capture = args
+            .xr_capture
+            .clone()
+            .map(|d| (args.frames.unwrap_or(0).saturating_sub(30).max(1), d));
         app.add_plugins(bevy_mod_openxr::add_xr_plugins(plugins))
-            .add_plugins(xr::BilliardsXrPlugin { world_scale });
+            .add_plugins(xr::BilliardsXrPlugin { world_scale, capture });
     } else {
         app.add_plugins(plugins);
     }

@@ -1,5 +1,6 @@
 //! Billiards in a headset (`--xr`; the plugin's `xr` feature): the player
-//! is the room's body (`XrBody`), each eye is traced from where it is,
+//! is the room's body (`XrBody`), recentred on the head (`XrRecentre`) so
+//! the eyes start behind the cue ball; each eye is traced from where it is,
 //! and the hands are the cues. Each hand is a small traced ball on its
 //! controller's grip (`XrHand`); when it touches the cue ball (any image
 //! of it, through the faces) and moves into it, the cue ball bounces off
@@ -12,13 +13,16 @@ use bevy::prelude::*;
 use bevy_manifold::contact;
 use bevy_manifold::geometry::{Geometry, isometry};
 use bevy_manifold::prelude::*;
-use bevy_manifold::xr::{ManifoldXrPlugin, XrBody, XrHand, XrHandSide, XrState};
+use bevy_manifold::xr::{ManifoldXrPlugin, XrBody, XrHand, XrHandSide, XrRecentre, XrState, save_eyes_at};
 use glam::{DMat4, DVec3};
 
 /// Adds the headset to the table (after `bevy_mod_openxr::add_xr_plugins`).
 pub struct BilliardsXrPlugin {
     /// Metres of the room per unit of the space.
     pub world_scale: f64,
+    /// `--xr-capture`: at this frame, read both eyes back and save them as
+    /// `eye0.png` and `eye1.png` in this folder.
+    pub capture: Option<(u32, std::path::PathBuf)>,
 }
 
 #[derive(Resource, Clone, Copy)]
@@ -26,6 +30,9 @@ struct WorldScale(f64);
 
 impl Plugin for BilliardsXrPlugin {
     fn build(&self, app: &mut App) {
+        if let Some((at, dir)) = self.capture.clone() {
+            app.add_systems(Last, save_eyes_at(at, dir));
+        }
         app.insert_resource(WorldScale(self.world_scale))
             .add_plugins(ManifoldXrPlugin)
             .add_systems(Startup, say_if_unavailable)
@@ -67,7 +74,11 @@ fn body_and_hands(
 ) {
     let Some(table) = table else { return };
     if !bodies.contains(table.player) {
-        commands.entity(table.player).insert(XrBody { world_scale: scale.0 });
+        // The room recentred on the head: the eyes start where the
+        // desktop player does, looking at the cue ball.
+        commands
+            .entity(table.player)
+            .insert((XrBody { world_scale: scale.0 }, XrRecentre::default()));
     }
     if hands.iter().any(|c| c.parent() == table.root) {
         return;

@@ -19,8 +19,8 @@ use bevy::ui::UiTargetCamera;
 use bevy_manifold::geometry::{Geometry, isometry};
 use bevy_manifold::prelude::*;
 use bevy_manifold::xr::{
-    ManifoldXrPlugin, TRIGGER_PULLED, XrBody, XrControllers, XrEye, XrEyeCapture, XrHandSide, XrHead, XrLocomotion,
-    XrRecentre, XrState,
+    ManifoldXrPlugin, TRIGGER_PULLED, XrBody, XrControllers, XrEye, XrHandSide, XrHead, XrLocomotion, XrRecentre,
+    XrState, save_eyes_at,
 };
 use glam::{DMat4, DVec3, DVec4};
 
@@ -39,9 +39,7 @@ struct WorldScale(f64);
 impl Plugin for ShooterXrPlugin {
     fn build(&self, app: &mut App) {
         if let Some((at, dir)) = self.capture.clone() {
-            app.add_systems(Last, move |frame: Local<u32>, capture: Res<XrEyeCapture>| {
-                capture_eyes(frame, &capture, at, &dir);
-            });
+            app.add_systems(Last, save_eyes_at(at, dir));
         }
         app.insert_resource(WorldScale(self.world_scale))
             .add_plugins(ManifoldXrPlugin)
@@ -50,23 +48,6 @@ impl Plugin for ShooterXrPlugin {
             // After the keyboard's `read_devices` (in `Update`); the game
             // reads the sum at its next tick.
             .add_systems(PostUpdate, controllers_as_input);
-    }
-}
-
-/// Asks for the eyes' images at frame `at`, and saves them when back.
-fn capture_eyes(mut frame: Local<u32>, capture: &XrEyeCapture, at: u32, dir: &std::path::Path) {
-    *frame += 1;
-    if *frame == at {
-        capture.request();
-    }
-    let Some(images) = capture.take() else { return };
-    match bevy_manifold::xr::save_eyes(&images, dir) {
-        Ok(paths) => {
-            for (eye, path) in images.iter().zip(&paths) {
-                println!("xr: eye ({}x{}) saved to {}", eye.width, eye.height, path.display());
-            }
-        }
-        Err(e) => eprintln!("error: --xr-capture {e}"),
     }
 }
 

@@ -74,6 +74,35 @@ pub fn save_eyes(images: &[XrEyeImage; 2], dir: &Path) -> Result<[PathBuf; 2], S
     Ok(paths)
 }
 
+/// A system that asks for both eyes' images at its `at`-th run and,
+/// once they are back, saves them with [`save_eyes`] in `dir`, printing
+/// each file (`xr: eye (WxH) saved to PATH`) or the error. Games add it
+/// to `Last` for a `--frames N --xr-capture DIR` screenshot of a headset
+/// session.
+///
+/// ```no_run
+/// use bevy::prelude::*;
+/// use bevy_manifold::xr::save_eyes_at;
+/// App::new().add_systems(Last, save_eyes_at(120, "eyes".into()));
+/// ```
+pub fn save_eyes_at(at: u32, dir: PathBuf) -> impl FnMut(Local<u32>, Res<XrEyeCapture>) + Send + Sync + 'static {
+    move |mut frame: Local<u32>, capture: Res<XrEyeCapture>| {
+        *frame += 1;
+        if *frame == at {
+            capture.request();
+        }
+        let Some(images) = capture.take() else { return };
+        match save_eyes(&images, &dir) {
+            Ok(paths) => {
+                for (eye, path) in images.iter().zip(&paths) {
+                    println!("xr: eye ({}x{}) saved to {}", eye.width, eye.height, path.display());
+                }
+            }
+            Err(e) => eprintln!("error: --xr-capture {e}"),
+        }
+    }
+}
+
 pub(super) fn build(app: &mut App) {
     let capture = XrEyeCapture::default();
     app.insert_resource(capture.clone());

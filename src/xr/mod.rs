@@ -71,7 +71,7 @@ use bevy_mod_xr::session::XrTrackingRoot;
 
 pub use bevy_mod_xr::session::XrState;
 pub use body::{XrHand, XrLocomotion, rest_pose, room_move};
-pub use capture::{XrEyeCapture, XrEyeImage, save_eyes};
+pub use capture::{XrEyeCapture, XrEyeImage, save_eyes, save_eyes_at};
 pub use controls::actions::XrGrip;
 pub use controls::{TRIGGER_PULLED, TRIGGER_RELEASED, XrController, XrControllers, XrHandSide, XrTrigger};
 pub use late::{ExtractedXrEye, XrFrameStats};
