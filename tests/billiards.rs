@@ -141,13 +141,20 @@ fn head_on_through_a_face_the_cue_ball_stops_and_the_other_goes_on() {
         let hits: Vec<_> = events(&app)
             .into_iter()
             .filter_map(|e| match e {
-                TableEvent::Collision { balls, through_faces } => {
-                    Some((balls.0.min(balls.1), balls.0.max(balls.1), through_faces))
-                }
+                TableEvent::Collision {
+                    balls,
+                    through_faces,
+                    speed,
+                    ..
+                } => Some((balls.0.min(balls.1), balls.0.max(balls.1), through_faces, speed)),
                 _ => None,
             })
             .collect();
-        assert_eq!(hits, [(0, 1, true)], "{name}");
+        assert_eq!(hits.len(), 1, "{name}: {hits:?}");
+        let (first, second, through_faces, closing) = hits[0];
+        assert_eq!((first, second, through_faces), (0, 1, true), "{name}");
+        // They closed in at the cue ball's speed.
+        assert!((closing - speed).abs() < 1e-9, "{name}: closing at {closing}");
         // Head on, equal masses: the velocities swap exactly.
         assert!(velocity(&app, cue).length() < 1e-9, "{name}: {}", velocity(&app, cue));
         let v = velocity(&app, other);

@@ -22,7 +22,8 @@
 //! | R | rack again |
 //!
 //! With `--features gamepad` a gamepad flies as the fly camera's does and
-//! its south button is the cue.
+//! its south button is the cue; with `--features audio` the balls click
+//! where they meet, heard through the faces (`sound.rs`).
 //! The stroke sends the cue ball along your line of sight through its
 //! centre, when the first thing on that line is the cue ball (any image
 //! of it) within the cue's reach: the crosshair turns green then.
@@ -37,6 +38,8 @@
 //! `xr.rs`. Without a display it says so and renders the opening break to
 //! `billiards.png`.
 
+#[cfg(feature = "audio")]
+mod sound;
 mod table;
 mod view;
 #[cfg(feature = "xr")]
@@ -169,6 +172,10 @@ fn run() -> Result<AppExit, String> {
             target: None,
         }),
     ));
+    // Clicks heard through the faces (Bevy's audio is in the window's
+    // DefaultPlugins).
+    #[cfg(feature = "audio")]
+    app.add_plugins(sound::SoundPlugin);
     if let Some(n) = args.frames {
         app.add_systems(
             Update,

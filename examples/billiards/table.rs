@@ -92,6 +92,11 @@ pub enum TableEvent {
         /// They met through the faces (the image met is not the ball in
         /// the chart).
         through_faces: bool,
+        /// Where they touched (in the domain's chart, next to the first
+        /// ball: maybe outside the domain).
+        point: DVec4,
+        /// How fast they closed in, along the line of centres.
+        speed: f64,
     },
     /// A ball dropped into a pocket.
     Sunk(u8),
@@ -480,12 +485,17 @@ fn collide_balls(
         for touch in contact::ball_contacts(space, (pa.position(), radius), (pb.position(), radius)) {
             let image = touch.image.element * pb.isometry;
             if let Some((a, b)) = collide(g, (pa.isometry, va.linear), (image, vb.linear), false) {
+                // The first ball's change of velocity is the closing speed
+                // along the line of centres.
+                let speed = (a - va.linear).length();
                 va.linear = a;
                 vb.linear = b;
                 let through_faces = !touch.image.element.abs_diff_eq(DMat4::IDENTITY, 1e-9);
                 events.push(TableEvent::Collision {
                     balls: (ball_a.0, ball_b.0),
                     through_faces,
+                    point: touch.point,
+                    speed,
                 });
                 break;
             }
