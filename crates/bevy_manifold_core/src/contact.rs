@@ -92,13 +92,104 @@ pub fn nearest_images(space: &Space, from: DVec4, target: DVec4, count: usize) -
     images
 }
 
-/// The walk behind both: through the copies `h D` of the domain, nearest
-/// first by a lower bound of their distance from `from` (the largest
-/// distance of `h^-1 from` outside one of the domain's faces), from face
-/// to face, until the next copy's bound passes `reach` or the `count`-th
-/// image found so far. A geodesic from `from` to an image crosses only
-/// copies whose bound is at most that image's distance (an open path can
-/// avoid the edges), so every image within the stopping bound is found.
+/// The copies `h D` of the domain that may come within `reach` of the
+/// point `from`, nearest first by a lower bound of their distance from
+/// `from` (the largest distance of `h^-1 from` outside one of the
+/// domain's faces, 0 inside): each as its element `h` and that bound. The
+/// walk goes from face to face and stops where the bound passes `reach`
+/// (or after [`MAX_CELLS_WALKED`] copies). A geodesic from `from` to a
+/// point of a copy crosses only copies whose bound is at most its length
+/// (an open path can avoid the edges), so every copy that a ball of
+/// radius `reach` about `from` meets is here.
+///
+/// ```
+/// use bevy_manifold_core::contact;
+/// use bevy_manifold_core::space::catalog;
+/// use glam::DVec4;
+/// // Near a corner of the unit 3-torus, a ball of radius 0.1 meets the
+/// // eight cubes around the corner.
+/// let torus = catalog::torus(1.0);
+/// let copies = contact::copies_within(&torus, DVec4::new(0.45, 0.45, 0.45, 1.0), 0.1);
+/// assert_eq!(copies.len(), 8);
+/// assert_eq!(copies[0].1, 0.0);
+/// ```
+#[must_use]
+pub fn copies_within(space: &Space, from: DVec4, reach: f64) -> Vec<(DMat4, f64)> {
+    if reach.is_nan() || reach < 0.0 || !from.is_finite() {
+        return Vec::new();
+    }
+    Copies::new(space, from, reach).collect()
+}
+
+/// The walk through the copies behind [`copies_within`], [`images_within`]
+/// and [`nearest_images`]: a best-first search on the lower bound.
+struct Copies<'a> {
+    space: &'a Space,
+    from: DVec4,
+    reach: f64,
+    seen: HashSet<CellId>,
+    // Min-heap on the bound (non-negative, so its bits order as it does).
+    heap: BinaryHeap<(Reverse<u64>, usize)>,
+    elements: Vec<DMat4>,
+}
+
+impl<'a> Copies<'a> {
+    fn new(space: &'a Space, from: DVec4, reach: f64) -> Self {
+        let from = space.geometry().normalize_point::<f64>(from);
+        let mut walk = Copies {
+            space,
+            from,
+            reach,
+            seen: HashSet::from([space.cell_id(&DMat4::IDENTITY)]),
+            heap: BinaryHeap::new(),
+            elements: Vec::new(),
+        };
+        walk.push(DMat4::IDENTITY);
+        walk
+    }
+
+    /// The lower bound of the distance from `from` to the copy `h D`.
+    fn bound(&self, h: &DMat4) -> f64 {
+        let g = self.space.geometry();
+        let seen_from = g.normalize_point::<f64>(isometry::inverse(g, *h) * self.from);
+        self.space
+            .faces()
+            .iter()
+            .map(|face| plane::signed_distance(g, face.plane, seen_from))
+            .fold(0.0f64, f64::max)
+    }
+
+    fn push(&mut self, h: DMat4) {
+        let b = self.bound(&h);
+        if b <= self.reach + 1e-9 {
+            self.heap.push((Reverse(b.to_bits()), self.elements.len()));
+            self.elements.push(h);
+        }
+    }
+}
+
+impl Iterator for Copies<'_> {
+    type Item = (DMat4, f64);
+
+    fn next(&mut self) -> Option<(DMat4, f64)> {
+        let (Reverse(bits), index) = self.heap.pop()?;
+        let h = self.elements[index];
+        let g = self.space.geometry();
+        for f in self.space.faces() {
+            // The copy across face `f` of `h D` is `h T_f D`.
+            let next = isometry::orthonormalize(g, h * f.pairing);
+            if self.seen.len() >= MAX_CELLS_WALKED || !self.seen.insert(self.space.cell_id(&next)) {
+                continue;
+            }
+            self.push(next);
+        }
+        Some((h, f64::from_bits(bits)))
+    }
+}
+
+/// The images behind [`images_within`] and [`nearest_images`]: one for
+/// each copy of the walk, until the next copy's bound passes `reach` or
+/// the `count`-th image found so far.
 fn walk(space: &Space, from: DVec4, target: DVec4, reach: f64, count: usize) -> Vec<Image> {
     let g = space.geometry();
     if count == 0 || !from.is_finite() || !target.is_finite() {
@@ -106,30 +197,16 @@ fn walk(space: &Space, from: DVec4, target: DVec4, reach: f64, count: usize) -> 
     }
     let from = g.normalize_point::<f64>(from);
     let target = g.normalize_point::<f64>(target);
-    let bound = |h: &DMat4| {
-        let seen_from = g.normalize_point::<f64>(isometry::inverse(g, *h) * from);
-        space
-            .faces()
-            .iter()
-            .map(|face| plane::signed_distance(g, face.plane, seen_from))
-            .fold(0.0f64, f64::max)
-    };
-    let mut seen: HashSet<CellId> = HashSet::from([space.cell_id(&DMat4::IDENTITY)]);
-    // Min-heap on the bound (non-negative, so its bits order as it does).
-    let mut heap = BinaryHeap::from([(Reverse(0u64), 0usize)]);
-    let mut elements = vec![DMat4::IDENTITY];
     let mut images: Vec<Image> = Vec::new();
-    while let Some((Reverse(bits), index)) = heap.pop() {
-        let lower = f64::from_bits(bits);
+    for (h, lower) in Copies::new(space, from, reach) {
         let kth = if images.len() >= count {
             images[count - 1].distance
         } else {
             f64::INFINITY
         };
-        if lower > reach + 1e-9 || lower > kth + 1e-9 {
+        if lower > kth + 1e-9 {
             break;
         }
-        let h = elements[index];
         let point = g.normalize_point::<f64>(h * target);
         let distance = g.distance::<f64>(from, point);
         let at = images.partition_point(|i| i.distance <= distance);
@@ -142,18 +219,6 @@ fn walk(space: &Space, from: DVec4, target: DVec4, reach: f64, count: usize) -> 
                 distance,
             },
         );
-        for f in space.faces() {
-            // The copy across face `f` of `h D` is `h T_f D`.
-            let next = isometry::orthonormalize(g, h * f.pairing);
-            if seen.len() >= MAX_CELLS_WALKED || !seen.insert(space.cell_id(&next)) {
-                continue;
-            }
-            let b = bound(&next);
-            if b <= reach + 1e-9 {
-                heap.push((Reverse(b.max(0.0).to_bits()), elements.len()));
-                elements.push(next);
-            }
-        }
     }
     images
 }

@@ -6,6 +6,7 @@
 //! group).
 
 use bevy_manifold_core::contact::{self, Image};
+use bevy_manifold_core::geometry;
 use bevy_manifold_core::prelude::*;
 use bevy_manifold_test_support::Rng;
 use glam::{DMat4, DVec4};
@@ -105,6 +106,60 @@ fn the_images_within_a_distance_are_all_the_groups() {
             }
         }
     }
+}
+
+/// The copies of the domain that a ball meets, and the ball's ghosts
+/// (the elements whose copy of it reaches into the domain), against the
+/// copies that hold its points: 400 points of each ball, each carried
+/// into the domain by the pairings (`Space::wrap`, which names the copy
+/// it was in). Every such copy must be walked, and its element's inverse
+/// must be a ghost; and every copy walked must pass the walk's own
+/// bound. In the Poincaré space (S3, a domain of inradius 0.31) the
+/// largest balls meet a dozen copies and more.
+#[test]
+fn the_copies_a_ball_meets_and_its_ghosts_hold_all_its_points() {
+    let poincare = catalog::poincare();
+    let g = poincare.geometry();
+    let outside = |q: DVec4| {
+        poincare
+            .faces()
+            .iter()
+            .map(|f| geometry::plane::signed_distance(g, f.plane, q))
+            .fold(0.0f64, f64::max)
+    };
+    let mut rng = Rng(5);
+    let mut most = 0;
+    for r in [0.05, 0.2, 0.5] {
+        for _ in 0..20 {
+            let p = rng.ray_inside(&poincare).origin;
+            let copies = contact::copies_within(&poincare, p, r);
+            for (h, bound) in &copies {
+                let seen = g.normalize_point::<f64>(geometry::isometry::inverse(g, *h) * p);
+                assert!((outside(seen) - bound).abs() < 1e-9 && *bound <= r + 1e-9);
+            }
+            let walked: Vec<_> = copies.iter().map(|(h, _)| poincare.cell_id(h)).collect();
+            let ghosts: Vec<_> = bevy_manifold_core::trace::ghost_elements(&poincare, p, r)
+                .iter()
+                .map(|h| poincare.cell_id(h))
+                .collect();
+            most = most.max(walked.len());
+            let basis = geometry::isometry::tangent_basis(g, p);
+            for _ in 0..400 {
+                let d = rng.unit();
+                let v = basis[0] * d.x + basis[1] * d.y + basis[2] * d.z;
+                let s = r * rng.next_f64().cbrt() * (1.0 - 1e-9);
+                let (q, _) = g.exp::<f64>(p, v, s);
+                let (_, k) = poincare.wrap(geometry::isometry::translation_to(g, q), 64);
+                assert!(
+                    walked.contains(&poincare.cell_id(&k)),
+                    "radius {r}: a point's copy not walked"
+                );
+                let ghost = poincare.cell_id(&geometry::isometry::inverse(g, k));
+                assert!(ghosts.contains(&ghost), "radius {r}: a ghost missing");
+            }
+        }
+    }
+    assert!(most >= 12, "the largest balls met only {most} copies");
 }
 
 /// The `k` nearest images, against the whole Poincaré group and, in the

@@ -13,10 +13,9 @@ use crate::material::Pbr;
 use crate::mesh::{MeshData, Texture};
 use crate::space::Space;
 use crate::space::cell_table::CentredTable;
-use crate::space::cells::{CellId, CellScheme};
+use crate::space::cells::CellScheme;
 use crate::space::element::CellElement;
 use glam::{DMat4, DVec4};
-use std::collections::HashSet;
 use std::sync::{Arc, OnceLock};
 
 /// Object id of the domain's edges (tubes and their vertex joints).
@@ -306,9 +305,6 @@ pub const MIN_BALL_TREE: usize = 9;
 /// Most copies of one object kept as ghosts (a huge ball in a small
 /// domain would otherwise ask for thousands).
 pub const MAX_GHOSTS: usize = 256;
-
-/// Most copies of the domain visited while looking for an object's ghosts.
-pub const MAX_GHOST_SEARCH: usize = 8192;
 
 /// A ball's centre `c` (normalised) in precision `R`. In H3 its w is made
 /// from x, y and z in `R` (`sqrt(1 + (x^2 + y^2 + z^2))`, the point on the
@@ -641,34 +637,26 @@ pub fn ghost_elements(space: &Space, center: DVec4, radius: f64) -> Vec<DMat4> {
     if !straddles {
         return vec![DMat4::IDENTITY];
     }
-    // Breadth first over the copies of the domain, by distance: a copy `h`
-    // of the object reaches into the domain when its centre `h c` is
-    // nearer than `radius` to every face's inner side; copies are walked
-    // through while `h c` is within `radius` plus twice the circumradius of
-    // the origin (beyond, no copy can reach back in), under hard caps.
-    let reach = radius + 2.0 * space.circumradius();
-    let mut seen: HashSet<CellId> = HashSet::new();
-    seen.insert(CellId(0));
+    // The copies `k D` of the domain that the ball meets, nearest first
+    // (the contact walk's best-first search): the ball's copy `k^-1 c`
+    // then meets the domain, so `k^-1` is a ghost's element when that
+    // copy's centre is nearer than `radius` to every face's inner side.
     let mut out = vec![DMat4::IDENTITY];
-    let mut frontier = std::collections::VecDeque::from([DMat4::IDENTITY]);
-    while let Some(m) = frontier.pop_front() {
-        for f in space.faces() {
-            let h = isometry::orthonormalize(g, f.pairing * m);
-            if seen.len() >= MAX_GHOST_SEARCH || !seen.insert(space.cell_id(&h)) {
-                continue;
-            }
-            let c = g.normalize_point::<f64>(h * center);
-            if g.distance::<f64>(DVec4::W, c) > reach {
-                continue;
-            }
-            let reaches = space
-                .faces()
-                .iter()
-                .all(|face| crate::geometry::plane::signed_distance(g, face.plane, c) < radius);
-            if reaches && out.len() < MAX_GHOSTS {
-                out.push(h);
-            }
-            frontier.push_back(h);
+    for (k, _) in crate::contact::copies_within(space, center, radius) {
+        if out.len() >= MAX_GHOSTS {
+            break;
+        }
+        let h = isometry::inverse(g, k);
+        if space.cell_id(&h) == space.cell_id(&DMat4::IDENTITY) {
+            continue;
+        }
+        let c = g.normalize_point::<f64>(h * center);
+        let reaches = space
+            .faces()
+            .iter()
+            .all(|face| crate::geometry::plane::signed_distance(g, face.plane, c) < radius);
+        if reaches {
+            out.push(h);
         }
     }
     out
