@@ -45,6 +45,7 @@ use crate::placement::{InSpace, ManifoldSpace, Placement};
 use crate::trace::SceneMesh;
 use bevy::asset::AssetEvent;
 use bevy::camera::visibility::RenderLayers;
+use bevy::mesh::skinning::{SkinnedMesh, SkinnedMeshInverseBindposes};
 use bevy::mesh::{Indices, Mesh, Mesh3d, PrimitiveTopology, VertexAttributeValues};
 use bevy::platform::collections::{HashMap, HashSet};
 use bevy::prelude::*;
@@ -159,6 +160,100 @@ pub fn tri_mesh(mesh: &Mesh) -> Result<TriMesh, String> {
     TriMesh::new(positions, normals, uvs, triangles).map_err(|e| e.to_string())
 }
 
+/// A skinned Bevy mesh posed by its joints: linear-blend skinning, each
+/// vertex moved by the weighted sum of its (up to four) joints'
+/// matrices, `p' = sum_k w_k M[j_k] p` (weights scaled to sum to 1), its
+/// normal by the inverse transpose of that sum, as Bevy's own vertex
+/// shader skins it. `joints[j]` is joint `j`'s matrix in the mesh's own
+/// frame: the mesh entity's transform inverted, times the joint's, times
+/// its inverse bind pose.
+///
+/// ```
+/// use bevy::mesh::{Indices, Mesh, PrimitiveTopology, VertexAttributeValues};
+/// use bevy::asset::RenderAssetUsages;
+/// use bevy::math::{Mat4, Vec3};
+/// let mut mesh = Mesh::new(PrimitiveTopology::TriangleList, RenderAssetUsages::all());
+/// mesh.insert_attribute(Mesh::ATTRIBUTE_POSITION, vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+/// mesh.insert_attribute(Mesh::ATTRIBUTE_JOINT_INDEX, VertexAttributeValues::Uint16x4(vec![[0, 0, 0, 0], [0, 0, 0, 0], [1, 0, 0, 0]]));
+/// mesh.insert_attribute(Mesh::ATTRIBUTE_JOINT_WEIGHT, vec![[1.0f32, 0.0, 0.0, 0.0]; 3]);
+/// mesh.insert_indices(Indices::U32(vec![0, 1, 2]));
+/// // Joint 1 lifts its vertex by 2.
+/// let posed = bevy_manifold::drawables::skinned_tri_mesh(&mesh, &[Mat4::IDENTITY, Mat4::from_translation(Vec3::Z * 2.0)]).unwrap();
+/// assert_eq!(posed.positions[2], [0.0, 1.0, 2.0]);
+/// ```
+///
+/// # Errors
+/// What keeps it from being traced: no joint indices or weights, a
+/// joint index past `joints`, or what [`tri_mesh`] says.
+pub fn skinned_tri_mesh(mesh: &Mesh, joints: &[Mat4]) -> Result<TriMesh, String> {
+    let rest = tri_mesh(mesh)?;
+    let Some(VertexAttributeValues::Uint16x4(indices)) = mesh.attribute(Mesh::ATTRIBUTE_JOINT_INDEX) else {
+        return Err("a skinned mesh without Uint16x4 joint indices".into());
+    };
+    let Some(VertexAttributeValues::Float32x4(weights)) = mesh.attribute(Mesh::ATTRIBUTE_JOINT_WEIGHT) else {
+        return Err("a skinned mesh without Float32x4 joint weights".into());
+    };
+    if indices.len() != rest.positions.len() || weights.len() != rest.positions.len() {
+        return Err("joint indices or weights not one per vertex".into());
+    }
+    let mut positions = Vec::with_capacity(rest.positions.len());
+    let mut normals = Vec::with_capacity(rest.positions.len());
+    for (v, (ji, w)) in indices.iter().zip(weights).enumerate() {
+        let sum: f32 = w.iter().sum();
+        let mut m = Mat4::ZERO;
+        for (&j, &wk) in ji.iter().zip(w) {
+            if wk == 0.0 {
+                continue;
+            }
+            let joint = joints
+                .get(usize::from(j))
+                .ok_or_else(|| format!("vertex {v}: joint {j} of {} joints", joints.len()))?;
+            m += *joint * (if sum > 0.0 { wk / sum } else { wk });
+        }
+        positions.push(m.transform_point3(Vec3::from(rest.positions[v])).to_array());
+        let n = Mat3::from_mat4(m).inverse().transpose() * Vec3::from(rest.normals[v]);
+        normals.push(n.normalize_or_zero().to_array());
+    }
+    TriMesh::new(positions, Some(normals), Some(rest.uvs), rest.triangles).map_err(|e| e.to_string())
+}
+
+/// Joint `j`'s matrix in the frame of the mesh entity whose transform
+/// relative to the placed entity is `mesh_local`: the joint's transforms
+/// up to that placed entity (the first ancestor with a placement),
+/// `mesh_local` inverted before them, its inverse bind pose after.
+/// `None` when a joint is not below the placed entity.
+#[expect(clippy::type_complexity, reason = "the gathering system's queries, passed on")]
+fn joint_matrices(
+    skin: &SkinnedMesh,
+    bindposes: &[Mat4],
+    mesh_local: Mat4,
+    (parents, transforms, flags): (
+        &Query<&ChildOf>,
+        &Query<&Transform>,
+        &Query<(Has<Placement>, Has<CameraBody>)>,
+    ),
+) -> Option<Vec<Mat4>> {
+    let to_mesh = mesh_local.inverse();
+    skin.joints
+        .iter()
+        .zip(bindposes)
+        .map(|(&joint, ibp)| {
+            let mut chain = Mat4::IDENTITY;
+            let mut e = joint;
+            // Up to (not including) the placed entity, whose frame the
+            // tracer's `local` matrices are in.
+            for _ in 0..256 {
+                if flags.get(e).is_ok_and(|(placed, _)| placed) {
+                    return Some(to_mesh * chain * *ibp);
+                }
+                chain = transforms.get(e).ok()?.to_matrix() * chain;
+                e = parents.get(e).ok()?.parent();
+            }
+            None
+        })
+        .collect()
+}
+
 /// An RGBA8 Bevy image as a [`Texture`].
 ///
 /// # Errors
@@ -253,6 +348,50 @@ type MeshEntity<'a> = (
     Option<&'a RenderLayers>,
 );
 
+/// A skinned mesh's last pose: its joints' matrices and the mesh (with
+/// its BVH) they made.
+#[derive(Debug)]
+pub struct PosedMesh {
+    mesh: AssetId<Mesh>,
+    joints: Vec<Mat4>,
+    data: Option<Arc<MeshData>>,
+    /// The BVH's box area when it was last built, not refitted.
+    built_area: f32,
+}
+
+/// A refitted BVH is built again once its boxes' area passes this many
+/// times the area it had when built (the surface-area heuristic's
+/// measure of what a ray pays).
+pub const REFIT_GROWTH: f32 = 1.5;
+
+/// `mesh` (the asset `id`) posed by `joints`: the last pose's BVH refitted to the moved
+/// vertices, or built again when there is none or refitting has let its
+/// boxes grow past [`REFIT_GROWTH`].
+fn pose(id: AssetId<Mesh>, mesh: &Mesh, joints: &[Mat4], last: Option<&PosedMesh>) -> Result<PosedMesh, String> {
+    use crate::mesh::bvh::surface_area;
+    let posed = skinned_tri_mesh(mesh, joints)?;
+    let refit = last
+        .and_then(|l| Some((l.data.as_ref()?, l.built_area)))
+        .and_then(|(data, built)| {
+            let refit = data.refit(posed.positions.clone(), posed.normals.clone()).ok()?;
+            (surface_area(&refit.nodes) <= REFIT_GROWTH * built).then_some((refit, built))
+        });
+    let (data, built_area) = match refit {
+        Some((refit, built)) => (Arc::new(refit), built),
+        None => {
+            let data = MeshData::shared(posed);
+            let area = surface_area(&data.nodes);
+            (data, area)
+        }
+    };
+    Ok(PosedMesh {
+        mesh: id,
+        joints: joints.to_vec(),
+        data: Some(data),
+        built_area,
+    })
+}
+
 /// Builds every space's [`ManifoldMeshes`] when a mesh, material, placement
 /// or transform below a placed entity changed, or a mesh asset did; hides
 /// traced meshes from the rasteriser.
@@ -291,6 +430,12 @@ pub fn gather_meshes(
     mut removed: RemovedComponents<Mesh3d>,
     mut left_spaces: RemovedComponents<InSpace>,
     mut warned: Local<HashSet<AssetId<Mesh>>>,
+    (skins, parents, bindposes, mut posed): (
+        Query<&SkinnedMesh>,
+        Query<&ChildOf>,
+        Option<Res<Assets<SkinnedMeshInverseBindposes>>>,
+        Local<HashMap<Entity, PosedMesh>>,
+    ),
 ) {
     let dirty = std::mem::take(&mut cache.dirty)
         || removed.read().count() + left_spaces.read().count() > 0
@@ -317,36 +462,71 @@ pub fn gather_meshes(
                 }
                 if visible.is_none_or(|v| v.get()) {
                     let id = mesh3d.0.id();
+                    // A skinned mesh, posed by its joints: built again when
+                    // they moved, else the last pose's BVH is kept.
+                    let skinned = skins.get(e).ok().and_then(|skin| {
+                        let ibp = bindposes.as_ref()?.get(&skin.inverse_bindposes)?;
+                        let joints = joint_matrices(skin, ibp, local, (&parents, &transforms, &flags))?;
+                        if let Some(last) = posed.get(&e)
+                            && last.mesh == id
+                            && last.joints == joints
+                        {
+                            return Some(last.data.clone());
+                        }
+                        let last = posed.remove(&e).filter(|last| last.mesh == id);
+                        let pose = pose(id, mesh_assets.get(id)?, &joints, last.as_ref());
+                        let pose = match pose {
+                            Ok(pose) => pose,
+                            Err(err) => {
+                                if warned.insert(id) {
+                                    warn!("bevy_manifold: skinned mesh {id} of entity {e} is not traced: {err}");
+                                }
+                                PosedMesh {
+                                    mesh: id,
+                                    joints,
+                                    data: None,
+                                    built_area: 0.0,
+                                }
+                            }
+                        };
+                        let data = pose.data.clone();
+                        posed.insert(e, pose);
+                        Some(data)
+                    });
                     // Cached only once the asset is there: one still loading
                     // is looked up again when its load event arrives.
-                    let data = match cache.meshes.get(&id) {
-                        Some(cached) => cached.clone(),
-                        // A large BVH still building: the mesh appears when
-                        // it is ready (`collect_bvh_builds`).
-                        None if cache.pending.contains_key(&id) => None,
-                        None => match mesh_assets.get(id) {
-                            None => None,
-                            Some(mesh) => match tri_mesh(mesh) {
-                                Ok(m) if m.triangles.len() > ASYNC_BVH_TRIANGLES => {
-                                    let task = bevy::tasks::AsyncComputeTaskPool::get()
-                                        .spawn(async move { MeshData::shared(m) });
-                                    cache.pending.insert(id, task);
-                                    None
-                                }
-                                Ok(m) => {
-                                    let built = Some(MeshData::shared(m));
-                                    cache.meshes.insert(id, built.clone());
-                                    built
-                                }
-                                Err(err) => {
-                                    if warned.insert(id) {
-                                        warn!("bevy_manifold: mesh {id} of entity {e} is not traced: {err}");
+                    let data = if let Some(data) = skinned {
+                        data
+                    } else {
+                        match cache.meshes.get(&id) {
+                            Some(cached) => cached.clone(),
+                            // A large BVH still building: the mesh appears when
+                            // it is ready (`collect_bvh_builds`).
+                            None if cache.pending.contains_key(&id) => None,
+                            None => match mesh_assets.get(id) {
+                                None => None,
+                                Some(mesh) => match tri_mesh(mesh) {
+                                    Ok(m) if m.triangles.len() > ASYNC_BVH_TRIANGLES => {
+                                        let task = bevy::tasks::AsyncComputeTaskPool::get()
+                                            .spawn(async move { MeshData::shared(m) });
+                                        cache.pending.insert(id, task);
+                                        None
                                     }
-                                    cache.meshes.insert(id, None);
-                                    None
-                                }
+                                    Ok(m) => {
+                                        let built = Some(MeshData::shared(m));
+                                        cache.meshes.insert(id, built.clone());
+                                        built
+                                    }
+                                    Err(err) => {
+                                        if warned.insert(id) {
+                                            warn!("bevy_manifold: mesh {id} of entity {e} is not traced: {err}");
+                                        }
+                                        cache.meshes.insert(id, None);
+                                        None
+                                    }
+                                },
                             },
-                        },
+                        }
                     };
                     if let Some(data) = data {
                         #[cfg(feature = "standard_material")]
@@ -376,6 +556,8 @@ pub fn gather_meshes(
             }
         }
     }
+    // The poses of skinned meshes that are gone.
+    posed.retain(|e, _| skins.contains(*e));
     for (root, _, old) in &roots {
         let new = per_root.remove(&root).unwrap_or_default();
         if old != Some(&new) {

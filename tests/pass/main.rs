@@ -39,6 +39,7 @@ bevy_manifold_test_support::test_main! {
         cameras_without_the_marker_render_exactly_as_before,
         gltf_meshes_in_a_manifold_are_traced_and_not_rasterised,
         gltf_scene_roots_in_a_manifold_are_traced,
+        a_skinned_mesh_is_traced_as_its_joints_pose_it,
         the_papers_scene_as_entities_matches_the_tracers,
         cell_tints_agree_between_the_pass_and_the_cpu,
         a_view_at_half_scale_is_the_half_size_trace_upscaled_bilinearly,

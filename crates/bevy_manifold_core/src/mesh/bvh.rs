@@ -90,6 +90,44 @@ pub fn build(mesh: &TriMesh) -> (Vec<BvhNode>, Vec<u32>) {
     build_over(&boxes)
 }
 
+/// Fits the boxes of `nodes` (built over `mesh`'s triangles, in the order
+/// the leaves index) to `mesh`'s positions again, children before
+/// parents: the hierarchy's shape is kept, so it stays right for every
+/// ray, only less tight when the triangles moved far from where it was
+/// built ([`surface_area`] says how much).
+pub fn refit(nodes: &mut [BvhNode], mesh: &TriMesh) {
+    // Root first with the left child right after its parent and the right
+    // child further on: every child comes after its parent.
+    for i in (0..nodes.len()).rev() {
+        let node = nodes[i];
+        let mut b = Aabb::EMPTY;
+        if node.count > 0 {
+            let first = node.first as usize;
+            for t in &mesh.triangles[first..first + node.count as usize] {
+                for &v in t {
+                    b.grow(mesh.positions[v as usize]);
+                }
+            }
+        } else if i + 1 < nodes.len() {
+            for child in [i + 1, node.first as usize] {
+                let c = nodes[child];
+                b.join(&Aabb { min: c.min, max: c.max });
+            }
+        }
+        nodes[i].min = b.min;
+        nodes[i].max = b.max;
+    }
+}
+
+/// The summed surface area of the hierarchy's boxes: what a ray pays to
+/// walk it, in proportion (the surface-area heuristic's measure). A
+/// refitted hierarchy whose area grew far past the one built for the
+/// same triangles is worth building again.
+#[must_use]
+pub fn surface_area(nodes: &[BvhNode]) -> f32 {
+    nodes.iter().map(|n| Aabb { min: n.min, max: n.max }.area()).sum()
+}
+
 /// Builds a hierarchy over any items given by their boxes (min, max):
 /// the flattened nodes (root first) and the item order the leaves index
 /// into, with leaves of up to [`LEAF_SIZE`] items. The mesh's triangles

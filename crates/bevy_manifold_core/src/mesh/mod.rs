@@ -230,6 +230,37 @@ impl MeshData {
         MeshData { mesh, nodes, skip }
     }
 
+    /// The same triangles with their vertices moved (a skinned mesh's
+    /// next pose: `positions` and `normals` one per vertex, as this mesh
+    /// has them): the BVH's shape kept and its boxes fitted to the new
+    /// positions ([`bvh::refit`]), far cheaper than building it again.
+    ///
+    /// # Errors
+    /// [`MeshError`] when the arrays are not one per vertex or a position
+    /// is not finite.
+    pub fn refit(&self, positions: Vec<[f32; 3]>, normals: Vec<[f32; 3]>) -> Result<Self, MeshError> {
+        if positions.len() != self.mesh.positions.len() {
+            return Err(MeshError::Attribute {
+                what: "positions",
+                got: positions.len(),
+                vertices: self.mesh.positions.len(),
+            });
+        }
+        let mesh = TriMesh::new(
+            positions,
+            Some(normals),
+            Some(self.mesh.uvs.clone()),
+            self.mesh.triangles.clone(),
+        )?;
+        let mut nodes = self.nodes.clone();
+        bvh::refit(&mut nodes, &mesh);
+        Ok(MeshData {
+            mesh,
+            nodes,
+            skip: self.skip.clone(),
+        })
+    }
+
     /// [`MeshData::build`] behind an `Arc`, as scenes hold meshes.
     #[must_use]
     pub fn shared(mesh: TriMesh) -> Arc<Self> {
