@@ -45,18 +45,18 @@ mod view;
 #[cfg(feature = "xr")]
 mod xr;
 
+#[path = "../support/hud.rs"]
+mod hud;
 #[path = "../support/showcase.rs"]
 #[allow(dead_code, reason = "billiards uses its screenshot part only")]
 mod showcase;
 
 use bevy::prelude::*;
-use bevy::time::TimeUpdateStrategy;
-use bevy_manifold::camera::{FlyCameraPlugin, ManifoldCamera};
+use bevy_manifold::camera::FlyCameraPlugin;
 use bevy_manifold::prelude::*;
 use bevy_manifold::render::offscreen;
 use clap::Parser;
 use std::path::PathBuf;
-use std::time::Duration;
 use table::{Cue, TableConfig, TablePlugin};
 use view::{ViewPlugin, ViewSettings};
 
@@ -204,28 +204,12 @@ fn screenshot(config: TableConfig, levels: u32, path: PathBuf, (w, h): (u32, u32
     ));
     app.finish();
     app.cleanup();
-    let target = offscreen::target(&mut app, w, h);
-    settings.target = Some(target.clone());
+    settings.target = Some(showcase::screenshot_mode(&mut app, path, (w, h)));
     app.insert_resource(settings);
-    app.insert_resource(showcase::ScreenshotMode { path, target });
-    app.add_observer(
-        |add: On<Add, ManifoldCamera>, mode: Res<showcase::ScreenshotMode>, mut commands: Commands| {
-            commands
-                .entity(add.entity)
-                .insert(bevy::camera::RenderTarget::Image(mode.target.clone().into()));
-        },
-    );
-    let tick = Duration::from_secs_f64(1.0 / table::TICK_HZ);
-    app.world_mut()
-        .resource_mut::<Time<Virtual>>()
-        .set_max_delta(Duration::from_secs(60));
     // The first update sets the table up; the stroke is taken at the
-    // first tick of the next.
-    app.insert_resource(TimeUpdateStrategy::ManualDuration(tick));
-    app.update();
+    // first tick of the next, and 0.7 s are played.
+    showcase::play_ticks(&mut app, table::TICK_HZ, 1);
     app.world_mut().resource_mut::<Cue>().strike = Some(1.0);
-    app.insert_resource(TimeUpdateStrategy::ManualDuration(tick * 42));
-    app.update();
-    app.insert_resource(TimeUpdateStrategy::ManualDuration(Duration::ZERO));
+    showcase::play_ticks(&mut app, table::TICK_HZ, 42);
     showcase::run(app)
 }

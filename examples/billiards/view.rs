@@ -4,6 +4,7 @@
 //! of sight, and the keyboard and mouse (the fly camera's keys, and the
 //! cue; see `main.rs` for the table).
 
+use crate::hud::{CenterText, Crosshair, HudText, spawn_hud};
 use crate::table::{Ball, Cue, Player, Table, TableEvent, set_up_table};
 use bevy::camera::RenderTarget;
 use bevy::prelude::*;
@@ -39,15 +40,6 @@ impl Plugin for ViewPlugin {
 /// How long the cue has been held (seconds), while it is.
 #[derive(Resource, Default)]
 struct Charge(Option<f64>);
-
-#[derive(Component)]
-struct HudText;
-
-#[derive(Component)]
-struct CenterText;
-
-#[derive(Component)]
-struct Crosshair;
 
 /// Gives the player its eyes (the manifold camera) and the fly camera's
 /// controls, and points the HUD at it.
@@ -87,46 +79,6 @@ fn attach_eyes(
     for e in &hud {
         commands.entity(e).insert(UiTargetCamera(player));
     }
-}
-
-fn spawn_hud(mut commands: Commands) {
-    commands.spawn((
-        Text::new(""),
-        HudText,
-        TextFont::from_font_size(14.0),
-        Node {
-            position_type: PositionType::Absolute,
-            bottom: px(8.0),
-            left: px(10.0),
-            ..default()
-        },
-    ));
-    commands.spawn((
-        Text::new(""),
-        CenterText,
-        TextFont::from_font_size(20.0),
-        TextLayout::justify(Justify::Center),
-        Node {
-            position_type: PositionType::Absolute,
-            top: percent(30.0),
-            width: percent(100.0),
-            ..default()
-        },
-    ));
-    commands.spawn((
-        Text::new("+"),
-        Crosshair,
-        TextFont::from_font_size(28.0),
-        TextColor(Color::srgba(1.0, 1.0, 1.0, 0.8)),
-        TextLayout::justify(Justify::Center),
-        Node {
-            position_type: PositionType::Absolute,
-            top: percent(50.0),
-            margin: UiRect::top(px(-17.0)),
-            width: percent(100.0),
-            ..default()
-        },
-    ));
 }
 
 /// The cue: held (left mouse button, F, or a gamepad's south button with

@@ -39,13 +39,13 @@ mod view;
 #[cfg(feature = "xr")]
 mod xr;
 
+#[path = "../support/hud.rs"]
+mod hud;
 #[path = "../support/showcase.rs"]
 #[allow(dead_code, reason = "the shooter uses its screenshot part only")]
 mod showcase;
 
 use bevy::prelude::*;
-use bevy::time::TimeUpdateStrategy;
-use bevy_manifold::camera::ManifoldCamera;
 use bevy_manifold::prelude::*;
 use bevy_manifold::render::offscreen;
 use game::{Difficulty, Game, GameConfig, GamePlugin};
@@ -347,31 +347,14 @@ fn screenshot(config: GameConfig, levels: u32, path: PathBuf, (w, h): (u32, u32)
     ));
     app.finish();
     app.cleanup();
-    let target = offscreen::target(&mut app, w, h);
-    settings.target = Some(target.clone());
+    settings.target = Some(showcase::screenshot_mode(&mut app, path, (w, h)));
     app.insert_resource(settings);
     app.insert_resource(InputSource {
         script: Some(script),
         ..default()
     });
-    app.insert_resource(showcase::ScreenshotMode { path, target });
-    // Every manifold camera draws into the target (the showcase's rule).
-    app.add_observer(
-        |add: On<Add, ManifoldCamera>, mode: Res<showcase::ScreenshotMode>, mut commands: Commands| {
-            commands
-                .entity(add.entity)
-                .insert(bevy::camera::RenderTarget::Image(mode.target.clone().into()));
-        },
-    );
-    let tick = Duration::from_secs_f64(1.0 / game::TICK_HZ);
-    app.world_mut()
-        .resource_mut::<Time<Virtual>>()
-        .set_max_delta(Duration::from_secs(60));
-    app.insert_resource(TimeUpdateStrategy::ManualDuration(tick));
-    app.update();
+    showcase::play_ticks(&mut app, game::TICK_HZ, 1);
     let played = app.world().resource::<Game>().tick;
-    app.insert_resource(TimeUpdateStrategy::ManualDuration(tick * (ticks - played) as u32));
-    app.update();
-    app.insert_resource(TimeUpdateStrategy::ManualDuration(Duration::ZERO));
+    showcase::play_ticks(&mut app, game::TICK_HZ, (ticks - played) as u32);
     showcase::run(app)
 }

@@ -13,6 +13,7 @@
 //! | R | restart; M: back to the menu |
 
 use crate::game::{Difficulty, Enemy, Game, GameConfig, Phase, Player, Shot, Target, colors, start_game};
+use crate::hud::{CenterText, Crosshair, HudText, spawn_hud};
 use crate::input::InputSource;
 use bevy::camera::visibility::RenderLayers;
 use bevy::camera::{RenderTarget, Viewport};
@@ -45,7 +46,7 @@ pub struct ViewPlugin(pub ViewSettings);
 impl Plugin for ViewPlugin {
     fn build(&self, app: &mut App) {
         app.insert_resource(self.0.clone())
-            .add_systems(Startup, spawn_hud)
+            .add_systems(Startup, spawn_hud_and_map)
             .add_systems(
                 Update,
                 (
@@ -60,15 +61,6 @@ impl Plugin for ViewPlugin {
             );
     }
 }
-
-#[derive(Component)]
-struct HudText;
-
-#[derive(Component)]
-struct CenterText;
-
-#[derive(Component)]
-struct Crosshair;
 
 /// Where the map camera looks from: the domain fits its view.
 #[derive(Component)]
@@ -163,45 +155,10 @@ fn attach_eyes(
     }
 }
 
-fn spawn_hud(mut commands: Commands, mut gizmos: ResMut<GizmoConfigStore>) {
+/// The HUD, and the gizmos (the map's lines) on the map's layer only.
+fn spawn_hud_and_map(commands: Commands, mut gizmos: ResMut<GizmoConfigStore>) {
     gizmos.config_mut::<DefaultGizmoConfigGroup>().0.render_layers = RenderLayers::layer(MAP);
-    commands.spawn((
-        Text::new(""),
-        HudText,
-        TextFont::from_font_size(14.0),
-        Node {
-            position_type: PositionType::Absolute,
-            bottom: px(8.0),
-            left: px(10.0),
-            ..default()
-        },
-    ));
-    commands.spawn((
-        Text::new(""),
-        CenterText,
-        TextFont::from_font_size(20.0),
-        TextLayout::justify(Justify::Center),
-        Node {
-            position_type: PositionType::Absolute,
-            top: percent(30.0),
-            width: percent(100.0),
-            ..default()
-        },
-    ));
-    commands.spawn((
-        Text::new("+"),
-        Crosshair,
-        TextFont::from_font_size(28.0),
-        TextColor(Color::srgba(1.0, 1.0, 1.0, 0.8)),
-        TextLayout::justify(Justify::Center),
-        Node {
-            position_type: PositionType::Absolute,
-            top: percent(50.0),
-            margin: UiRect::top(px(-17.0)),
-            width: percent(100.0),
-            ..default()
-        },
-    ));
+    spawn_hud(commands);
 }
 
 /// The keyboard and mouse (and with the `gamepad` feature every gamepad:

@@ -24,10 +24,12 @@
 
 use bevy::camera::RenderTarget;
 use bevy::prelude::*;
+use bevy::time::TimeUpdateStrategy;
 use bevy_manifold::camera::FlyCameraPlugin;
 use bevy_manifold::camera::ManifoldCamera;
 use bevy_manifold::render::offscreen;
 use std::path::PathBuf;
+use std::time::Duration;
 
 /// The value after `name` on the command line (`--size 320x180`).
 #[must_use]
@@ -64,6 +66,39 @@ pub struct ScreenshotMode {
     pub target: Handle<Image>,
 }
 
+/// Screenshot mode for an app built by hand (a game's own plugins on
+/// `offscreen::plugins()`, finished and cleaned up): a `w x h` target
+/// that every manifold camera draws into, saved to `path` by [`run`].
+/// Returns the target.
+pub fn screenshot_mode(app: &mut App, path: PathBuf, (w, h): (u32, u32)) -> Handle<Image> {
+    let target = offscreen::target(app, w, h);
+    app.insert_resource(ScreenshotMode {
+        path,
+        target: target.clone(),
+    });
+    app.add_observer(
+        |add: On<Add, ManifoldCamera>, mode: Res<ScreenshotMode>, mut commands: Commands| {
+            commands
+                .entity(add.entity)
+                .insert(RenderTarget::Image(mode.target.clone().into()));
+        },
+    );
+    target
+}
+
+/// Plays `ticks` ticks of a fixed clock of `hz` in one update, then stops
+/// the clock: a game's moment before its screenshot, which stays that
+/// moment however long the shaders take to compile.
+pub fn play_ticks(app: &mut App, hz: f64, ticks: u32) {
+    app.world_mut()
+        .resource_mut::<Time<Virtual>>()
+        .set_max_delta(Duration::from_secs(60));
+    let tick = Duration::from_secs_f64(1.0 / hz);
+    app.insert_resource(TimeUpdateStrategy::ManualDuration(tick * ticks));
+    app.update();
+    app.insert_resource(TimeUpdateStrategy::ManualDuration(Duration::ZERO));
+}
+
 /// The help line shown over the view.
 #[derive(Component)]
 struct HelpText;
@@ -80,18 +115,7 @@ pub fn app(title: &str, help: &str) -> App {
         app.add_plugins((crate::ManifoldPlugins::default(), FlyCameraPlugin));
         app.finish();
         app.cleanup();
-        let target = offscreen::target(&mut app, w, h);
-        app.insert_resource(ScreenshotMode {
-            path: path.into(),
-            target,
-        });
-        app.add_observer(
-            |add: On<Add, ManifoldCamera>, mode: Res<ScreenshotMode>, mut commands: Commands| {
-                commands
-                    .entity(add.entity)
-                    .insert(RenderTarget::Image(mode.target.clone().into()));
-            },
-        );
+        screenshot_mode(&mut app, path.into(), (w, h));
         return app;
     }
     let mut app = App::new();
