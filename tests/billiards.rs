@@ -20,6 +20,7 @@ use bevy::time::TimeUpdateStrategy;
 use bevy_manifold::contact;
 use bevy_manifold::geometry::{Geometry, isometry};
 use bevy_manifold::prelude::*;
+use bevy_manifold_test_support::Rng;
 use glam::{DMat4, DVec3};
 use std::time::Duration;
 use table::{Ball, Cue, Pocket, Table, TableConfig, TableEvent, TablePlugin};
@@ -179,30 +180,17 @@ fn a_glancing_blow_in_flat_space_leaves_at_right_angles_and_keeps_momentum() {
     }
 }
 
-/// A random isometry (a translation up to `reach`, then a turn).
-fn random_isometry(g: Geometry, rng: &mut u64, reach: f64) -> DMat4 {
-    let mut unit = || {
-        *rng = rng
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (*rng >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
-    let v = DVec3::new(unit(), unit(), unit()) * reach;
-    let axis = DVec3::new(unit(), unit(), unit() + 2.0);
-    isometry::translation(g, v) * isometry::rotation(axis, 3.0 * unit())
-}
-
 #[test]
 fn collisions_keep_the_energy_and_part_the_balls_in_every_geometry() {
-    let mut rng = 7u64;
+    let mut rng = Rng(7);
     for g in [Geometry::Euclidean, Geometry::Hyperbolic, Geometry::Spherical] {
         let mut met = 0;
         for _ in 0..400 {
-            let a = random_isometry(g, &mut rng, 0.6);
+            let a = rng.isometry(g, 0.6);
             // The second ball within a ball's breadth of the first.
-            let b = a * random_isometry(g, &mut rng, 0.08);
-            let va = random_isometry(g, &mut rng, 1.0).w_axis.truncate();
-            let vb = random_isometry(g, &mut rng, 1.0).w_axis.truncate();
+            let b = a * rng.isometry(g, 0.08);
+            let va = rng.unit() * rng.next_f64();
+            let vb = rng.unit() * rng.next_f64();
             let Some((va2, vb2)) = table::collide(g, (a, va), (b, vb), false) else {
                 continue;
             };

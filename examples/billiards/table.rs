@@ -346,6 +346,13 @@ fn line_to(g: Geometry, q: DVec4) -> (DVec3, DMat4) {
     (q.truncate().normalize_or_zero(), isometry::translation_to(g, q))
 }
 
+/// A tangent vector `v` at the origin carried along the geodesic to the
+/// other body (`along`, the translation [`line_to`] gives) and read in
+/// that body's own frame (`rel`, its isometry seen from the origin's).
+fn carried(g: Geometry, rel: DMat4, along: DMat4, v: DVec3) -> DVec3 {
+    (isometry::inverse(g, rel) * along * v.extend(0.0)).truncate()
+}
+
 /// The isometry `from`, turned (by the least rotation) so that its
 /// forward direction (local -z) points along the geodesic to `target`.
 #[must_use]
@@ -390,9 +397,7 @@ pub fn collide(g: Geometry, (a, va): (DMat4, DVec3), (b, vb): (DMat4, DVec3), pa
     if paddle {
         return Some((va - 2.0 * closing * n, vb));
     }
-    let (va2, ub2) = (va - closing * n, ub + closing * n);
-    let vb2 = (isometry::inverse(g, rel) * to_b * ub2.extend(0.0)).truncate();
-    Some((va2, vb2))
+    Some((va - closing * n, carried(g, rel, to_b, ub + closing * n)))
 }
 
 /// The velocity, in the cue ball's frame, that a stroke of `speed` from
@@ -403,7 +408,7 @@ pub fn collide(g: Geometry, (a, va): (DMat4, DVec3), (b, vb): (DMat4, DVec3), pa
 pub fn stroke(g: Geometry, eye: DMat4, ball: DMat4, speed: f64) -> DVec3 {
     let rel = isometry::inverse(g, eye) * ball;
     let (n, to_ball) = line_to(g, g.normalize_point::<f64>(rel.w_axis));
-    (isometry::inverse(g, rel) * to_ball * (n * speed).extend(0.0)).truncate()
+    carried(g, rel, to_ball, n * speed)
 }
 
 /// The stroke asked for: the cue ball struck along the player's line of

@@ -5,7 +5,7 @@
 //! cue; see `main.rs` for the table).
 
 use crate::hud::{CenterText, Crosshair, HudText, spawn_hud};
-use crate::table::{Ball, Cue, Player, Table, TableEvent, set_up_table};
+use crate::table::{Cue, Player, Table, TableEvent, set_up_table};
 use bevy::camera::RenderTarget;
 use bevy::prelude::*;
 use bevy_manifold::camera::ManifoldCamera;
@@ -48,13 +48,15 @@ fn attach_eyes(
     mut commands: Commands,
     settings: Res<ViewSettings>,
     table: Option<Res<Table>>,
+    spaces: Query<&ManifoldSpace>,
     players: Query<Entity, (With<Player>, Without<ManifoldCamera>)>,
     hud: Query<Entity, Or<(With<HudText>, With<CenterText>, With<Crosshair>)>>,
 ) {
     let (Some(table), Ok(player)) = (table, players.single()) else {
         return;
     };
-    let r = table.rules.ball_radius / 0.07;
+    let Ok(ms) = spaces.get(table.root) else { return };
+    let r = ms.space().inradius();
     commands.entity(player).insert((
         ManifoldCamera {
             levels: settings.levels,
@@ -120,7 +122,6 @@ fn show_hud(
     table: Option<Res<Table>>,
     charge: Res<Charge>,
     cast: ManifoldRayCast,
-    balls: Query<&Ball>,
     mut hud: Query<&mut Text, (With<HudText>, Without<CenterText>)>,
     mut center: Query<&mut Text, (With<CenterText>, Without<HudText>)>,
     mut crosshair: Query<&mut TextColor, With<Crosshair>>,
@@ -159,7 +160,7 @@ fn show_hud(
     let aimed = cast
         .cast(table.player, DVec3::NEG_Z, &settings)
         .first()
-        .is_some_and(|hit| hit.entity == table.cue_ball && balls.contains(hit.entity));
+        .is_some_and(|hit| hit.entity == table.cue_ball);
     for mut c in &mut crosshair {
         c.0 = if aimed {
             Color::srgb(0.3, 1.0, 0.4)

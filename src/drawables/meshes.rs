@@ -370,26 +370,30 @@ pub const REFIT_GROWTH: f32 = 1.5;
 fn pose(id: AssetId<Mesh>, mesh: &Mesh, joints: &[Mat4], last: Option<&PosedMesh>) -> Result<PosedMesh, String> {
     use crate::mesh::bvh::surface_area;
     let posed = skinned_tri_mesh(mesh, joints)?;
-    let refit = last
-        .and_then(|l| Some((l.data.as_ref()?, l.built_area)))
-        .and_then(|(data, built)| {
-            let refit = data.refit(posed.positions.clone(), posed.normals.clone()).ok()?;
-            (surface_area(&refit.nodes) <= REFIT_GROWTH * built).then_some((refit, built))
-        });
-    let (data, built_area) = match refit {
-        Some((refit, built)) => (Arc::new(refit), built),
-        None => {
-            let data = MeshData::shared(posed);
-            let area = surface_area(&data.nodes);
-            (data, area)
-        }
-    };
-    Ok(PosedMesh {
+    let done = |data: Arc<MeshData>, built_area: f32| PosedMesh {
         mesh: id,
         joints: joints.to_vec(),
         data: Some(data),
         built_area,
-    })
+    };
+    // The last pose's BVH, when it was made for as many vertices.
+    let previous = last
+        .and_then(|l| Some((l.data.as_ref()?, l.built_area)))
+        .filter(|(data, _)| data.mesh.positions.len() == posed.positions.len());
+    let moved = match previous {
+        Some((data, built)) => {
+            let refit = data.refit(posed.positions, posed.normals).map_err(|e| e.to_string())?;
+            if surface_area(&refit.nodes) <= REFIT_GROWTH * built {
+                return Ok(done(Arc::new(refit), built));
+            }
+            // Grown too loose: a new BVH over the same moved triangles.
+            refit.mesh
+        }
+        None => posed,
+    };
+    let data = MeshData::shared(moved);
+    let area = surface_area(&data.nodes);
+    Ok(done(data, area))
 }
 
 /// Builds every space's [`ManifoldMeshes`] when a mesh, material, placement
