@@ -91,6 +91,7 @@ fn check_segments<R: Real>(name: &str, space: &Space, flat: &FlatScene<R>, rng: 
             let mut handed = std::collections::HashSet::new();
             each_candidate(flat, &walk.ray, t_end, ([near; 2], true), 0.0, |c| {
                 assert!(handed.insert(c), "{name}: {c:?} handed out twice");
+                t_end
             });
             let mut check = |mask: u32, hit: Option<R>, what: &str| {
                 counts.tests += 1;

@@ -111,6 +111,13 @@ struct Params {
     path_depth: u32,
     seed: u32,
     sample: u32,
+    // INSTANCE_TREE: where in mesh_data the instance trees' table starts
+    // (GpuObjects::instance_trees; instance_tree.wgsl), or
+    // NO_INSTANCE_TREES.
+    instance_trees: u32,
+    pad_a: u32,
+    pad_b: u32,
+    pad_c: u32,
 }
 
 // Rust twin: GpuFace in crates/bevy_manifold_gpu/src/layout.rs.
@@ -347,7 +354,7 @@ fn face_plane(i: u32) -> vec4<f32> {
 
 // Pixel::object of a domain edge (a tube). Rust twin: EDGE_ID in
 // crates/bevy_manifold_core/src/trace/flat.rs.
-const EDGE_ID: u32 = 255u;
+const EDGE_ID: u32 = 0xfffffffdu;
 // Params::flags bits. Rust twins: FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE,
 // FLAG_NO_CULL in crates/bevy_manifold_gpu/src/layout.rs.
 const FLAG_NO_EARLY_STOP: u32 = 1u;
@@ -360,6 +367,10 @@ const NO_FACE: u32 = 0xffffffffu;
 // A tube that carries no vertex joint. Rust: None, or NO_JOINT in
 // crates/bevy_manifold_gpu/src/layout.rs.
 const NO_JOINT: u32 = 0xffffffffu;
+
+// Params::instance_trees when no group of instances has a tree. Rust
+// twin: NO_INSTANCE_TREES in crates/bevy_manifold_gpu/src/layout.rs.
+const NO_INSTANCE_TREES: u32 = 0xffffffffu;
 
 // The object id of a wall. Rust twin: rule::WALL_OBJECT.
 const WALL_OBJECT: u32 = 0xfffffffeu;

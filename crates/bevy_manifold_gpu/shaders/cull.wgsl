@@ -4,7 +4,9 @@
 // (next_group), each edge tube only where both its edge's faces are near
 // (the edge walk), with the vertex joint it carries (consider_edge); of
 // the balls inside the domain, only those in the leaves of the ball tree
-// the segment meets (interior_balls). Each is handed to consider_* in
+// the segment meets (interior_balls); of a group of many mesh instances,
+// only those in the leaves of its tree the segment meets before the
+// nearest hit (instance_tree.wgsl). Each is handed to consider_* in
 // nearest.wgsl.
 //
 // Rust twin: crates/bevy_manifold_core/src/trace/cull.rs (each_candidate)
@@ -14,7 +16,8 @@
 // Shader defs read: BALLS, TUBES, MESHES, FOOTPRINT (balls tested by
 // their own near faces, tree boxes padded), BALL_TREE (the test of the
 // ball tree's leaves, BALL_LEAVES of them), MANY_UNKEYED_TUBES (the loop
-// over the tubes with no edge bits past the first 32).
+// over the tubes with no edge bits past the first 32), INSTANCE_TREE (a
+// group of instances walked by its tree, instance_tree.wgsl).
 #define_import_path bevy_manifold::cull
 
 #import bevy_manifold::bindings::{params, cached, groups, tubes, face_count}
@@ -34,6 +37,9 @@
 #endif
 #ifdef MESHES
 #import bevy_manifold::nearest::consider_instance
+#endif
+#ifdef INSTANCE_TREE
+#import bevy_manifold::instance_tree::tree_instances
 #endif
 #ifdef SHADOWS
 #import bevy_manifold::nearest::{best, shadow_ray}
@@ -317,20 +323,31 @@ fn each_candidate(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) {
     }
 #endif
 #ifdef MESHES
+    // Each group by its tree where it has one (instance_tree.wgsl), else
+    // instance by instance. Group 0 holds the instances with no face
+    // mask, group f + 1 face f's.
     var rest_meshes = grouped & cached.occupied.z;
     var meshes_range = vec2<u32>(0u, groups[0].z);
+    var group = 0u;
     loop {
-        for (var i = meshes_range.x; i < meshes_range.y; i++) {
-#ifdef SHADOWS
-            if shadow_ray && best.kind != 0u {
-                return;
-            }
+        var walked = false;
+#ifdef INSTANCE_TREE
+        walked = tree_instances(ray, t_end, cell_point, near, group);
 #endif
-            consider_instance(ray, t_end, cell_point, near, i);
+        if !walked {
+            for (var i = meshes_range.x; i < meshes_range.y; i++) {
+#ifdef SHADOWS
+                if shadow_ray && best.kind != 0u {
+                    return;
+                }
+#endif
+                consider_instance(ray, t_end, cell_point, near, i);
+            }
         }
         if rest_meshes == 0u {
             break;
         }
+        group = firstTrailingBit(rest_meshes) + 1u;
         meshes_range = next_group(&rest_meshes, 2u);
     }
 #endif

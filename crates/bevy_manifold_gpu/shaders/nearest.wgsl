@@ -238,4 +238,24 @@ fn consider_instance(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32, i: 
         best = Hit(h.t, 3u, i, h.hit.triangle, h.hit.u, h.hit.v);
     }
 }
+
+// How far along the ray a hit still matters once the objects so far are
+// considered: the nearest hit (under FOOTPRINT, met_limit), or t_end; for
+// a shadow ray 0 once anything blocks it. The instance tree's walk
+// (instance_tree.wgsl) skips boxes beyond it. Rust twin: what the
+// visitors of nearest_object, segment_layers (trace.rs) and
+// segment_blocked (shadow.rs) return to each_candidate.
+fn still_wanted(t_end: f32) -> f32 {
+#ifdef FOOTPRINT
+    var limit = met_limit(t_end);
+#else
+    var limit = select(t_end, best.t, best.kind != 0u);
+#endif
+#ifdef SHADOWS
+    if shadow_ray {
+        limit = select(t_end, 0.0, best.kind != 0u);
+    }
+#endif
+    return limit;
+}
 #endif

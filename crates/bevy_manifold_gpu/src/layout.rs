@@ -117,7 +117,20 @@ pub struct GpuParams {
     /// ... and the sample's index (`TraceSettings::light_sample`, the
     /// `k` of [`GpuParams::sample`]).
     pub sample: u32,
+    /// Where in `mesh_data` the instance trees' table starts
+    /// ([`GpuObjects::instance_trees`]), or [`NO_INSTANCE_TREES`].
+    pub instance_trees: u32,
+    /// Padding to 16 bytes.
+    pub pad_a: u32,
+    /// Padding.
+    pub pad_b: u32,
+    /// Padding.
+    pub pad_c: u32,
 }
+
+/// [`GpuParams::instance_trees`]: no instance has a tree (every one is
+/// tested).
+pub const NO_INSTANCE_TREES: u32 = u32::MAX;
 
 /// WGSL twin: `Face` in `shaders/bindings.wgsl`.
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]

@@ -79,7 +79,7 @@ macro_rules! wgsl {
 /// of the core's `geometry/mod.rs`, `cells` and `rule` of its `space/`,
 /// `bvh` of its `mesh/`, and the others of its `trace/` (the tracer's
 /// stages: see `bevy_manifold_core::trace`).
-pub const SHADER_IMPORTS: [WgslModule; 21] = [
+pub const SHADER_IMPORTS: [WgslModule; 22] = [
     wgsl!("output"),
     wgsl!("bindings"),
     wgsl!("geometry"),
@@ -95,6 +95,7 @@ pub const SHADER_IMPORTS: [WgslModule; 21] = [
     wgsl!("camera"),
     wgsl!("cone"),
     wgsl!("nearest"),
+    wgsl!("instance_tree"),
     wgsl!("cull"),
     wgsl!("shadow"),
     wgsl!("shade"),

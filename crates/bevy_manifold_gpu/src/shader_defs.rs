@@ -105,6 +105,17 @@ pub struct TraceDefs {
     /// tests only those (the image is the same). 0 without the tree (at
     /// least 1 in the value def).
     pub ball_leaves: u32,
+    /// `INSTANCE_TREE`: some face group of mesh instances may have a
+    /// tree (`FlatScene::instance_trees`; `shaders/instance_tree.wgsl`),
+    /// which a segment walks in place of testing each instance. On in
+    /// [`TraceDefs::for_scene`] for a scene of
+    /// [`bevy_manifold_core::trace::MIN_INSTANCE_TREE`] meshes or more,
+    /// and in [`TraceDefs::for_objects`] where a tree is packed. A def, as
+    /// `BALL_TREE`: the walk compiled into every scene would cost the few
+    /// meshes of most scenes a branch lavapipe runs either way. A pipeline
+    /// with it draws a scene without trees by testing each instance, and
+    /// one without it a scene with them.
+    pub instance_tree: bool,
     /// `MANY_UNKEYED_TUBES`: more than 32 edge tubes have no edge bits
     /// (`FlatTube::edge` 0, only in a domain of more than 32 faces), so a
     /// loop tests those past the first 32, which the walk takes by their
@@ -188,6 +199,7 @@ impl TraceDefs {
             } else {
                 0
             },
+            instance_tree: scene.meshes.len() >= bevy_manifold_core::trace::MIN_INSTANCE_TREE,
             many_unkeyed_tubes: false,
             footprint: false,
             face_count: Some(face_count(space)),
@@ -257,9 +269,11 @@ impl TraceDefs {
     /// `BALL_LEAVES` its leaves. `BALL_TREE` itself stays as it was (a
     /// scene whose balls lie near faces packs no tree, and the pipeline
     /// then tests each ball; the generic pipeline keeps every def).
+    /// `INSTANCE_TREE` on where an instance tree is packed.
     #[must_use]
     pub fn for_objects(mut self, objects: &crate::pack::GpuObjects) -> Self {
         self.many_unkeyed_tubes = objects.groups[0][1] > 32;
+        self.instance_tree |= self.meshes && objects.instance_trees != crate::layout::NO_INSTANCE_TREES;
         let leaves = objects.ball_nodes.len().saturating_sub(2);
         if self.ball_tree && leaves > 0 {
             self.ball_leaves = leaves as u32;
@@ -268,11 +282,12 @@ impl TraceDefs {
     }
 
     /// True when these defs and `other` differ at most in the ball tree
-    /// (`BALL_TREE`, `BALL_LEAVES`): a pipeline of either draws a scene
-    /// packed for the other, testing every ball (no tree, or more leaves
-    /// than it was compiled for) or only the leaves the scene has. The
-    /// render pass draws with the last pipeline while the one for a new
-    /// leaf count compiles.
+    /// (`BALL_TREE`, `BALL_LEAVES`) and the instance trees
+    /// (`INSTANCE_TREE`): a pipeline of either draws a scene packed for
+    /// the other, testing every ball (no tree, or more leaves than it was
+    /// compiled for) or only the leaves the scene has, and every instance
+    /// or only those of the leaves met. The render pass draws with the
+    /// last pipeline while the one for a new leaf count compiles.
     ///
     /// ```
     /// use bevy_manifold_core::prelude::*;
@@ -288,6 +303,7 @@ impl TraceDefs {
         TraceDefs {
             ball_tree: other.ball_tree,
             ball_leaves: other.ball_leaves,
+            instance_tree: other.instance_tree,
             ..*self
         } == *other
     }
@@ -324,6 +340,7 @@ impl TraceDefs {
             alpha_mask: true,
             ball_tree: true,
             ball_leaves: bevy_manifold_core::trace::MAX_BALL_LEAVES as u32,
+            instance_tree: true,
             many_unkeyed_tubes: true,
             footprint: true,
             face_count: None,
@@ -388,6 +405,8 @@ impl TraceDefs {
                     footprint: on(8),
                     ball_tree: on(9),
                     ball_leaves: if on(9) { 16 } else { 0 },
+                    // The instance trees with meshes and the ball tree.
+                    instance_tree: on(5) && on(9),
                     many_unkeyed_tubes: on(3) && on(0),
                 });
             }
@@ -438,6 +457,7 @@ impl TraceDefs {
             (self.path_trace, "PATH_TRACE"),
             (self.alpha_mask && self.meshes, "ALPHA_MASK"),
             (self.ball_tree, "BALL_TREE"),
+            (self.instance_tree && self.meshes, "INSTANCE_TREE"),
             (self.many_unkeyed_tubes, "MANY_UNKEYED_TUBES"),
             (self.footprint, "FOOTPRINT"),
         ] {

@@ -14,7 +14,9 @@ use bevy_manifold_core::geometry::Geometry;
 use bevy_manifold_core::trace::step::ALL_FACES;
 use bevy_manifold_core::trace::{EDGE_ID, FOG_CUT, LIGHT_AT_HIT};
 use bevy_manifold_gpu::bindings::{BINDINGS, BindingKind};
-use bevy_manifold_gpu::layout::{GpuBall, GpuFace, GpuInstance, GpuLight, GpuParams, GpuPixel, GpuTube, NO_JOINT};
+use bevy_manifold_gpu::layout::{
+    GpuBall, GpuFace, GpuInstance, GpuLight, GpuParams, GpuPixel, GpuTube, NO_INSTANCE_TREES, NO_JOINT,
+};
 use bevy_manifold_gpu::{
     FLAG_NO_CULL, FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE, GpuCellScheme, GpuTracer, RENDER_WGSL, SHADER_IMPORTS,
     TraceDefs, WgslModule, undecorated,
@@ -46,7 +48,7 @@ fn rust_layouts() -> Vec<RustLayout> {
             camera, camera_cell, fog_color, width, height, levels, face_count, ball_count, tube_count,
             light_count, camera_cell_index, tan_half_fov, max_distance, fog_density, tube_k, origin_x,
             origin_y, near, flags, cell_scale, instance_count, cell_mode, cell_a, cell_b, rule_hidden, rule_hidden_seed, rule_walls, rule_walls_seed,
-            projection, eye_offset, near_reach, light_sample_u, ball_leaves, chart_stretch, footprint_cap, light_sample_v, frustum, cone, occupied, reflections, path_depth, seed, sample,
+            projection, eye_offset, near_reach, light_sample_u, ball_leaves, chart_stretch, footprint_cap, light_sample_v, frustum, cone, occupied, reflections, path_depth, seed, sample, instance_trees, pad_a, pad_b, pad_c,
         }),
         rust_layout!(GpuFace => "Face" { plane, pairing, crossing, partner, pad_a, pad_b, pad_c }),
         rust_layout!(GpuBall => "Ball" { center, color, k, id, face_mask, glow, pbr }),
@@ -197,6 +199,10 @@ fn the_shared_constants_are_equal_on_both_sides() {
     );
     assert_eq!(constant(&module, "FLAG_NO_CULL"), naga::Literal::U32(FLAG_NO_CULL));
     assert_eq!(constant(&module, "NO_JOINT"), naga::Literal::U32(NO_JOINT));
+    assert_eq!(
+        constant(&module, "NO_INSTANCE_TREES"),
+        naga::Literal::U32(NO_INSTANCE_TREES)
+    );
     assert_eq!(constant(&module, "ALL_FACES"), naga::Literal::U32(ALL_FACES));
     assert_eq!(constant(&module, "FOG_CUT"), naga::Literal::F32(FOG_CUT as f32));
     assert_eq!(FOG_CUT, 255f64.ln(), "FOG_CUT is ln 255");

@@ -556,3 +556,83 @@ pub fn swarm(space: &Space, n: usize, seed: u64) -> Scene {
     }
     scene
 }
+
+/// Three small meshes made here, for [`props`]: a cube, an octahedron and
+/// a tetrahedron, each within the unit ball of its own chart.
+#[must_use]
+pub fn prop_meshes() -> Vec<std::sync::Arc<bevy_manifold_core::mesh::MeshData>> {
+    use bevy_manifold_core::mesh::{MeshData, TriMesh};
+    let h = 1.0 / 3f32.sqrt();
+    let cube: Vec<[f32; 3]> = (0..8)
+        .map(|i| [0, 1, 2].map(|k| if i >> k & 1 == 1 { h } else { -h }))
+        .collect();
+    // Two triangles per face, outwards: each face's corners in order round it.
+    let quads = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let cube_tris = quads
+        .iter()
+        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+        .collect();
+    let octa = vec![
+        [1.0, 0.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, -1.0],
+    ];
+    let octa_tris = vec![
+        [0, 2, 4],
+        [2, 1, 4],
+        [1, 3, 4],
+        [3, 0, 4],
+        [2, 0, 5],
+        [1, 2, 5],
+        [3, 1, 5],
+        [0, 3, 5],
+    ];
+    let tetra = vec![[h, h, h], [h, -h, -h], [-h, h, -h], [-h, -h, h]];
+    let tetra_tris = vec![[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]];
+    [(cube, cube_tris), (octa, octa_tris), (tetra, tetra_tris)]
+        .into_iter()
+        .map(|(p, t)| MeshData::shared(TriMesh::new(p, None, None, t).expect("a closed mesh")))
+        .collect()
+}
+
+/// The default scene of `space` (its edges, ball and light) with `n` mesh
+/// instances of the three [`prop_meshes`], each at a random point inside
+/// the domain (within 0.95 of its inradius of the centre) and turned at
+/// random, of bounding radius `size` times the inradius (times 0.7 to
+/// 1.3) and a colour of its own: a level of props, for the instance
+/// tree's tests and `bench instances`. The same `seed` gives the same
+/// props.
+#[must_use]
+pub fn props(space: &Space, n: usize, size: f64, seed: u64) -> Scene {
+    use bevy_manifold_core::mesh::MeshMaterial;
+    use bevy_manifold_core::trace::SceneMesh;
+    let mut scene = Scene::default_for(space);
+    let mut rng = crate::Rng(seed);
+    let meshes = prop_meshes();
+    for k in 0..n {
+        let place = rng.ray_inside(space);
+        let g = space.geometry();
+        let placement = isometry::translation_to(g, place.origin)
+            * isometry::rotation(rng.unit(), rng.next_f64() * std::f64::consts::TAU);
+        let hue = rng.next_f64() as f32;
+        let material = MeshMaterial {
+            base_color: [0.3 + 0.7 * hue, 0.9 - 0.6 * hue, 0.2 + 0.3 * (k % 3) as f32],
+            ..MeshMaterial::default()
+        };
+        let scale = size * space.inradius() * (0.7 + 0.6 * rng.next_f64());
+        scene
+            .meshes
+            .push(SceneMesh::new(meshes[k % 3].clone(), material, placement, scale));
+    }
+    scene
+}

@@ -5,7 +5,9 @@
 //! faces are near ([`FaceGroups::edge_walk`]), with the vertex joint it
 //! carries ([`super::FlatTube::joint`]); of the balls inside the domain,
 //! only those in the leaves of the ball tree the segment meets
-//! ([`super::ball_tree`]).
+//! ([`super::ball_tree`]); of a group of many mesh instances, only those
+//! in the leaves of its tree the segment meets before the nearest hit
+//! ([`super::instance_tree`]).
 //!
 //! WGSL twin: `shaders/cull.wgsl` in `bevy_manifold_gpu` (`each_candidate`,
 //! which walks the same groups from the groups uniform); `near_faces` and
@@ -14,6 +16,7 @@
 use super::ball_tree::{chart_segment, tree_leaves};
 use super::face_groups::FaceGroups;
 use super::flat::FlatScene;
+use super::instance_tree::tree_instances;
 use super::step::{Ray, may_hit};
 use crate::geometry::Real;
 
@@ -40,8 +43,13 @@ pub enum Candidate {
 /// only those in the leaves of [`FlatScene::ball_tree`] whose boxes,
 /// padded by `pad`, the segment's chart image meets ([`tree_leaves`]), or
 /// all of them where there is no tree (fewer than
-/// [`super::MIN_BALL_TREE`]). Without `cull` (and with `near_balls` and
-/// `near` all faces) every object is handed out once. The tracer
+/// [`super::MIN_BALL_TREE`]); and of each walked group of instances
+/// that has a tree ([`FlatScene::instance_trees`]) only those in the
+/// leaves whose boxes the segment's chart image meets before the chart
+/// parameter `visit` last returned ([`tree_instances`]): `visit` returns
+/// how far along the ray a hit still matters (the nearest hit so far, or
+/// `t_end`; 0 once nothing more is wanted). Without `cull` (and with
+/// `near_balls` and `near` all faces) every object is handed out once. The tracer
 /// (`trace_ray`) tests exactly these; whoever visits them still checks
 /// each one's face mask ([`super::step::may_hit`]). WGSL twin:
 /// `each_candidate` in `shaders/cull.wgsl`.
@@ -51,18 +59,24 @@ pub fn each_candidate<R: Real>(
     t_end: R,
     ([near_balls, near], cull): ([u32; 2], bool),
     pad: f32,
-    mut visit: impl FnMut(Candidate),
+    mut visit: impl FnMut(Candidate) -> R,
 ) {
     let groups = &flat.groups;
     let mut ranges = FaceGroups::ranges(&groups.balls, near_balls);
     let interior = ranges.next().unwrap_or_default();
     match chart_segment(ray, t_end).filter(|_| cull && pad.is_finite() && !flat.ball_tree.is_empty()) {
         Some((a, d)) => tree_leaves(&flat.ball_tree, a, d, pad, |leaf| {
-            leaf.for_each(|i| visit(Candidate::Ball(i)))
+            leaf.for_each(|i| {
+                visit(Candidate::Ball(i));
+            })
         }),
-        None => interior.for_each(|i| visit(Candidate::Ball(i))),
+        None => interior.for_each(|i| {
+            visit(Candidate::Ball(i));
+        }),
     }
-    ranges.flatten().for_each(|i| visit(Candidate::Ball(i)));
+    ranges.flatten().for_each(|i| {
+        visit(Candidate::Ball(i));
+    });
     // The tubes a segment near the faces `near_balls` walks: those near
     // `near` among them (near_balls holds near), each followed by the
     // vertex joint it carries. Of the tubes with no edge bits, only those
@@ -76,7 +90,17 @@ pub fn each_candidate<R: Real>(
             visit(Candidate::Ball(j));
         }
     }
-    FaceGroups::ranges(&groups.instances, near)
-        .flatten()
-        .for_each(|i| visit(Candidate::Instance(i)));
+    // The instances: of a group with a tree, those of the leaves the
+    // segment meets before the nearest hit so far, nearest leaves first.
+    let segment = chart_segment(ray, t_end).filter(|_| cull);
+    for (group, range) in FaceGroups::groups(&groups.instances, near) {
+        match (segment, flat.instance_trees.get(group)) {
+            (Some(ad), Some(tree)) if !tree.is_empty() => tree_instances(tree, (ray, t_end), ad, |leaf| {
+                leaf.fold(t_end, |_, i| visit(Candidate::Instance(i)))
+            }),
+            _ => range.for_each(|i| {
+                visit(Candidate::Instance(i));
+            }),
+        }
+    }
 }

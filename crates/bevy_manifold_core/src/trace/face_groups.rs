@@ -169,12 +169,19 @@ impl FaceGroups {
     /// each near face, in order (so the objects come in the sorted order,
     /// as without culling).
     pub fn ranges(starts: &[u32], near: u32) -> impl Iterator<Item = core::ops::Range<usize>> + '_ {
+        Self::groups(starts, near).map(|(_, range)| range)
+    }
+
+    /// [`FaceGroups::ranges`] with each range's group: 0 for the
+    /// unmasked objects, `f + 1` for face `f`'s (as
+    /// [`super::FlatScene::instance_trees`] are numbered).
+    pub fn groups(starts: &[u32], near: u32) -> impl Iterator<Item = (usize, core::ops::Range<usize>)> + '_ {
         let unmasked = 0..starts.first().map_or(0, |&s| s as usize);
         let faces = starts.len().saturating_sub(1);
-        core::iter::once(unmasked).chain(
+        core::iter::once((0, unmasked)).chain(
             (0..faces)
                 .filter(move |&f| near & (1 << f) != 0)
-                .map(move |f| starts[f] as usize..starts[f + 1] as usize),
+                .map(move |f| (f + 1, starts[f] as usize..starts[f + 1] as usize)),
         )
     }
 }

@@ -6,6 +6,7 @@ use super::ball_tree::{BallTree, ball_box};
 use super::face_groups::{
     FaceGroups, cull_distance, edge_keys, edge_masks, face_mask, joint_carriers, near_reach, near_scale,
 };
+use super::instance_tree::{InstanceTree, trees_over};
 use super::scene::Scene;
 use super::step::{Segment, radius_param};
 use crate::geometry::{Geometry, Real, isometry};
@@ -18,8 +19,11 @@ use crate::space::element::CellElement;
 use glam::{DMat4, DVec4};
 use std::sync::{Arc, OnceLock};
 
-/// Object id of the domain's edges (tubes and their vertex joints).
-pub const EDGE_ID: u32 = 255;
+/// Object id of the domain's edges (tubes and their vertex joints):
+/// above every ball's and mesh's (numbered from 1, as many as a scene
+/// has), below [`crate::space::rule::WALL_OBJECT`]. WGSL twin: `EDGE_ID`
+/// in `shaders/bindings.wgsl`.
+pub const EDGE_ID: u32 = u32::MAX - 2;
 
 /// A ball in the tracer's precision.
 #[derive(Clone, Copy, Debug)]
@@ -247,8 +251,15 @@ pub struct FlatScene<R: Real> {
     pub lights: Vec<FlatLight<R>>,
     /// How the lights reach what they light.
     pub lighting: super::scene::Lighting,
-    /// Mesh instances, ghosts included, sorted into [`FaceGroups`].
+    /// Mesh instances, ghosts included, sorted into [`FaceGroups`], and
+    /// within each group in its tree's leaves' order.
     pub instances: Vec<FlatInstance<R>>,
+    /// Per face group of `instances` (0: those with no face mask; `f + 1`:
+    /// face `f`'s), the hierarchy over their bounding balls' chart boxes
+    /// ([`super::InstanceTree`]): a segment tests only the instances of
+    /// the leaves its chart image meets ([`super::tree_instances`]).
+    /// Empty for a group of fewer than [`super::MIN_INSTANCE_TREE`].
+    pub instance_trees: Vec<InstanceTree>,
     /// The meshes the instances show, each once.
     pub meshes: Vec<Arc<MeshData>>,
     /// The textures the instances use, each once.
@@ -418,6 +429,7 @@ impl<R: Real> FlatScene<R> {
             instances: FaceGroups::sort(&mut instances, faces, |i| i.face_mask),
             edges: FaceGroups::edge_table(tubes.iter().map(|t| t.edge), faces),
         };
+        let instance_trees = trees_over(g, &mut instances, &groups.instances);
         // The carried joints after every group, where only their tubes
         // lead.
         for t in &mut tubes {
@@ -456,6 +468,7 @@ impl<R: Real> FlatScene<R> {
             lights,
             lighting: scene.lighting,
             instances,
+            instance_trees,
             meshes,
             textures,
             fog: scene

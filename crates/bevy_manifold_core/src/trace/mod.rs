@@ -28,6 +28,7 @@
 //! | the walk through the faces | `walk.rs`, `step.rs` | `walk.wgsl`, `step.wgsl` |
 //! | which objects a segment may meet | `cull.rs` ([`each_candidate`]) | `cull.wgsl` |
 //! | what it keeps of them | `nearest.rs` | `nearest.wgsl` |
+//! | the trees of balls and of instances | `ball_tree.rs`, `instance_tree.rs` | `ball_tree.wgsl`, `instance_tree.wgsl` |
 //! | a pixel's cone | `cone.rs`, `footprint.rs` | `cone.wgsl`, `footprint.wgsl` |
 //! | shading a hit | `shade.rs` | `shade.wgsl` |
 //! | every pixel | `render.rs` ([`render`]) | `render.wgsl` (entry points) |
@@ -54,6 +55,7 @@ mod face_groups;
 mod flat;
 mod flow;
 pub mod footprint;
+mod instance_tree;
 mod light_images;
 mod mesh_hit;
 mod nearest;
@@ -89,6 +91,7 @@ pub use flat::{
 };
 pub use flow::{Flowed, flow};
 pub use footprint::{Layers, pixel_half_angle};
+pub use instance_tree::{InstanceTree, MIN_INSTANCE_TREE, TreeOrder, chart_fraction, octant, tree_instances};
 pub use light_images::{MAX_LIGHT_IMAGES, MIN_AREA, image_irradiance, light_images, spot_factor};
 pub use mesh_hit::{
     InstanceHit, hit_instance, hit_uv, meets_ball, mesh_alpha, mesh_normal, mesh_surface, normal_mapped,

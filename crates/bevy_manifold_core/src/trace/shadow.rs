@@ -230,7 +230,7 @@ fn segment_blocked<R: Real>(
     let mut blocked = false;
     each_candidate(flat, ray, t_end, ([near; 2], cull), 0.0, |c| {
         if blocked {
-            return;
+            return zero;
         }
         blocked = match c {
             Candidate::Ball(i) => {
@@ -250,6 +250,8 @@ fn segment_blocked<R: Real>(
                     && hit_instance(g, flat, ray, inst, t_end).is_some_and(|h| h.t <= t_end)
             }
         };
+        // Any hit blocks: once blocked, nothing further matters.
+        if blocked { zero } else { t_end }
     });
     blocked
 }

@@ -337,37 +337,40 @@ pub(super) fn nearest_object<R: Real>(
 ) -> Nearest<R, Cover<R>> {
     let zero = R::of(0.0);
     let mut best: Option<(R, Hit<R>)> = None;
-    each_candidate(flat, ray, t_end, ([near; 2], cull), 0.0, |c| match c {
-        Candidate::Ball(i) => {
-            let b = &flat.balls[i];
-            if may_hit(b.face_mask, near)
-                && let Some(t) = hit_ball(g, ray, b.center, b.k, zero)
-                && t <= t_end
-                && best.is_none_or(|(bt, h)| t < bt || (t == bt && matches!(h, Hit::Ball(j) if i < j)))
-            {
-                best = Some((t, Hit::Ball(i)));
+    each_candidate(flat, ray, t_end, ([near; 2], cull), 0.0, |c| {
+        match c {
+            Candidate::Ball(i) => {
+                let b = &flat.balls[i];
+                if may_hit(b.face_mask, near)
+                    && let Some(t) = hit_ball(g, ray, b.center, b.k, zero)
+                    && t <= t_end
+                    && best.is_none_or(|(bt, h)| t < bt || (t == bt && matches!(h, Hit::Ball(j) if i < j)))
+                {
+                    best = Some((t, Hit::Ball(i)));
+                }
+            }
+            Candidate::Tube(i) => {
+                let tube = &flat.tubes[i];
+                if may_hit(tube.face_mask, near)
+                    && let Some(t) = hit_tube(g, ray, &tube.segment, flat.tube_k, zero)
+                    && t <= t_end
+                    && best.is_none_or(|(bt, _)| t < bt)
+                {
+                    best = Some((t, Hit::Tube(i)));
+                }
+            }
+            Candidate::Instance(i) => {
+                let inst = &flat.instances[i];
+                let limit = best.map_or(t_end, |(bt, _)| bt);
+                if instance_shown(inst, near, cell_point)
+                    && let Some(h) = hit_instance(g, flat, ray, inst, limit)
+                    && h.t <= limit
+                {
+                    best = Some((h.t, Hit::Mesh(i, h.hit)));
+                }
             }
         }
-        Candidate::Tube(i) => {
-            let tube = &flat.tubes[i];
-            if may_hit(tube.face_mask, near)
-                && let Some(t) = hit_tube(g, ray, &tube.segment, flat.tube_k, zero)
-                && t <= t_end
-                && best.is_none_or(|(bt, _)| t < bt)
-            {
-                best = Some((t, Hit::Tube(i)));
-            }
-        }
-        Candidate::Instance(i) => {
-            let inst = &flat.instances[i];
-            let limit = best.map_or(t_end, |(bt, _)| bt);
-            if instance_shown(inst, near, cell_point)
-                && let Some(h) = hit_instance(g, flat, ray, inst, limit)
-                && h.t <= limit
-            {
-                best = Some((h.t, Hit::Mesh(i, h.hit)));
-            }
-        }
+        best.map_or(t_end, |(bt, _)| bt)
     });
     let mut met = Nearest::default();
     met.whole = best.map(|(t, h)| (t, h, None));
@@ -435,6 +438,7 @@ fn segment_layers<R: Real>(
                 }
             }
         }
+        met.limit(t_end)
     });
     met
 }

@@ -175,6 +175,10 @@ impl GpuParams {
             path_depth: view.path[0].min(bevy_manifold_core::trace::MAX_PATH_DEPTH),
             seed: view.path[1],
             sample: view.path[2],
+            instance_trees: objects.instance_trees,
+            pad_a: 0,
+            pad_b: 0,
+            pad_c: 0,
         }
     }
 }

@@ -3,7 +3,7 @@
 //! ball tree, packed from a [`FlatScene`] in `f32`.
 
 use super::{bits, m, non_empty, v};
-use crate::layout::{GpuBall, GpuInstance, GpuLight, GpuTube, NO_JOINT, NO_TEXTURE, pack_pbr};
+use crate::layout::{GpuBall, GpuInstance, GpuLight, GpuTube, NO_INSTANCE_TREES, NO_JOINT, NO_TEXTURE, pack_pbr};
 use bevy_manifold_core::mesh::bvh::BvhNode;
 use bevy_manifold_core::trace::FlatScene;
 use bevy_manifold_core::trace::MAX_LIGHT_IMAGES;
@@ -31,6 +31,15 @@ pub struct GpuObjects {
     /// [`crate::bindings::MAX_BALLS`] balls (the GPU then tests every
     /// ball with no face mask).
     pub ball_nodes: Vec<[u32; 4]>,
+    /// Where in `mesh_data` the instance trees' table starts
+    /// (`FlatScene::instance_trees`, `shaders/instance_tree.wgsl` reads
+    /// it): one word per face group of the instances (up to
+    /// [`crate::bindings::GROUPS`]), `[nodes, node_count, 0, 0]`, the
+    /// offset of the tree's eight orders of `node_count` nodes each (two
+    /// words a node, as a mesh's, the order for octant `o` at
+    /// `nodes + 2 o node_count`), `node_count` 0 for a group with no
+    /// tree. [`crate::layout::NO_INSTANCE_TREES`] when no group has one.
+    pub instance_trees: u32,
     /// How many of each are real: balls, tubes, lights, instances.
     pub counts: [u32; 4],
     /// `k` of the edge tubes.
@@ -54,7 +63,8 @@ impl GpuObjects {
     /// Packs the objects of a prepared scene.
     #[must_use]
     pub fn pack(flat: &FlatScene<f32>) -> Self {
-        let (instances, mesh_data) = pack_meshes(flat);
+        let (instances, mut mesh_data) = pack_meshes(flat);
+        let instance_trees = pack_instance_trees(flat, &mut mesh_data);
         GpuObjects {
             // At most MAX_BALLS, the uniform array's length (the runner
             // refuses a scene with more).
@@ -121,6 +131,7 @@ impl GpuObjects {
             instances: non_empty(instances),
             mesh_data: non_empty(mesh_data),
             ball_nodes: pack_ball_tree(flat),
+            instance_trees,
             counts: [
                 flat.balls.len().min(crate::bindings::MAX_BALLS) as u32,
                 flat.tubes.len().min(crate::bindings::MAX_TUBES) as u32,
@@ -189,6 +200,28 @@ fn push_nodes(data: &mut Vec<[u32; 4]>, nodes: &[BvhNode], skip: &[u32]) {
         data.push(bits(n.min, if n.count > 0 { n.first } else { past }));
         data.push(bits(n.max, n.count));
     }
+}
+
+/// Appends the instance trees' table and their nodes to `data`
+/// ([`GpuObjects::instance_trees`]) and returns where the table starts,
+/// or [`NO_INSTANCE_TREES`] when no group has a tree.
+fn pack_instance_trees(flat: &FlatScene<f32>, data: &mut Vec<[u32; 4]>) -> u32 {
+    let trees = &flat.instance_trees[..flat.instance_trees.len().min(crate::bindings::GROUPS)];
+    if trees.iter().all(|t| t.is_empty()) {
+        return NO_INSTANCE_TREES;
+    }
+    let table = data.len();
+    data.resize(table + trees.len(), [0; 4]);
+    for (g, tree) in trees.iter().enumerate() {
+        let Some(count) = tree.orders.first().map(|o| o.nodes.len() as u32) else {
+            continue;
+        };
+        data[table + g] = [data.len() as u32, count, 0, 0];
+        for order in &tree.orders {
+            push_nodes(data, &order.nodes, &order.skip);
+        }
+    }
+    table as u32
 }
 
 /// Packs the prepared meshes into mesh data words and the instances that

@@ -1,0 +1,93 @@
+// The instance tree: of a face group of many mesh instances, only those
+// in the leaves of its hierarchy (over their bounding balls' chart boxes)
+// that the segment's chart image meets before the nearest hit so far,
+// nearest leaves first (one order of the nodes per octant of the
+// segment's direction).
+//
+// Rust twin: crates/bevy_manifold_core/src/trace/instance_tree.rs
+// (octant, chart_fraction, tree_instances), as each_candidate (cull.rs)
+// calls it. The table and the nodes are packed into mesh_data by
+// GpuObjects::instance_trees (crates/bevy_manifold_gpu/src/pack/objects.rs).
+//
+// Shader defs read: INSTANCE_TREE (the whole module: a scene with a
+// group of MIN_INSTANCE_TREE instances or more), and through
+// consider_instance and still_wanted MESHES, FOOTPRINT and SHADOWS.
+#define_import_path bevy_manifold::instance_tree
+
+#ifdef INSTANCE_TREE
+#import bevy_manifold::bindings::{params, cached, mesh_data, FLAG_NO_CULL, NO_INSTANCE_TREES}
+#import bevy_manifold::step::Ray
+#import bevy_manifold::bvh::{hit_box, safe_inverse}
+#import bevy_manifold::nearest::{consider_instance, still_wanted}
+
+// Where along the chart segment (0 at its start, 1 at its end) the point
+// of chart parameter t lies, a little further for rounding.
+fn chart_fraction(ray: Ray, t_end: f32, t: f32) -> f32 {
+    if !(t < t_end) {
+        return 1.0;
+    }
+    let w0 = ray.origin.w;
+    let w1 = (ray.origin + ray.dir * t_end).w;
+    let l = max(t / t_end, 0.0);
+    let s = l * w1 / ((1.0 - l) * w0 + l * w1);
+    return min(s * 1.0001 + 1.0e-6, 1.0);
+}
+
+// Hands consider_instance the instances of group `group` (0 those with no
+// face mask, f + 1 face f's) in the leaves of its tree that the segment
+// meets before still_wanted; false, having handed none, when the group
+// has no tree, culling is off, or an end of the segment is at the
+// chart's horizon (the caller then tests each instance of the group).
+// Two loops, as hit_mesh's (bvh.wgsl): down to the next met leaf, then
+// its instances, so lanes that found a leaf test them together.
+fn tree_instances(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32, group: u32) -> bool {
+    if params.instance_trees == NO_INSTANCE_TREES || (cached.flags & FLAG_NO_CULL) != 0u {
+        return false;
+    }
+    let entry = mesh_data[params.instance_trees + group];
+    let count = entry.y;
+    let o = ray.origin;
+    let e = ray.origin + ray.dir * t_end;
+    if count == 0u || !(t_end < 3.0e38) || !(o.w > 0.0) || !(e.w > 0.0) {
+        return false;
+    }
+    let a = o.xyz / o.w;
+    let d = e.xyz / e.w - a;
+    if !(all(abs(a) < vec3<f32>(3.0e38)) && all(abs(d) < vec3<f32>(3.0e38))) {
+        return false;
+    }
+    // Rust twin: octant.
+    let octant = select(0u, 1u, d.x < 0.0) | select(0u, 2u, d.y < 0.0) | select(0u, 4u, d.z < 0.0);
+    let nodes = entry.x + 2u * count * octant;
+    let inv_d = safe_inverse(d);
+    var s_max = 1.0;
+    var i = 0u;
+    loop {
+        var first = 0u;
+        var leaf_count = 0u;
+        loop {
+            if i >= count {
+                break;
+            }
+            let w0 = mesh_data[nodes + 2u * i];
+            let w1 = mesh_data[nodes + 2u * i + 1u];
+            let met = hit_box(a, inv_d, bitcast<vec3<f32>>(w0.xyz), bitcast<vec3<f32>>(w1.xyz), s_max) >= 0.0;
+            let leaf = w1.w > 0u;
+            i = select(max(w0.w, i + 1u), i + 1u, met || leaf);
+            if met && leaf {
+                first = w0.w;
+                leaf_count = w1.w;
+                break;
+            }
+        }
+        if leaf_count == 0u {
+            break;
+        }
+        for (var k = first; k < first + leaf_count; k++) {
+            consider_instance(ray, t_end, cell_point, near, k);
+        }
+        s_max = chart_fraction(ray, t_end, still_wanted(t_end));
+    }
+    return true;
+}
+#endif
