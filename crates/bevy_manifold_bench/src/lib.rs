@@ -10,6 +10,7 @@ mod compare;
 mod cull;
 mod faces;
 mod frames;
+mod instances;
 mod lights;
 mod meshes;
 mod pass;
@@ -217,6 +218,32 @@ pub enum BenchCommand {
         #[arg(long, value_delimiter = ',')]
         counts: Vec<usize>,
     },
+    /// Frame time against the number of mesh instances (100 to 10,000
+    /// props of three meshes), GPU and CPU f32, with the instance trees
+    /// and with every instance tested, in the torus, Seifert-Weber and the
+    /// Poincare sphere; the last line is the 10,000/100 ratio.
+    Instances {
+        /// Image width.
+        #[arg(long, default_value_t = 320)]
+        width: u32,
+        /// Image height.
+        #[arg(long, default_value_t = 180)]
+        height: u32,
+        /// Most transports per ray.
+        #[arg(long, default_value_t = 8)]
+        levels: u32,
+        /// Runs per setting; the median (GPU) and best (CPU) are reported.
+        #[arg(long, default_value_t = 3)]
+        runs: u32,
+        /// Only the spaces whose name holds this.
+        #[arg(long, default_value = "")]
+        only: String,
+        /// Only these instance counts (comma-separated, each from 1 to
+        /// 100,000), instead of 100 to 10,000; the ratios are over the
+        /// smallest.
+        #[arg(long, value_delimiter = ',')]
+        counts: Vec<usize>,
+    },
     /// Anti-aliasing by accumulation: PSNR of 1, 4, 8, 16 accumulated
     /// samples against a 16-samples-per-pixel reference per space at 8
     /// and 16 levels, and frame-to-frame flicker moving slowly (CPU f64).
@@ -326,6 +353,21 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
             only,
             &ball_counts(counts)?,
         ),
+        BenchCommand::Instances {
+            width,
+            height,
+            levels,
+            runs,
+            ref only,
+            ref counts,
+        } => instances::run(
+            width.max(1),
+            height.max(1),
+            levels.clamp(1, 64),
+            runs.max(1),
+            only,
+            &instance_counts(counts)?,
+        ),
         BenchCommand::Compare(ref args) => compare::run(args),
         BenchCommand::Aa { width, height, frames } => aa::run(width.max(1), height.max(1), frames.max(1)),
         BenchCommand::Report { ref out, ref only } => report::run(out, only),
@@ -357,6 +399,22 @@ fn ball_counts(counts: &[usize]) -> Result<Vec<usize>, String> {
         counts.to_vec()
     };
     out.push(1);
+    out.sort_unstable();
+    out.dedup();
+    Ok(out)
+}
+
+/// The instance counts `bench instances` times: `counts` sorted, or
+/// [`instances::COUNTS`] when empty; each from 1 to 100,000.
+fn instance_counts(counts: &[usize]) -> Result<Vec<usize>, String> {
+    if let Some(n) = counts.iter().find(|&&n| !(1..=100_000).contains(&n)) {
+        return Err(format!("--counts: each must be from 1 to 100000, got {n}"));
+    }
+    let mut out = if counts.is_empty() {
+        instances::COUNTS.to_vec()
+    } else {
+        counts.to_vec()
+    };
     out.sort_unstable();
     out.dedup();
     Ok(out)
@@ -466,7 +524,7 @@ impl Progress {
 
 #[cfg(test)]
 mod tests {
-    use super::ball_counts;
+    use super::{ball_counts, instance_counts, instances};
 
     #[test]
     fn a_row_gives_the_times_and_their_ratios_over_the_first() {
@@ -474,6 +532,16 @@ mod tests {
             super::times_and_ratios([2.0, 3.0, 5.0], 1),
             "      2.0       3.0       5.0   1.50x   2.50x"
         );
+    }
+
+    #[test]
+    fn instance_counts_sort_and_refuse_out_of_range() {
+        assert_eq!(instance_counts(&[1000, 100, 1000]), Ok(vec![100, 1000]));
+        assert_eq!(instance_counts(&[]).expect("default"), instances::COUNTS.to_vec());
+        for bad in [0, 100_001] {
+            let e = instance_counts(&[16, bad]).expect_err("out of range");
+            assert!(e.contains("--counts") && e.contains(&bad.to_string()), "{e}");
+        }
     }
 
     #[test]
