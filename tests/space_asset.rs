@@ -326,3 +326,55 @@ fn a_tour_file_loads_as_an_asset_with_its_space_file_and_a_broken_one_is_named()
     );
     assert!(app.world().get::<TourPlayer>(broken).is_none());
 }
+
+/// A mesh entity spawned as a Bevy scene spawns it (a `Transform` with a
+/// turn and a scale of its own on each axis, mirrored or not, and no
+/// placement) is traced where Bevy would draw it: in the torus, whose
+/// chart is Euclidean space, each vertex lands at Bevy's own
+/// `Transform::transform_point` of it.
+#[test]
+fn a_scale_of_its_own_on_each_axis_is_traced_as_bevy_draws_it() {
+    use bevy::asset::RenderAssetUsages;
+    use bevy::mesh::{Indices, PrimitiveTopology};
+    let mut app = mesh_app();
+    let root = app.world_mut().spawn(ManifoldSpace::new(catalog::torus(1.0))).id();
+    let corners = vec![[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.3, 0.2, 1.0]];
+    let mut mesh = Mesh::new(PrimitiveTopology::TriangleList, RenderAssetUsages::default());
+    mesh.insert_attribute(Mesh::ATTRIBUTE_POSITION, corners.clone());
+    mesh.insert_indices(Indices::U32(vec![0, 1, 2, 0, 1, 3]));
+    let handle = app.world_mut().resource_mut::<Assets<Mesh>>().add(mesh);
+    let transforms = [
+        Transform::from_xyz(0.1, -0.2, 0.05)
+            .with_rotation(Quat::from_euler(EulerRot::YXZ, 0.4, -0.3, 0.2))
+            .with_scale(Vec3::new(0.1, 0.3, 0.05)),
+        Transform::from_xyz(-0.2, 0.1, 0.15)
+            .with_rotation(Quat::from_rotation_z(1.1))
+            .with_scale(Vec3::new(-0.2, 0.05, 0.1)),
+    ];
+    let entities: Vec<Entity> = transforms
+        .iter()
+        .map(|t| app.world_mut().spawn((ChildOf(root), Mesh3d(handle.clone()), *t)).id())
+        .collect();
+    for _ in 0..3 {
+        app.update();
+    }
+    let meshes = app
+        .world()
+        .get::<bevy_manifold::drawables::ManifoldMeshes>(root)
+        .expect("gathered");
+    assert_eq!(meshes.meshes.len(), 2);
+    for (t, e) in transforms.iter().zip(&entities) {
+        let k = meshes.entities.iter().position(|x| x == e).expect("traced");
+        let m = &meshes.meshes[k];
+        let to_chart = m.placement * DMat4::from_scale(DVec3::splat(m.scale)) * m.local;
+        // The mesh's own triangles keep their vertices in order.
+        for p in &corners {
+            let got = to_chart.transform_point3(Vec3::from(*p).as_dvec3());
+            let want = t.transform_point(Vec3::from(*p)).as_dvec3();
+            assert!(
+                (got - want).abs().max_element() < 1e-5,
+                "{t:?}: vertex {p:?} traced at {got}, Bevy draws it at {want}"
+            );
+        }
+    }
+}

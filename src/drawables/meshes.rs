@@ -2,7 +2,7 @@
 //! [`ManifoldSpace`] with a [`Placement`] is drawn by the tracer with its
 //! `Mesh3d` and every `Mesh3d` below it that has no placement of its own
 //! (as a glTF scene spawns them), in its local chart, scaled by
-//! its `Transform`'s scale. Base colour and base-colour texture come from
+//! its `Transform`'s scale (each axis by its own). Base colour and base-colour texture come from
 //! `StandardMaterial` (feature `standard_material`).
 //!
 //! Traced meshes are taken off Bevy's rasteriser (`RenderLayers::none()`),
@@ -219,14 +219,16 @@ pub fn skinned_tri_mesh(mesh: &Mesh, joints: &[Mat4]) -> Result<TriMesh, String>
 
 /// Joint `j`'s matrix in the frame of the mesh entity whose transform
 /// relative to the placed entity is `mesh_local`: the joint's transforms
-/// up to that placed entity (the first ancestor with a placement),
-/// `mesh_local` inverted before them, its inverse bind pose after.
-/// `None` when a joint is not below the placed entity.
+/// up to that placed entity (the first ancestor with a placement), after
+/// `stretch` (the placed entity's scale over its largest axis, which
+/// `mesh_local` starts with too), `mesh_local` inverted before them, its
+/// inverse bind pose after. `None` when a joint is not below the placed
+/// entity.
 #[expect(clippy::type_complexity, reason = "the gathering system's queries, passed on")]
 fn joint_matrices(
     skin: &SkinnedMesh,
     bindposes: &[Mat4],
-    mesh_local: Mat4,
+    (stretch, mesh_local): (Mat4, Mat4),
     (parents, transforms, flags): (
         &Query<&ChildOf>,
         &Query<&Transform>,
@@ -244,7 +246,7 @@ fn joint_matrices(
             // tracer's `local` matrices are in.
             for _ in 0..256 {
                 if flags.get(e).is_ok_and(|(placed, _)| placed) {
-                    return Some(to_mesh * chain * *ibp);
+                    return Some(to_mesh * stretch * chain * *ibp);
                 }
                 chain = transforms.get(e).ok()?.to_matrix() * chain;
                 e = parents.get(e).ok()?.parent();
@@ -454,10 +456,20 @@ pub fn gather_meshes(
     let mut per_root: HashMap<Entity, ManifoldMeshes> = HashMap::new();
     for (entity, placement, transform, in_space) in &placed {
         let root = in_space.space();
-        let scale = f64::from(transform.scale.abs().max_element());
+        // The largest axis of the scale as the mesh's scale, the rest of
+        // it (each axis over the largest) in its local transform: a
+        // linear map of the chart, so the triangles stay flat. Its signs
+        // are in the placement (a mirror image).
+        let axes = transform.scale.abs();
+        let scale = f64::from(axes.max_element());
+        let stretch = if scale > 0.0 && axes.is_finite() {
+            Mat4::from_scale(axes / axes.max_element())
+        } else {
+            Mat4::IDENTITY
+        };
         // The entity's own mesh, and those below it with no placement of
         // their own, positioned by their transforms relative to it.
-        let mut stack = vec![(entity, Mat4::IDENTITY, false)];
+        let mut stack = vec![(entity, stretch, false)];
         while let Some((e, local, body)) = stack.pop() {
             let body = body || flags.get(e).is_ok_and(|(_, b)| b);
             if let Ok((_, mesh3d, material, visible, layers)) = meshes.get(e) {
@@ -470,7 +482,7 @@ pub fn gather_meshes(
                     // they moved, else the last pose's BVH is kept.
                     let skinned = skins.get(e).ok().and_then(|skin| {
                         let ibp = bindposes.as_ref()?.get(&skin.inverse_bindposes)?;
-                        let joints = joint_matrices(skin, ibp, local, (&parents, &transforms, &flags))?;
+                        let joints = joint_matrices(skin, ibp, (stretch, local), (&parents, &transforms, &flags))?;
                         if let Some(last) = posed.get(&e)
                             && last.mesh == id
                             && last.joints == joints

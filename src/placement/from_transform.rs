@@ -8,8 +8,8 @@
 //! author wrote stay distances in H3 and S3 (in E3 nothing changes). The
 //! rotation is the entity's frame there (parallel transported along that
 //! geodesic); a scale with an odd number of negative axes is a mirror
-//! image. The scale itself stays in the `Transform` (meshes are drawn at
-//! its largest axis). After that the placement is the truth, wrapped into
+//! image. The scale itself stays in the `Transform` (meshes are drawn
+//! scaled by it, each axis by its own). After that the placement is the truth, wrapped into
 //! the domain like any other, and the placement systems write the chart
 //! position back into the `Transform` ([`super::sync_transforms`]).
 //!
