@@ -29,6 +29,8 @@ const FIGURES: &[(&str, &[&str], &str)] = &[
     // The billiards break, 0.7 s after the first stroke.
     ("billiards", &["--space", "torus"], "billiards_torus"),
     ("billiards", &["--space", "seifert-weber"], "billiards_seifert_weber"),
+    // A level of 4,000 props, each with its own transform and material.
+    ("instances", &[], "instances_torus"),
 ];
 
 /// The example binaries cargo built next to this test's (`cargo test`

@@ -661,10 +661,10 @@ fn membership_follows_the_hierarchy_and_the_scene_follows_membership() {
 }
 
 #[test]
-fn a_space_with_more_balls_and_lights_than_the_ids_hold_draws_the_first_ones() {
-    // Object ids are bytes (254 objects), and every hit loops over the
-    // lights: 300 balls and 100 lights are cut to 254 and 64 with a warning,
-    // never wrapped into wrong ids; a huge H3 radius is drawn at the cap.
+fn a_space_with_more_balls_and_lights_than_it_holds_draws_the_first_ones() {
+    // 254 balls (their ghosts within the GPU's ball array), and every hit
+    // loops over the lights: 300 balls and 100 lights are cut to 254 and
+    // 64 with a warning; a huge H3 radius is drawn at the cap.
     let mut app = app(Duration::from_millis(10));
     let space = catalog::seifert_weber();
     let root = spawn_space(&mut app, space.clone());

@@ -39,3 +39,5 @@ done
 # Billiards, the break in two spaces (manual, "Billiards").
 "$bin/billiards" --space torus --screenshot "$out/billiards_torus.png"
 "$bin/billiards" --space seifert-weber --screenshot "$out/billiards_seifert_weber.png"
+# A level of 4,000 props (manual, "The examples": instances).
+"$bin/instances" --screenshot "$out/instances_torus.png"

@@ -7,7 +7,7 @@ use super::components::{
 };
 use crate::geometry::isometry;
 use crate::placement::{InSpace, ManifoldSpace, Placement, SpaceMembers};
-use crate::trace::{Ball, Light, MAX_LIGHTS, Scene, Spot, max_radius};
+use crate::trace::{Ball, Light, MAX_LIGHTS, MAX_MESHES, Scene, Spot, max_radius};
 use bevy::color::{Color, LinearRgba};
 use bevy::prelude::*;
 use bevy_manifold_core::material::Pbr;
@@ -123,7 +123,8 @@ pub fn gather_scenes(
             })
             .collect();
         let (mut entities, mut balls): (Vec<Entity>, Vec<Ball>) = ball_list.into_iter().unzip();
-        // Object ids are bytes: 254 objects at most, balls first.
+        // 254 balls at most: with their ghost copies they stay within
+        // the GPU's ball array (bevy_manifold_gpu::bindings::MAX_BALLS).
         if balls.len() > 254 {
             warn!(
                 "bevy_manifold: {} traced balls in space {}: only the first 254 are drawn",
@@ -145,12 +146,10 @@ pub fn gather_scenes(
         };
         let mut scene = Scene::empty();
         if let Some(m) = meshes {
-            // Object ids are bytes: 254 objects at most.
-            let room = 254usize.saturating_sub(balls.len()).min(m.meshes.len());
+            let room = m.meshes.len().min(MAX_MESHES);
             if room < m.meshes.len() {
                 warn!(
-                    "bevy_manifold: {} balls and {} meshes in space {}: only 254 objects are drawn",
-                    balls.len(),
+                    "bevy_manifold: {} meshes in space {}: only the first {MAX_MESHES} are drawn",
                     m.meshes.len(),
                     ms.space().name()
                 );

@@ -104,9 +104,9 @@ pub use path::{Bounce, Lobes, PathRng, path_sample, power_heuristic};
 pub use render::{TraceImage, render};
 pub use scene::MeshPart;
 pub use scene::{
-    Ball, Camera, Fog, Frustum, HAND_COLOR, Light, Lighting, MAX_GLOW, MAX_LIGHTS, PaperOptions, SUZANNE_COLOR, Scene,
-    SceneError, SceneMesh, Spot, SuzanneMode, VEHICLE_COLOR, baked, hand_offset, max_radius, mirror_ball,
-    suzanne_offset, vehicle_offset,
+    Ball, Camera, Fog, Frustum, HAND_COLOR, Light, Lighting, MAX_GLOW, MAX_LIGHTS, MAX_MESHES, PaperOptions,
+    SUZANNE_COLOR, Scene, SceneError, SceneMesh, Spot, SuzanneMode, VEHICLE_COLOR, baked, hand_offset, max_radius,
+    mirror_ball, suzanne_offset, vehicle_offset,
 };
 #[cfg(feature = "gltf")]
 pub use scene::{builtin, meshes_of};

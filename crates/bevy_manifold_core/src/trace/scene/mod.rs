@@ -10,7 +10,7 @@ mod presets;
 pub use file::MeshPart;
 #[cfg(feature = "gltf")]
 pub use file::meshes_of;
-pub use file::{MAX_GLOW, MAX_LIGHTS, SceneError, max_radius};
+pub use file::{MAX_GLOW, MAX_LIGHTS, MAX_MESHES, SceneError, max_radius};
 pub use mesh::{SceneMesh, baked};
 #[cfg(feature = "gltf")]
 pub use presets::builtin;
