@@ -378,3 +378,105 @@ fn a_scale_of_its_own_on_each_axis_is_traced_as_bevy_draws_it() {
         }
     }
 }
+
+/// A mesh with morph targets is traced in the shape its weights blend,
+/// `p + sum_i w_i d_i` for each vertex (Bevy's morph targets), whether
+/// the weights are the entity's own or those of the `MorphWeights` it
+/// refers to (as a glTF scene spawns them), and again when they change.
+#[test]
+fn a_morphing_mesh_is_traced_in_the_shape_its_weights_blend() {
+    use bevy::asset::RenderAssetUsages;
+    use bevy::mesh::morph::{MeshMorphWeights, MorphAttributes, MorphWeights};
+    use bevy::mesh::{Indices, PrimitiveTopology};
+    let mut app = mesh_app();
+    let root = app.world_mut().spawn(ManifoldSpace::new(catalog::torus(1.0))).id();
+    let base = [[0.0f32, 0.0, 0.0], [0.1, 0.0, 0.0], [0.0, 0.1, 0.0], [0.1, 0.1, 0.0]];
+    // Two targets: the first lifts the far corner, the second pushes the
+    // first two corners along x.
+    let d = [
+        [[0.0f32, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.08]],
+        [[0.02f32, 0.0, 0.0], [0.04, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]],
+    ];
+    let mut mesh = Mesh::new(PrimitiveTopology::TriangleList, RenderAssetUsages::default());
+    mesh.insert_attribute(Mesh::ATTRIBUTE_POSITION, base.to_vec());
+    mesh.insert_indices(Indices::U32(vec![0, 1, 2, 1, 3, 2]));
+    mesh.set_morph_targets(
+        d.iter()
+            .flat_map(|t| {
+                t.iter()
+                    .map(|&p| MorphAttributes::new(Vec3::from(p), Vec3::ZERO, Vec3::ZERO))
+            })
+            .collect(),
+    );
+    let handle = app.world_mut().resource_mut::<Assets<Mesh>>().add(mesh);
+    let own = app
+        .world_mut()
+        .spawn((
+            ChildOf(root),
+            Mesh3d(handle.clone()),
+            Placement::default(),
+            Transform::default(),
+            MeshMorphWeights::Value {
+                weights: vec![0.5, 0.25],
+            },
+        ))
+        .id();
+    let holder = app
+        .world_mut()
+        .spawn(MorphWeights::new(vec![1.0, 0.0], None).expect("weights"))
+        .id();
+    let shared = app
+        .world_mut()
+        .spawn((
+            ChildOf(root),
+            Mesh3d(handle),
+            Placement::default(),
+            Transform::default(),
+            MeshMorphWeights::Reference(holder),
+        ))
+        .id();
+    let shape = |app: &App, e: Entity| -> Vec<[f32; 3]> {
+        let meshes = app
+            .world()
+            .get::<bevy_manifold::drawables::ManifoldMeshes>(root)
+            .expect("gathered");
+        let k = meshes.entities.iter().position(|x| *x == e).expect("traced");
+        meshes.meshes[k].data.mesh.positions.clone()
+    };
+    let blend = |w: [f32; 2]| -> Vec<[f32; 3]> {
+        (0..4)
+            .map(|v| [0, 1, 2].map(|c| base[v][c] + w[0] * d[0][v][c] + w[1] * d[1][v][c]))
+            .collect()
+    };
+    let same = |a: &[[f32; 3]], b: &[[f32; 3]]| {
+        a.iter()
+            .flatten()
+            .zip(b.iter().flatten())
+            .all(|(x, y)| (x - y).abs() < 1e-6)
+    };
+    for _ in 0..3 {
+        app.update();
+    }
+    assert!(same(&shape(&app, own), &blend([0.5, 0.25])), "{:?}", shape(&app, own));
+    assert!(
+        same(&shape(&app, shared), &blend([1.0, 0.0])),
+        "{:?}",
+        shape(&app, shared)
+    );
+    // New weights, as an animation writes them: the new shape is traced.
+    *app.world_mut().get_mut::<MeshMorphWeights>(own).expect("weights") = MeshMorphWeights::Value {
+        weights: vec![0.0, 1.0],
+    };
+    app.world_mut()
+        .get_mut::<MorphWeights>(holder)
+        .expect("weights")
+        .weights_mut()
+        .copy_from_slice(&[0.25, 0.5]);
+    app.update();
+    assert!(same(&shape(&app, own), &blend([0.0, 1.0])), "{:?}", shape(&app, own));
+    assert!(
+        same(&shape(&app, shared), &blend([0.25, 0.5])),
+        "{:?}",
+        shape(&app, shared)
+    );
+}

@@ -45,6 +45,7 @@ use crate::placement::{InSpace, ManifoldSpace, Placement};
 use crate::trace::SceneMesh;
 use bevy::asset::AssetEvent;
 use bevy::camera::visibility::RenderLayers;
+use bevy::mesh::morph::{MeshMorphWeights, MorphWeights};
 use bevy::mesh::skinning::{SkinnedMesh, SkinnedMeshInverseBindposes};
 use bevy::mesh::{Indices, Mesh, Mesh3d, PrimitiveTopology, VertexAttributeValues};
 use bevy::platform::collections::{HashMap, HashSet};
@@ -186,7 +187,12 @@ pub fn tri_mesh(mesh: &Mesh) -> Result<TriMesh, String> {
 /// What keeps it from being traced: no joint indices or weights, a
 /// joint index past `joints`, or what [`tri_mesh`] says.
 pub fn skinned_tri_mesh(mesh: &Mesh, joints: &[Mat4]) -> Result<TriMesh, String> {
-    let rest = tri_mesh(mesh)?;
+    skin(tri_mesh(mesh)?, mesh, joints)
+}
+
+/// `rest` (the triangles of `mesh`, morphed or not) skinned by `joints`,
+/// as [`skinned_tri_mesh`] says.
+fn skin(rest: TriMesh, mesh: &Mesh, joints: &[Mat4]) -> Result<TriMesh, String> {
     let Some(VertexAttributeValues::Uint16x4(indices)) = mesh.attribute(Mesh::ATTRIBUTE_JOINT_INDEX) else {
         return Err("a skinned mesh without Uint16x4 joint indices".into());
     };
@@ -215,6 +221,63 @@ pub fn skinned_tri_mesh(mesh: &Mesh, joints: &[Mat4]) -> Result<TriMesh, String>
         normals.push(n.normalize_or_zero().to_array());
     }
     TriMesh::new(positions, Some(normals), Some(rest.uvs), rest.triangles).map_err(|e| e.to_string())
+}
+
+/// A Bevy mesh with morph targets in the shape its `weights` blend: each
+/// vertex's position and normal moved by the weighted sum of the
+/// targets' displacements of it, `p' = p + sum_i w_i d_i`, the normal
+/// made a unit one again, as Bevy's own vertex shader morphs it (before
+/// skinning). Weights past the mesh's targets, and targets past the
+/// weights, count for nothing.
+///
+/// ```
+/// use bevy::mesh::{Indices, Mesh, PrimitiveTopology};
+/// use bevy::mesh::morph::MorphAttributes;
+/// use bevy::asset::RenderAssetUsages;
+/// use bevy::math::Vec3;
+/// let mut mesh = Mesh::new(PrimitiveTopology::TriangleList, RenderAssetUsages::all());
+/// mesh.insert_attribute(Mesh::ATTRIBUTE_POSITION, vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+/// mesh.insert_indices(Indices::U32(vec![0, 1, 2]));
+/// // One target: the third vertex up by 2.
+/// let lift = |v: usize| MorphAttributes::new(if v == 2 { Vec3::Z * 2.0 } else { Vec3::ZERO }, Vec3::ZERO, Vec3::ZERO);
+/// mesh.set_morph_targets((0..3).map(lift).collect());
+/// let half = bevy_manifold::drawables::morphed_tri_mesh(&mesh, &[0.5]).unwrap();
+/// assert_eq!(half.positions[2], [0.0, 1.0, 1.0]);
+/// ```
+///
+/// A mesh without morph targets keeps its shape.
+///
+/// # Errors
+/// Morph targets that are not a whole number of displacements per
+/// vertex, or what [`tri_mesh`] says.
+pub fn morphed_tri_mesh(mesh: &Mesh, weights: &[f32]) -> Result<TriMesh, String> {
+    morph(tri_mesh(mesh)?, mesh, weights)
+}
+
+/// `rest` (the triangles of `mesh`) morphed by `weights`, as
+/// [`morphed_tri_mesh`] says.
+fn morph(mut rest: TriMesh, mesh: &Mesh, weights: &[f32]) -> Result<TriMesh, String> {
+    // A mesh with no morph targets keeps its shape, as Bevy draws it.
+    let Ok(targets) = mesh.try_morph_targets() else {
+        return Ok(rest);
+    };
+    let n = rest.positions.len();
+    if n == 0 || targets.len() % n != 0 {
+        return Err(format!("{} morph displacements for {n} vertices", targets.len()));
+    }
+    for (i, &w) in weights.iter().enumerate().take(targets.len() / n) {
+        if w == 0.0 || !w.is_finite() {
+            continue;
+        }
+        for (v, d) in targets[i * n..(i + 1) * n].iter().enumerate() {
+            rest.positions[v] = (Vec3::from(rest.positions[v]) + w * d.position).to_array();
+            rest.normals[v] = (Vec3::from(rest.normals[v]) + w * d.normal).to_array();
+        }
+    }
+    for n in &mut rest.normals {
+        *n = Vec3::from(*n).normalize_or(Vec3::Z).to_array();
+    }
+    TriMesh::new(rest.positions, Some(rest.normals), Some(rest.uvs), rest.triangles).map_err(|e| e.to_string())
 }
 
 /// Joint `j`'s matrix in the frame of the mesh entity whose transform
@@ -333,6 +396,25 @@ fn note_image_events(mut events: MessageReader<AssetEvent<Image>>, mut cache: Re
     }
 }
 
+/// A mesh entity's own morph weights and the `MorphWeights` they may
+/// refer to.
+type MorphQueries<'w, 's> = (
+    Query<'w, 's, &'static MeshMorphWeights>,
+    Query<'w, 's, &'static MorphWeights>,
+);
+
+/// The morph weights of mesh entity `e`: its `MeshMorphWeights`' own, or
+/// those of the `MorphWeights` it refers to (as a glTF scene spawns
+/// them); `None` without any, or when every weight is 0 (the rest shape,
+/// traced as a plain mesh).
+fn morph_weights(e: Entity, (own, shared): &MorphQueries) -> Option<Vec<f32>> {
+    let weights = match own.get(e).ok()? {
+        MeshMorphWeights::Value { weights } => weights.clone(),
+        MeshMorphWeights::Reference(r) => shared.get(*r).ok()?.weights().to_vec(),
+    };
+    weights.iter().any(|&w| w != 0.0).then_some(weights)
+}
+
 /// The material of a traced mesh entity.
 #[cfg(feature = "standard_material")]
 type MaterialOf<'a> = Option<&'a MeshMaterial3d<StandardMaterial>>;
@@ -350,12 +432,13 @@ type MeshEntity<'a> = (
     Option<&'a RenderLayers>,
 );
 
-/// A skinned mesh's last pose: its joints' matrices and the mesh (with
-/// its BVH) they made.
+/// A skinned or morphing mesh's last pose: its joints' matrices, its
+/// morph weights and the mesh (with its BVH) they made.
 #[derive(Debug)]
 pub struct PosedMesh {
     mesh: AssetId<Mesh>,
     joints: Vec<Mat4>,
+    weights: Vec<f32>,
     data: Option<Arc<MeshData>>,
     /// The BVH's box area when it was last built, not refitted.
     built_area: f32,
@@ -366,15 +449,29 @@ pub struct PosedMesh {
 /// measure of what a ray pays).
 pub const REFIT_GROWTH: f32 = 1.5;
 
-/// `mesh` (the asset `id`) posed by `joints`: the last pose's BVH refitted to the moved
-/// vertices, or built again when there is none or refitting has let its
-/// boxes grow past [`REFIT_GROWTH`].
-fn pose(id: AssetId<Mesh>, mesh: &Mesh, joints: &[Mat4], last: Option<&PosedMesh>) -> Result<PosedMesh, String> {
+/// `mesh` (the asset `id`) morphed by `weights` (none without morph
+/// targets) and then skinned by `joints` (none when it is not skinned),
+/// as Bevy's vertex shader poses it: the last pose's BVH refitted to the
+/// moved vertices, or built again when there is none or refitting has
+/// let its boxes grow past [`REFIT_GROWTH`].
+fn pose(
+    id: AssetId<Mesh>,
+    mesh: &Mesh,
+    (joints, weights): (&[Mat4], &[f32]),
+    last: Option<&PosedMesh>,
+) -> Result<PosedMesh, String> {
     use crate::mesh::bvh::surface_area;
-    let posed = skinned_tri_mesh(mesh, joints)?;
+    let mut posed = tri_mesh(mesh)?;
+    if !weights.is_empty() {
+        posed = morph(posed, mesh, weights)?;
+    }
+    if !joints.is_empty() {
+        posed = skin(posed, mesh, joints)?;
+    }
     let done = |data: Arc<MeshData>, built_area: f32| PosedMesh {
         mesh: id,
         joints: joints.to_vec(),
+        weights: weights.to_vec(),
         data: Some(data),
         built_area,
     };
@@ -429,6 +526,8 @@ pub fn gather_meshes(
                 Changed<Placement>,
                 Changed<ChildOf>,
                 Changed<InSpace>,
+                Changed<MeshMorphWeights>,
+                Changed<MorphWeights>,
             )>,
             Without<Rasterized>,
         ),
@@ -436,11 +535,12 @@ pub fn gather_meshes(
     mut removed: RemovedComponents<Mesh3d>,
     mut left_spaces: RemovedComponents<InSpace>,
     mut warned: Local<HashSet<AssetId<Mesh>>>,
-    (skins, parents, bindposes, mut posed): (
+    (skins, parents, bindposes, mut posed, morphs): (
         Query<&SkinnedMesh>,
         Query<&ChildOf>,
         Option<Res<Assets<SkinnedMeshInverseBindposes>>>,
         Local<HashMap<Entity, PosedMesh>>,
+        MorphQueries,
     ),
 ) {
     let dirty = std::mem::take(&mut cache.dirty)
@@ -478,28 +578,35 @@ pub fn gather_meshes(
                 }
                 if visible.is_none_or(|v| v.get()) {
                     let id = mesh3d.0.id();
-                    // A skinned mesh, posed by its joints: built again when
-                    // they moved, else the last pose's BVH is kept.
-                    let skinned = skins.get(e).ok().and_then(|skin| {
+                    // A skinned or morphing mesh, posed by its joints and
+                    // its morph weights: built again when they changed,
+                    // else the last pose's BVH is kept.
+                    let joints = skins.get(e).ok().and_then(|skin| {
                         let ibp = bindposes.as_ref()?.get(&skin.inverse_bindposes)?;
-                        let joints = joint_matrices(skin, ibp, (stretch, local), (&parents, &transforms, &flags))?;
+                        joint_matrices(skin, ibp, (stretch, local), (&parents, &transforms, &flags))
+                    });
+                    let weights = morph_weights(e, &morphs);
+                    let skinned = (joints.is_some() || weights.is_some()).then_some(()).and_then(|()| {
+                        let (joints, weights) = (joints.unwrap_or_default(), weights.unwrap_or_default());
                         if let Some(last) = posed.get(&e)
                             && last.mesh == id
                             && last.joints == joints
+                            && last.weights == weights
                         {
                             return Some(last.data.clone());
                         }
                         let last = posed.remove(&e).filter(|last| last.mesh == id);
-                        let pose = pose(id, mesh_assets.get(id)?, &joints, last.as_ref());
+                        let pose = pose(id, mesh_assets.get(id)?, (&joints, &weights), last.as_ref());
                         let pose = match pose {
                             Ok(pose) => pose,
                             Err(err) => {
                                 if warned.insert(id) {
-                                    warn!("bevy_manifold: skinned mesh {id} of entity {e} is not traced: {err}");
+                                    warn!("bevy_manifold: posed mesh {id} of entity {e} is not traced: {err}");
                                 }
                                 PosedMesh {
                                     mesh: id,
                                     joints,
+                                    weights,
                                     data: None,
                                     built_area: 0.0,
                                 }
@@ -572,8 +679,8 @@ pub fn gather_meshes(
             }
         }
     }
-    // The poses of skinned meshes that are gone.
-    posed.retain(|e, _| skins.contains(*e));
+    // The poses of skinned and morphing meshes that are gone.
+    posed.retain(|e, _| skins.contains(*e) || morphs.0.contains(*e));
     for (root, _, old) in &roots {
         let new = per_root.remove(&root).unwrap_or_default();
         if old != Some(&new) {

@@ -41,7 +41,7 @@ pub use gather::{gather_scenes, spawn_scene};
 #[cfg(feature = "render")]
 pub use meshes::{
     ASYNC_BVH_TRIANGLES, CameraBody, MeshBvhCache, REFIT_GROWTH, Rasterized, bevy_mesh, gather_meshes,
-    skinned_tri_mesh, texture, tri_mesh,
+    morphed_tri_mesh, skinned_tri_mesh, texture, tri_mesh,
 };
 
 use crate::placement::ManifoldSystems;
