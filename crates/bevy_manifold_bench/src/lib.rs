@@ -18,6 +18,7 @@ mod paths;
 mod plot;
 mod reflections;
 mod report;
+mod skinning;
 mod specialise;
 mod stability;
 mod stereo;
@@ -244,6 +245,14 @@ pub enum BenchCommand {
         #[arg(long, value_delimiter = ',')]
         counts: Vec<usize>,
     },
+    /// What a skinned mesh's new pose costs per triangle: skinning,
+    /// refitting the BVH and building a new one, on meshes of 8,192 to
+    /// 51,200 triangles (CPU).
+    Skinning {
+        /// Runs per size; the best is reported.
+        #[arg(long, default_value_t = 3)]
+        runs: u32,
+    },
     /// Anti-aliasing by accumulation: PSNR of 1, 4, 8, 16 accumulated
     /// samples against a 16-samples-per-pixel reference per space at 8
     /// and 16 levels, and frame-to-frame flicker moving slowly (CPU f64).
@@ -368,6 +377,7 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
             only,
             &instance_counts(counts)?,
         ),
+        BenchCommand::Skinning { runs } => skinning::run(runs.max(1)),
         BenchCommand::Compare(ref args) => compare::run(args),
         BenchCommand::Aa { width, height, frames } => aa::run(width.max(1), height.max(1), frames.max(1)),
         BenchCommand::Report { ref out, ref only } => report::run(out, only),

@@ -52,6 +52,11 @@ const AREAS: &[Area] = &[
         args: &["meshes", "--width", "320", "--height", "180", "--runs", "1"],
     },
     Area {
+        title: "Skinned meshes",
+        method: "What a skinned mesh's new pose costs per triangle on the CPU (one thread): skinning its vertices as Bevy's vertex shader does, refitting the last pose's BVH to them, and building a new BVH, on sheets of 8,192 to 51,200 triangles bent by a joint; and how much looser (box area) the refitted tree is than a new one after a 60-degree bend.",
+        args: &["skinning", "--runs", "3"],
+    },
+    Area {
         title: "Frame time against mesh instances",
         method: "GPU and CPU f32 frame time for a level of 100 to 10,000 props (instances of three small meshes at random places, turns and sizes) in the torus, Seifert-Weber and the Poincare sphere, 8 levels: with each face group of instances walked by its instance tree, and with every instance tested (up to 1,000). The last line is the culled GPU frame at 10,000 over the one at 100 (the goal: under 2x).",
         args: &["instances", "--runs", "2"],
