@@ -205,11 +205,13 @@ fn gpu_instance_trees_trace_the_cpu_and_the_brute_force_hits() {
         assert!(seen.len() > 100, "{name}: many instances in view");
         assert!(ids >= 0.995, "{name}: ids agree on {:.3}%", ids * 100.0);
         assert!(colors >= 0.99, "{name}: colours agree on {:.3}%", colors * 100.0);
-        assert!(
-            same >= 0.999,
-            "{name}: the tree changes {:.3}% of ids",
-            (1.0 - same) * 100.0
-        );
+        if let Some(same) = same {
+            assert!(
+                same >= 0.999,
+                "{name}: the tree changes {:.3}% of ids",
+                (1.0 - same) * 100.0
+            );
+        }
     }
 }
 

@@ -173,7 +173,8 @@ fn emit(nodes: &[BvhNode], i: usize, o: usize, out: &mut Vec<BvhNode>) -> u32 {
 #[must_use]
 pub fn chart_fraction<R: Real>(ray: &Ray<R>, t_end: R, t: R) -> R {
     let one = R::of(1.0);
-    if !(t < t_end) {
+    // At or past the end, or NaN: the whole segment.
+    if t.partial_cmp(&t_end) != Some(core::cmp::Ordering::Less) {
         return one;
     }
     let w0 = R::xyzw(ray.origin)[3];
