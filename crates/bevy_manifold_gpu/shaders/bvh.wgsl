@@ -48,6 +48,32 @@ fn safe_inverse(c: vec3<f32>) -> vec3<f32> {
     return 1.0 / select(c, select(vec3<f32>(1.0e-20), vec3<f32>(-1.0e-20), c < vec3<f32>(0.0)), small);
 }
 
+// The walk by skip links of a hierarchy of `count` nodes packed at
+// `nodes` in mesh_data (two words a node, as push_nodes packs them), from
+// node *i: on to the next leaf whose box the ray o + s d meets within
+// [0, s_max], returned as its first item and item count, *i left past it;
+// (0, 0) once past the last node. A missed inner node's subtree is
+// skipped by its skip link. Meshes (hit_mesh) and the instance trees
+// (instance_tree.wgsl) walk by it. Rust twins: the loops of hit_mesh in
+// crates/bevy_manifold_core/src/mesh/bvh.rs and tree_instances in
+// crates/bevy_manifold_core/src/trace/instance_tree.rs.
+fn next_met_leaf(nodes: u32, count: u32, o: vec3<f32>, inv_d: vec3<f32>, s_max: f32, i: ptr<function, u32>) -> vec2<u32> {
+    loop {
+        if *i >= count {
+            break;
+        }
+        let w0 = mesh_data[nodes + 2u * *i];
+        let w1 = mesh_data[nodes + 2u * *i + 1u];
+        let met = hit_box(o, inv_d, bitcast<vec3<f32>>(w0.xyz), bitcast<vec3<f32>>(w1.xyz), s_max) >= 0.0;
+        let leaf = w1.w > 0u;
+        *i = select(max(w0.w, *i + 1u), *i + 1u, met || leaf);
+        if met && leaf {
+            return vec2<u32>(w0.w, w1.w);
+        }
+    }
+    return vec2<u32>(0u, 0u);
+}
+
 #ifdef MESHES
 // Rust twin: MeshHit in crates/bevy_manifold_core/src/mesh/bvh.rs.
 struct MeshHit {
@@ -102,23 +128,9 @@ fn hit_mesh(inst: Instance, o: vec3<f32>, d: vec3<f32>, s_max: f32) -> MeshHit {
     var i = 0u;
     loop {
         // Down to the next met leaf: its triangles, or none past the end.
-        var first = 0u;
-        var count = 0u;
-        loop {
-            if i >= inst.node_count {
-                break;
-            }
-            let w0 = mesh_data[inst.nodes + 2u * i];
-            let w1 = mesh_data[inst.nodes + 2u * i + 1u];
-            let met = hit_box(o, inv_d, bitcast<vec3<f32>>(w0.xyz), bitcast<vec3<f32>>(w1.xyz), limit) >= 0.0;
-            let leaf = w1.w > 0u;
-            i = select(max(w0.w, i + 1u), i + 1u, met || leaf);
-            if met && leaf {
-                first = w0.w;
-                count = w1.w;
-                break;
-            }
-        }
+        let leaf = next_met_leaf(inst.nodes, inst.node_count, o, inv_d, limit, &i);
+        let first = leaf.x;
+        let count = leaf.y;
         if count == 0u {
             break;
         }

@@ -17,7 +17,7 @@
 #ifdef INSTANCE_TREE
 #import bevy_manifold::bindings::{params, cached, mesh_data, FLAG_NO_CULL, NO_INSTANCE_TREES}
 #import bevy_manifold::step::Ray
-#import bevy_manifold::bvh::{hit_box, safe_inverse}
+#import bevy_manifold::bvh::{next_met_leaf, safe_inverse}
 #import bevy_manifold::nearest::{consider_instance, still_wanted}
 
 // Where along the chart segment (0 at its start, 1 at its end) the point
@@ -38,8 +38,9 @@ fn chart_fraction(ray: Ray, t_end: f32, t: f32) -> f32 {
 // meets before still_wanted; false, having handed none, when the group
 // has no tree, culling is off, or an end of the segment is at the
 // chart's horizon (the caller then tests each instance of the group).
-// Two loops, as hit_mesh's (bvh.wgsl): down to the next met leaf, then
-// its instances, so lanes that found a leaf test them together.
+// Two loops, as hit_mesh's (bvh.wgsl): down to the next met leaf
+// (next_met_leaf), then its instances, so lanes that found a leaf test
+// them together.
 fn tree_instances(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32, group: u32) -> bool {
     if params.instance_trees == NO_INSTANCE_TREES || (cached.flags & FLAG_NO_CULL) != 0u {
         return false;
@@ -63,27 +64,11 @@ fn tree_instances(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32, group:
     var s_max = 1.0;
     var i = 0u;
     loop {
-        var first = 0u;
-        var leaf_count = 0u;
-        loop {
-            if i >= count {
-                break;
-            }
-            let w0 = mesh_data[nodes + 2u * i];
-            let w1 = mesh_data[nodes + 2u * i + 1u];
-            let met = hit_box(a, inv_d, bitcast<vec3<f32>>(w0.xyz), bitcast<vec3<f32>>(w1.xyz), s_max) >= 0.0;
-            let leaf = w1.w > 0u;
-            i = select(max(w0.w, i + 1u), i + 1u, met || leaf);
-            if met && leaf {
-                first = w0.w;
-                leaf_count = w1.w;
-                break;
-            }
-        }
-        if leaf_count == 0u {
+        let leaf = next_met_leaf(nodes, count, a, inv_d, s_max, &i);
+        if leaf.y == 0u {
             break;
         }
-        for (var k = first; k < first + leaf_count; k++) {
+        for (var k = leaf.x; k < leaf.x + leaf.y; k++) {
             consider_instance(ray, t_end, cell_point, near, k);
         }
         s_max = chart_fraction(ray, t_end, still_wanted(t_end));

@@ -223,11 +223,7 @@ fn consider_instance(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32, i: 
     if !may_hit(instances[i].face_mask, near) || (instances[i].attached != 0u && same_cell_point(instances[i].home, cell_point)) {
         return;
     }
-#ifdef FOOTPRINT
-    var limit = met_limit(t_end);
-#else
-    var limit = select(t_end, best.t, best.kind != 0u);
-#endif
+    var limit = nearest_so_far(t_end);
 #ifdef SHADOWS
     if shadow_ray {
         limit = t_end;
@@ -239,6 +235,16 @@ fn consider_instance(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32, i: 
     }
 }
 
+// The nearest hit so far whole (under FOOTPRINT, met_limit: the layers
+// too), or t_end.
+fn nearest_so_far(t_end: f32) -> f32 {
+#ifdef FOOTPRINT
+    return met_limit(t_end);
+#else
+    return select(t_end, best.t, best.kind != 0u);
+#endif
+}
+
 // How far along the ray a hit still matters once the objects so far are
 // considered: the nearest hit (under FOOTPRINT, met_limit), or t_end; for
 // a shadow ray 0 once anything blocks it. The instance tree's walk
@@ -246,11 +252,7 @@ fn consider_instance(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32, i: 
 // visitors of nearest_object, segment_layers (trace.rs) and
 // segment_blocked (shadow.rs) return to each_candidate.
 fn still_wanted(t_end: f32) -> f32 {
-#ifdef FOOTPRINT
-    var limit = met_limit(t_end);
-#else
-    var limit = select(t_end, best.t, best.kind != 0u);
-#endif
+    var limit = nearest_so_far(t_end);
 #ifdef SHADOWS
     if shadow_ray {
         limit = select(t_end, 0.0, best.kind != 0u);
