@@ -586,36 +586,38 @@ pub fn gather_meshes(
                         joint_matrices(skin, ibp, (stretch, local), (&parents, &transforms, &flags))
                     });
                     let weights = morph_weights(e, &morphs);
-                    let skinned = (joints.is_some() || weights.is_some()).then_some(()).and_then(|()| {
-                        let (joints, weights) = (joints.unwrap_or_default(), weights.unwrap_or_default());
-                        if let Some(last) = posed.get(&e)
-                            && last.mesh == id
-                            && last.joints == joints
-                            && last.weights == weights
-                        {
-                            return Some(last.data.clone());
-                        }
-                        let last = posed.remove(&e).filter(|last| last.mesh == id);
-                        let pose = pose(id, mesh_assets.get(id)?, (&joints, &weights), last.as_ref());
-                        let pose = match pose {
-                            Ok(pose) => pose,
-                            Err(err) => {
-                                if warned.insert(id) {
-                                    warn!("bevy_manifold: posed mesh {id} of entity {e} is not traced: {err}");
-                                }
-                                PosedMesh {
-                                    mesh: id,
-                                    joints,
-                                    weights,
-                                    data: None,
-                                    built_area: 0.0,
-                                }
+                    let skinned = (joints.is_some() || weights.is_some())
+                        .then(|| {
+                            let (joints, weights) = (joints.unwrap_or_default(), weights.unwrap_or_default());
+                            if let Some(last) = posed.get(&e)
+                                && last.mesh == id
+                                && last.joints == joints
+                                && last.weights == weights
+                            {
+                                return Some(last.data.clone());
                             }
-                        };
-                        let data = pose.data.clone();
-                        posed.insert(e, pose);
-                        Some(data)
-                    });
+                            let last = posed.remove(&e).filter(|last| last.mesh == id);
+                            let pose = pose(id, mesh_assets.get(id)?, (&joints, &weights), last.as_ref());
+                            let pose = match pose {
+                                Ok(pose) => pose,
+                                Err(err) => {
+                                    if warned.insert(id) {
+                                        warn!("bevy_manifold: posed mesh {id} of entity {e} is not traced: {err}");
+                                    }
+                                    PosedMesh {
+                                        mesh: id,
+                                        joints,
+                                        weights,
+                                        data: None,
+                                        built_area: 0.0,
+                                    }
+                                }
+                            };
+                            let data = pose.data.clone();
+                            posed.insert(e, pose);
+                            Some(data)
+                        })
+                        .flatten();
                     // Cached only once the asset is there: one still loading
                     // is looked up again when its load event arrives.
                     let data = if let Some(data) = skinned {

@@ -10,9 +10,30 @@
 // against it on the GPU by crates/bevy_manifold_gpu/tests/ball_tree.rs.
 #define_import_path bevy_manifold::ball_tree
 
+#import bevy_manifold::step::Ray
 #ifdef BALL_TREE
 #import bevy_manifold::bindings::ball_nodes
 #endif
+
+// A segment of a ray, o + t dir for 0 <= t <= t_end, in the chart's
+// coordinates x/w, where it is straight: its start `a` and the step `d` to
+// its end; `ok` false when an end is not finite or at or past the chart's
+// horizon (w <= 0, S3 only), and then the trees are not walked. Rust
+// twin: chart_segment in crates/bevy_manifold_core/src/trace/ball_tree.rs.
+struct ChartSegment {
+    a: vec3<f32>,
+    d: vec3<f32>,
+    ok: bool,
+}
+
+fn chart_segment(ray: Ray, t_end: f32) -> ChartSegment {
+    let o = ray.origin;
+    let e = ray.origin + ray.dir * t_end;
+    let a = o.xyz / o.w;
+    let d = e.xyz / e.w - a;
+    let finite = all(abs(a) < vec3<f32>(3.0e38)) && all(abs(d) < vec3<f32>(3.0e38));
+    return ChartSegment(a, d, t_end < 3.0e38 && o.w > 0.0 && e.w > 0.0 && finite);
+}
 
 // The box of a packed leaf `word`, its least and greatest corners: each
 // side a step wider than its 16-bit count, which covers the rounding of

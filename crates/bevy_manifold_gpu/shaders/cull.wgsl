@@ -20,14 +20,14 @@
 // group of instances walked by its tree, instance_tree.wgsl).
 #define_import_path bevy_manifold::cull
 
-#import bevy_manifold::bindings::{params, cached, groups, tubes, face_count}
+#import bevy_manifold::bindings::{params, cached, groups, tubes, face_count, FLAG_NO_CULL}
 #import bevy_manifold::step::{Ray, may_hit}
 #ifdef BALLS
 #import bevy_manifold::bindings::balls
 #import bevy_manifold::nearest::{consider_ball, meet_ball}
 #endif
 #ifdef BALL_TREE
-#import bevy_manifold::bindings::{ball_nodes, FLAG_NO_CULL}
+#import bevy_manifold::bindings::ball_nodes
 #import bevy_manifold::bvh::{hit_box, safe_inverse}
 #import bevy_manifold::ball_tree::{leaf_lo, leaf_hi}
 #endif
@@ -39,8 +39,10 @@
 #import bevy_manifold::nearest::consider_instance
 #endif
 #ifdef INSTANCE_TREE
+#import bevy_manifold::bindings::NO_INSTANCE_TREES
 #import bevy_manifold::instance_tree::tree_instances
 #endif
+#import bevy_manifold::ball_tree::chart_segment
 #ifdef SHADOWS
 #import bevy_manifold::nearest::{best, shadow_ray}
 #endif
@@ -134,20 +136,16 @@ fn edge_walk_tube(walk: ptr<function, EdgeWalk>) -> u32 {
 // (cull.rs) calls them.
 fn interior_balls(ray: Ray, t_end: f32, near: u32) {
 #ifdef BALL_TREE
-    let o = ray.origin;
-    let e = ray.origin + ray.dir * t_end;
-    let a = o.xyz / o.w;
-    let d = e.xyz / e.w - a;
-    let finite = all(abs(a) < vec3<f32>(3.0e38)) && all(abs(d) < vec3<f32>(3.0e38));
+    let seg = chart_segment(ray, t_end);
     var pad = 0.0;
 #ifdef FOOTPRINT
     pad = cone_grow.w * BALL_GROWTH * params.chart_stretch;
 #endif
-    if (cached.flags & FLAG_NO_CULL) != 0u || cached.ball_leaves == 0u || cached.ball_leaves > #{BALL_LEAVES}u || !(t_end < 3.0e38) || !(o.w > 0.0) || !(e.w > 0.0) || !finite || !(pad < 3.0e38) {
+    if (cached.flags & FLAG_NO_CULL) != 0u || cached.ball_leaves == 0u || cached.ball_leaves > #{BALL_LEAVES}u || !seg.ok || !(pad < 3.0e38) {
         every_interior_ball(ray, t_end, near);
         return;
     }
-    ball_tree_leaves(ray, t_end, near, a, d, pad);
+    ball_tree_leaves(ray, t_end, near, seg.a, seg.d, pad);
 #else
     every_interior_ball(ray, t_end, near);
 #endif
@@ -328,11 +326,18 @@ fn each_candidate(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) {
     // mask, group f + 1 face f's.
     var rest_meshes = grouped & cached.occupied.z;
     var meshes_range = vec2<u32>(0u, groups[0].z);
+#ifdef INSTANCE_TREE
+    // The segment in the chart, once for every group's tree, and the
+    // trees' table; none with culling off or the segment past the
+    // chart's horizon. Rust twin: the instances' part of each_candidate.
+    let seg = chart_segment(ray, t_end);
+    let trees = select(NO_INSTANCE_TREES, params.instance_trees, seg.ok && (cached.flags & FLAG_NO_CULL) == 0u);
     var group = 0u;
+#endif
     loop {
         var walked = false;
 #ifdef INSTANCE_TREE
-        walked = tree_instances(ray, t_end, cell_point, near, group);
+        walked = trees != NO_INSTANCE_TREES && tree_instances(ray, t_end, cell_point, near, seg, trees + group);
 #endif
         if !walked {
             for (var i = meshes_range.x; i < meshes_range.y; i++) {
@@ -347,7 +352,9 @@ fn each_candidate(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32) {
         if rest_meshes == 0u {
             break;
         }
+#ifdef INSTANCE_TREE
         group = firstTrailingBit(rest_meshes) + 1u;
+#endif
         meshes_range = next_group(&rest_meshes, 2u);
     }
 #endif

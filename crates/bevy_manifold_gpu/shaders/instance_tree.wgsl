@@ -15,8 +15,9 @@
 #define_import_path bevy_manifold::instance_tree
 
 #ifdef INSTANCE_TREE
-#import bevy_manifold::bindings::{params, cached, mesh_data, FLAG_NO_CULL, NO_INSTANCE_TREES}
+#import bevy_manifold::bindings::mesh_data
 #import bevy_manifold::step::Ray
+#import bevy_manifold::ball_tree::ChartSegment
 #import bevy_manifold::bvh::{next_met_leaf, safe_inverse}
 #import bevy_manifold::nearest::{consider_instance, still_wanted}
 
@@ -33,38 +34,28 @@ fn chart_fraction(ray: Ray, t_end: f32, t: f32) -> f32 {
     return min(s * 1.0001 + 1.0e-6, 1.0);
 }
 
-// Hands consider_instance the instances of group `group` (0 those with no
-// face mask, f + 1 face f's) in the leaves of its tree that the segment
-// meets before still_wanted; false, having handed none, when the group
-// has no tree, culling is off, or an end of the segment is at the
-// chart's horizon (the caller then tests each instance of the group).
-// Two loops, as hit_mesh's (bvh.wgsl): down to the next met leaf
-// (next_met_leaf), then its instances, so lanes that found a leaf test
-// them together.
-fn tree_instances(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32, group: u32) -> bool {
-    if params.instance_trees == NO_INSTANCE_TREES || (cached.flags & FLAG_NO_CULL) != 0u {
+// Hands consider_instance the instances of one group of a tree in the
+// leaves the segment `seg` (chart_segment, usable) meets before
+// still_wanted; `entry` is the group's word of the trees' table. False,
+// having handed none, when the group has no tree (the caller then tests
+// each instance of the group). Two loops, as hit_mesh's (bvh.wgsl): down
+// to the next met leaf (next_met_leaf), then its instances, so lanes that
+// found a leaf test them together.
+fn tree_instances(ray: Ray, t_end: f32, cell_point: vec4<f32>, near: u32, seg: ChartSegment, entry: u32) -> bool {
+    let table = mesh_data[entry];
+    let count = table.y;
+    if count == 0u {
         return false;
     }
-    let entry = mesh_data[params.instance_trees + group];
-    let count = entry.y;
-    let o = ray.origin;
-    let e = ray.origin + ray.dir * t_end;
-    if count == 0u || !(t_end < 3.0e38) || !(o.w > 0.0) || !(e.w > 0.0) {
-        return false;
-    }
-    let a = o.xyz / o.w;
-    let d = e.xyz / e.w - a;
-    if !(all(abs(a) < vec3<f32>(3.0e38)) && all(abs(d) < vec3<f32>(3.0e38))) {
-        return false;
-    }
+    let d = seg.d;
     // Rust twin: octant.
     let octant = select(0u, 1u, d.x < 0.0) | select(0u, 2u, d.y < 0.0) | select(0u, 4u, d.z < 0.0);
-    let nodes = entry.x + 2u * count * octant;
+    let nodes = table.x + 2u * count * octant;
     let inv_d = safe_inverse(d);
     var s_max = 1.0;
     var i = 0u;
     loop {
-        let leaf = next_met_leaf(nodes, count, a, inv_d, s_max, &i);
+        let leaf = next_met_leaf(nodes, count, seg.a, inv_d, s_max, &i);
         if leaf.y == 0u {
             break;
         }

@@ -93,7 +93,7 @@ pub fn ball_box(g: Geometry, c: DVec4, k: f64) -> ([f32; 3], [f32; 3]) {
 /// `b - a` to its end, so its points are `a + s (b - a)`, `0 <= s <= 1`.
 /// `None` when an end is not finite or at or past the chart's horizon
 /// (`w <= 0`, S3 only): the caller then tests every ball.
-/// WGSL twin: the start of `interior_balls` in `shaders/cull.wgsl`.
+/// WGSL twin: `chart_segment` in `shaders/ball_tree.wgsl`.
 #[inline]
 #[must_use]
 pub fn chart_segment<R: Real>(ray: &Ray<R>, t_end: R) -> Option<([R; 3], [R; 3])> {

@@ -62,9 +62,12 @@ pub fn each_candidate<R: Real>(
     mut visit: impl FnMut(Candidate) -> R,
 ) {
     let groups = &flat.groups;
+    // The segment in the chart, once for the ball tree and the instance
+    // trees; none with culling off or an end past the chart's horizon.
+    let chart = chart_segment(ray, t_end).filter(|_| cull);
     let mut ranges = FaceGroups::ranges(&groups.balls, near_balls);
     let interior = ranges.next().unwrap_or_default();
-    match chart_segment(ray, t_end).filter(|_| cull && pad.is_finite() && !flat.ball_tree.is_empty()) {
+    match chart.filter(|_| pad.is_finite() && !flat.ball_tree.is_empty()) {
         Some((a, d)) => tree_leaves(&flat.ball_tree, a, d, pad, |leaf| {
             leaf.for_each(|i| {
                 visit(Candidate::Ball(i));
@@ -92,9 +95,8 @@ pub fn each_candidate<R: Real>(
     }
     // The instances: of a group with a tree, those of the leaves the
     // segment meets before the nearest hit so far, nearest leaves first.
-    let segment = chart_segment(ray, t_end).filter(|_| cull);
     for (group, range) in FaceGroups::groups(&groups.instances, near) {
-        match (segment, flat.instance_trees.get(group)) {
+        match (chart, flat.instance_trees.get(group)) {
             (Some(ad), Some(tree)) if !tree.is_empty() => tree_instances(tree, (ray, t_end), ad, |leaf| {
                 leaf.fold(t_end, |_, i| visit(Candidate::Instance(i)))
             }),
