@@ -8,11 +8,13 @@
 //!
 //! By topic: `agreement.rs` (what the pass draws against the tracers),
 //! `uploads.rs` (what it uploads and keeps), `sampling.rs` (render scale,
-//! accumulation, cones), `meshes.rs` (Bevy meshes), `hdr.rs` (HDR
+//! accumulation, cones), `meshes.rs` (Bevy meshes), `animation.rs` (an
+//! animated glTF character), `hdr.rs` (HDR
 //! targets), `materials.rs` (Bevy's materials and lights); `support.rs` holds
 //! what they share.
 
 mod agreement;
+mod animation;
 mod hdr;
 mod materials;
 mod meshes;
@@ -21,6 +23,7 @@ mod support;
 mod uploads;
 
 use agreement::*;
+use animation::*;
 use hdr::*;
 use materials::*;
 use meshes::*;
@@ -40,6 +43,7 @@ bevy_manifold_test_support::test_main! {
         gltf_meshes_in_a_manifold_are_traced_and_not_rasterised,
         gltf_scene_roots_in_a_manifold_are_traced,
         a_skinned_mesh_is_traced_as_its_joints_pose_it,
+        an_animated_gltf_character_is_traced_as_bevy_skins_it,
         the_papers_scene_as_entities_matches_the_tracers,
         cell_tints_agree_between_the_pass_and_the_cpu,
         a_view_at_half_scale_is_the_half_size_trace_upscaled_bilinearly,
