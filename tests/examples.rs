@@ -31,6 +31,8 @@ const FIGURES: &[(&str, &[&str], &str)] = &[
     ("billiards", &["--space", "seifert-weber"], "billiards_seifert_weber"),
     // A level of 4,000 props, each with its own transform and material.
     ("instances", &[], "instances_torus"),
+    // Animated glTF characters, each held at its phase of the sway.
+    ("animated", &[], "animated_seifert_weber"),
 ];
 
 /// The example binaries cargo built next to this test's (`cargo test`

@@ -41,3 +41,5 @@ done
 "$bin/billiards" --space seifert-weber --screenshot "$out/billiards_seifert_weber.png"
 # A level of 4,000 props (manual, "The examples": instances).
 "$bin/instances" --screenshot "$out/instances_torus.png"
+# Animated glTF characters (manual, "The examples": animated).
+"$bin/animated" --screenshot "$out/animated_seifert_weber.png"

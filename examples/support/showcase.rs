@@ -99,6 +99,16 @@ pub fn play_ticks(app: &mut App, hz: f64, ticks: u32) {
     app.insert_resource(TimeUpdateStrategy::ManualDuration(Duration::ZERO));
 }
 
+/// The repository's `assets` folder (the models the examples load),
+/// wherever the example's binary is run from: by `cargo run`, by the
+/// examples test or by `docs/images/render.sh`.
+fn assets() -> AssetPlugin {
+    AssetPlugin {
+        file_path: concat!(env!("CARGO_MANIFEST_DIR"), "/assets").into(),
+        ..default()
+    }
+}
+
 /// The help line shown over the view.
 #[derive(Component)]
 struct HelpText;
@@ -111,7 +121,7 @@ pub fn app(title: &str, help: &str) -> App {
     if let Some(path) = arg("--screenshot") {
         let (w, h) = arg("--size").as_deref().and_then(parse_size).unwrap_or((640, 360));
         let mut app = App::new();
-        app.add_plugins(offscreen::plugins());
+        app.add_plugins(offscreen::plugins().set(assets()));
         app.add_plugins((crate::ManifoldPlugins::default(), FlyCameraPlugin));
         app.finish();
         app.cleanup();
@@ -119,14 +129,18 @@ pub fn app(title: &str, help: &str) -> App {
         return app;
     }
     let mut app = App::new();
-    app.add_plugins(DefaultPlugins.set(WindowPlugin {
-        primary_window: Some(Window {
-            title: title.into(),
-            resolution: (1280, 720).into(),
-            ..default()
-        }),
-        ..default()
-    }))
+    app.add_plugins(
+        DefaultPlugins
+            .set(WindowPlugin {
+                primary_window: Some(Window {
+                    title: title.into(),
+                    resolution: (1280, 720).into(),
+                    ..default()
+                }),
+                ..default()
+            })
+            .set(assets()),
+    )
     .add_plugins((crate::ManifoldPlugins::default(), FlyCameraPlugin));
     let text = format!("{title}: {help}\nWASD / Space / Shift fly, arrows or mouse turn, Q / E roll, H hides this");
     app.add_systems(Startup, move |mut commands: Commands| {
