@@ -295,27 +295,5 @@ pub fn a_skinned_mesh_is_traced_as_its_joints_pose_it() {
     let data = posed(&app).unwrap();
     check(&data, angle);
     // The pass draws it as the CPU tracer does, in every copy.
-    wait_for_pipelines(&mut app);
-    let shown = capture(&mut app, &image);
-    let scene = gathered_scene(&app, &space, root, false);
-    let (mesh_pixels, vs_compute, vs_cpu) = mesh_agreement(&space, &scene, &shown);
-    eprintln!(
-        "a skinned bar in the torus: {mesh_pixels} mesh pixels; pass vs compute {:.3}%, vs CPU f64 {:.3}%",
-        vs_compute * 100.0,
-        vs_cpu * 100.0
-    );
-    assert!(mesh_pixels > 100, "the bar is in view");
-    assert!(vs_compute >= 0.995 && vs_cpu >= 0.99);
-    // Its copies: the CPU trace sees the bent bar in several copies of
-    // the cube, each drawn from the same posed mesh.
-    let cpu = bevy_manifold::trace::render::<f64>(&space, &scene, &view_settings());
-    let mut cells: Vec<_> = cpu
-        .pixels
-        .iter()
-        .filter(|p| (2..=3).contains(&p.object))
-        .map(|p| p.cell)
-        .collect();
-    cells.sort();
-    cells.dedup();
-    assert!(cells.len() >= 3, "the bar is seen in {} copies", cells.len());
+    assert_drawn_in_copies(&mut app, &space, root, &image, "a skinned bar in the torus");
 }

@@ -145,6 +145,35 @@ pub fn mesh_agreement(space: &Space, scene: &Scene, shown: &[u8]) -> (usize, f64
     )
 }
 
+/// A posed mesh (`what`) drawn by the pass in `root`'s view into `image`
+/// as the headless tracer and the CPU f64 reference draw the gathered
+/// scene (at least 99.5% and 99% of the pixels), in view (over 100
+/// pixels), and seen by the CPU trace in at least three copies of the
+/// domain.
+pub fn assert_drawn_in_copies(app: &mut App, space: &Space, root: Entity, image: &Handle<Image>, what: &str) {
+    wait_for_pipelines(app);
+    let shown = capture(app, image);
+    let scene = gathered_scene(app, space, root, false);
+    let (mesh_pixels, vs_compute, vs_cpu) = mesh_agreement(space, &scene, &shown);
+    eprintln!(
+        "{what}: {mesh_pixels} mesh pixels; pass vs compute {:.3}%, vs CPU f64 {:.3}%",
+        vs_compute * 100.0,
+        vs_cpu * 100.0
+    );
+    assert!(mesh_pixels > 100, "{what} is in view");
+    assert!(vs_compute >= 0.995 && vs_cpu >= 0.99);
+    let cpu = render::<f64>(space, &scene, &view_settings());
+    let mut cells: Vec<_> = cpu
+        .pixels
+        .iter()
+        .filter(|p| (2..=3).contains(&p.object))
+        .map(|p| p.cell)
+        .collect();
+    cells.sort();
+    cells.dedup();
+    assert!(cells.len() >= 3, "{what} is seen in {} copies", cells.len());
+}
+
 /// The fraction of `shown` (RGBA8, sRGB) within `tol` of linear `colors`.
 pub fn close_to(shown: &[u8], colors: &[[f32; 3]], tol: u8) -> f64 {
     let close = shown
