@@ -41,5 +41,9 @@ done
 "$bin/billiards" --space seifert-weber --screenshot "$out/billiards_seifert_weber.png"
 # A level of 4,000 props (manual, "The examples": instances).
 "$bin/instances" --screenshot "$out/instances_torus.png"
+# The product geometries on the CPU (spaces.md, "The product geometries").
+"${CARGO_TARGET_DIR:-target}/release/bevy_manifold" product --space genus2xs1 --out "$out/product_genus2xs1.png"
+"${CARGO_TARGET_DIR:-target}/release/bevy_manifold" product --space s2xs1 --out "$out/product_s2xs1.png"
+"${CARGO_TARGET_DIR:-target}/release/bevy_manifold" product --space mirrored-prism --out "$out/product_mirrored_prism.png"
 # Animated glTF characters (manual, "The examples": animated).
 "$bin/animated" --screenshot "$out/animated_seifert_weber.png"

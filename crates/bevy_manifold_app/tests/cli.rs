@@ -243,6 +243,53 @@ fn render_refuses_sizes_and_levels_no_tracer_takes() {
     }
 }
 
+/// `product` renders each product space on the CPU: a PNG of the size
+/// asked for, with the balls and the fog in it (several colours); bad
+/// lengths and sizes are refused by name.
+fn product_renders_each_space_and_refuses_bad_numbers() {
+    for space in [
+        "s2xs1",
+        "twisted-s2xs1",
+        "genus2xs1",
+        "twisted-genus2xs1",
+        "mirrored-prism",
+    ] {
+        let out = tmp(&format!("product_{space}.png"));
+        let o = run(&[
+            "product",
+            "--space",
+            space,
+            "--width",
+            "40",
+            "--height",
+            "24",
+            "--out",
+            out.to_str().expect("utf-8"),
+        ]);
+        assert!(o.status.success(), "{space}: {}", stderr(&o));
+        let png = image::open(&out).expect("a PNG").to_rgb8();
+        assert_eq!(png.dimensions(), (40, 24));
+        let mut colours: Vec<[u8; 3]> = png.pixels().map(|p| p.0).collect();
+        colours.sort_unstable();
+        colours.dedup();
+        assert!(colours.len() > 20, "{space}: {} colours", colours.len());
+    }
+    let out = tmp("never_product.png");
+    for (args, needle) in [
+        (vec!["--length", "-1"], "between 0.01 and 100"),
+        (vec!["--length", "NaN"], "between 0.01 and 100"),
+        (vec!["--width", "0"], "--width"),
+        (vec!["--twist", "0"], "--twist"),
+    ] {
+        let mut all = vec!["product", "--space", "genus2xs1", "--out", out.to_str().expect("utf-8")];
+        all.extend(args);
+        let o = run(&all);
+        assert!(!o.status.success(), "{all:?}");
+        let err = stderr(&o);
+        assert!(err.contains(needle) && !err.contains("panicked"), "{all:?}: {err}");
+    }
+}
+
 fn render_writes_the_image_and_the_id_buffer() {
     let (out, ids) = (tmp("torus.png"), tmp("torus_ids.png"));
     let o = run(&[
@@ -762,6 +809,7 @@ bevy_manifold_test_support::test_main! {
         tour_render_frame_k_is_the_camera_at_k_over_fps,
         tour_check_reads_the_shipped_tours_and_names_a_broken_field,
         help_prints_usage,
+        product_renders_each_space_and_refuses_bad_numbers,
         space_list_prints_one_name_per_line,
         gen_files_import_show_and_render,
         render_refuses_sizes_and_levels_no_tracer_takes,

@@ -4,6 +4,7 @@
 use bevy_manifold_bench as bench;
 mod cell;
 mod library;
+mod product;
 mod show;
 pub mod tour;
 
@@ -75,6 +76,9 @@ enum Command {
     Space(SpaceCommand),
     /// Render a view of a space to PNG.
     Render(RenderArgs),
+    /// Render a view of a space of the product geometries (H2xR, S2xR)
+    /// to PNG, on the CPU (the GPU pass does not take them yet).
+    Product(product::ProductArgs),
     /// Tours: check a tour file, render it to frames and video.
     #[command(subcommand)]
     Tour(tour::TourCommand),
@@ -335,6 +339,7 @@ pub fn run() -> ExitCode {
             words,
         })) => resolve_space(&name).and_then(|s| cell::cell(&s, faces.as_deref(), json, words.as_deref())),
         Some(Command::Render(args)) => render_command(&args),
+        Some(Command::Product(args)) => product::run(&args),
         Some(Command::Tour(t)) => tour::run(&t),
         Some(Command::Bench(b)) => bench::run(&b),
     };

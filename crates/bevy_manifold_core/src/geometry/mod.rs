@@ -28,6 +28,7 @@
 
 pub mod isometry;
 pub mod plane;
+pub mod product;
 mod real;
 
 pub use real::Real;

@@ -31,6 +31,7 @@ pub mod generators;
 pub mod lens;
 pub mod library;
 mod polyhedron;
+pub mod product;
 pub mod rule;
 mod volume;
 

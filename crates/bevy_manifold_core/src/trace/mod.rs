@@ -61,6 +61,7 @@ mod mesh_hit;
 mod nearest;
 mod output;
 pub mod path;
+pub mod product;
 mod render;
 pub mod scene;
 mod settings;

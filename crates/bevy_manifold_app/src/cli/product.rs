@@ -1,0 +1,118 @@
+//! `bevy_manifold product`: a view of a space of the product geometries
+//! (H2xR, S2xR), traced on the CPU by the math crate's reference tracer
+//! and written as a PNG.
+
+use bevy_manifold::geometry::product::{ProductPoint, ProductTangent};
+use bevy_manifold::space::product::ProductSpace;
+use bevy_manifold::trace::product::{ProductBall, ProductView, render};
+use clap::{Args, ValueEnum};
+use glam::DVec3;
+use std::path::PathBuf;
+
+/// The product spaces the command knows.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum ProductName {
+    /// S2 x S1.
+    S2xs1,
+    /// S2 x S1, the sphere turned by 1/k of a turn round the circle.
+    TwistedS2xs1,
+    /// A closed genus-2 surface x S1 (the regular octagon).
+    Genus2xs1,
+    /// Its mapping torus, turned by k eighths of a turn.
+    TwistedGenus2xs1,
+    /// The right-angled pentagon x interval, every face a mirror.
+    MirroredPrism,
+}
+
+#[derive(Args)]
+pub struct ProductArgs {
+    /// The space.
+    #[arg(long, value_enum)]
+    space: ProductName,
+    /// The length of the circle (or interval).
+    #[arg(long, default_value_t = 2.0, value_parser = length, allow_negative_numbers = true)]
+    length: f64,
+    /// The twist of the twisted spaces: 1/k of a turn of the sphere, k
+    /// eighths of a turn of the genus-2 surface.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=64))]
+    twist: u32,
+    /// Width in pixels.
+    #[arg(long, default_value_t = 480, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    width: u32,
+    /// Height in pixels.
+    #[arg(long, default_value_t = 270, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    height: u32,
+    /// The PNG to write.
+    #[arg(long)]
+    out: PathBuf,
+}
+
+fn length(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.01 && v <= 100.0 => Ok(v),
+        Ok(v) => Err(format!("must be between 0.01 and 100, got {v}")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+/// Renders the view and writes it.
+pub fn run(args: &ProductArgs) -> Result<(), String> {
+    let space = match args.space {
+        ProductName::S2xs1 => ProductSpace::s2_x_s1(args.length),
+        ProductName::TwistedS2xs1 => ProductSpace::twisted_s2_x_s1(args.length, args.twist),
+        ProductName::Genus2xs1 => ProductSpace::genus_two_x_s1(args.length),
+        ProductName::TwistedGenus2xs1 => ProductSpace::twisted_genus_two_x_s1(args.length, args.twist),
+        ProductName::MirroredPrism => ProductSpace::mirrored_prism(5, args.length),
+    };
+    space.validate().map_err(|e| e.to_string())?;
+    let g = space.geometry;
+    let l = space.height;
+    // A ball on the axis, two off it at other heights; the eye off the
+    // axis, looking across and a little up.
+    let at = |angle: f64, d: f64, h: f64| {
+        let (c, s) = g.trig(d);
+        ProductPoint::new(DVec3::new(s * angle.cos(), s * angle.sin(), c), h)
+    };
+    let r = 0.22 * l.min(1.0);
+    let balls = [
+        ProductBall {
+            center: at(0.0, 0.0, 0.25 * l),
+            radius: r,
+            id: 1,
+        },
+        ProductBall {
+            center: at(2.2, 0.5, -0.2 * l),
+            radius: r * 0.8,
+            id: 2,
+        },
+        ProductBall {
+            center: at(-2.0, 0.6, 0.05 * l),
+            radius: r * 0.7,
+            id: 3,
+        },
+    ];
+    let eye = at(std::f64::consts::PI, 0.7, 0.15 * l);
+    let tilt = 0.25f64;
+    // Towards the axis (+x at the eye's side), tilted up.
+    let toward = g.normalize_tangent(eye, ProductTangent::new(DVec3::new(1.0, 0.0, 0.0), 0.0));
+    let forward = ProductTangent::new(toward.surface * tilt.cos(), tilt.sin());
+    let up = ProductTangent::new(-toward.surface * tilt.sin(), tilt.cos());
+    let right = g.normalize_tangent(eye, ProductTangent::new(DVec3::new(0.0, -1.0, 0.0), 0.0));
+    let view = ProductView {
+        eye,
+        frame: [forward, right, up],
+        fov_y_degrees: 70.0,
+        max_distance: 12.0,
+        max_crossings: 24,
+        fog: 0.08,
+    };
+    let (w, h) = (args.width, args.height);
+    let bytes: Vec<u8> = render(&space, &balls, &view, w, h)
+        .iter()
+        .flat_map(|p| p.color.map(bevy_manifold::trace::srgb8).into_iter().chain([255]))
+        .collect();
+    image::save_buffer(&args.out, &bytes, w, h, image::ExtendedColorType::Rgba8)
+        .map_err(|e| format!("{}: {e}", args.out.display()))?;
+    println!("wrote {} ({w}x{h}, {})", args.out.display(), space.name);
+    Ok(())
+}

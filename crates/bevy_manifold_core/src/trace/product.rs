@@ -1,0 +1,410 @@
+//! The CPU reference tracer of the product spaces (H2xR, S2xR): a ray
+//! follows its exact geodesic ([`ProductGeometry::exp`]) through the
+//! prism, leaves it through the nearest face ([`exit_face`], in closed
+//! form) and goes on from the gluing's image of its exit point, as
+//! Algorithm 1 does in E3, H3 and S3 ([`super::step::exit_face`]).
+//!
+//! Balls are true geodesic balls of the product metric, found along the
+//! ray by sphere tracing: the distance from a point of the ray to a
+//! ball's centre changes by at most the distance travelled, so stepping
+//! by the distance to the ball's surface never steps over it.
+//!
+//! ```
+//! use bevy_manifold_core::geometry::product::{ProductPoint, ProductTangent};
+//! use bevy_manifold_core::space::product::ProductSpace;
+//! use bevy_manifold_core::trace::product::{ProductBall, ProductRay, hits};
+//! use glam::DVec3;
+//! // In S2 x S1 of circle 2, looking straight up from under a ball: the
+//! // ball and its copies every 2 up the circle.
+//! let space = ProductSpace::s2_x_s1(2.0);
+//! let ball = ProductBall { center: ProductPoint::new(DVec3::Z, 0.5), radius: 0.1, id: 1 };
+//! let up = ProductRay { origin: ProductPoint::ORIGIN, dir: ProductTangent::new(DVec3::ZERO, 1.0) };
+//! let seen = hits(&space, &[ball], up, 5.0, 16);
+//! let at: Vec<f64> = seen.iter().map(|h| h.distance).collect();
+//! assert!((at[0] - 0.4).abs() < 1e-9 && (at[1] - 2.4).abs() < 1e-9 && (at[2] - 4.4).abs() < 1e-9);
+//! ```
+
+use crate::geometry::product::{ProductGeometry, ProductIsometry, ProductPoint, ProductTangent};
+use crate::space::product::ProductSpace;
+#[cfg(feature = "parallel")]
+use rayon::prelude::*;
+
+/// A ray: a point and a unit tangent there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProductRay {
+    /// Where it starts.
+    pub origin: ProductPoint,
+    /// Its unit direction.
+    pub dir: ProductTangent,
+}
+
+/// A geodesic ball of the product metric, in the prism.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProductBall {
+    /// Its centre.
+    pub center: ProductPoint,
+    /// Its radius.
+    pub radius: f64,
+    /// The object id a hit reports.
+    pub id: u32,
+}
+
+/// Where a ray entered a ball.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProductHit {
+    /// The ball's id.
+    pub object: u32,
+    /// The distance along the ray.
+    pub distance: f64,
+    /// The point, in the prism.
+    pub point: ProductPoint,
+    /// The faces crossed before it, in order (the word of the copy of
+    /// the prism it is in).
+    pub faces: Vec<usize>,
+}
+
+/// A ray followed through the faces: where it is, and how it got there.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProductWalk {
+    /// The ray at its end, in the prism.
+    pub ray: ProductRay,
+    /// The faces crossed, in order.
+    pub faces: Vec<usize>,
+    /// The gluings applied, composed: it maps the universal cover's point
+    /// the walk reached onto `ray.origin`. (In H2xR its entries grow as
+    /// e to the distance along the surface, past f64 after about 700.)
+    pub cell: ProductIsometry,
+}
+
+/// Smallest step of the sphere tracing (and how near a surface counts as
+/// on it).
+const SURFACE: f64 = 1e-12;
+/// Most sphere-tracing steps per ball and segment (a ray grazing a ball
+/// steps slowly; past this the graze counts as a miss).
+const MAX_STEPS: usize = 20_000;
+
+/// The face a ray leaves the prism through, and the distance to it:
+/// the nearest face the ray moves out of, skipping `skip` (the face it
+/// just entered). A vertical face `<n, p> = 0` is met where the surface
+/// geodesic `p cosh(a s) + u sinh(a s)` (or cos, sin) crosses the line:
+/// `tanh(a s) = -<n, p> / <n, u>` (`tan` on the sphere); a horizontal face
+/// where the height reaches it. Crossings behind the origin (rounding)
+/// count as 0.
+#[must_use]
+pub fn exit_face(space: &ProductSpace, ray: &ProductRay, skip: Option<usize>) -> Option<(usize, f64)> {
+    let g = space.geometry;
+    let speed = g.form(ray.dir.surface, ray.dir.surface).max(0.0).sqrt();
+    let mut best: Option<(usize, f64)> = None;
+    let mut consider = |face: usize, s: f64| {
+        if Some(face) != skip && s.is_finite() && best.is_none_or(|(_, b)| s < b) {
+            best = Some((face, s.max(0.0)));
+        }
+    };
+    if speed > 0.0 {
+        for (face, n) in space.sides.iter().enumerate() {
+            let a = g.form(*n, ray.origin.surface);
+            let b = g.form(*n, ray.dir.surface) / speed;
+            let sigma = match g {
+                ProductGeometry::H2xR if b > 0.0 && -a < b => (-a / b).atanh(),
+                ProductGeometry::S2xR if b > 0.0 || a < 0.0 => (-a).atan2(b),
+                _ => continue,
+            };
+            consider(face, sigma / speed);
+        }
+    }
+    let h = ray.origin.height;
+    let half = space.height / 2.0;
+    if ray.dir.height > 0.0 {
+        consider(space.top(), (half - h) / ray.dir.height);
+    } else if ray.dir.height < 0.0 {
+        consider(space.bottom(), (-half - h) / ray.dir.height);
+    }
+    best
+}
+
+/// The ray moved `s` along its geodesic (inside the prism).
+#[must_use]
+pub fn advance(g: ProductGeometry, ray: &ProductRay, s: f64) -> ProductRay {
+    let (origin, dir) = g.exp(ray.origin, ray.dir, s);
+    ProductRay { origin, dir }
+}
+
+/// The ray carried through face `face`: the gluing's image of it, put
+/// back on the model (so rounding does not grow over many crossings).
+#[must_use]
+pub fn transport(space: &ProductSpace, face: usize, ray: &ProductRay) -> ProductRay {
+    let g = space.geometry;
+    let m = space.gluings[face].isometry();
+    let origin = g.normalize_point(m.apply(ray.origin));
+    ProductRay {
+        origin,
+        dir: g.normalize_tangent(origin, m.apply_tangent(ray.dir)),
+    }
+}
+
+/// Walks the ray through the prism for `distance` (through at most
+/// `max_crossings` faces), calling `segment(walk, length)` with the walk
+/// at the start of each segment and the segment's length (to the face it
+/// leaves through, or to the end). The segment returning false stops the
+/// walk there. Returns the walk at its end.
+fn walk_segments(
+    space: &ProductSpace,
+    ray: ProductRay,
+    distance: f64,
+    max_crossings: usize,
+    mut segment: impl FnMut(&ProductWalk, f64, f64) -> bool,
+) -> ProductWalk {
+    let g = space.geometry;
+    let mut walk = ProductWalk {
+        ray,
+        faces: Vec::new(),
+        cell: ProductIsometry::IDENTITY,
+    };
+    let mut travelled = 0.0;
+    let mut skip = None;
+    loop {
+        let exit = exit_face(space, &walk.ray, skip).filter(|(_, s)| travelled + s < distance);
+        let length = exit.map_or(distance - travelled, |(_, s)| s);
+        if !segment(&walk, travelled, length) {
+            return walk;
+        }
+        match exit {
+            Some((face, s)) if walk.faces.len() < max_crossings => {
+                walk.ray = transport(space, face, &advance(g, &walk.ray, s));
+                walk.cell = space.gluings[face].isometry().compose(&walk.cell);
+                walk.faces.push(face);
+                travelled += s;
+                skip = Some(space.partner(face));
+            }
+            _ => {
+                walk.ray = advance(g, &walk.ray, length);
+                return walk;
+            }
+        }
+    }
+}
+
+/// The ray followed for `distance` through the faces (at most
+/// `max_crossings` of them; it stops at the last).
+#[must_use]
+pub fn flow(space: &ProductSpace, ray: ProductRay, distance: f64, max_crossings: usize) -> ProductWalk {
+    walk_segments(space, ray, distance, max_crossings, |_, _, _| true)
+}
+
+/// The balls the ray enters within `max_distance` (through at most
+/// `max_crossings` faces), nearest first, up to 64 of them. Each ball is
+/// looked for in the prism and as its images through each face's gluing
+/// (the part of it that reaches over a face).
+#[must_use]
+pub fn hits(
+    space: &ProductSpace,
+    balls: &[ProductBall],
+    ray: ProductRay,
+    max_distance: f64,
+    max_crossings: usize,
+) -> Vec<ProductHit> {
+    let g = space.geometry;
+    let images: Vec<ProductBall> = balls
+        .iter()
+        .flat_map(|b| {
+            std::iter::once(*b).chain(space.gluings.iter().map(|gl| ProductBall {
+                center: gl.isometry().apply(b.center),
+                ..*b
+            }))
+        })
+        .collect();
+    let mut found = Vec::new();
+    walk_segments(space, ray, max_distance, max_crossings, |walk, travelled, length| {
+        let mut segment: Vec<(f64, u32)> = Vec::new();
+        for ball in &images {
+            entries(g, &walk.ray, ball, length, &mut segment);
+        }
+        segment.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (s, object) in segment {
+            found.push(ProductHit {
+                object,
+                distance: travelled + s,
+                point: advance(g, &walk.ray, s).origin,
+                faces: walk.faces.clone(),
+            });
+            if found.len() >= 64 {
+                return false;
+            }
+        }
+        true
+    });
+    found
+}
+
+/// The distances in `[0, end]` at which `ray` enters `ball` (from
+/// outside), by sphere tracing; a ray that starts inside enters only
+/// after it has left.
+fn entries(g: ProductGeometry, ray: &ProductRay, ball: &ProductBall, end: f64, out: &mut Vec<(f64, u32)>) {
+    let gap = |s: f64| g.distance(g.exp(ray.origin, ray.dir, s).0, ball.center) - ball.radius;
+    let mut s = 0.0;
+    let mut f = gap(s);
+    let mut outside = f > SURFACE;
+    for _ in 0..MAX_STEPS {
+        if outside && f <= SURFACE {
+            out.push((s, ball.id));
+            outside = false;
+        } else if !outside && f > SURFACE {
+            outside = true;
+        }
+        s += f.abs().max(SURFACE);
+        if s > end {
+            return;
+        }
+        f = gap(s);
+    }
+}
+
+/// A view from inside a product space: where the eye is and its frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProductView {
+    /// The eye, in the prism.
+    pub eye: ProductPoint,
+    /// Unit tangents at the eye, orthonormal: where it looks, its right
+    /// and its up.
+    pub frame: [ProductTangent; 3],
+    /// The vertical field of view, in degrees.
+    pub fov_y_degrees: f64,
+    /// How far the rays go.
+    pub max_distance: f64,
+    /// How many faces a ray may cross.
+    pub max_crossings: usize,
+    /// Fog density (per unit of distance); 0 for none.
+    pub fog: f64,
+}
+
+/// What one pixel of a [`render`] sees.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProductPixel {
+    /// The ball's id, or 0 for nothing.
+    pub object: u32,
+    /// The distance to it (infinite for nothing).
+    pub distance: f64,
+    /// Faces crossed on the way.
+    pub crossings: usize,
+    /// Linear RGB: the ball's colour lit from the eye, fogged by the
+    /// distance; the fog's colour where nothing is hit.
+    pub color: [f32; 3],
+}
+
+/// The view's image, `width x height`, rows from the top: each pixel's
+/// ray the unit tangent `forward + x right + y up` (`x`, `y` on the image
+/// plane of the field of view), followed to its first ball; in parallel
+/// with the `parallel` feature.
+#[must_use]
+pub fn render(
+    space: &ProductSpace,
+    balls: &[ProductBall],
+    view: &ProductView,
+    width: u32,
+    height: u32,
+) -> Vec<ProductPixel> {
+    let (w, h) = (width as usize, height as usize);
+    #[cfg(feature = "parallel")]
+    let indices = (0..w * h).into_par_iter();
+    #[cfg(not(feature = "parallel"))]
+    let indices = 0..w * h;
+    indices
+        .map(|k| pixel(space, balls, view, (k % w, k / w), (w, h)))
+        .collect()
+}
+
+/// One pixel of [`render`].
+fn pixel(
+    space: &ProductSpace,
+    balls: &[ProductBall],
+    view: &ProductView,
+    (i, j): (usize, usize),
+    (w, h): (usize, usize),
+) -> ProductPixel {
+    let g = space.geometry;
+    let [forward, right, up] = view.frame;
+    let half = (view.fov_y_degrees.to_radians() / 2.0).tan();
+    let aspect = w as f64 / h.max(1) as f64;
+    let x = ((i as f64 + 0.5) / w as f64 * 2.0 - 1.0) * half * aspect;
+    let y = (1.0 - (j as f64 + 0.5) / h as f64 * 2.0) * half;
+    let dir = ProductTangent::new(
+        forward.surface + right.surface * x + up.surface * y,
+        forward.height + right.height * x + up.height * y,
+    )
+    .unit(g);
+    let seen = hits(
+        space,
+        balls,
+        ProductRay { origin: view.eye, dir },
+        view.max_distance,
+        view.max_crossings,
+    );
+    let Some(hit) = seen.first() else {
+        return ProductPixel {
+            object: 0,
+            distance: f64::INFINITY,
+            crossings: 0,
+            color: FOG_COLOR,
+        };
+    };
+    let ball = balls.iter().find(|b| b.id == hit.object).expect("a ball hit");
+    // Lit from the eye: the cosine between the normal (from the centre
+    // out) and the way back along the ray.
+    let lit = cosine_to_eye(g, space, hit, ball, view, dir);
+    let base = palette(hit.object);
+    let fog = (-view.fog * hit.distance).exp() as f32;
+    let shade = 0.25 + 0.75 * lit as f32;
+    ProductPixel {
+        object: hit.object,
+        distance: hit.distance,
+        crossings: hit.faces.len(),
+        color: std::array::from_fn(|c| base[c] * shade * fog + FOG_COLOR[c] * (1.0 - fog)),
+    }
+}
+
+/// The fog's colour, and what a ray that hits nothing sees.
+const FOG_COLOR: [f32; 3] = [0.7, 0.75, 0.8];
+
+/// The cosine between a hit ball's outward normal and the way back along
+/// the ray, at the hit.
+fn cosine_to_eye(
+    g: ProductGeometry,
+    space: &ProductSpace,
+    hit: &ProductHit,
+    ball: &ProductBall,
+    view: &ProductView,
+    dir: ProductTangent,
+) -> f64 {
+    // The ray's tangent at the hit, followed again (cheap beside the
+    // search) and the ball's image nearest the hit.
+    let walk = flow(
+        space,
+        ProductRay { origin: view.eye, dir },
+        hit.distance,
+        view.max_crossings,
+    );
+    let centre = std::iter::once(ball.center)
+        .chain(space.gluings.iter().map(|gl| gl.isometry().apply(ball.center)))
+        .min_by(|a, b| g.distance(hit.point, *a).total_cmp(&g.distance(hit.point, *b)))
+        .expect("the ball itself");
+    match g.log(hit.point, centre) {
+        Some((inward, _)) => {
+            let d = walk.ray.dir;
+            (g.form(inward.surface, d.surface) + inward.height * d.height).clamp(0.0, 1.0)
+        }
+        None => 1.0,
+    }
+}
+
+/// A colour per object id.
+fn palette(id: u32) -> [f32; 3] {
+    const COLORS: [[f32; 3]; 6] = [
+        [0.9, 0.55, 0.2],
+        [0.25, 0.6, 0.9],
+        [0.4, 0.8, 0.35],
+        [0.85, 0.3, 0.45],
+        [0.8, 0.75, 0.3],
+        [0.6, 0.45, 0.85],
+    ];
+    COLORS[id as usize % COLORS.len()]
+}

@@ -1,0 +1,415 @@
+//! The product geometries H2xR and S2xR and their compact spaces, checked
+//! against facts of geometry: volumes by integration and Gauss-Bonnet,
+//! closed geodesics of known lengths, the copies of the circle and of the
+//! octagon tiling where the Poincare disk puts them, and a million
+//! crossings that keep the ray on the model.
+
+use bevy_manifold_core::geometry::product::{ProductGeometry, ProductIsometry, ProductPoint, ProductTangent};
+use bevy_manifold_core::space::product::{ProductGluing, ProductSpace, ProductSpaceError};
+use bevy_manifold_core::trace::product::{ProductBall, ProductRay, exit_face, flow, hits};
+use glam::DVec3;
+use std::f64::consts::{PI, TAU};
+
+/// The unit tangent along the surface in direction `angle` at the
+/// origin, tilted up by `up` radians.
+fn direction(angle: f64, up: f64) -> ProductTangent {
+    ProductTangent::new(DVec3::new(angle.cos(), angle.sin(), 0.0) * up.cos(), up.sin())
+}
+
+fn ray(origin: ProductPoint, dir: ProductTangent) -> ProductRay {
+    ProductRay { origin, dir }
+}
+
+/// The point at surface distance `d` from the origin in direction
+/// `angle`, at height `h`, built from its coordinates (hyperboloid or
+/// sphere).
+fn point(g: ProductGeometry, angle: f64, d: f64, h: f64) -> ProductPoint {
+    let (c, s) = match g {
+        ProductGeometry::H2xR => (d.cosh(), d.sinh()),
+        ProductGeometry::S2xR => (d.cos(), d.sin()),
+    };
+    ProductPoint::new(DVec3::new(s * angle.cos(), s * angle.sin(), c), h)
+}
+
+fn catalog() -> Vec<ProductSpace> {
+    vec![
+        ProductSpace::s2_x_s1(1.5),
+        ProductSpace::twisted_s2_x_s1(1.5, 3),
+        ProductSpace::genus_two_x_s1(0.8),
+        ProductSpace::twisted_genus_two_x_s1(0.8, 1),
+        ProductSpace::mirrored_prism(5, 0.6),
+    ]
+}
+
+#[test]
+fn geodesics_are_exact_and_isometries_keep_distances() {
+    for g in [ProductGeometry::H2xR, ProductGeometry::S2xR] {
+        let p = point(g, 0.3, 0.7, -0.2);
+        let v = g.normalize_tangent(p, ProductTangent::new(DVec3::new(0.4, -0.9, 0.1), 0.35));
+        for s in [0.1, 0.9, 1.7] {
+            let (q, w) = g.exp(p, v, s);
+            assert!(g.point_error(q) < 1e-12 && (w.length(g) - 1.0).abs() < 1e-12);
+            // Along a geodesic, short of the sphere's antipode, the
+            // distance is the arc length.
+            assert!((g.distance(p, q) - s).abs() < 1e-12, "{g:?} s = {s}");
+            let (back, d) = g.log(p, q).expect("distinct points");
+            assert!((d - s).abs() < 1e-12);
+            assert!((back.surface - v.surface).length() < 1e-9 && (back.height - v.height).abs() < 1e-9);
+        }
+        // An isometry (a turn, a translation, a reflection, a flip of the
+        // line) keeps distances.
+        let m = ProductIsometry::new(
+            g.rotation(1.1) * g.translation(0.4, 0.9) * g.reflection(DVec3::X),
+            -1.0,
+            2.5,
+        );
+        assert!(g.isometry_error(m.surface) < 1e-12);
+        let q = point(g, 2.0, 0.4, 0.8);
+        assert!((g.distance(m.apply(p), m.apply(q)) - g.distance(p, q)).abs() < 1e-12);
+        let back = m.inverse(g).compose(&m);
+        assert!(back.surface.abs_diff_eq(glam::DMat3::IDENTITY, 1e-12) && back.flip == 1.0 && back.shift.abs() < 1e-12);
+    }
+}
+
+/// The geodesic sphere's area against a different algorithm: the area
+/// element of the exponential map measured by finite differences of
+/// distances on a grid of directions.
+#[test]
+fn the_geodesic_spheres_area_is_what_the_exponential_map_sweeps() {
+    for g in [ProductGeometry::H2xR, ProductGeometry::S2xR] {
+        for d in [0.05, 1.5, 2.5] {
+            let at = |a: f64, t: f64| g.exp(ProductPoint::ORIGIN, direction(t, a), d).0;
+            let (na, nt) = (400, 64);
+            let (da, dt) = (PI / f64::from(na), TAU / f64::from(nt));
+            let mut area = 0.0;
+            for i in 0..na {
+                let a = -PI / 2.0 + (f64::from(i) + 0.5) * da;
+                // Rotation about the origin is an isometry, so every
+                // theta sweeps the same: one column, times the turn.
+                let h = 1e-6;
+                let along_a = g.distance(at(a + h, 0.0), at(a - h, 0.0)) / (2.0 * h);
+                let along_t = g.distance(at(a, h), at(a, -h)) / (2.0 * h);
+                area += along_a * along_t * da * dt * f64::from(nt);
+            }
+            let want = g.sphere_area(d);
+            assert!(
+                (area - want).abs() < 2e-4 * want,
+                "{g:?} d = {d}: swept {area}, sphere_area {want}"
+            );
+        }
+        // Small spheres are Euclidean ones.
+        assert!((g.sphere_area(1e-3) / (4.0 * PI * 1e-6) - 1.0).abs() < 1e-6);
+    }
+}
+
+#[test]
+fn the_catalog_validates_and_broken_spaces_are_named() {
+    for space in catalog() {
+        space.validate().unwrap_or_else(|e| panic!("{}: {e}", space.name));
+    }
+    // A gluing that misses its partner side.
+    let mut wrong = ProductSpace::genus_two_x_s1(1.0);
+    let g = wrong.geometry;
+    wrong.gluings[2] = ProductGluing::Paired {
+        partner: 6,
+        pairing: ProductIsometry::new(g.translation(PI / 2.0, -2.0), 1.0, 0.0),
+    };
+    assert!(matches!(
+        wrong.validate(),
+        Err(ProductSpaceError::Gluing { face: 2, .. })
+    ));
+    // Corners whose angles do not close up: the octagon with angles
+    // pi/3, glued as the genus-2 surface (8 pi/3 round the one vertex).
+    let mut cone = ProductSpace::genus_two_x_s1(1.0);
+    let (sides, r) = ProductSpace::regular_polygon(g, 8, PI / 3.0);
+    cone.sides = sides;
+    cone.angles = vec![PI / 3.0; 8];
+    for (i, gl) in cone.gluings.iter_mut().take(8).enumerate() {
+        *gl = ProductGluing::Paired {
+            partner: (i + 4) % 8,
+            pairing: ProductIsometry::new(g.translation(TAU * i as f64 / 8.0, -2.0 * r), 1.0, 0.0),
+        };
+    }
+    assert!(matches!(cone.validate(), Err(ProductSpaceError::VertexCycle { .. })));
+    let mut flat = ProductSpace::s2_x_s1(1.0);
+    flat.height = f64::NAN;
+    let e = flat.validate().unwrap_err();
+    assert!(e.to_string().contains("height"), "{e}");
+}
+
+/// Volumes: S2 x S1 of circle L is 4 pi L; a genus-2 surface has area
+/// 4 pi (Gauss-Bonnet); the right-angled pentagon pi / 2. The polygons'
+/// areas are also integrated in polar coordinates about the centre,
+/// `integral of (cosh rho(theta) - 1) dtheta`, with `rho` the distance to
+/// the boundary that `exit_face` finds.
+#[test]
+fn volumes_are_the_surfaces_areas_times_the_circle() {
+    for (space, area) in [
+        (ProductSpace::s2_x_s1(1.5), 4.0 * PI),
+        (ProductSpace::twisted_s2_x_s1(1.5, 3), 4.0 * PI),
+        (ProductSpace::genus_two_x_s1(0.8), 4.0 * PI),
+        (ProductSpace::twisted_genus_two_x_s1(0.8, 1), 4.0 * PI),
+        (ProductSpace::mirrored_prism(5, 0.6), PI / 2.0),
+    ] {
+        assert!((space.volume() - area * space.height).abs() < 1e-9, "{}", space.name);
+        if space.sides.is_empty() {
+            continue;
+        }
+        let n = 80_000;
+        let integrated: f64 = (0..n)
+            .map(|i| {
+                let t = TAU * (f64::from(i) + 0.5) / f64::from(n);
+                let (_, rho) = exit_face(&space, &ray(ProductPoint::ORIGIN, direction(t, 0.0)), None).unwrap();
+                (rho.cosh() - 1.0) * TAU / f64::from(n)
+            })
+            .sum();
+        assert!(
+            (integrated - area).abs() < 1e-6,
+            "{}: integrated {integrated}",
+            space.name
+        );
+    }
+    // The octagon's corners are pi / 4 by their sides' normals:
+    // cos(angle) = -<n0, n1>.
+    let octagon = ProductSpace::genus_two_x_s1(1.0);
+    let g = octagon.geometry;
+    let cos = -g.form(octagon.sides[0], octagon.sides[1]);
+    assert!((cos - (PI / 4.0).cos()).abs() < 1e-12);
+}
+
+/// Closed geodesics: up the circle after L; round a great circle of the
+/// sphere after 2 pi; along the axis of a genus-2 gluing after its
+/// translation length, from the gluing's trace (an SO(2,1) translation
+/// by l has trace 1 + 2 cosh l; in SL(2,R), 2 cosh(l/2), so l =
+/// 2 acosh(|tr|/2)).
+#[test]
+fn closed_geodesics_close_after_their_lengths() {
+    let closes = |space: &ProductSpace, r: ProductRay, length: f64| {
+        let g = space.geometry;
+        let end = flow(space, r, length, 1000).ray;
+        g.distance(end.origin, r.origin) < 1e-9 && (end.dir.surface - r.dir.surface).length() < 1e-9
+    };
+    let s2 = ProductSpace::s2_x_s1(1.5);
+    let up = direction(0.0, PI / 2.0);
+    for p in [ProductPoint::ORIGIN, point(s2.geometry, 1.0, 1.2, 0.3)] {
+        let dir = s2.geometry.normalize_tangent(p, up);
+        assert!(closes(&s2, ray(p, dir), 1.5));
+        assert!(!closes(&s2, ray(p, dir), 0.75));
+    }
+    assert!(closes(&s2, ray(ProductPoint::ORIGIN, direction(0.4, 0.0)), TAU));
+    assert!(!closes(&s2, ray(ProductPoint::ORIGIN, direction(0.4, 0.0)), PI));
+
+    // The octagon's inradius by trigonometry (right triangle centre,
+    // side midpoint, corner: cos(pi/8) = cosh r sin(pi/8)).
+    let r = (1.0 / (PI / 8.0).tan()).acosh();
+    let genus2 = ProductSpace::genus_two_x_s1(0.8);
+    for (i, gluing) in genus2.gluings.iter().take(8).enumerate() {
+        // The gluing as an element of SO(2,1), the adjoint form of
+        // PSL(2,R): its SL(2,R) trace squared is its trace plus 1.
+        let m = gluing.isometry().surface;
+        let tr = (m.x_axis.x + m.y_axis.y + m.z_axis.z + 1.0).sqrt();
+        let l = 2.0 * (tr / 2.0).acosh();
+        assert!(
+            (l - 2.0 * r).abs() < 1e-9,
+            "gluing {i}: length {l}, across the octagon {}",
+            2.0 * r
+        );
+        let along = ray(ProductPoint::ORIGIN, direction(TAU * i as f64 / 8.0, 0.0));
+        assert!(closes(&genus2, along, l), "gluing {i}'s axis");
+        assert!(!closes(&genus2, along, l / 2.0));
+    }
+    // A twisted circle: the sphere turned by a third, the genus-2 surface
+    // by an eighth, each time round. Vertical geodesics through the
+    // centre of the turn close after L; the others after 3 L and 8 L.
+    for (space, order) in [
+        (ProductSpace::twisted_s2_x_s1(1.5, 3), 3),
+        (ProductSpace::twisted_genus_two_x_s1(0.8, 1), 8),
+    ] {
+        let g = space.geometry;
+        let l = space.height;
+        assert!(closes(&space, ray(ProductPoint::ORIGIN, up), l), "{}", space.name);
+        let off = point(g, 0.2, 0.5, 0.0);
+        let dir = g.normalize_tangent(off, up);
+        assert!(!closes(&space, ray(off, dir), l), "{}", space.name);
+        assert!(closes(&space, ray(off, dir), l * f64::from(order)), "{}", space.name);
+    }
+}
+
+/// Looking straight up in S2 x S1 of circle L: a ball above the eye and
+/// its copies every L up the circle. In the sphere turned by a third each
+/// time round, a ball off the poles comes back over the eye only every
+/// 3 L.
+#[test]
+fn the_view_straight_up_repeats_the_scene_every_circle() {
+    let (l, radius, above) = (1.7, 0.1, 0.45);
+    for (space, every) in [
+        (ProductSpace::s2_x_s1(l), 1.0),
+        (ProductSpace::twisted_s2_x_s1(l, 3), 3.0),
+    ] {
+        let g = space.geometry;
+        let eye = point(g, 0.7, 0.9, -0.3);
+        let ball = ProductBall {
+            center: ProductPoint::new(eye.surface, eye.height + above),
+            radius,
+            id: 7,
+        };
+        let up = g.normalize_tangent(eye, ProductTangent::new(DVec3::ZERO, 1.0));
+        let seen = hits(&space, &[ball], ray(eye, up), 10.0 * l, 64);
+        let want: Vec<f64> = (0..)
+            .map(|k| above - radius + every * l * f64::from(k))
+            .take_while(|d| *d < 10.0 * l)
+            .collect();
+        let got: Vec<f64> = seen.iter().map(|h| h.distance).collect();
+        assert_eq!(got.len(), want.len(), "{}: {got:?} against {want:?}", space.name);
+        for (a, b) in got.iter().zip(&want) {
+            assert!((a - b).abs() < 1e-9, "{}: {got:?} against {want:?}", space.name);
+        }
+        assert!(seen.iter().all(|h| h.object == 7));
+    }
+}
+
+/// The Poincare disk's Mobius map of the translation by `l` along the
+/// direction `angle`: `z -> e^(i a) A(e^(-i a) z)`, `A(z) = (z + t) / (1 +
+/// t z)` with `t = tanh(l / 2)`. Complex numbers as pairs.
+fn disk_translation(angle: f64, l: f64) -> impl Fn((f64, f64)) -> (f64, f64) {
+    let t = (l / 2.0).tanh();
+    let (c, s) = (angle.cos(), angle.sin());
+    move |(x, y)| {
+        let (x, y) = (x * c + y * s, y * c - x * s);
+        // (z + t) / (1 + t z)
+        let (nx, ny) = (x + t, y);
+        let (dx, dy) = (1.0 + t * x, t * y);
+        let d = dx * dx + dy * dy;
+        let (qx, qy) = ((nx * dx + ny * dy) / d, (ny * dx - nx * dy) / d);
+        (qx * c - qy * s, qy * c + qx * s)
+    }
+}
+
+/// Looking along the surface in genus 2 x S1: a ball's copies are where
+/// the octagon tiling of the Poincare disk puts them. The tiling is made
+/// here from Mobius maps (the translations across the octagon, by twice
+/// the inradius of trigonometry), not from the space's matrices; a ray
+/// aimed at each copy's disk position enters it at the copy's hyperbolic
+/// distance less the radius.
+#[test]
+fn the_view_along_the_surface_shows_the_octagon_tiling() {
+    let space = ProductSpace::genus_two_x_s1(0.8);
+    let g = space.geometry;
+    let r = (1.0 / (PI / 8.0).tan()).acosh();
+    let (angle, d, radius) = (0.3, 0.5, 0.05);
+    let ball = ProductBall {
+        center: point(g, angle, d, 0.0),
+        radius,
+        id: 3,
+    };
+    let home = ((d / 2.0).tanh() * angle.cos(), (d / 2.0).tanh() * angle.sin());
+    // Words of length 1 and 2 in the eight translations.
+    let moves: Vec<_> = (0..8)
+        .map(|i| disk_translation(TAU * f64::from(i) / 8.0, -2.0 * r))
+        .collect();
+    let mut copies = vec![];
+    for a in &moves {
+        copies.push(a(home));
+        for b in &moves {
+            copies.push(a(b(home)));
+        }
+    }
+    let mut checked = 0;
+    for (x, y) in copies {
+        let rho = (x * x + y * y).sqrt();
+        let distance = 2.0 * rho.atanh();
+        if !(1e-6..=7.0).contains(&distance) {
+            continue;
+        }
+        let aim = ray(ProductPoint::ORIGIN, direction(y.atan2(x), 0.0));
+        let seen = hits(&space, &[ball], aim, distance + 1.0, 64);
+        assert!(
+            seen.iter().any(|h| (h.distance - (distance - radius)).abs() < 1e-7),
+            "the copy at distance {distance} in direction {}: {:?}",
+            y.atan2(x),
+            seen.iter().map(|h| h.distance).collect::<Vec<_>>()
+        );
+        checked += 1;
+    }
+    assert!(checked >= 40, "{checked} copies checked");
+}
+
+/// A million crossings of the genus-2 prism: the ray stays on the model,
+/// of unit speed and in the prism, its surface point renormalised at each
+/// gluing.
+#[test]
+fn a_million_crossings_keep_the_ray_on_the_model() {
+    let space = ProductSpace::genus_two_x_s1(0.37);
+    let g = space.geometry;
+    let start = point(g, 1.0, 0.2, 0.05);
+    let dir = g.normalize_tangent(start, direction(0.123, 0.31));
+    let walk = flow(&space, ray(start, dir), f64::INFINITY, 1_000_000);
+    assert_eq!(walk.faces.len(), 1_000_000);
+    let end = walk.ray;
+    assert!(g.point_error(end.origin) < 1e-12, "{}", g.point_error(end.origin));
+    assert!((end.dir.length(g) - 1.0).abs() < 1e-12);
+    assert!(g.form(end.origin.surface, end.dir.surface).abs() < 1e-12);
+    assert!(space.contains(end.origin, 1e-9));
+    // Every side was crossed; the ray climbs, so it left through the
+    // top and never the bottom.
+    let mut count = vec![0; space.face_count()];
+    walk.faces.iter().for_each(|f| count[*f] += 1);
+    assert!(count[..8].iter().all(|c| *c > 10_000), "{count:?}");
+    assert!(count[space.top()] > 10_000 && count[space.bottom()] == 0, "{count:?}");
+}
+
+/// The picture: looking straight up in S2 x S1 at a ball above the eye,
+/// the middle pixel sees it at its distance, lit head-on; rays far from
+/// the vertical miss it and its copies (the ball is small and the sphere
+/// has nothing else).
+#[test]
+fn a_rendered_view_sees_what_the_rays_hit() {
+    use bevy_manifold_core::trace::product::{ProductView, render};
+    let space = ProductSpace::s2_x_s1(1.5);
+    let ball = ProductBall {
+        center: ProductPoint::new(DVec3::Z, 0.5),
+        radius: 0.1,
+        id: 1,
+    };
+    let view = ProductView {
+        eye: ProductPoint::ORIGIN,
+        frame: [
+            ProductTangent::new(DVec3::ZERO, 1.0),
+            ProductTangent::new(DVec3::X, 0.0),
+            ProductTangent::new(DVec3::Y, 0.0),
+        ],
+        fov_y_degrees: 90.0,
+        max_distance: 10.0,
+        max_crossings: 16,
+        fog: 0.0,
+    };
+    let image = render(&space, &[ball], &view, 33, 33);
+    let middle = image[16 * 33 + 16];
+    assert_eq!(middle.object, 1);
+    assert!((middle.distance - 0.4).abs() < 1e-9);
+    // Lit from the eye: brightest head-on, darker towards the rim.
+    let brightness = |c: [f32; 3]| c.iter().sum::<f32>();
+    let rim = image
+        .iter()
+        .filter(|p| p.object == 1)
+        .map(|p| brightness(p.color))
+        .fold(f32::INFINITY, f32::min);
+    assert!(
+        image
+            .iter()
+            .all(|p| p.object != 1 || brightness(p.color) <= brightness(middle.color) + 1e-6)
+    );
+    assert!(
+        rim < 0.8 * brightness(middle.color),
+        "rim {rim}, middle {:?}",
+        middle.color
+    );
+    assert_eq!(image[0].object, 0);
+    // The ball subtends the same angle in every direction about the
+    // vertical: the image is symmetric under a quarter turn.
+    for j in 0..33 {
+        for i in 0..33 {
+            assert_eq!(image[j * 33 + i].object, image[i * 33 + (32 - j)].object, "({i}, {j})");
+        }
+    }
+}
