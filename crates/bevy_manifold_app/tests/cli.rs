@@ -274,6 +274,47 @@ fn product_renders_each_space_and_refuses_bad_numbers() {
         colours.dedup();
         assert!(colours.len() > 20, "{space}: {} colours", colours.len());
     }
+    // A space's file, exported, edited and drawn from the file; a broken
+    // one is named with its field.
+    let o = run(&["product", "--space", "genus2xs1", "--length", "1.5", "--export"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let file = tmp("genus2.json");
+    std::fs::write(&file, stdout(&o)).expect("write");
+    let out = tmp("from_file.png");
+    let o = run(&[
+        "product",
+        "--space",
+        file.to_str().expect("utf-8"),
+        "--width",
+        "16",
+        "--height",
+        "9",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert!(
+        o.status.success() && stdout(&o).contains("genus 2 x S1"),
+        "{}",
+        stderr(&o)
+    );
+    let broken = tmp("broken.json");
+    std::fs::write(
+        &broken,
+        stdout(&run(&["product", "--space", "s2xs1", "--export"])).replace("\"flip\": 1.0", "\"flip\": 2.0"),
+    )
+    .expect("write");
+    let o = run(&[
+        "product",
+        "--space",
+        broken.to_str().expect("utf-8"),
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    let err = stderr(&o);
+    assert!(
+        !o.status.success() && err.contains("broken.json: gluings[0]") && !err.contains("panicked"),
+        "{err}"
+    );
     let out = tmp("never_product.png");
     for (args, needle) in [
         (vec!["--length", "-1"], "between 0.01 and 100"),

@@ -5,31 +5,29 @@
 use bevy_manifold::geometry::product::{ProductPoint, ProductTangent};
 use bevy_manifold::space::product::ProductSpace;
 use bevy_manifold::trace::product::{ProductBall, ProductView, render};
-use clap::{Args, ValueEnum};
+use clap::Args;
 use glam::DVec3;
 use std::path::PathBuf;
 
-/// The product spaces the command knows.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum ProductName {
-    /// S2 x S1.
-    S2xs1,
-    /// S2 x S1, the sphere turned by 1/k of a turn round the circle.
-    TwistedS2xs1,
-    /// A closed genus-2 surface x S1 (the regular octagon).
-    Genus2xs1,
-    /// Its mapping torus, turned by k eighths of a turn.
-    TwistedGenus2xs1,
-    /// The right-angled pentagon x interval, every face a mirror.
-    MirroredPrism,
-}
+/// The product spaces the command knows by name.
+pub const NAMES: [&str; 5] = [
+    "s2xs1",
+    "twisted-s2xs1",
+    "genus2xs1",
+    "twisted-genus2xs1",
+    "mirrored-prism",
+];
 
 #[derive(Args)]
 pub struct ProductArgs {
-    /// The space.
-    #[arg(long, value_enum)]
-    space: ProductName,
-    /// The length of the circle (or interval).
+    /// The space: `s2xs1`, `twisted-s2xs1` (the sphere turned by 1/k of a
+    /// turn round the circle), `genus2xs1` (a closed genus-2 surface x S1),
+    /// `twisted-genus2xs1` (turned by k eighths of a turn),
+    /// `mirrored-prism` (the right-angled pentagon x interval, all
+    /// mirrors), or a product space file (`.json`, as `--export` writes).
+    #[arg(long, value_name = "NAME|FILE")]
+    space: String,
+    /// The length of the circle (or interval) of a named space.
     #[arg(long, default_value_t = 2.0, value_parser = length, allow_negative_numbers = true)]
     length: f64,
     /// The twist of the twisted spaces: 1/k of a turn of the sphere, k
@@ -43,8 +41,32 @@ pub struct ProductArgs {
     #[arg(long, default_value_t = 270, value_parser = clap::value_parser!(u32).range(1..=4096))]
     height: u32,
     /// The PNG to write.
+    #[arg(long, required_unless_present = "export")]
+    out: Option<PathBuf>,
+    /// Print the space's file (JSON) instead of drawing it.
     #[arg(long)]
-    out: PathBuf,
+    export: bool,
+}
+
+/// The space named, or read from its file.
+fn space_of(args: &ProductArgs) -> Result<ProductSpace, String> {
+    let (l, k) = (args.length, args.twist);
+    Ok(match args.space.as_str() {
+        "s2xs1" => ProductSpace::s2_x_s1(l),
+        "twisted-s2xs1" => ProductSpace::twisted_s2_x_s1(l, k),
+        "genus2xs1" => ProductSpace::genus_two_x_s1(l),
+        "twisted-genus2xs1" => ProductSpace::twisted_genus_two_x_s1(l, k),
+        "mirrored-prism" => ProductSpace::mirrored_prism(5, l),
+        path => {
+            let text = std::fs::read_to_string(path).map_err(|e| {
+                format!(
+                    "{path}: {e} (not a product space file, nor one of {})",
+                    NAMES.join(", ")
+                )
+            })?;
+            ProductSpace::from_json(&text, path).map_err(|e| e.to_string())?
+        }
+    })
 }
 
 fn length(s: &str) -> Result<f64, String> {
@@ -57,14 +79,15 @@ fn length(s: &str) -> Result<f64, String> {
 
 /// Renders the view and writes it.
 pub fn run(args: &ProductArgs) -> Result<(), String> {
-    let space = match args.space {
-        ProductName::S2xs1 => ProductSpace::s2_x_s1(args.length),
-        ProductName::TwistedS2xs1 => ProductSpace::twisted_s2_x_s1(args.length, args.twist),
-        ProductName::Genus2xs1 => ProductSpace::genus_two_x_s1(args.length),
-        ProductName::TwistedGenus2xs1 => ProductSpace::twisted_genus_two_x_s1(args.length, args.twist),
-        ProductName::MirroredPrism => ProductSpace::mirrored_prism(5, args.length),
-    };
+    let space = space_of(args)?;
     space.validate().map_err(|e| e.to_string())?;
+    if args.export {
+        println!("{}", space.to_json());
+        return Ok(());
+    }
+    let Some(out) = &args.out else {
+        return Err("--out FILE.png is needed to draw the space".into());
+    };
     let g = space.geometry;
     let l = space.height;
     // A ball on the axis, two off it at other heights; the eye off the
@@ -111,8 +134,8 @@ pub fn run(args: &ProductArgs) -> Result<(), String> {
         .iter()
         .flat_map(|p| p.color.map(bevy_manifold::trace::srgb8).into_iter().chain([255]))
         .collect();
-    image::save_buffer(&args.out, &bytes, w, h, image::ExtendedColorType::Rgba8)
-        .map_err(|e| format!("{}: {e}", args.out.display()))?;
-    println!("wrote {} ({w}x{h}, {})", args.out.display(), space.name);
+    image::save_buffer(out, &bytes, w, h, image::ExtendedColorType::Rgba8)
+        .map_err(|e| format!("{}: {e}", out.display()))?;
+    println!("wrote {} ({w}x{h}, {})", out.display(), space.name);
     Ok(())
 }

@@ -107,6 +107,16 @@ pub enum ProductSpaceError {
         /// What is wrong.
         what: String,
     },
+    /// The polygon's sides are not unit normals meeting at its angles.
+    #[error("{space}: {field}: {what}")]
+    Polygon {
+        /// The space.
+        space: String,
+        /// `sides` or `angles`.
+        field: &'static str,
+        /// What is wrong.
+        what: String,
+    },
     /// The angles round a vertex of the polygon do not close up.
     #[error("{space}: the corners glued at side {side}'s end add up to {sum} (2 pi / k was expected)")]
     VertexCycle {
@@ -217,8 +227,58 @@ impl ProductSpace {
             });
         }
         let g = self.geometry;
-        let vertices = self.vertices();
         let n = self.sides.len();
+        if self.angles.len() != n {
+            return Err(ProductSpaceError::Polygon {
+                space,
+                field: "angles",
+                what: format!("{} angles for {n} sides", self.angles.len()),
+            });
+        }
+        for (i, side) in self.sides.iter().enumerate() {
+            let unit = (g.form(*side, *side) - 1.0).abs();
+            if unit.is_nan() || unit > 1e-9 || n < 3 {
+                return Err(ProductSpaceError::Polygon {
+                    space,
+                    field: "sides",
+                    what: format!("side {i} is not a unit normal of the surface's form (error {unit:e}) of a polygon"),
+                });
+            }
+        }
+        for i in 0..n {
+            // The corner to the next side has the angle given:
+            // cos(angle) = -<n_i, n_i+1>.
+            let corner = (-g.form(self.sides[i], self.sides[(i + 1) % n]))
+                .clamp(-1.0, 1.0)
+                .acos();
+            let off = (corner - self.angles[i]).abs();
+            if off.is_nan() || off > 1e-9 {
+                return Err(ProductSpaceError::Polygon {
+                    space,
+                    field: "angles",
+                    what: format!(
+                        "sides {i} and {} meet at {corner}, not at the angle given, {}",
+                        (i + 1) % n,
+                        self.angles[i]
+                    ),
+                });
+            }
+        }
+        let vertices = self.vertices();
+        // A convex polygon: every corner inside every side.
+        for (i, v) in vertices.iter().enumerate() {
+            let outside = |j: usize| {
+                let f = g.form(self.sides[j], *v);
+                f.is_nan() || f > GLUE_TOLERANCE
+            };
+            if let Some(j) = (0..n).find(|&j| outside(j)) {
+                return Err(ProductSpaceError::Polygon {
+                    space,
+                    field: "sides",
+                    what: format!("corner {i} is outside side {j}: the sides are not a convex polygon in order"),
+                });
+            }
+        }
         for (face, gluing) in self.gluings.iter().enumerate() {
             let bad = |what: String| ProductSpaceError::Gluing {
                 space: space.clone(),
@@ -253,6 +313,10 @@ impl ProductSpace {
                 if m.flip != 1.0 || m.shift.abs() > GLUE_TOLERANCE {
                     return Err(bad("a side's gluing moves the heights".into()));
                 }
+                let fixes = |p: DVec3| g.surface_distance(m.surface * p, p) < GLUE_TOLERANCE;
+                if matches!(gluing, ProductGluing::Mirror(_)) && !(fixes(ends[0]) && fixes(ends[1])) {
+                    return Err(bad("a mirror that does not fix its side".into()));
+                }
             } else {
                 // A horizontal face: its height onto the partner's, and the
                 // polygon onto itself.
@@ -265,6 +329,9 @@ impl ProductSpace {
                 };
                 if partner < n || (m.flip * h(face) + m.shift - h(partner)).abs() > GLUE_TOLERANCE {
                     return Err(bad(format!("does not map its height onto face {partner}'s")));
+                }
+                if matches!(gluing, ProductGluing::Mirror(_)) && m.flip != -1.0 {
+                    return Err(bad("a mirror end that does not turn the line over".into()));
                 }
                 let keeps = vertices.iter().all(|p| {
                     vertices
