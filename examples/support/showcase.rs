@@ -186,6 +186,7 @@ pub fn run(mut app: App) -> AppExit {
 }
 
 fn screenshot(app: &mut App, mode: &ScreenshotMode) -> Result<(u32, u32), String> {
+    wait_for_scenes(app)?;
     offscreen::wait_for_pipelines(app)?;
     // A camera refining its still view: let its samples in first.
     let world = app.world_mut();
@@ -208,4 +209,31 @@ fn screenshot(app: &mut App, mode: &ScreenshotMode) -> Result<(u32, u32), String
     let image = image::RgbaImage::from_raw(size.0, size.1, rgba).ok_or("the capture has the wrong size")?;
     image.save(&mode.path).map_err(|e| e.to_string())?;
     Ok(size)
+}
+
+/// Updates the app until every glTF scene it spawns (each
+/// `WorldAssetRoot`) has loaded with its dependencies, or failed to; a
+/// minute at most. The meshes a scene brings are what the pipelines then
+/// compile for, so a screenshot waits for the scenes first.
+fn wait_for_scenes(app: &mut App) -> Result<(), String> {
+    use bevy::asset::RecursiveDependencyLoadState as State;
+    use bevy::world_serialization::WorldAssetRoot;
+    let start = std::time::Instant::now();
+    while start.elapsed() < Duration::from_secs(60) {
+        app.update();
+        let world = app.world_mut();
+        let server = world.resource::<AssetServer>().clone();
+        let mut roots = world.query::<&WorldAssetRoot>();
+        let loading = roots.iter(world).any(|root| {
+            matches!(
+                server.recursive_dependency_load_state(root.0.id()),
+                State::NotLoaded | State::Loading
+            )
+        });
+        if !loading {
+            return Ok(());
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    Err("the glTF scenes did not load within a minute".into())
 }
