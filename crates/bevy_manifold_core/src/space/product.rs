@@ -343,19 +343,18 @@ impl ProductSpace {
                 }
             }
         }
-        self.check_vertex_cycles()
+        self.check_vertex_cycles(&vertices)
     }
 
     /// The polygon's corners glued in cycles (through the sides'
     /// gluings), each adding up to `2 pi / k` for a whole `k` (a corner
     /// of mirrors counts double).
-    fn check_vertex_cycles(&self) -> Result<(), ProductSpaceError> {
+    fn check_vertex_cycles(&self, vertices: &[DVec3]) -> Result<(), ProductSpaceError> {
         let n = self.sides.len();
         if n == 0 {
             return Ok(());
         }
         let g = self.geometry;
-        let vertices = self.vertices();
         let mut seen = vec![false; n];
         for start in 0..n {
             if seen[start] {
@@ -376,13 +375,8 @@ impl ProductSpace {
                 let next = (0..n)
                     .find(|&c| g.surface_distance(image, vertices[c]) < GLUE_TOLERANCE)
                     .expect("validated: sides land on sides");
-                let partner = match gluing {
-                    ProductGluing::Paired { partner, .. } => *partner,
-                    ProductGluing::Mirror(_) => {
-                        mirrors = true;
-                        side
-                    }
-                };
+                mirrors |= matches!(gluing, ProductGluing::Mirror(_));
+                let partner = self.partner(side);
                 // Corner `next` joins sides `next` and `next + 1`; one of
                 // them is the partner, the walk goes on through the other.
                 side = if partner == next { (next + 1) % n } else { next };

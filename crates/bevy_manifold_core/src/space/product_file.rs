@@ -108,10 +108,7 @@ impl ProductSpace {
                             ProductGluing::Paired { .. } => crate::space::FaceKind::Glue,
                             ProductGluing::Mirror(_) => crate::space::FaceKind::Mirror,
                         },
-                        partner: match gl {
-                            ProductGluing::Paired { partner, .. } => *partner,
-                            ProductGluing::Mirror(_) => face,
-                        },
+                        partner: self.partner(face),
                         surface: rows(m.surface),
                         flip: m.flip,
                         shift: m.shift,

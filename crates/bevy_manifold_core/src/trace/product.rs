@@ -58,6 +58,11 @@ pub struct ProductHit {
     pub distance: f64,
     /// The point, in the prism.
     pub point: ProductPoint,
+    /// The ray's unit tangent there.
+    pub dir: ProductTangent,
+    /// The centre of the ball's image it entered, in the prism's frame
+    /// (the ball's own, or its image through a face's gluing).
+    pub center: ProductPoint,
     /// The faces crossed before it, in order (the word of the copy of
     /// the prism it is in).
     pub faces: Vec<usize>,
@@ -203,8 +208,12 @@ pub fn hits(
     max_distance: f64,
     max_crossings: usize,
 ) -> Vec<ProductHit> {
-    let g = space.geometry;
-    let images: Vec<ProductBall> = balls
+    hits_among(space, &images(space, balls), ray, max_distance, max_crossings)
+}
+
+/// Each ball, then its images through each face's gluing.
+fn images(space: &ProductSpace, balls: &[ProductBall]) -> Vec<ProductBall> {
+    balls
         .iter()
         .flat_map(|b| {
             std::iter::once(*b).chain(space.gluings.iter().map(|gl| ProductBall {
@@ -212,19 +221,33 @@ pub fn hits(
                 ..*b
             }))
         })
-        .collect();
+        .collect()
+}
+
+/// [`hits`] among balls and their [`images`], made once.
+fn hits_among(
+    space: &ProductSpace,
+    images: &[ProductBall],
+    ray: ProductRay,
+    max_distance: f64,
+    max_crossings: usize,
+) -> Vec<ProductHit> {
+    let g = space.geometry;
     let mut found = Vec::new();
     walk_segments(space, ray, max_distance, max_crossings, |walk, travelled, length| {
-        let mut segment: Vec<(f64, u32)> = Vec::new();
-        for ball in &images {
-            entries(g, &walk.ray, ball, length, &mut segment);
+        let mut segment: Vec<(f64, usize)> = Vec::new();
+        for (i, ball) in images.iter().enumerate() {
+            entries(g, &walk.ray, ball, length, |s| segment.push((s, i)));
         }
         segment.sort_by(|a, b| a.0.total_cmp(&b.0));
-        for (s, object) in segment {
+        for (s, i) in segment {
+            let at = advance(g, &walk.ray, s);
             found.push(ProductHit {
-                object,
+                object: images[i].id,
                 distance: travelled + s,
-                point: advance(g, &walk.ray, s).origin,
+                point: at.origin,
+                dir: at.dir,
+                center: images[i].center,
                 faces: walk.faces.clone(),
             });
             if found.len() >= 64 {
@@ -239,14 +262,14 @@ pub fn hits(
 /// The distances in `[0, end]` at which `ray` enters `ball` (from
 /// outside), by sphere tracing; a ray that starts inside enters only
 /// after it has left.
-fn entries(g: ProductGeometry, ray: &ProductRay, ball: &ProductBall, end: f64, out: &mut Vec<(f64, u32)>) {
+fn entries(g: ProductGeometry, ray: &ProductRay, ball: &ProductBall, end: f64, mut entered: impl FnMut(f64)) {
     let gap = |s: f64| g.distance(g.exp(ray.origin, ray.dir, s).0, ball.center) - ball.radius;
     let mut s = 0.0;
     let mut f = gap(s);
     let mut outside = f > SURFACE;
     for _ in 0..MAX_STEPS {
         if outside && f <= SURFACE {
-            out.push((s, ball.id));
+            entered(s);
             outside = false;
         } else if !outside && f > SURFACE {
             outside = true;
@@ -304,19 +327,20 @@ pub fn render(
     height: u32,
 ) -> Vec<ProductPixel> {
     let (w, h) = (width as usize, height as usize);
+    let images = images(space, balls);
     #[cfg(feature = "parallel")]
     let indices = (0..w * h).into_par_iter();
     #[cfg(not(feature = "parallel"))]
     let indices = 0..w * h;
     indices
-        .map(|k| pixel(space, balls, view, (k % w, k / w), (w, h)))
+        .map(|k| pixel(space, &images, view, (k % w, k / w), (w, h)))
         .collect()
 }
 
 /// One pixel of [`render`].
 fn pixel(
     space: &ProductSpace,
-    balls: &[ProductBall],
+    images: &[ProductBall],
     view: &ProductView,
     (i, j): (usize, usize),
     (w, h): (usize, usize),
@@ -332,9 +356,9 @@ fn pixel(
         forward.height + right.height * x + up.height * y,
     )
     .unit(g);
-    let seen = hits(
+    let seen = hits_among(
         space,
-        balls,
+        images,
         ProductRay { origin: view.eye, dir },
         view.max_distance,
         view.max_crossings,
@@ -347,10 +371,12 @@ fn pixel(
             color: FOG_COLOR,
         };
     };
-    let ball = balls.iter().find(|b| b.id == hit.object).expect("a ball hit");
     // Lit from the eye: the cosine between the normal (from the centre
     // out) and the way back along the ray.
-    let lit = cosine_to_eye(g, space, hit, ball, view, dir);
+    let lit = match g.log(hit.point, hit.center) {
+        Some((inward, _)) => (g.form(inward.surface, hit.dir.surface) + inward.height * hit.dir.height).clamp(0.0, 1.0),
+        None => 1.0,
+    };
     let base = palette(hit.object);
     let fog = (-view.fog * hit.distance).exp() as f32;
     let shade = 0.25 + 0.75 * lit as f32;
@@ -364,37 +390,6 @@ fn pixel(
 
 /// The fog's colour, and what a ray that hits nothing sees.
 const FOG_COLOR: [f32; 3] = [0.7, 0.75, 0.8];
-
-/// The cosine between a hit ball's outward normal and the way back along
-/// the ray, at the hit.
-fn cosine_to_eye(
-    g: ProductGeometry,
-    space: &ProductSpace,
-    hit: &ProductHit,
-    ball: &ProductBall,
-    view: &ProductView,
-    dir: ProductTangent,
-) -> f64 {
-    // The ray's tangent at the hit, followed again (cheap beside the
-    // search) and the ball's image nearest the hit.
-    let walk = flow(
-        space,
-        ProductRay { origin: view.eye, dir },
-        hit.distance,
-        view.max_crossings,
-    );
-    let centre = std::iter::once(ball.center)
-        .chain(space.gluings.iter().map(|gl| gl.isometry().apply(ball.center)))
-        .min_by(|a, b| g.distance(hit.point, *a).total_cmp(&g.distance(hit.point, *b)))
-        .expect("the ball itself");
-    match g.log(hit.point, centre) {
-        Some((inward, _)) => {
-            let d = walk.ray.dir;
-            (g.form(inward.surface, d.surface) + inward.height * d.height).clamp(0.0, 1.0)
-        }
-        None => 1.0,
-    }
-}
 
 /// A colour per object id.
 fn palette(id: u32) -> [f32; 3] {
