@@ -30,6 +30,7 @@
 pub mod bindings;
 pub mod layout;
 pub mod pack;
+pub mod product;
 pub mod shader_defs;
 
 #[cfg(feature = "headless")]
@@ -51,7 +52,7 @@ pub use error::GpuError;
 #[cfg(feature = "headless")]
 pub use probe::{probe_adapter, probe_adapter_info};
 #[cfg(feature = "headless")]
-pub use runner::{GpuTracer, TraceTiming};
+pub use runner::{GpuTracer, MAX_PRODUCT_BALLS, TraceTiming};
 
 /// One WGSL file of the tracer, carried inside the crate so an app that
 /// depends on it from crates.io finds it.
@@ -121,6 +122,13 @@ pub fn undecorated(name: &str) -> &str {
 /// `trace::render`): `trace` and `drift` (compute, the headless runner)
 /// and `fragment` (the render pass).
 pub const RENDER_WGSL: WgslModule = wgsl!("render");
+
+/// The tracer of the product spaces (H2xR, S2xR), `shaders/product.wgsl`:
+/// one module of its own, with no imports (twin of the core's
+/// `trace::product`), entry `product_trace` (compute, the headless
+/// runner's [`GpuTracer::render_product`]). Its inputs are
+/// [`product::GpuProductScene`]'s.
+pub const PRODUCT_WGSL: WgslModule = wgsl!("product");
 
 /// The render pass's drawing of a view traced into textures of its own:
 /// `upscale` (fragment; bilinear colour, nearest depth; Rust twin

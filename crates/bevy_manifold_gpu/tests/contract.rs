@@ -17,6 +17,7 @@ use bevy_manifold_gpu::bindings::{BINDINGS, BindingKind};
 use bevy_manifold_gpu::layout::{
     GpuBall, GpuFace, GpuInstance, GpuLight, GpuParams, GpuPixel, GpuTube, NO_INSTANCE_TREES, NO_JOINT,
 };
+use bevy_manifold_gpu::product::{GpuProductBall, GpuProductFace, GpuProductParams, GpuProductPixel};
 use bevy_manifold_gpu::{
     FLAG_NO_CULL, FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE, GpuCellScheme, GpuTracer, RENDER_WGSL, SHADER_IMPORTS,
     TraceDefs, WgslModule, undecorated,
@@ -77,12 +78,31 @@ fn composed() -> naga::Module {
     GpuTracer::compose_with(&names, &defs.values()).expect("the tracer composes")
 }
 
+/// The product tracer's `Gpu…` structs with the names of their WGSL
+/// twins (in `shaders/product.wgsl`).
+fn product_layouts() -> Vec<RustLayout> {
+    vec![
+        rust_layout!(GpuProductParams => "ProductParams" {
+            eye, forward, right, up, fog_color, width, height, max_crossings, side_count, ball_count,
+            curvature, half_height, max_distance, tan_half_fov, fog, pad_a, pad_b,
+        }),
+        rust_layout!(GpuProductFace => "ProductFace" { normal, surface, flip, shift, partner, pad }),
+        rust_layout!(GpuProductBall => "ProductBall" { center, color, radius, id, pad_a, pad_b }),
+        rust_layout!(GpuProductPixel => "ProductPixel" { color, object, crossings, pad_a, pad_b }),
+    ]
+}
+
 /// Each mismatch between the Rust layouts and the module's structs.
 fn layout_mismatches(module: &naga::Module) -> Vec<String> {
+    layout_mismatches_of(module, rust_layouts())
+}
+
+/// Each mismatch between `layouts` and the module's structs.
+fn layout_mismatches_of(module: &naga::Module, layouts: Vec<RustLayout>) -> Vec<String> {
     let mut layouter = Layouter::default();
     layouter.update(module.to_ctx()).expect("layout");
     let mut out = Vec::new();
-    for rust in rust_layouts() {
+    for rust in layouts {
         let found = module
             .types
             .iter()
@@ -124,6 +144,24 @@ fn every_gpu_struct_has_its_wgsl_twins_size_and_offsets() {
     let module = composed();
     let mismatches = layout_mismatches(&module);
     assert!(mismatches.is_empty(), "{mismatches:#?}");
+}
+
+#[test]
+fn every_product_struct_has_its_wgsl_twins_size_and_offsets() {
+    let module =
+        GpuTracer::compose_modules(&[], bevy_manifold_gpu::PRODUCT_WGSL, &[], &[]).expect("product.wgsl composes");
+    let mismatches = layout_mismatches_of(&module, product_layouts());
+    assert!(mismatches.is_empty(), "{mismatches:#?}");
+    // The product tracer's bindings: params, faces, balls, pixels.
+    let bound: Vec<(u32, String)> = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, v)| Some((v.binding.as_ref()?.binding, v.name.clone()?)))
+        .collect();
+    assert_eq!(
+        bound,
+        [(0, "params"), (1, "faces"), (2, "balls"), (3, "pixels")].map(|(b, n)| (b, n.to_owned()))
+    );
 }
 
 #[test]

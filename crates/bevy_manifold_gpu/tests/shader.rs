@@ -35,6 +35,19 @@ fn spirv(module: &naga::Module, info: &naga::valid::ModuleInfo) -> Result<Vec<u3
         .map_err(|e| format!("{e:?}"))
 }
 
+/// The product spaces' tracer, a module of its own: validated and written
+/// as SPIR-V, with its one compute entry.
+#[test]
+fn the_product_tracer_composes_and_validates() {
+    let module = GpuTracer::compose_modules(&[], bevy_manifold_gpu::PRODUCT_WGSL, &[], &[]).expect("composes");
+    let info = validated(&module).expect("validates");
+    let words = spirv(&module, &info).expect("SPIR-V");
+    assert_eq!(words.first(), Some(&0x0723_0203), "the SPIR-V magic number");
+    let entries: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+    assert_eq!(entries, ["product_trace"]);
+    assert_eq!(module.entry_points[0].workgroup_size, [8, 8, 1]);
+}
+
 #[test]
 fn every_specialisation_composes_and_validates() {
     let all = TraceDefs::all();

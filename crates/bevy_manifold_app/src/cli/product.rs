@@ -2,11 +2,9 @@
 //! (H2xR, S2xR), traced on the CPU by the math crate's reference tracer
 //! and written as a PNG.
 
-use bevy_manifold::geometry::product::{ProductPoint, ProductTangent};
 use bevy_manifold::space::product::ProductSpace;
-use bevy_manifold::trace::product::{ProductBall, ProductView, render};
+use bevy_manifold::trace::product::{ProductScene, render};
 use clap::Args;
-use glam::DVec3;
 use std::path::PathBuf;
 
 /// The product spaces the command knows by name.
@@ -88,49 +86,9 @@ pub fn run(args: &ProductArgs) -> Result<(), String> {
     let Some(out) = &args.out else {
         return Err("--out FILE.png is needed to draw the space".into());
     };
-    let g = space.geometry;
-    let l = space.height;
-    // A ball on the axis, two off it at other heights; the eye off the
-    // axis, looking across and a little up.
-    let at = |angle: f64, d: f64, h: f64| {
-        let (c, s) = g.trig(d);
-        ProductPoint::new(DVec3::new(s * angle.cos(), s * angle.sin(), c), h)
-    };
-    let r = 0.22 * l.min(1.0);
-    let balls = [
-        ProductBall {
-            center: at(0.0, 0.0, 0.25 * l),
-            radius: r,
-            id: 1,
-        },
-        ProductBall {
-            center: at(2.2, 0.5, -0.2 * l),
-            radius: r * 0.8,
-            id: 2,
-        },
-        ProductBall {
-            center: at(-2.0, 0.6, 0.05 * l),
-            radius: r * 0.7,
-            id: 3,
-        },
-    ];
-    let eye = at(std::f64::consts::PI, 0.7, 0.15 * l);
-    let tilt = 0.25f64;
-    // Towards the axis (+x at the eye's side), tilted up.
-    let toward = g.normalize_tangent(eye, ProductTangent::new(DVec3::new(1.0, 0.0, 0.0), 0.0));
-    let forward = ProductTangent::new(toward.surface * tilt.cos(), tilt.sin());
-    let up = ProductTangent::new(-toward.surface * tilt.sin(), tilt.cos());
-    let right = g.normalize_tangent(eye, ProductTangent::new(DVec3::new(0.0, -1.0, 0.0), 0.0));
-    let view = ProductView {
-        eye,
-        frame: [forward, right, up],
-        fov_y_degrees: 70.0,
-        max_distance: 12.0,
-        max_crossings: 24,
-        fog: 0.08,
-    };
+    let scene = ProductScene::default_for(&space);
     let (w, h) = (args.width, args.height);
-    let bytes: Vec<u8> = render(&space, &balls, &view, w, h)
+    let bytes: Vec<u8> = render(&space, &scene.balls, &scene.view, w, h)
         .iter()
         .flat_map(|p| p.color.map(bevy_manifold::trace::srgb8).into_iter().chain([255]))
         .collect();

@@ -4,8 +4,10 @@
 
 mod compose;
 mod fragment;
+mod product;
 mod timing;
 
+pub use product::MAX_PRODUCT_BALLS;
 pub use timing::TraceTiming;
 
 use crate::GpuError;
@@ -31,6 +33,8 @@ pub struct GpuTracer {
     /// per cell of its table, 16,129 in Seifert-Weber), for the frames of
     /// a tour.
     kept: Option<PackedSpace>,
+    /// The product spaces' pipeline, built on first use.
+    product: Option<product::ProductPipeline>,
 }
 
 impl GpuTracer {
@@ -119,6 +123,7 @@ impl GpuTracer {
             pipelines: HashMap::new(),
             fragment_pipelines: HashMap::new(),
             kept: None,
+            product: None,
         })
     }
 

@@ -107,7 +107,7 @@ impl GpuTracer {
 }
 
 /// How long [`GpuTracer::time_trace`] keeps the device busy before timing.
-const WARM_UP: std::time::Duration = std::time::Duration::from_millis(250);
+pub(super) const WARM_UP: std::time::Duration = std::time::Duration::from_millis(250);
 
 /// What [`GpuTracer::time_trace`] measured for one trace, in ms.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -120,7 +120,7 @@ pub struct TraceTiming {
 }
 
 /// The median of `values` (the mean of the middle two for an even count).
-fn median(mut values: Vec<f64>) -> f64 {
+pub(super) fn median(mut values: Vec<f64>) -> f64 {
     values.sort_by(f64::total_cmp);
     let n = values.len();
     match n {

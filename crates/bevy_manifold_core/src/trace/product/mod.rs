@@ -26,8 +26,10 @@
 
 use crate::geometry::product::{ProductGeometry, ProductIsometry, ProductPoint, ProductTangent};
 use crate::space::product::ProductSpace;
-#[cfg(feature = "parallel")]
-use rayon::prelude::*;
+
+mod view;
+
+pub use view::{FOG_COLOR, ProductPixel, ProductScene, ProductView, palette, render};
 
 /// A ray: a point and a unit tangent there.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -211,8 +213,11 @@ pub fn hits(
     hits_among(space, &images(space, balls), ray, max_distance, max_crossings)
 }
 
-/// Each ball, then its images through each face's gluing.
-fn images(space: &ProductSpace, balls: &[ProductBall]) -> Vec<ProductBall> {
+/// Each ball, then its images through each face's gluing: the balls
+/// [`hits`] looks for in the prism (the part of a ball that reaches over a
+/// face is its image's part inside).
+#[must_use]
+pub fn images(space: &ProductSpace, balls: &[ProductBall]) -> Vec<ProductBall> {
     balls
         .iter()
         .flat_map(|b| {
@@ -225,7 +230,7 @@ fn images(space: &ProductSpace, balls: &[ProductBall]) -> Vec<ProductBall> {
 }
 
 /// [`hits`] among balls and their [`images`], made once.
-fn hits_among(
+pub(crate) fn hits_among(
     space: &ProductSpace,
     images: &[ProductBall],
     ray: ProductRay,
@@ -237,6 +242,11 @@ fn hits_among(
     walk_segments(space, ray, max_distance, max_crossings, |walk, travelled, length| {
         let mut segment: Vec<(f64, usize)> = Vec::new();
         for (i, ball) in images.iter().enumerate() {
+            // Out of the segment's reach: the distance to the centre
+            // changes by at most the distance travelled.
+            if g.distance(walk.ray.origin, ball.center) > length + ball.radius {
+                continue;
+            }
             entries(g, &walk.ray, ball, length, |s| segment.push((s, i)));
         }
         segment.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -280,126 +290,4 @@ fn entries(g: ProductGeometry, ray: &ProductRay, ball: &ProductBall, end: f64, m
         }
         f = gap(s);
     }
-}
-
-/// A view from inside a product space: where the eye is and its frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ProductView {
-    /// The eye, in the prism.
-    pub eye: ProductPoint,
-    /// Unit tangents at the eye, orthonormal: where it looks, its right
-    /// and its up.
-    pub frame: [ProductTangent; 3],
-    /// The vertical field of view, in degrees.
-    pub fov_y_degrees: f64,
-    /// How far the rays go.
-    pub max_distance: f64,
-    /// How many faces a ray may cross.
-    pub max_crossings: usize,
-    /// Fog density (per unit of distance); 0 for none.
-    pub fog: f64,
-}
-
-/// What one pixel of a [`render`] sees.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ProductPixel {
-    /// The ball's id, or 0 for nothing.
-    pub object: u32,
-    /// The distance to it (infinite for nothing).
-    pub distance: f64,
-    /// Faces crossed on the way.
-    pub crossings: usize,
-    /// Linear RGB: the ball's colour lit from the eye, fogged by the
-    /// distance; the fog's colour where nothing is hit.
-    pub color: [f32; 3],
-}
-
-/// The view's image, `width x height`, rows from the top: each pixel's
-/// ray the unit tangent `forward + x right + y up` (`x`, `y` on the image
-/// plane of the field of view), followed to its first ball; in parallel
-/// with the `parallel` feature.
-#[must_use]
-pub fn render(
-    space: &ProductSpace,
-    balls: &[ProductBall],
-    view: &ProductView,
-    width: u32,
-    height: u32,
-) -> Vec<ProductPixel> {
-    let (w, h) = (width as usize, height as usize);
-    let images = images(space, balls);
-    #[cfg(feature = "parallel")]
-    let indices = (0..w * h).into_par_iter();
-    #[cfg(not(feature = "parallel"))]
-    let indices = 0..w * h;
-    indices
-        .map(|k| pixel(space, &images, view, (k % w, k / w), (w, h)))
-        .collect()
-}
-
-/// One pixel of [`render`].
-fn pixel(
-    space: &ProductSpace,
-    images: &[ProductBall],
-    view: &ProductView,
-    (i, j): (usize, usize),
-    (w, h): (usize, usize),
-) -> ProductPixel {
-    let g = space.geometry;
-    let [forward, right, up] = view.frame;
-    let half = (view.fov_y_degrees.to_radians() / 2.0).tan();
-    let aspect = w as f64 / h.max(1) as f64;
-    let x = ((i as f64 + 0.5) / w as f64 * 2.0 - 1.0) * half * aspect;
-    let y = (1.0 - (j as f64 + 0.5) / h as f64 * 2.0) * half;
-    let dir = ProductTangent::new(
-        forward.surface + right.surface * x + up.surface * y,
-        forward.height + right.height * x + up.height * y,
-    )
-    .unit(g);
-    let seen = hits_among(
-        space,
-        images,
-        ProductRay { origin: view.eye, dir },
-        view.max_distance,
-        view.max_crossings,
-    );
-    let Some(hit) = seen.first() else {
-        return ProductPixel {
-            object: 0,
-            distance: f64::INFINITY,
-            crossings: 0,
-            color: FOG_COLOR,
-        };
-    };
-    // Lit from the eye: the cosine between the normal (from the centre
-    // out) and the way back along the ray.
-    let lit = match g.log(hit.point, hit.center) {
-        Some((inward, _)) => (g.form(inward.surface, hit.dir.surface) + inward.height * hit.dir.height).clamp(0.0, 1.0),
-        None => 1.0,
-    };
-    let base = palette(hit.object);
-    let fog = (-view.fog * hit.distance).exp() as f32;
-    let shade = 0.25 + 0.75 * lit as f32;
-    ProductPixel {
-        object: hit.object,
-        distance: hit.distance,
-        crossings: hit.faces.len(),
-        color: std::array::from_fn(|c| base[c] * shade * fog + FOG_COLOR[c] * (1.0 - fog)),
-    }
-}
-
-/// The fog's colour, and what a ray that hits nothing sees.
-const FOG_COLOR: [f32; 3] = [0.7, 0.75, 0.8];
-
-/// A colour per object id.
-fn palette(id: u32) -> [f32; 3] {
-    const COLORS: [[f32; 3]; 6] = [
-        [0.9, 0.55, 0.2],
-        [0.25, 0.6, 0.9],
-        [0.4, 0.8, 0.35],
-        [0.85, 0.3, 0.45],
-        [0.8, 0.75, 0.3],
-        [0.6, 0.45, 0.85],
-    ];
-    COLORS[id as usize % COLORS.len()]
 }

@@ -1,0 +1,195 @@
+//! What a view of a product space sees: each pixel's ray followed to its
+//! first ball ([`super::hits`]), lit from the eye and fogged by its
+//! distance. The WGSL twin is `product.wgsl`'s `pixel` (in the
+//! `bevy_manifold_gpu` crate), which reads the same [`ProductScene`].
+
+use super::{ProductBall, ProductRay, hits_among, images};
+use crate::geometry::product::{ProductPoint, ProductTangent};
+use crate::space::product::ProductSpace;
+use glam::DVec3;
+#[cfg(feature = "parallel")]
+use rayon::prelude::*;
+
+/// What a product space shows: balls in the prism, and a view.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProductScene {
+    /// The balls, in the prism.
+    pub balls: Vec<ProductBall>,
+    /// The eye and how far it sees.
+    pub view: ProductView,
+}
+
+impl ProductScene {
+    /// The scene `bevy_manifold product` draws: a ball on the prism's
+    /// axis, two off it at other heights, the eye off the axis looking
+    /// across it and a little up, through at most 24 faces and 12 units,
+    /// with a light fog.
+    #[must_use]
+    pub fn default_for(space: &ProductSpace) -> Self {
+        let g = space.geometry;
+        let l = space.height;
+        let at = |angle: f64, d: f64, h: f64| {
+            let (c, s) = g.trig(d);
+            ProductPoint::new(DVec3::new(s * angle.cos(), s * angle.sin(), c), h)
+        };
+        let r = 0.22 * l.min(1.0);
+        let balls = vec![
+            ProductBall {
+                center: at(0.0, 0.0, 0.25 * l),
+                radius: r,
+                id: 1,
+            },
+            ProductBall {
+                center: at(2.2, 0.5, -0.2 * l),
+                radius: r * 0.8,
+                id: 2,
+            },
+            ProductBall {
+                center: at(-2.0, 0.6, 0.05 * l),
+                radius: r * 0.7,
+                id: 3,
+            },
+        ];
+        let eye = at(std::f64::consts::PI, 0.7, 0.15 * l);
+        let tilt = 0.25f64;
+        // Towards the axis (+x at the eye's side), tilted up.
+        let toward = g.normalize_tangent(eye, ProductTangent::new(DVec3::X, 0.0));
+        let forward = ProductTangent::new(toward.surface * tilt.cos(), tilt.sin());
+        let up = ProductTangent::new(-toward.surface * tilt.sin(), tilt.cos());
+        let right = g.normalize_tangent(eye, ProductTangent::new(DVec3::NEG_Y, 0.0));
+        Self {
+            balls,
+            view: ProductView {
+                eye,
+                frame: [forward, right, up],
+                fov_y_degrees: 70.0,
+                max_distance: 12.0,
+                max_crossings: 24,
+                fog: 0.08,
+            },
+        }
+    }
+}
+
+/// A view from inside a product space: where the eye is and its frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProductView {
+    /// The eye, in the prism.
+    pub eye: ProductPoint,
+    /// Unit tangents at the eye, orthonormal: where it looks, its right
+    /// and its up.
+    pub frame: [ProductTangent; 3],
+    /// The vertical field of view, in degrees.
+    pub fov_y_degrees: f64,
+    /// How far the rays go.
+    pub max_distance: f64,
+    /// How many faces a ray may cross.
+    pub max_crossings: usize,
+    /// Fog density (per unit of distance); 0 for none.
+    pub fog: f64,
+}
+
+/// What one pixel of a [`render`] sees.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProductPixel {
+    /// The ball's id, or 0 for nothing.
+    pub object: u32,
+    /// The distance to it (infinite for nothing).
+    pub distance: f64,
+    /// Faces crossed on the way.
+    pub crossings: usize,
+    /// Linear RGB: the ball's colour lit from the eye, fogged by the
+    /// distance; the fog's colour where nothing is hit.
+    pub color: [f32; 3],
+}
+
+/// The view's image, `width x height`, rows from the top: each pixel's
+/// ray the unit tangent `forward + x right + y up` (`x`, `y` on the image
+/// plane of the field of view), followed to its first ball; in parallel
+/// with the `parallel` feature.
+#[must_use]
+pub fn render(
+    space: &ProductSpace,
+    balls: &[ProductBall],
+    view: &ProductView,
+    width: u32,
+    height: u32,
+) -> Vec<ProductPixel> {
+    let (w, h) = (width as usize, height as usize);
+    let images = images(space, balls);
+    #[cfg(feature = "parallel")]
+    let indices = (0..w * h).into_par_iter();
+    #[cfg(not(feature = "parallel"))]
+    let indices = 0..w * h;
+    indices
+        .map(|k| pixel(space, &images, view, (k % w, k / w), (w, h)))
+        .collect()
+}
+
+/// One pixel of [`render`].
+fn pixel(
+    space: &ProductSpace,
+    images: &[ProductBall],
+    view: &ProductView,
+    (i, j): (usize, usize),
+    (w, h): (usize, usize),
+) -> ProductPixel {
+    let g = space.geometry;
+    let [forward, right, up] = view.frame;
+    let half = (view.fov_y_degrees.to_radians() / 2.0).tan();
+    let aspect = w as f64 / h.max(1) as f64;
+    let x = ((i as f64 + 0.5) / w as f64 * 2.0 - 1.0) * half * aspect;
+    let y = (1.0 - (j as f64 + 0.5) / h as f64 * 2.0) * half;
+    let dir = ProductTangent::new(
+        forward.surface + right.surface * x + up.surface * y,
+        forward.height + right.height * x + up.height * y,
+    )
+    .unit(g);
+    let seen = hits_among(
+        space,
+        images,
+        ProductRay { origin: view.eye, dir },
+        view.max_distance,
+        view.max_crossings,
+    );
+    let Some(hit) = seen.first() else {
+        return ProductPixel {
+            object: 0,
+            distance: f64::INFINITY,
+            crossings: 0,
+            color: FOG_COLOR,
+        };
+    };
+    // Lit from the eye: the cosine between the normal (from the centre
+    // out) and the way back along the ray.
+    let lit = match g.log(hit.point, hit.center) {
+        Some((inward, _)) => (g.form(inward.surface, hit.dir.surface) + inward.height * hit.dir.height).clamp(0.0, 1.0),
+        None => 1.0,
+    };
+    let base = palette(hit.object);
+    let fog = (-view.fog * hit.distance).exp() as f32;
+    let shade = 0.25 + 0.75 * lit as f32;
+    ProductPixel {
+        object: hit.object,
+        distance: hit.distance,
+        crossings: hit.faces.len(),
+        color: std::array::from_fn(|c| base[c] * shade * fog + FOG_COLOR[c] * (1.0 - fog)),
+    }
+}
+
+/// The fog's colour, and what a ray that hits nothing sees.
+pub const FOG_COLOR: [f32; 3] = [0.7, 0.75, 0.8];
+
+/// A colour per object id (linear RGB), the balls' base colours.
+#[must_use]
+pub fn palette(id: u32) -> [f32; 3] {
+    const COLORS: [[f32; 3]; 6] = [
+        [0.9, 0.55, 0.2],
+        [0.25, 0.6, 0.9],
+        [0.4, 0.8, 0.35],
+        [0.85, 0.3, 0.45],
+        [0.8, 0.75, 0.3],
+        [0.6, 0.45, 0.85],
+    ];
+    COLORS[id as usize % COLORS.len()]
+}

@@ -1,0 +1,329 @@
+// The tracer of the product spaces (H2xR, S2xR) on the GPU, in f32.
+// Rust twin: crates/bevy_manifold_core/src/trace/product/mod.rs (the walk
+// through the faces and the balls' entries) and its `view.rs` (the
+// pixel); the geometry is the core's geometry/product.rs. A ray follows
+// its exact geodesic through the prism, leaves through the nearest face
+// (in closed form) and goes on from the gluing's image of its exit point.
+// Balls are geodesic balls of the product metric, found by sphere
+// tracing. The Rust side packs the inputs: `GpuProductScene::pack`.
+
+// Rust twin: `GpuProductParams`.
+struct ProductParams {
+    eye: vec4<f32>,
+    forward: vec4<f32>,
+    right: vec4<f32>,
+    up: vec4<f32>,
+    fog_color: vec4<f32>,
+    width: u32,
+    height: u32,
+    max_crossings: u32,
+    side_count: u32,
+    ball_count: u32,
+    curvature: f32,
+    half_height: f32,
+    max_distance: f32,
+    tan_half_fov: f32,
+    fog: f32,
+    pad_a: u32,
+    pad_b: u32,
+}
+
+// Rust twin: `GpuProductFace`.
+struct ProductFace {
+    normal: vec4<f32>,
+    surface: mat3x3<f32>,
+    flip: f32,
+    shift: f32,
+    partner: u32,
+    pad: u32,
+}
+
+// Rust twin: `GpuProductBall`.
+struct ProductBall {
+    center: vec4<f32>,
+    color: vec4<f32>,
+    radius: f32,
+    id: u32,
+    pad_a: u32,
+    pad_b: u32,
+}
+
+// Rust twin: `GpuProductPixel`.
+struct ProductPixel {
+    color: vec4<f32>,
+    object: u32,
+    crossings: u32,
+    pad_a: u32,
+    pad_b: u32,
+}
+
+// A point (or tangent) is the surface's model point (xyz) and the height
+// (w). Rust twin: `ProductRay`.
+struct ProductRay {
+    origin: vec4<f32>,
+    dir: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> params: ProductParams;
+@group(0) @binding(1) var<storage, read> faces: array<ProductFace>;
+@group(0) @binding(2) var<storage, read> balls: array<ProductBall>;
+@group(0) @binding(3) var<storage, read_write> pixels: array<ProductPixel>;
+
+// No face.
+const NO_FACE: u32 = 0xffffffffu;
+// Smallest sphere-tracing step, and how near a surface counts as on it
+// (f32: the CPU's `SURFACE` is 1e-12).
+const SURFACE: f32 = 1e-5;
+// Most sphere-tracing steps per ball and segment (the CPU's `MAX_STEPS`
+// is 20,000; a graze past this counts as a miss).
+const MAX_STEPS: u32 = 256u;
+
+// The surface's form <u, v> = ux vx + uy vy + k uw vw. Rust twin:
+// `ProductGeometry::form`.
+fn form(u: vec3<f32>, v: vec3<f32>) -> f32 {
+    return u.x * v.x + u.y * v.y + params.curvature * u.z * v.z;
+}
+
+// (cosh s, sinh s) on H2, (cos s, sin s) on S2. Rust twin:
+// `ProductGeometry::trig`.
+fn trig(s: f32) -> vec2<f32> {
+    if params.curvature < 0.0 {
+        return vec2<f32>(cosh(s), sinh(s));
+    }
+    return vec2<f32>(cos(s), sin(s));
+}
+
+// The distance on the surface, stable near and far. Rust twin:
+// `ProductGeometry::surface_distance`.
+fn surface_distance(p: vec3<f32>, q: vec3<f32>) -> f32 {
+    let d = p - q;
+    if params.curvature < 0.0 {
+        return 2.0 * asinh(sqrt(max(form(d, d), 0.0)) * 0.5);
+    }
+    return 2.0 * atan2(length(d), length(p + q));
+}
+
+// Rust twin: `ProductGeometry::distance`.
+fn product_distance(p: vec4<f32>, q: vec4<f32>) -> f32 {
+    let s = surface_distance(p.xyz, q.xyz);
+    let h = p.w - q.w;
+    return sqrt(s * s + h * h);
+}
+
+// The ray moved s along its geodesic. Rust twin: `advance` (and
+// `ProductGeometry::exp`).
+fn advance(ray: ProductRay, s: f32) -> ProductRay {
+    let speed = sqrt(max(form(ray.dir.xyz, ray.dir.xyz), 0.0));
+    let height = ray.origin.w + ray.dir.w * s;
+    if speed == 0.0 {
+        return ProductRay(vec4<f32>(ray.origin.xyz, height), ray.dir);
+    }
+    let u = ray.dir.xyz / speed;
+    let cs = trig(speed * s);
+    let p = ray.origin.xyz;
+    let surface = p * cs.x + u * cs.y;
+    let along = (u * cs.x - p * (params.curvature * cs.y)) * speed;
+    return ProductRay(vec4<f32>(surface, height), vec4<f32>(along, ray.dir.w));
+}
+
+// p put back on the surface's model. Rust twin:
+// `ProductGeometry::normalize_point`.
+fn normalize_point(p: vec4<f32>) -> vec4<f32> {
+    let n = sqrt(abs(form(p.xyz, p.xyz) * params.curvature));
+    return vec4<f32>(p.xyz / n, p.w);
+}
+
+// v made tangent at p and of unit length. Rust twin:
+// `ProductGeometry::normalize_tangent`.
+fn normalize_tangent(p: vec4<f32>, v: vec4<f32>) -> vec4<f32> {
+    let s = v.xyz - p.xyz * (form(v.xyz, p.xyz) * params.curvature);
+    return unit(vec4<f32>(s, v.w));
+}
+
+// Rust twin: `ProductTangent::unit`.
+fn unit(v: vec4<f32>) -> vec4<f32> {
+    return v / sqrt(max(form(v.xyz, v.xyz), 0.0) + v.w * v.w);
+}
+
+// The ray carried through face f: the gluing's image, put back on the
+// model. Rust twin: `transport`.
+fn transport(f: u32, ray: ProductRay) -> ProductRay {
+    let m = faces[f];
+    let origin = normalize_point(vec4<f32>(m.surface * ray.origin.xyz, m.flip * ray.origin.w + m.shift));
+    let dir = normalize_tangent(origin, vec4<f32>(m.surface * ray.dir.xyz, m.flip * ray.dir.w));
+    return ProductRay(origin, dir);
+}
+
+// The face the ray leaves through (NO_FACE for none) and the distance to
+// it. Rust twin: `exit_face`.
+struct Exit {
+    face: u32,
+    s: f32,
+}
+
+fn exit_face(ray: ProductRay, skip: u32) -> Exit {
+    var best = Exit(NO_FACE, 0.0);
+    let speed = sqrt(max(form(ray.dir.xyz, ray.dir.xyz), 0.0));
+    if speed > 0.0 {
+        for (var f = 0u; f < params.side_count; f++) {
+            if f == skip {
+                continue;
+            }
+            let n = faces[f].normal.xyz;
+            let a = form(n, ray.origin.xyz);
+            let b = form(n, ray.dir.xyz) / speed;
+            var sigma = -1.0;
+            if params.curvature < 0.0 {
+                if b > 0.0 && -a < b {
+                    sigma = atanh(-a / b);
+                } else {
+                    continue;
+                }
+            } else if b > 0.0 || a < 0.0 {
+                sigma = atan2(-a, b);
+            } else {
+                continue;
+            }
+            let s = max(sigma / speed, 0.0);
+            if best.face == NO_FACE || s < best.s {
+                best = Exit(f, s);
+            }
+        }
+    }
+    let h = ray.origin.w;
+    var vertical = NO_FACE;
+    var s = 0.0;
+    if ray.dir.w > 0.0 {
+        vertical = params.side_count + 1u;
+        s = (params.half_height - h) / ray.dir.w;
+    } else if ray.dir.w < 0.0 {
+        vertical = params.side_count;
+        s = (-params.half_height - h) / ray.dir.w;
+    }
+    if vertical != NO_FACE && vertical != skip && (best.face == NO_FACE || s < best.s) {
+        best = Exit(vertical, max(s, 0.0));
+    }
+    return best;
+}
+
+// The first distance in [0, end] at which the ray enters ball b from
+// outside, by sphere tracing; -1 for none. Rust twin: `entries` (its
+// first entry).
+fn first_entry(ray: ProductRay, b: u32, end: f32) -> f32 {
+    let center = balls[b].center;
+    let radius = balls[b].radius;
+    var s = 0.0;
+    var f = product_distance(ray.origin, center) - radius;
+    var outside = f > SURFACE;
+    for (var k = 0u; k < MAX_STEPS; k++) {
+        if outside && f <= SURFACE {
+            return s;
+        }
+        if !outside && f > SURFACE {
+            outside = true;
+        }
+        s += max(abs(f), SURFACE);
+        if s > end {
+            return -1.0;
+        }
+        f = product_distance(advance(ray, s).origin, center) - radius;
+    }
+    return -1.0;
+}
+
+// The nearest ball the segment of `length` from the ray's origin enters:
+// (its index, or NO_FACE, and the distance). Rust twin: `hits_among` (one
+// segment's entries, the nearest kept).
+struct Entry {
+    ball: u32,
+    s: f32,
+}
+
+fn nearest_entry(ray: ProductRay, length: f32) -> Entry {
+    var best = Entry(NO_FACE, length);
+    for (var b = 0u; b < params.ball_count; b++) {
+        // Out of the segment's reach: the distance to the centre changes
+        // by at most the distance travelled.
+        if product_distance(ray.origin, balls[b].center) > best.s + balls[b].radius {
+            continue;
+        }
+        let s = first_entry(ray, b, best.s);
+        if s >= 0.0 && (best.ball == NO_FACE || s < best.s) {
+            best = Entry(b, s);
+        }
+    }
+    return best;
+}
+
+// What the pixel's ray sees: walked through the faces to its first ball,
+// lit from the eye, fogged by its distance. Rust twin: `pixel` (of the
+// core's trace/product/view.rs).
+fn pixel(start: ProductRay) -> ProductPixel {
+    var ray = start;
+    var travelled = 0.0;
+    var skip = NO_FACE;
+    var crossings = 0u;
+    loop {
+        let exit = exit_face(ray, skip);
+        let leaves = exit.face != NO_FACE && travelled + exit.s < params.max_distance;
+        var length = params.max_distance - travelled;
+        if leaves {
+            length = exit.s;
+        }
+        let hit = nearest_entry(ray, length);
+        if hit.ball != NO_FACE {
+            return shade(advance(ray, hit.s), hit.ball, travelled + hit.s, crossings);
+        }
+        if !leaves || crossings >= params.max_crossings {
+            break;
+        }
+        ray = transport(exit.face, advance(ray, exit.s));
+        travelled += exit.s;
+        skip = faces[exit.face].partner;
+        crossings++;
+    }
+    return ProductPixel(vec4<f32>(params.fog_color.rgb, -1.0), 0u, 0u, 0u, 0u);
+}
+
+// The ball's colour lit from the eye (the cosine between the way into the
+// ball, towards its centre, and the ray), fogged. Rust twin: `pixel`'s
+// shading (and `ProductGeometry::log` for the way in).
+fn shade(at: ProductRay, b: u32, distance: f32, crossings: u32) -> ProductPixel {
+    let p = at.origin;
+    let q = balls[b].center;
+    let t = q.xyz - p.xyz * (form(q.xyz, p.xyz) * params.curvature);
+    let n = sqrt(max(form(t, t), 0.0));
+    let ds = surface_distance(p.xyz, q.xyz);
+    var inward = vec4<f32>(0.0, 0.0, 0.0, q.w - p.w);
+    if n > 1e-30 && ds > 0.0 {
+        inward = vec4<f32>(t * (ds / n), q.w - p.w);
+    }
+    var lit = 1.0;
+    let d = sqrt(max(form(inward.xyz, inward.xyz), 0.0) + inward.w * inward.w);
+    if d > 0.0 {
+        lit = clamp((form(inward.xyz, at.dir.xyz) + inward.w * at.dir.w) / d, 0.0, 1.0);
+    }
+    let fog = exp(-params.fog * distance);
+    let color = balls[b].color.rgb * (0.25 + 0.75 * lit) * fog + params.fog_color.rgb * (1.0 - fog);
+    return ProductPixel(vec4<f32>(color, distance), balls[b].id, crossings, 0u, 0u);
+}
+
+// The pixel's ray: the unit tangent forward + x right + y up at the eye.
+// Rust twin: `pixel`'s ray (of `render`).
+fn camera_ray(i: u32, j: u32) -> ProductRay {
+    let w = f32(params.width);
+    let h = f32(params.height);
+    let aspect = w / max(h, 1.0);
+    let x = ((f32(i) + 0.5) / w * 2.0 - 1.0) * params.tan_half_fov * aspect;
+    let y = (1.0 - (f32(j) + 0.5) / h * 2.0) * params.tan_half_fov;
+    let dir = unit(params.forward + params.right * x + params.up * y);
+    return ProductRay(params.eye, dir);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn product_trace(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= params.width || id.y >= params.height {
+        return;
+    }
+    pixels[id.y * params.width + id.x] = pixel(camera_ray(id.x, id.y));
+}

@@ -1,0 +1,214 @@
+//! The product spaces (H2xR, S2xR) on the GPU: the `#[repr(C)]` twins of
+//! `shaders/product.wgsl`'s structs (held to them by `tests/contract.rs`)
+//! and their packing from the core's
+//! [`ProductScene`](bevy_manifold_core::trace::product::ProductScene), in
+//! f32, as the CPU reference
+//! ([`bevy_manifold_core::trace::product`]) reads it in f64.
+//!
+//! ```
+//! use bevy_manifold_core::space::product::ProductSpace;
+//! use bevy_manifold_core::trace::product::ProductScene;
+//! use bevy_manifold_gpu::product::GpuProductScene;
+//!
+//! let space = ProductSpace::genus_two_x_s1(2.0);
+//! let scene = ProductScene::default_for(&space);
+//! let gpu = GpuProductScene::pack(&space, &scene, 64, 36);
+//! // The octagon's 8 sides, the bottom and the top.
+//! assert_eq!(gpu.faces.len(), 10);
+//! // Each ball, and its image through each face.
+//! assert_eq!(gpu.balls.len(), 3 * 11);
+//! ```
+
+use bevy_manifold_core::geometry::product::{ProductPoint, ProductTangent};
+use bevy_manifold_core::space::product::ProductSpace;
+use bevy_manifold_core::trace::product::{FOG_COLOR, ProductScene, images, palette};
+use bytemuck::{Pod, Zeroable};
+
+/// WGSL twin: `ProductParams` in `shaders/product.wgsl`.
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuProductParams {
+    /// The eye: its surface point (xyz) and height (w).
+    pub eye: [f32; 4],
+    /// Where the eye looks: surface part (xyz) and vertical speed (w).
+    pub forward: [f32; 4],
+    /// The eye's right.
+    pub right: [f32; 4],
+    /// The eye's up.
+    pub up: [f32; 4],
+    /// The fog's colour (rgb, 1).
+    pub fog_color: [f32; 4],
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Most faces a ray crosses.
+    pub max_crossings: u32,
+    /// The polygon's sides (the faces before the bottom and the top).
+    pub side_count: u32,
+    /// The balls and their images.
+    pub ball_count: u32,
+    /// The surface's curvature, -1 (H2) or 1 (S2).
+    pub curvature: f32,
+    /// Half the prism's height.
+    pub half_height: f32,
+    /// How far rays go.
+    pub max_distance: f32,
+    /// `tan(fov_y / 2)`.
+    pub tan_half_fov: f32,
+    /// Fog density.
+    pub fog: f32,
+    /// Padding.
+    pub pad_a: u32,
+    /// Padding.
+    pub pad_b: u32,
+}
+
+/// WGSL twin: `ProductFace` in `shaders/product.wgsl`. One face of the
+/// prism and its gluing.
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuProductFace {
+    /// A side's unit normal covector (xyz); zero for the bottom and top.
+    pub normal: [f32; 4],
+    /// The gluing's surface part, by columns (each padded to 4, as a WGSL
+    /// `mat3x3<f32>`).
+    pub surface: [[f32; 4]; 3],
+    /// The gluing's flip of the line (1 or -1).
+    pub flip: f32,
+    /// The gluing's shift of the line.
+    pub shift: f32,
+    /// The face a ray comes in through after this one.
+    pub partner: u32,
+    /// Padding.
+    pub pad: u32,
+}
+
+/// WGSL twin: `ProductBall` in `shaders/product.wgsl`. A ball or one of
+/// its images through a face.
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuProductBall {
+    /// Its centre: surface point (xyz) and height (w).
+    pub center: [f32; 4],
+    /// Its colour (linear rgb, 1).
+    pub color: [f32; 4],
+    /// Its radius.
+    pub radius: f32,
+    /// Its object id.
+    pub id: u32,
+    /// Padding.
+    pub pad_a: u32,
+    /// Padding.
+    pub pad_b: u32,
+}
+
+/// WGSL twin: `ProductPixel` in `shaders/product.wgsl`. What one pixel
+/// sees, the twin of the core's
+/// [`ProductPixel`](bevy_manifold_core::trace::product::ProductPixel).
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuProductPixel {
+    /// Linear rgb, and the distance to the hit (w; -1 for none).
+    pub color: [f32; 4],
+    /// The ball's id, 0 for none.
+    pub object: u32,
+    /// The faces crossed on the way.
+    pub crossings: u32,
+    /// Padding.
+    pub pad_a: u32,
+    /// Padding.
+    pub pad_b: u32,
+}
+
+/// A product scene as the GPU reads it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GpuProductScene {
+    /// The view and the space's sizes.
+    pub params: GpuProductParams,
+    /// The faces: the sides, then the bottom and the top.
+    pub faces: Vec<GpuProductFace>,
+    /// Each ball, then its images through each face (as the CPU tracer
+    /// looks for them).
+    pub balls: Vec<GpuProductBall>,
+}
+
+fn point(p: ProductPoint) -> [f32; 4] {
+    [
+        p.surface.x as f32,
+        p.surface.y as f32,
+        p.surface.z as f32,
+        p.height as f32,
+    ]
+}
+
+fn tangent(v: ProductTangent) -> [f32; 4] {
+    [
+        v.surface.x as f32,
+        v.surface.y as f32,
+        v.surface.z as f32,
+        v.height as f32,
+    ]
+}
+
+impl GpuProductScene {
+    /// `scene` in `space`, for a `width x height` image.
+    #[must_use]
+    pub fn pack(space: &ProductSpace, scene: &ProductScene, width: u32, height: u32) -> Self {
+        let view = &scene.view;
+        let [forward, right, up] = view.frame;
+        let balls: Vec<GpuProductBall> = images(space, &scene.balls)
+            .iter()
+            .map(|b| {
+                let [r, g, bl] = palette(b.id);
+                GpuProductBall {
+                    center: point(b.center),
+                    color: [r, g, bl, 1.0],
+                    radius: b.radius as f32,
+                    id: b.id,
+                    pad_a: 0,
+                    pad_b: 0,
+                }
+            })
+            .collect();
+        let faces = (0..space.face_count())
+            .map(|f| {
+                let m = space.gluings[f].isometry();
+                let col = |c: glam::DVec3| [c.x as f32, c.y as f32, c.z as f32, 0.0];
+                let n = space.sides.get(f).copied().unwrap_or(glam::DVec3::ZERO);
+                GpuProductFace {
+                    normal: col(n),
+                    surface: [col(m.surface.x_axis), col(m.surface.y_axis), col(m.surface.z_axis)],
+                    flip: m.flip as f32,
+                    shift: m.shift as f32,
+                    partner: space.partner(f) as u32,
+                    pad: 0,
+                }
+            })
+            .collect();
+        let [fr, fg, fb] = FOG_COLOR;
+        Self {
+            params: GpuProductParams {
+                eye: point(view.eye),
+                forward: tangent(forward),
+                right: tangent(right),
+                up: tangent(up),
+                fog_color: [fr, fg, fb, 1.0],
+                width,
+                height,
+                max_crossings: view.max_crossings.min(u32::MAX as usize) as u32,
+                side_count: space.sides.len() as u32,
+                ball_count: balls.len() as u32,
+                curvature: space.geometry.curvature() as f32,
+                half_height: (space.height / 2.0) as f32,
+                max_distance: view.max_distance as f32,
+                tan_half_fov: (view.fov_y_degrees.to_radians() / 2.0).tan() as f32,
+                fog: view.fog as f32,
+                pad_a: 0,
+                pad_b: 0,
+            },
+            faces,
+            balls,
+        }
+    }
+}

@@ -1,0 +1,342 @@
+//! The product spaces' tracer (`shaders/product.wgsl`) run on the device:
+//! [`GpuTracer::render_product`], the GPU twin of the core's
+//! [`render`](bevy_manifold_core::trace::product::render), and
+//! [`GpuTracer::time_product`] for the benchmarks.
+
+use super::GpuTracer;
+use super::timing::{TraceTiming, WARM_UP, median};
+use crate::GpuError;
+use crate::product::{GpuProductPixel, GpuProductScene};
+use bevy_manifold_core::space::product::ProductSpace;
+use bevy_manifold_core::trace::product::{ProductPixel, ProductScene};
+use wgpu::util::DeviceExt;
+
+/// The product tracer's bind group layout and compute pipeline.
+pub(super) struct ProductPipeline {
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::ComputePipeline,
+}
+
+/// A product scene uploaded and bound.
+struct ProductBound {
+    bind: wgpu::BindGroup,
+    pixels: wgpu::Buffer,
+    count: usize,
+    size: (u32, u32),
+}
+
+/// Most balls (images included) the product tracer takes: each pixel
+/// looks at every one per segment.
+pub const MAX_PRODUCT_BALLS: usize = 4096;
+
+impl GpuTracer {
+    /// Traces `scene` in the product space `space` on the GPU, `width x
+    /// height` pixels, rows from the top: the twin of the core's
+    /// [`render`](bevy_manifold_core::trace::product::render), in f32.
+    ///
+    /// ```no_run
+    /// use bevy_manifold_core::space::product::ProductSpace;
+    /// use bevy_manifold_core::trace::product::ProductScene;
+    /// use bevy_manifold_gpu::GpuTracer;
+    ///
+    /// let mut gpu = GpuTracer::new()?;
+    /// let space = ProductSpace::s2_x_s1(2.0);
+    /// let image = gpu.render_product(&space, &ProductScene::default_for(&space), 320, 180)?;
+    /// assert_eq!(image.len(), 320 * 180);
+    /// # Ok::<(), bevy_manifold_gpu::GpuError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`GpuError::Settings`] for a space that does not validate, an empty
+    /// image, a view that is not finite or too many balls; otherwise as
+    /// [`GpuTracer::render`].
+    pub fn render_product(
+        &mut self,
+        space: &ProductSpace,
+        scene: &ProductScene,
+        width: u32,
+        height: u32,
+    ) -> Result<Vec<ProductPixel>, GpuError> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let bound = self.bind_product(space, scene, width, height)?;
+        let bytes = (bound.count * std::mem::size_of::<GpuProductPixel>()) as u64;
+        let readback = self.readback_buffer(bytes);
+        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("product trace"),
+        });
+        self.encode_product(&mut encoder, &bound, None);
+        encoder.copy_buffer_to_buffer(&bound.pixels, 0, &readback, 0, bytes);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Validation(e.to_string()));
+        }
+        let raw: Vec<GpuProductPixel> = bytemuck::pod_collect_to_vec(&self.finish(encoder, &readback)?);
+        Ok(raw
+            .iter()
+            .map(|p| ProductPixel {
+                object: p.object,
+                distance: if p.object == 0 {
+                    f64::INFINITY
+                } else {
+                    f64::from(p.color[3])
+                },
+                crossings: p.crossings as usize,
+                color: [p.color[0], p.color[1], p.color[2]],
+            })
+            .collect())
+    }
+
+    /// How long tracing `scene` takes on the device, as
+    /// [`GpuTracer::time_trace`] times the tracer of E3, H3 and S3 (the
+    /// same warm-up, `repeats` passes in one submission, the median pass
+    /// by timestamps where the adapter has them).
+    ///
+    /// # Errors
+    /// As [`GpuTracer::render_product`].
+    pub fn time_product(
+        &mut self,
+        space: &ProductSpace,
+        scene: &ProductScene,
+        (width, height): (u32, u32),
+        repeats: u32,
+    ) -> Result<TraceTiming, GpuError> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let bound = self.bind_product(space, scene, width, height)?;
+        let repeats = repeats.clamp(1, 1024);
+        let queries = self.has_timestamps().then(|| {
+            self.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("product timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2 * repeats,
+            })
+        });
+        let wait = || {
+            self.device
+                .poll(wgpu::PollType::wait_indefinitely())
+                .map_err(|e| GpuError::Readback(e.to_string()))
+        };
+        let warm = std::time::Instant::now();
+        for _ in 0..256 {
+            let mut encoder = self.device.create_command_encoder(&Default::default());
+            self.encode_product(&mut encoder, &bound, None);
+            self.queue.submit([encoder.finish()]);
+            wait()?;
+            if warm.elapsed() >= WARM_UP {
+                break;
+            }
+        }
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        for i in 0..repeats {
+            self.encode_product(&mut encoder, &bound, queries.as_ref().map(|q| (q, 2 * i)));
+        }
+        let commands = encoder.finish();
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Validation(e.to_string()));
+        }
+        let start = std::time::Instant::now();
+        self.queue.submit([commands]);
+        wait()?;
+        let wall_ms = start.elapsed().as_secs_f64() * 1e3 / f64::from(repeats);
+        let device_ms = match &queries {
+            Some(set) => {
+                let bytes = u64::from(2 * repeats) * 8;
+                let resolved = self.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("timestamps"),
+                    size: bytes,
+                    usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                });
+                let readback = self.readback_buffer(bytes);
+                let mut encoder = self.device.create_command_encoder(&Default::default());
+                encoder.resolve_query_set(set, 0..2 * repeats, &resolved, 0);
+                encoder.copy_buffer_to_buffer(&resolved, 0, &readback, 0, bytes);
+                let ticks: Vec<u64> = bytemuck::pod_collect_to_vec(&self.finish(encoder, &readback)?);
+                let period = f64::from(self.queue.get_timestamp_period()) * 1e-6;
+                Some(median(
+                    ticks
+                        .chunks_exact(2)
+                        .map(|t| t[1].saturating_sub(t[0]) as f64 * period)
+                        .collect(),
+                ))
+            }
+            None => None,
+        };
+        Ok(TraceTiming { device_ms, wall_ms })
+    }
+
+    /// The product pipeline, built on first use.
+    fn product_pipeline(&mut self) -> Result<&ProductPipeline, GpuError> {
+        if self.product.is_none() {
+            let module = Self::compose_modules(&[], crate::PRODUCT_WGSL, &[], &[])?;
+            let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+            let shader = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("product.wgsl"),
+                source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
+            });
+            let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
+                binding,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            };
+            let read = wgpu::BufferBindingType::Storage { read_only: true };
+            let layout = self.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("product trace"),
+                entries: &[
+                    entry(0, wgpu::BufferBindingType::Uniform),
+                    entry(1, read),
+                    entry(2, read),
+                    entry(3, wgpu::BufferBindingType::Storage { read_only: false }),
+                ],
+            });
+            let pipeline_layout = self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("product trace"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+            let pipeline = self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("product trace"),
+                layout: Some(&pipeline_layout),
+                module: &shader,
+                entry_point: Some("product_trace"),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            if let Some(e) = pollster::block_on(scope.pop()) {
+                return Err(GpuError::Validation(e.to_string()));
+            }
+            self.product = Some(ProductPipeline { layout, pipeline });
+        }
+        Ok(self.product.as_ref().expect("built above"))
+    }
+
+    /// Checks, packs and uploads a product scene, its pipeline built.
+    fn bind_product(
+        &mut self,
+        space: &ProductSpace,
+        scene: &ProductScene,
+        width: u32,
+        height: u32,
+    ) -> Result<ProductBound, GpuError> {
+        space.validate().map_err(|e| GpuError::Settings(e.to_string()))?;
+        let view = &scene.view;
+        let numbers = [view.fov_y_degrees, view.max_distance, view.fog];
+        let frame = view
+            .frame
+            .iter()
+            .flat_map(|t| [t.surface.x, t.surface.y, t.surface.z, t.height]);
+        let eye = [
+            view.eye.surface.x,
+            view.eye.surface.y,
+            view.eye.surface.z,
+            view.eye.height,
+        ];
+        if numbers.iter().chain(&eye).copied().chain(frame).any(|x| !x.is_finite()) {
+            return Err(GpuError::Settings(
+                "the product view's eye, frame, field of view, distance or fog is not finite".into(),
+            ));
+        }
+        if width == 0 || height == 0 {
+            return Err(GpuError::Settings(format!(
+                "an image of {width}x{height} pixels is empty"
+            )));
+        }
+        let gpu = GpuProductScene::pack(space, scene, width, height);
+        if gpu.balls.len() > MAX_PRODUCT_BALLS {
+            return Err(GpuError::Settings(format!(
+                "the scene makes {} balls with their images, more than the {MAX_PRODUCT_BALLS} the product tracer takes",
+                gpu.balls.len()
+            )));
+        }
+        let count = (u64::from(width) * u64::from(height)) as usize;
+        let bytes = count * std::mem::size_of::<GpuProductPixel>();
+        let limit = self.device.limits().max_storage_buffer_binding_size;
+        if bytes as u64 > limit {
+            return Err(GpuError::Settings(format!(
+                "the pixels need a {bytes}-byte buffer, more than the {limit} bytes this adapter binds"
+            )));
+        }
+        let layout = self.product_pipeline()?.layout.clone();
+        let d = &self.device;
+        let storage = |label, data: &[u8]| {
+            // An empty array still binds a buffer (of one element).
+            let padded;
+            let contents = if data.is_empty() {
+                padded = vec![0u8; 256];
+                &padded[..]
+            } else {
+                data
+            };
+            d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage: wgpu::BufferUsages::STORAGE,
+            })
+        };
+        let params = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("product params"),
+            contents: bytemuck::bytes_of(&gpu.params),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let faces = storage("product faces", bytemuck::cast_slice(&gpu.faces));
+        let balls = storage("product balls", bytemuck::cast_slice(&gpu.balls));
+        let pixels = d.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("product pixels"),
+            size: bytes as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("product trace"),
+            layout: &layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: params.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: faces.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: balls.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: pixels.as_entire_binding(),
+                },
+            ],
+        });
+        Ok(ProductBound {
+            bind,
+            pixels,
+            count,
+            size: (width, height),
+        })
+    }
+
+    /// Records one product pass over every pixel of `bound`.
+    fn encode_product(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        bound: &ProductBound,
+        timestamps: Option<(&wgpu::QuerySet, u32)>,
+    ) {
+        let Some(product) = &self.product else { return };
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("product trace"),
+            timestamp_writes: timestamps.map(|(query_set, at)| wgpu::ComputePassTimestampWrites {
+                query_set,
+                beginning_of_pass_write_index: Some(at),
+                end_of_pass_write_index: Some(at + 1),
+            }),
+        });
+        pass.set_pipeline(&product.pipeline);
+        pass.set_bind_group(0, &bound.bind, &[]);
+        pass.dispatch_workgroups(bound.size.0.div_ceil(8), bound.size.1.div_ceil(8), 1);
+    }
+}
