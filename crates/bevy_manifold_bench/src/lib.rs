@@ -16,6 +16,7 @@ mod meshes;
 mod pass;
 mod paths;
 mod plot;
+mod product;
 mod reflections;
 mod report;
 mod skinning;
@@ -245,6 +246,23 @@ pub enum BenchCommand {
         #[arg(long, value_delimiter = ',')]
         counts: Vec<usize>,
     },
+    /// The product spaces (H2xR, S2xR) against Seifert-Weber: GPU frame
+    /// time of the product tracer over the main tracer's at the same size
+    /// and levels, and the CPU f64 reference's.
+    Product {
+        /// Image width.
+        #[arg(long, default_value_t = 320)]
+        width: u32,
+        /// Image height.
+        #[arg(long, default_value_t = 180)]
+        height: u32,
+        /// Most faces a ray crosses.
+        #[arg(long, default_value_t = 8)]
+        levels: u32,
+        /// Runs per setting; the median (GPU) and best (CPU) are reported.
+        #[arg(long, default_value_t = 3)]
+        runs: u32,
+    },
     /// What a skinned mesh's new pose costs per triangle: skinning,
     /// refitting the BVH and building a new one, on meshes of 8,192 to
     /// 51,200 triangles (CPU).
@@ -378,6 +396,12 @@ pub fn run(cmd: &BenchCommand) -> Result<(), String> {
             &instance_counts(counts)?,
         ),
         BenchCommand::Skinning { runs } => skinning::run(runs.max(1)),
+        BenchCommand::Product {
+            width,
+            height,
+            levels,
+            runs,
+        } => product::run(width.max(1), height.max(1), levels.clamp(1, 64), runs.max(1)),
         BenchCommand::Compare(ref args) => compare::run(args),
         BenchCommand::Aa { width, height, frames } => aa::run(width.max(1), height.max(1), frames.max(1)),
         BenchCommand::Report { ref out, ref only } => report::run(out, only),

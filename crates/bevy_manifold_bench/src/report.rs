@@ -62,6 +62,11 @@ const AREAS: &[Area] = &[
         args: &["instances", "--runs", "2"],
     },
     Area {
+        title: "The product geometries against Seifert-Weber",
+        method: "GPU frame time of the product spaces' tracer (H2xR and S2xR: exact geodesics, faces crossed in closed form, geodesic balls by sphere tracing) in the five product spaces, each with its default scene, over the main tracer's in Seifert-Weber's space with its default scene, at the same size and levels (the goal: within 1.5x); and the CPU f64 reference's frame.",
+        args: &["product", "--runs", "3"],
+    },
+    Area {
         title: "Exact cell ids",
         method: "What exact ids cost: nanoseconds per face crossing by exact products, the growth and recentring of the cell table, GPU frame time with the table against hashed ids, and the share of hit pixels the table names.",
         args: &["cells", "--width", "320", "--height", "180", "--runs", "2"],

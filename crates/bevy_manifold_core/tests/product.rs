@@ -463,3 +463,106 @@ fn product_space_files_round_trip_and_name_what_is_broken() {
     let e = broken(&|v| v["geometry"] = serde_json::json!("s2xr"));
     assert_eq!(e.field, "sides", "{e}");
 }
+
+/// `reach` bounds where a segment may be within a ball: on 4,000 random
+/// segments and balls in both geometries (half the balls placed near the
+/// segment), every point sampled along the
+/// segment (every 1/2000 of it) that is within the radius, by the
+/// distance itself, lies in the span `reach` gives; and where no sampled
+/// point is near, the span is usually empty (it is a box about the ball,
+/// not the ball).
+#[test]
+fn reach_holds_every_point_of_a_segment_within_a_ball() {
+    use bevy_manifold_core::trace::product::reach;
+    let mut seed = 0x2545_f491_4f6c_dd1du64;
+    let mut random = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (mut near, mut empty_when_far, mut far) = (0, 0, 0);
+    for g in [ProductGeometry::H2xR, ProductGeometry::S2xR] {
+        for _ in 0..2000 {
+            let origin = point(g, TAU * random(), 1.5 * random(), random() - 0.5);
+            let dir = g.normalize_tangent(
+                origin,
+                ProductTangent::new(
+                    DVec3::new(random() - 0.5, random() - 0.5, random() - 0.5),
+                    random() - 0.5,
+                ),
+            );
+            let radius = 0.05 + 0.4 * random();
+            let length = 0.2 + 8.0 * random();
+            // Half the balls anywhere, half near a point of the segment.
+            let center = if random() < 0.5 {
+                point(g, TAU * random(), 1.5 * random(), random() - 0.5)
+            } else {
+                let (p, _) = g.exp(origin, dir, length * random());
+                let aside = g.normalize_tangent(
+                    p,
+                    ProductTangent::new(
+                        DVec3::new(random() - 0.5, random() - 0.5, random() - 0.5),
+                        random() - 0.5,
+                    ),
+                );
+                g.exp(p, aside, 1.5 * radius * random()).0
+            };
+            let r = ray(origin, dir);
+            let span = reach(g, &r, center, radius, length);
+            let mut any = false;
+            for i in 0..=2000 {
+                let s = length * f64::from(i) / 2000.0;
+                let (p, _) = g.exp(origin, dir, s);
+                if g.distance(p, center) <= radius {
+                    any = true;
+                    let (lo, hi) = span.unwrap_or_else(|| panic!("{g:?}: s = {s} is within but no span"));
+                    assert!(lo - 1e-9 <= s && s <= hi + 1e-9, "{g:?}: s = {s} outside [{lo}, {hi}]");
+                }
+            }
+            if any {
+                near += 1;
+            } else {
+                far += 1;
+                empty_when_far += usize::from(span.is_none());
+            }
+        }
+    }
+    eprintln!("{near} segments meet their ball; of the {far} others, {empty_when_far} have no span");
+    assert!(near > 1000, "{near}");
+    assert!(empty_when_far as f64 > 0.5 * far as f64, "{empty_when_far} of {far}");
+}
+
+/// A ball at a vertex of the octagon is seen in every copy of the prism
+/// round the vertex: eight octagons of angle pi/4 meet there, and the
+/// genus-2 gluing makes all eight vertices one, so `images` gives eight
+/// balls, one at each vertex. On the top face too, eight more above.
+#[test]
+fn a_ball_at_a_vertex_is_seen_in_every_copy_round_it() {
+    use bevy_manifold_core::trace::product::images;
+    let space = ProductSpace::genus_two_x_s1(2.0);
+    let g = space.geometry;
+    let vertices = space.vertices();
+    let at = |center: ProductPoint| ProductBall {
+        center,
+        radius: 0.1,
+        id: 1,
+    };
+    let seen = images(&space, &[at(ProductPoint::new(vertices[3], 0.0))]);
+    assert_eq!(seen.len(), 8);
+    for v in &vertices {
+        let n = seen
+            .iter()
+            .filter(|b| g.distance(b.center, ProductPoint::new(*v, 0.0)) < 1e-9)
+            .count();
+        assert_eq!(n, 1, "{v}");
+    }
+    let on_top = images(&space, &[at(ProductPoint::new(vertices[0], 1.0))]);
+    assert_eq!(on_top.len(), 16);
+    assert_eq!(
+        on_top.iter().filter(|b| (b.center.height + 1.0).abs() < 1e-9).count(),
+        8
+    );
+    // Well inside, a ball is seen only as itself.
+    assert_eq!(images(&space, &[at(ProductPoint::ORIGIN)]).len(), 1);
+}

@@ -44,8 +44,8 @@ struct ProductBall {
     color: vec4<f32>,
     radius: f32,
     id: u32,
-    pad_a: u32,
-    pad_b: u32,
+    reach_trig: f32,
+    pad: u32,
 }
 
 // Rust twin: `GpuProductPixel`.
@@ -206,14 +206,91 @@ fn exit_face(ray: ProductRay, skip: u32) -> Exit {
     return best;
 }
 
-// The first distance in [0, end] at which the ray enters ball b from
-// outside, by sphere tracing; -1 for none. Rust twin: `entries` (its
-// first entry).
-fn first_entry(ray: ProductRay, b: u32, end: f32) -> f32 {
+// How much farther than its radius a ball is looked for (f32 rounding;
+// the CPU tracer's is 1e-9). Rust twin: `REACH_SLACK` (of the GPU crate's
+// product.rs, which packs `reach_trig` with it).
+const REACH_SLACK: f32 = 1e-3;
+
+// The part (x, y) of the segment [0, length] in which the ray may come
+// within `radius` of `center`: its height within `radius` of the centre's
+// and its surface geodesic within `radius` of the centre's surface point,
+// in closed form (a quadratic in e^t on H2, windows of the circle on S2).
+// x > y where the segment never comes near. Rust twin: `reach`.
+// `trig` is cosh (H2) or cos (S2) of the radius.
+fn reach(ray: ProductRay, center: vec4<f32>, radius: f32, trig: f32, length: f32) -> vec2<f32> {
+    let none = vec2<f32>(1.0, -1.0);
+    let dh = ray.origin.w - center.w;
+    let v = ray.dir.w;
+    var lo = 0.0;
+    var hi = length;
+    if v == 0.0 {
+        if abs(dh) > radius {
+            return none;
+        }
+    } else {
+        let a = (-radius - dh) / v;
+        let b = (radius - dh) / v;
+        lo = max(lo, min(a, b));
+        hi = min(hi, max(a, b));
+    }
+    if lo > hi {
+        return none;
+    }
+    let p = ray.origin.xyz;
+    let q = center.xyz;
+    let speed = sqrt(max(form(ray.dir.xyz, ray.dir.xyz), 0.0));
+    if speed == 0.0 {
+        if surface_distance(p, q) <= radius {
+            return vec2<f32>(lo, hi);
+        }
+        return none;
+    }
+    let u = ray.dir.xyz / speed;
+    var t = vec2<f32>(0.0, 0.0);
+    if params.curvature < 0.0 {
+        let a = -form(p, q);
+        let b = -form(u, q);
+        let c = trig;
+        // (a + b) x^2 - 2 c x + (a - b) <= 0, x = e^t; a > |b|.
+        let disc = c * c - (a * a - b * b);
+        if disc < 0.0 {
+            return none;
+        }
+        let root = sqrt(disc);
+        t = vec2<f32>(log(max(c - root, 0.0) / (a + b)), log((c + root) / (a + b)));
+    } else {
+        let a = form(p, q);
+        let b = form(u, q);
+        let amp = sqrt(a * a + b * b);
+        let c = trig;
+        if amp < c {
+            return none;
+        }
+        // cos(t - phi) >= c / amp: windows phi +- w, every turn.
+        let w = acos(clamp(c / amp, -1.0, 1.0));
+        let phi = atan2(b, a);
+        let turn = 6.2831855;
+        let k = ceil((speed * lo - phi - w) / turn);
+        let start = phi - w + turn * k;
+        var stop = start + 2.0 * w;
+        // A later window within the segment: look on to its end.
+        if start + turn <= speed * hi {
+            stop = 3.4e38;
+        }
+        t = vec2<f32>(start, stop);
+    }
+    return vec2<f32>(max(lo, t.x / speed), min(hi, t.y / speed));
+}
+
+// The first distance in [span.x, span.y] (the segment's reach of the
+// ball) at which the ray enters ball b from outside, by sphere tracing;
+// -1 for none. Rust twin: `entries` (its first entry).
+fn first_entry(ray: ProductRay, b: u32, span: vec2<f32>) -> f32 {
     let center = balls[b].center;
     let radius = balls[b].radius;
-    var s = 0.0;
-    var f = product_distance(ray.origin, center) - radius;
+    let end = span.y;
+    var s = span.x;
+    var f = product_distance(advance(ray, s).origin, center) - radius;
     var outside = f > SURFACE;
     for (var k = 0u; k < MAX_STEPS; k++) {
         if outside && f <= SURFACE {
@@ -242,12 +319,11 @@ struct Entry {
 fn nearest_entry(ray: ProductRay, length: f32) -> Entry {
     var best = Entry(NO_FACE, length);
     for (var b = 0u; b < params.ball_count; b++) {
-        // Out of the segment's reach: the distance to the centre changes
-        // by at most the distance travelled.
-        if product_distance(ray.origin, balls[b].center) > best.s + balls[b].radius {
+        let span = reach(ray, balls[b].center, balls[b].radius + REACH_SLACK, balls[b].reach_trig, best.s);
+        if span.x > span.y {
             continue;
         }
-        let s = first_entry(ray, b, best.s);
+        let s = first_entry(ray, b, span);
         if s >= 0.0 && (best.ball == NO_FACE || s < best.s) {
             best = Entry(b, s);
         }

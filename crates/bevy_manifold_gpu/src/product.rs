@@ -15,8 +15,9 @@
 //! let gpu = GpuProductScene::pack(&space, &scene, 64, 36);
 //! // The octagon's 8 sides, the bottom and the top.
 //! assert_eq!(gpu.faces.len(), 10);
-//! // Each ball, and its image through each face.
-//! assert_eq!(gpu.balls.len(), 3 * 11);
+//! // The three balls lie inside the prism: no copy of the prism sees
+//! // them through a face.
+//! assert_eq!(gpu.balls.len(), 3);
 //! ```
 
 use bevy_manifold_core::geometry::product::{ProductPoint, ProductTangent};
@@ -97,10 +98,11 @@ pub struct GpuProductBall {
     pub radius: f32,
     /// Its object id.
     pub id: u32,
+    /// `cosh` (H2) or `cos` (S2) of the radius with the shader's reach
+    /// slack: the surface distance's bound in `reach`, made once.
+    pub reach_trig: f32,
     /// Padding.
-    pub pad_a: u32,
-    /// Padding.
-    pub pad_b: u32,
+    pub pad: u32,
 }
 
 /// WGSL twin: `ProductPixel` in `shaders/product.wgsl`. What one pixel
@@ -128,10 +130,14 @@ pub struct GpuProductScene {
     pub params: GpuProductParams,
     /// The faces: the sides, then the bottom and the top.
     pub faces: Vec<GpuProductFace>,
-    /// Each ball, then its images through each face (as the CPU tracer
-    /// looks for them).
+    /// Each ball, then its images that reach into the prism (the CPU
+    /// tracer's [`images`]).
     pub balls: Vec<GpuProductBall>,
 }
+
+/// How much farther than its radius the shader looks for a ball (f32
+/// rounding). WGSL twin: `REACH_SLACK` in `shaders/product.wgsl`.
+pub const REACH_SLACK: f64 = 1e-3;
 
 fn point(p: ProductPoint) -> [f32; 4] {
     [
@@ -166,8 +172,8 @@ impl GpuProductScene {
                     color: [r, g, bl, 1.0],
                     radius: b.radius as f32,
                     id: b.id,
-                    pad_a: 0,
-                    pad_b: 0,
+                    reach_trig: space.geometry.trig(b.radius + REACH_SLACK).0 as f32,
+                    pad: 0,
                 }
             })
             .collect();

@@ -87,7 +87,7 @@ fn product_layouts() -> Vec<RustLayout> {
             curvature, half_height, max_distance, tan_half_fov, fog, pad_a, pad_b,
         }),
         rust_layout!(GpuProductFace => "ProductFace" { normal, surface, flip, shift, partner, pad }),
-        rust_layout!(GpuProductBall => "ProductBall" { center, color, radius, id, pad_a, pad_b }),
+        rust_layout!(GpuProductBall => "ProductBall" { center, color, radius, id, reach_trig, pad }),
         rust_layout!(GpuProductPixel => "ProductPixel" { color, object, crossings, pad_a, pad_b }),
     ]
 }

@@ -168,6 +168,24 @@ impl ProductSpace {
             && self.sides.iter().all(|n| self.geometry.form(*n, p.surface) <= slack)
     }
 
+    /// Whether the ball of `radius` about `center` may reach into the
+    /// prism: its height within `radius` of the prism's, and its centre
+    /// within `radius` beyond no side (a point at distance `d` beyond the
+    /// geodesic `<n, p> = 0` has `<n, p> = sinh d` on H2, `sin d` on S2).
+    /// True for every ball that does; false only for balls that do not.
+    #[must_use]
+    pub fn may_meet(&self, center: ProductPoint, radius: f64) -> bool {
+        let beyond = match self.geometry {
+            ProductGeometry::H2xR => radius.sinh(),
+            ProductGeometry::S2xR => radius.min(std::f64::consts::FRAC_PI_2).sin(),
+        };
+        center.height.abs() <= self.height / 2.0 + radius
+            && self
+                .sides
+                .iter()
+                .all(|n| self.geometry.form(*n, center.surface) <= beyond)
+    }
+
     /// The polygon's vertices: vertex `i` joins side `i` and side `i + 1`.
     #[must_use]
     pub fn vertices(&self) -> Vec<DVec3> {

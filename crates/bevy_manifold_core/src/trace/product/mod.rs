@@ -213,20 +213,38 @@ pub fn hits(
     hits_among(space, &images(space, balls), ray, max_distance, max_crossings)
 }
 
-/// Each ball, then its images through each face's gluing: the balls
-/// [`hits`] looks for in the prism (the part of a ball that reaches over a
-/// face is its image's part inside).
+/// Most images of one ball [`images`] keeps.
+pub const MAX_IMAGES_PER_BALL: usize = 64;
+
+/// The balls [`hits`] looks for in the prism: each ball, then every image
+/// of it that may reach into the prism, that is the ball as each copy of
+/// the prism it reaches into sees it. They are found by a breadth-first
+/// walk over the gluings from the ball (a ball meets a connected set of
+/// copies, so an image that reaches in is the gluing's image of one that
+/// does), keeping the images for which [`ProductSpace::may_meet`] holds,
+/// at most [`MAX_IMAGES_PER_BALL`] per ball. A ball across an edge or a
+/// corner of the prism is seen through two or three gluings.
 #[must_use]
 pub fn images(space: &ProductSpace, balls: &[ProductBall]) -> Vec<ProductBall> {
-    balls
-        .iter()
-        .flat_map(|b| {
-            std::iter::once(*b).chain(space.gluings.iter().map(|gl| ProductBall {
-                center: gl.isometry().apply(b.center),
-                ..*b
-            }))
-        })
-        .collect()
+    let g = space.geometry;
+    let mut out = Vec::new();
+    for ball in balls {
+        let first = out.len();
+        out.push(*ball);
+        let mut next = first;
+        while next < out.len() && out.len() - first < MAX_IMAGES_PER_BALL {
+            let from = out[next].center;
+            next += 1;
+            for gluing in &space.gluings {
+                let center = g.normalize_point(gluing.isometry().apply(from));
+                let known = out[first..].iter().any(|b| g.distance(b.center, center) < 1e-9);
+                if !known && space.may_meet(center, ball.radius) && out.len() - first < MAX_IMAGES_PER_BALL {
+                    out.push(ProductBall { center, ..*ball });
+                }
+            }
+        }
+    }
+    out
 }
 
 /// [`hits`] among balls and their [`images`], made once.
@@ -242,12 +260,9 @@ pub(crate) fn hits_among(
     walk_segments(space, ray, max_distance, max_crossings, |walk, travelled, length| {
         let mut segment: Vec<(f64, usize)> = Vec::new();
         for (i, ball) in images.iter().enumerate() {
-            // Out of the segment's reach: the distance to the centre
-            // changes by at most the distance travelled.
-            if g.distance(walk.ray.origin, ball.center) > length + ball.radius {
-                continue;
+            if let Some(span) = reach(g, &walk.ray, ball.center, ball.radius + REACH_SLACK, length) {
+                entries(g, &walk.ray, ball, span, |s| segment.push((s, i)));
             }
-            entries(g, &walk.ray, ball, length, |s| segment.push((s, i)));
         }
         segment.sort_by(|a, b| a.0.total_cmp(&b.0));
         for (s, i) in segment {
@@ -269,12 +284,97 @@ pub(crate) fn hits_among(
     found
 }
 
-/// The distances in `[0, end]` at which `ray` enters `ball` (from
-/// outside), by sphere tracing; a ray that starts inside enters only
-/// after it has left.
-fn entries(g: ProductGeometry, ray: &ProductRay, ball: &ProductBall, end: f64, mut entered: impl FnMut(f64)) {
+/// How much farther than its radius a ball is looked for (rounding).
+const REACH_SLACK: f64 = 1e-9;
+
+/// The part `[lo, hi]` of the segment `[0, length]` of the ray in which
+/// it may come within `radius` of `center`, in closed form: where its
+/// height is within `radius` of the centre's and its surface geodesic is
+/// within `radius` of the centre's surface point (a box about the ball).
+/// On H2 the surface distance is `cosh d = A cosh t + B sinh t` (`t` the
+/// surface arc length), within `radius` between the roots of a quadratic
+/// in `e^t`; on S2 `cos d = A cos t + B sin t`, within `radius` on windows
+/// of the circle. `None` where the segment never comes near.
+#[must_use]
+pub fn reach(
+    g: ProductGeometry,
+    ray: &ProductRay,
+    center: ProductPoint,
+    radius: f64,
+    length: f64,
+) -> Option<(f64, f64)> {
+    // The height: |dh + v s| <= radius.
+    let dh = ray.origin.height - center.height;
+    let v = ray.dir.height;
+    let (mut lo, mut hi) = (0.0f64, length);
+    if v == 0.0 {
+        if dh.abs() > radius {
+            return None;
+        }
+    } else {
+        let (a, b) = ((-radius - dh) / v, (radius - dh) / v);
+        lo = lo.max(a.min(b));
+        hi = hi.min(a.max(b));
+    }
+    if lo > hi {
+        return None;
+    }
+    let (p, q) = (ray.origin.surface, center.surface);
+    let speed = g.form(ray.dir.surface, ray.dir.surface).max(0.0).sqrt();
+    if speed == 0.0 {
+        return (g.surface_distance(p, q) <= radius).then_some((lo, hi));
+    }
+    let u = ray.dir.surface / speed;
+    let (t_lo, t_hi) = match g {
+        ProductGeometry::H2xR => {
+            let (a, b) = (-g.form(p, q), -g.form(u, q));
+            let c = radius.cosh();
+            // (a + b) x^2 - 2 c x + (a - b) <= 0, x = e^t; a > |b|.
+            let disc = c * c - (a * a - b * b);
+            if disc < 0.0 {
+                return None;
+            }
+            let root = disc.sqrt();
+            (((c - root) / (a + b)).ln(), ((c + root) / (a + b)).ln())
+        }
+        ProductGeometry::S2xR => {
+            let (a, b) = (g.form(p, q), g.form(u, q));
+            let amp = a.hypot(b);
+            let c = radius.cos();
+            if amp < c {
+                return None;
+            }
+            // cos(t - phi) >= c / amp: windows phi +- w, every turn.
+            let w = (c / amp).clamp(-1.0, 1.0).acos();
+            let phi = b.atan2(a);
+            let turn = std::f64::consts::TAU;
+            let k = ((speed * lo - phi - w) / turn).ceil();
+            let start = phi - w + turn * k;
+            // A later window within the segment: look on to its end.
+            let stop = if start + turn <= speed * hi {
+                f64::INFINITY
+            } else {
+                start + 2.0 * w
+            };
+            (start, stop)
+        }
+    };
+    let (lo, hi) = (lo.max(t_lo / speed), hi.min(t_hi / speed));
+    (lo <= hi).then_some((lo, hi))
+}
+
+/// The distances in `[start, end]` (the segment's [`reach`] of the ball)
+/// at which `ray` enters `ball` (from outside), by sphere tracing; a ray
+/// that starts inside enters only after it has left.
+fn entries(
+    g: ProductGeometry,
+    ray: &ProductRay,
+    ball: &ProductBall,
+    (start, end): (f64, f64),
+    mut entered: impl FnMut(f64),
+) {
     let gap = |s: f64| g.distance(g.exp(ray.origin, ray.dir, s).0, ball.center) - ball.radius;
-    let mut s = 0.0;
+    let mut s = start;
     let mut f = gap(s);
     let mut outside = f > SURFACE;
     for _ in 0..MAX_STEPS {
