@@ -4,7 +4,7 @@
 //! [`GpuTracer::time_product`] for the benchmarks.
 
 use super::GpuTracer;
-use super::timing::{TraceTiming, WARM_UP, median};
+use super::timing::TraceTiming;
 use crate::GpuError;
 use crate::product::{GpuProductPixel, GpuProductScene};
 use bevy_manifold_core::space::product::ProductSpace;
@@ -101,66 +101,9 @@ impl GpuTracer {
     ) -> Result<TraceTiming, GpuError> {
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let bound = self.bind_product(space, scene, width, height)?;
-        let repeats = repeats.clamp(1, 1024);
-        let queries = self.has_timestamps().then(|| {
-            self.device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("product timestamps"),
-                ty: wgpu::QueryType::Timestamp,
-                count: 2 * repeats,
-            })
-        });
-        let wait = || {
-            self.device
-                .poll(wgpu::PollType::wait_indefinitely())
-                .map_err(|e| GpuError::Readback(e.to_string()))
-        };
-        let warm = std::time::Instant::now();
-        for _ in 0..256 {
-            let mut encoder = self.device.create_command_encoder(&Default::default());
-            self.encode_product(&mut encoder, &bound, None);
-            self.queue.submit([encoder.finish()]);
-            wait()?;
-            if warm.elapsed() >= WARM_UP {
-                break;
-            }
-        }
-        let mut encoder = self.device.create_command_encoder(&Default::default());
-        for i in 0..repeats {
-            self.encode_product(&mut encoder, &bound, queries.as_ref().map(|q| (q, 2 * i)));
-        }
-        let commands = encoder.finish();
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(GpuError::Validation(e.to_string()));
-        }
-        let start = std::time::Instant::now();
-        self.queue.submit([commands]);
-        wait()?;
-        let wall_ms = start.elapsed().as_secs_f64() * 1e3 / f64::from(repeats);
-        let device_ms = match &queries {
-            Some(set) => {
-                let bytes = u64::from(2 * repeats) * 8;
-                let resolved = self.device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("timestamps"),
-                    size: bytes,
-                    usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                    mapped_at_creation: false,
-                });
-                let readback = self.readback_buffer(bytes);
-                let mut encoder = self.device.create_command_encoder(&Default::default());
-                encoder.resolve_query_set(set, 0..2 * repeats, &resolved, 0);
-                encoder.copy_buffer_to_buffer(&resolved, 0, &readback, 0, bytes);
-                let ticks: Vec<u64> = bytemuck::pod_collect_to_vec(&self.finish(encoder, &readback)?);
-                let period = f64::from(self.queue.get_timestamp_period()) * 1e-6;
-                Some(median(
-                    ticks
-                        .chunks_exact(2)
-                        .map(|t| t[1].saturating_sub(t[0]) as f64 * period)
-                        .collect(),
-                ))
-            }
-            None => None,
-        };
-        Ok(TraceTiming { device_ms, wall_ms })
+        self.timed(scope, repeats, |gpu, encoder, timestamps| {
+            gpu.encode_product(encoder, &bound, timestamps);
+        })
     }
 
     /// The product pipeline, built on first use.

@@ -42,6 +42,22 @@ impl GpuTracer {
         let defs = scene_defs(space, scene, settings);
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let bound = self.bind(space, scene, settings, defs, "trace")?;
+        self.timed(scope, repeats, |gpu, encoder, timestamps| {
+            gpu.encode_trace(encoder, &bound, settings, timestamps);
+        })
+    }
+
+    /// Times `repeats` passes that `encode` records (each with the
+    /// timestamps it is given, where the device has them), after untimed
+    /// ones for at least [`WARM_UP`], all under the validation `scope`
+    /// opened before the scene was bound: [`GpuTracer::time_trace`] and
+    /// [`GpuTracer::time_product`].
+    pub(super) fn timed(
+        &self,
+        scope: wgpu::ErrorScopeGuard,
+        repeats: u32,
+        encode: impl Fn(&Self, &mut wgpu::CommandEncoder, Option<(&wgpu::QuerySet, u32)>),
+    ) -> Result<TraceTiming, GpuError> {
         let repeats = repeats.clamp(1, 1024);
         let queries = self.has_timestamps().then(|| {
             self.device.create_query_set(&wgpu::QuerySetDescriptor {
@@ -57,7 +73,11 @@ impl GpuTracer {
         };
         let warm = std::time::Instant::now();
         for _ in 0..256 {
-            self.queue.submit([self.trace_encoder(&bound, settings).finish()]);
+            let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("warm-up trace"),
+            });
+            encode(self, &mut encoder, None);
+            self.queue.submit([encoder.finish()]);
             wait()?;
             if warm.elapsed() >= WARM_UP {
                 break;
@@ -67,7 +87,7 @@ impl GpuTracer {
             label: Some("timed traces"),
         });
         for i in 0..repeats {
-            self.encode_trace(&mut encoder, &bound, settings, queries.as_ref().map(|q| (q, 2 * i)));
+            encode(self, &mut encoder, queries.as_ref().map(|q| (q, 2 * i)));
         }
         let commands = encoder.finish();
         if let Some(e) = pollster::block_on(scope.pop()) {
@@ -107,7 +127,7 @@ impl GpuTracer {
 }
 
 /// How long [`GpuTracer::time_trace`] keeps the device busy before timing.
-pub(super) const WARM_UP: std::time::Duration = std::time::Duration::from_millis(250);
+const WARM_UP: std::time::Duration = std::time::Duration::from_millis(250);
 
 /// What [`GpuTracer::time_trace`] measured for one trace, in ms.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -120,7 +140,7 @@ pub struct TraceTiming {
 }
 
 /// The median of `values` (the mean of the middle two for an even count).
-pub(super) fn median(mut values: Vec<f64>) -> f64 {
+fn median(mut values: Vec<f64>) -> f64 {
     values.sort_by(f64::total_cmp);
     let n = values.len();
     match n {
