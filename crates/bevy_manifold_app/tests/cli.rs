@@ -845,6 +845,38 @@ fn tour_check_reads_the_shipped_tours_and_names_a_broken_field() {
     assert!(!tmp("never").exists(), "nothing rendered");
 }
 
+/// `product --gpu` traces on the GPU (it says so) and draws the picture
+/// the CPU draws: 99% of the pixels within 3/255 of the CPU's, in the
+/// genus-2 space and in S2 x S1.
+fn product_gpu_draws_what_the_cpu_draws() {
+    for space in ["genus2xs1", "s2xs1"] {
+        let (cpu, gpu) = (tmp(&format!("cpu_{space}.png")), tmp(&format!("gpu_{space}.png")));
+        for (out, extra) in [(&cpu, None), (&gpu, Some("--gpu"))] {
+            let mut args = vec!["product", "--space", space, "--width", "64", "--height", "36"];
+            args.extend(extra);
+            args.extend(["--out", out.to_str().expect("utf-8")]);
+            let o = run(&args);
+            assert!(o.status.success(), "{space}: {}", stderr(&o));
+            let on = if extra.is_some() { "GPU" } else { "CPU" };
+            assert!(stdout(&o).contains(&format!("traced on the {on}")), "{}", stdout(&o));
+        }
+        let (a, b) = (
+            image::open(&cpu).expect("PNG").to_rgb8(),
+            image::open(&gpu).expect("PNG").to_rgb8(),
+        );
+        let close = a
+            .pixels()
+            .zip(b.pixels())
+            .filter(|(p, q)| (0..3).all(|c| p.0[c].abs_diff(q.0[c]) <= 3))
+            .count();
+        assert!(
+            close * 100 >= 99 * 64 * 36,
+            "{space}: {close} of {} pixels agree",
+            64 * 36
+        );
+    }
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [
         tour_render_frame_k_is_the_camera_at_k_over_fps,
@@ -866,5 +898,8 @@ bevy_manifold_test_support::test_main! {
         render_reports_a_bad_scene_field,
         space_cell_reads_ten_thousand_words_in_one_process,
     ],
-    gpu: [render_defaults_to_the_gpu_and_matches_the_cpu_ids],
+    gpu: [
+        render_defaults_to_the_gpu_and_matches_the_cpu_ids,
+        product_gpu_draws_what_the_cpu_draws,
+    ],
 }

@@ -566,3 +566,69 @@ fn a_ball_at_a_vertex_is_seen_in_every_copy_round_it() {
     // Well inside, a ball is seen only as itself.
     assert_eq!(images(&space, &[at(ProductPoint::ORIGIN)]).len(), 1);
 }
+
+/// A view flying through the space: up the circle of S2 x S1 by its
+/// length, or round a great circle of the sphere (2 pi), it comes back to
+/// where it was, looking the same way (parallel transport round a closed
+/// geodesic of a product is the identity here); in genus 2 x S1, moving
+/// and moving back through the faces comes back too; turning keeps the
+/// frame orthonormal, and a whole turn is no turn.
+#[test]
+fn a_flying_view_comes_back_round_closed_geodesics() {
+    use bevy_manifold_core::trace::product::{ProductScene, ProductView};
+    let same = |g: ProductGeometry, a: &ProductView, b: &ProductView, tol: f64| {
+        assert!(g.distance(a.eye, b.eye) < tol, "{:?} vs {:?}", a.eye, b.eye);
+        for (x, y) in a.frame.iter().zip(&b.frame) {
+            let d = ProductTangent::new(x.surface - y.surface, x.height - y.height);
+            assert!(d.length(g) < tol, "{x:?} vs {y:?}");
+        }
+    };
+    let orthonormal = |g: ProductGeometry, v: &ProductView| {
+        for i in 0..3 {
+            for j in 0..3 {
+                let (a, b) = (v.frame[i], v.frame[j]);
+                let dot = g.form(a.surface, b.surface) + a.height * b.height;
+                assert!((dot - f64::from(u8::from(i == j))).abs() < 1e-12, "{i} {j}: {dot}");
+            }
+            assert!(g.form(v.frame[i].surface, v.eye.surface).abs() < 1e-12);
+        }
+    };
+    let s2 = ProductSpace::s2_x_s1(2.0);
+    let g = s2.geometry;
+    let view = ProductScene::default_for(&s2).view;
+    // Straight up the circle: the frame's up is not vertical, so fly along
+    // the vertical itself (forward tilted 0.25 up: the vertical is
+    // forward sin + up cos).
+    let (c, s) = (0.25f64.cos(), 0.25f64.sin());
+    let up_the_circle = view.moved(&s2, [s, 0.0, c], 2.0);
+    same(g, &up_the_circle, &view, 1e-9);
+    let half = view.moved(&s2, [s, 0.0, c], 1.0);
+    assert!((g.distance(half.eye, view.eye) - 1.0).abs() < 1e-9);
+    // Round the sphere: along the frame's horizontal right.
+    let round = view.moved(&s2, [0.0, 1.0, 0.0], std::f64::consts::TAU);
+    same(g, &round, &view, 1e-9);
+    let halfway = view.moved(&s2, [0.0, 1.0, 0.0], std::f64::consts::PI);
+    assert!((g.surface_distance(halfway.eye.surface, view.eye.surface) - std::f64::consts::PI).abs() < 1e-6);
+    orthonormal(g, &halfway);
+    // Genus 2 x S1: there and back through the faces.
+    let g2 = ProductSpace::genus_two_x_s1(2.0);
+    let h = g2.geometry;
+    let view = ProductScene::default_for(&g2).view;
+    let there = view.moved(&g2, [1.0, 0.3, 0.2], 5.0);
+    assert!(g2.contains(there.eye, 1e-9));
+    orthonormal(h, &there);
+    let turned_back = there.turned(h, std::f64::consts::PI, 0.0);
+    let back = turned_back
+        .moved(&g2, [1.0, 0.3, -0.2], 5.0)
+        .turned(h, std::f64::consts::PI, 0.0);
+    same(h, &back, &view, 1e-7);
+    // Turning: a whole turn, and a turn and back.
+    same(h, &view.turned(h, std::f64::consts::TAU, 0.0), &view, 1e-12);
+    same(
+        h,
+        &view.turned(h, 0.7, 0.3).turned(h, 0.0, -0.3).turned(h, -0.7, 0.0),
+        &view,
+        1e-12,
+    );
+    orthonormal(h, &view.turned(h, 0.7, 0.3));
+}

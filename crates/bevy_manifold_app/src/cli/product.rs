@@ -1,20 +1,11 @@
 //! `bevy_manifold product`: a view of a space of the product geometries
 //! (H2xR, S2xR), traced on the CPU by the math crate's reference tracer
-//! and written as a PNG.
+//! (or with `--gpu` by its WGSL twin) and written as a PNG.
 
 use bevy_manifold::space::product::ProductSpace;
 use bevy_manifold::trace::product::{ProductScene, render};
 use clap::Args;
 use std::path::PathBuf;
-
-/// The product spaces the command knows by name.
-pub const NAMES: [&str; 5] = [
-    "s2xs1",
-    "twisted-s2xs1",
-    "genus2xs1",
-    "twisted-genus2xs1",
-    "mirrored-prism",
-];
 
 #[derive(Args)]
 pub struct ProductArgs {
@@ -44,27 +35,25 @@ pub struct ProductArgs {
     /// Print the space's file (JSON) instead of drawing it.
     #[arg(long)]
     export: bool,
+    /// Trace on the GPU (the WGSL twin of the CPU reference, f32) instead
+    /// of the CPU; without a GPU adapter, a warning and the CPU.
+    #[arg(long)]
+    gpu: bool,
 }
 
 /// The space named, or read from its file.
 fn space_of(args: &ProductArgs) -> Result<ProductSpace, String> {
-    let (l, k) = (args.length, args.twist);
-    Ok(match args.space.as_str() {
-        "s2xs1" => ProductSpace::s2_x_s1(l),
-        "twisted-s2xs1" => ProductSpace::twisted_s2_x_s1(l, k),
-        "genus2xs1" => ProductSpace::genus_two_x_s1(l),
-        "twisted-genus2xs1" => ProductSpace::twisted_genus_two_x_s1(l, k),
-        "mirrored-prism" => ProductSpace::mirrored_prism(5, l),
-        path => {
-            let text = std::fs::read_to_string(path).map_err(|e| {
-                format!(
-                    "{path}: {e} (not a product space file, nor one of {})",
-                    NAMES.join(", ")
-                )
-            })?;
-            ProductSpace::from_json(&text, path).map_err(|e| e.to_string())?
-        }
-    })
+    if let Some(space) = ProductSpace::named(&args.space, args.length, args.twist) {
+        return Ok(space);
+    }
+    let path = &args.space;
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        format!(
+            "{path}: {e} (not a product space file, nor one of {})",
+            ProductSpace::NAMES.join(", ")
+        )
+    })?;
+    ProductSpace::from_json(&text, path).map_err(|e| e.to_string())
 }
 
 fn length(s: &str) -> Result<f64, String> {
@@ -88,12 +77,30 @@ pub fn run(args: &ProductArgs) -> Result<(), String> {
     };
     let scene = ProductScene::default_for(&space);
     let (w, h) = (args.width, args.height);
-    let bytes: Vec<u8> = render(&space, &scene.balls, &scene.view, w, h)
+    let gpu = if args.gpu {
+        match bevy_manifold_gpu::GpuTracer::new() {
+            Ok(mut tracer) => Some(
+                tracer
+                    .render_product(&space, &scene, w, h)
+                    .map_err(|e| format!("{}: {e}", space.name))?,
+            ),
+            Err(e) => {
+                eprintln!("warning: {e}; tracing on the CPU instead");
+                None
+            }
+        }
+    } else {
+        None
+    };
+    let traced = gpu.is_some();
+    let pixels = gpu.unwrap_or_else(|| render(&space, &scene.balls, &scene.view, w, h));
+    let bytes: Vec<u8> = pixels
         .iter()
         .flat_map(|p| p.color.map(bevy_manifold::trace::srgb8).into_iter().chain([255]))
         .collect();
     image::save_buffer(out, &bytes, w, h, image::ExtendedColorType::Rgba8)
         .map_err(|e| format!("{}: {e}", out.display()))?;
-    println!("wrote {} ({w}x{h}, {})", out.display(), space.name);
+    let on = if traced { "GPU" } else { "CPU" };
+    println!("wrote {} ({w}x{h}, {}, traced on the {on})", out.display(), space.name);
     Ok(())
 }

@@ -444,6 +444,39 @@ impl ProductSpace {
         (sides, r)
     }
 
+    /// The names [`ProductSpace::named`] knows, as the command line and
+    /// the examples take them.
+    pub const NAMES: [&'static str; 5] = [
+        "s2xs1",
+        "twisted-s2xs1",
+        "genus2xs1",
+        "twisted-genus2xs1",
+        "mirrored-prism",
+    ];
+
+    /// The space of that name ([`ProductSpace::NAMES`]) with a circle (or
+    /// interval) of length `length`; `twist` is the twisted spaces' turn
+    /// (1/`twist` of a turn of the sphere, `twist` eighths of a turn of
+    /// the genus-2 surface); the mirrored prism is the pentagon's.
+    ///
+    /// ```
+    /// use bevy_manifold_core::space::product::ProductSpace;
+    /// let space = ProductSpace::named("twisted-s2xs1", 2.0, 3).expect("a name it knows");
+    /// assert_eq!(space.name, "S2 x S1 turned by 1/3");
+    /// assert!(ProductSpace::named("torus", 2.0, 3).is_none());
+    /// ```
+    #[must_use]
+    pub fn named(name: &str, length: f64, twist: u32) -> Option<Self> {
+        Some(match name {
+            "s2xs1" => Self::s2_x_s1(length),
+            "twisted-s2xs1" => Self::twisted_s2_x_s1(length, twist),
+            "genus2xs1" => Self::genus_two_x_s1(length),
+            "twisted-genus2xs1" => Self::twisted_genus_two_x_s1(length, twist),
+            "mirrored-prism" => Self::mirrored_prism(5, length),
+            _ => return None,
+        })
+    }
+
     /// S2 x S1 with a circle of length `height`: the whole sphere times an
     /// interval, its ends glued straight.
     #[must_use]

@@ -3,8 +3,8 @@
 //! distance. The WGSL twin is `product.wgsl`'s `pixel` (in the
 //! `bevy_manifold_gpu` crate), which reads the same [`ProductScene`].
 
-use super::{ProductBall, ProductRay, hits_among, images};
-use crate::geometry::product::{ProductPoint, ProductTangent};
+use super::{ProductBall, ProductRay, advance, exit_face, hits_among, images};
+use crate::geometry::product::{ProductGeometry, ProductPoint, ProductTangent};
 use crate::space::product::ProductSpace;
 use glam::DVec3;
 #[cfg(feature = "parallel")]
@@ -87,6 +87,106 @@ pub struct ProductView {
     pub max_crossings: usize,
     /// Fog density (per unit of distance); 0 for none.
     pub fog: f64,
+}
+
+impl ProductView {
+    /// The eye moved `distance` along its geodesic in the direction
+    /// `forward * d[0] + right * d[1] + up * d[2]` (made unit), through
+    /// the faces it meets (at most 64), its frame carried along by
+    /// parallel transport and through each face's gluing: what a camera
+    /// flying through the space does. The frame is made orthonormal again
+    /// after the move.
+    #[must_use]
+    pub fn moved(&self, space: &ProductSpace, d: [f64; 3], distance: f64) -> Self {
+        let g = space.geometry;
+        let [f, r, u] = self.frame;
+        let dir = ProductTangent::new(
+            f.surface * d[0] + r.surface * d[1] + u.surface * d[2],
+            f.height * d[0] + r.height * d[1] + u.height * d[2],
+        );
+        // Nothing to move along, or no (finite, positive) way to go.
+        let moving = dir.length(g) > 0.0 && distance > 0.0 && distance.is_finite();
+        if !moving {
+            return *self;
+        }
+        let mut ray = ProductRay {
+            origin: self.eye,
+            dir: dir.unit(g),
+        };
+        let mut frame = self.frame;
+        let mut left = distance;
+        let mut skip = None;
+        for _ in 0..64 {
+            let exit = exit_face(space, &ray, skip).filter(|(_, s)| *s < left);
+            let s = exit.map_or(left, |(_, s)| s);
+            frame = frame.map(|w| carried(g, &ray, w, s));
+            ray = advance(g, &ray, s);
+            left -= s;
+            let Some((face, _)) = exit else { break };
+            let m = space.gluings[face].isometry();
+            let origin = g.normalize_point(m.apply(ray.origin));
+            ray = ProductRay {
+                origin,
+                dir: g.normalize_tangent(origin, m.apply_tangent(ray.dir)),
+            };
+            frame = frame.map(|w| m.apply_tangent(w));
+            skip = Some(space.partner(face));
+        }
+        Self {
+            eye: ray.origin,
+            frame: orthonormal(g, ray.origin, frame),
+            ..*self
+        }
+    }
+
+    /// The frame turned by `yaw` (radians, towards the right) about its
+    /// up, then by `pitch` (towards its up) about its new right.
+    #[must_use]
+    pub fn turned(&self, g: ProductGeometry, yaw: f64, pitch: f64) -> Self {
+        let [f, r, u] = self.frame;
+        let mix = |a: ProductTangent, b: ProductTangent, c: f64, s: f64| {
+            ProductTangent::new(a.surface * c + b.surface * s, a.height * c + b.height * s)
+        };
+        let (cy, sy) = (yaw.cos(), yaw.sin());
+        let (f, r) = (mix(f, r, cy, sy), mix(r, f, cy, -sy));
+        let (cp, sp) = (pitch.cos(), pitch.sin());
+        let (f, u) = (mix(f, u, cp, sp), mix(u, f, cp, -sp));
+        Self {
+            frame: orthonormal(g, self.eye, [f, r, u]),
+            ..*self
+        }
+    }
+}
+
+/// `w`, a tangent at the ray's origin, carried `s` along the ray's
+/// geodesic by parallel transport: its surface part's component along
+/// the geodesic turns with it, the rest (normal to the geodesic's plane)
+/// and its height stay.
+fn carried(g: ProductGeometry, ray: &ProductRay, w: ProductTangent, s: f64) -> ProductTangent {
+    let speed = g.form(ray.dir.surface, ray.dir.surface).max(0.0).sqrt();
+    if speed == 0.0 {
+        return w;
+    }
+    let u = ray.dir.surface / speed;
+    let along = g.form(w.surface, u);
+    let (c, sn) = g.trig(speed * s);
+    let turned = u * c - ray.origin.surface * (g.curvature() * sn);
+    ProductTangent::new(w.surface - u * along + turned * along, w.height)
+}
+
+/// The frame made tangent at `p` and orthonormal (Gram-Schmidt in the
+/// product metric, in order).
+fn orthonormal(g: ProductGeometry, p: ProductPoint, frame: [ProductTangent; 3]) -> [ProductTangent; 3] {
+    let dot = |a: ProductTangent, b: ProductTangent| g.form(a.surface, b.surface) + a.height * b.height;
+    let mut out = frame.map(|w| g.normalize_tangent(p, w));
+    for i in 1..3 {
+        for j in 0..i {
+            let k = dot(out[i], out[j]);
+            out[i] = ProductTangent::new(out[i].surface - out[j].surface * k, out[i].height - out[j].height * k);
+        }
+        out[i] = out[i].unit(g);
+    }
+    out
 }
 
 /// What one pixel of a [`render`] sees.
