@@ -81,6 +81,7 @@ pub mod camera;
 pub mod drawables;
 pub mod placement;
 mod plugin;
+pub mod product;
 #[cfg(feature = "render")]
 pub mod render;
 pub mod tour;

@@ -27,6 +27,9 @@ use bevy::prelude::*;
 /// - [`crate::render::ManifoldRenderPlugin`] (feature `render`, the
 ///   default): every [`crate::camera::ManifoldCamera`] is ray-traced, where
 ///   the app has a renderer. Other cameras render exactly as before.
+/// - [`crate::product::ProductPlugin`], where every
+///   [`crate::product::ProductCamera`] (a view of an H2xR or S2xR space)
+///   flies with its velocity and, with `render`, is ray-traced.
 ///
 /// The fly camera is separate and optional:
 /// [`crate::camera::FlyCameraPlugin`] (feature `fly_camera`).
@@ -73,7 +76,8 @@ impl PluginGroup for ManifoldPlugins {
             .add(PlacementPlugin::in_schedule(self.schedule))
             .add(DrawablesPlugin::in_schedule(self.schedule))
             .add(TourPlugin::in_schedule(self.schedule))
-            .add(ManifoldCameraPlugin);
+            .add(ManifoldCameraPlugin)
+            .add(crate::product::ProductPlugin);
         #[cfg(feature = "asset")]
         let group = group.add(crate::assets::ManifoldAssetsPlugin);
         #[cfg(feature = "render")]

@@ -33,6 +33,10 @@ const FIGURES: &[(&str, &[&str], &str)] = &[
     ("instances", &[], "instances_torus"),
     // Animated glTF characters, each held at its phase of the sway.
     ("animated", &[], "animated_seifert_weber"),
+    // The product geometries: a genus-2 surface times a circle, and the
+    // sphere times a circle.
+    ("product", &[], "product_example_genus2xs1"),
+    ("product", &["--space", "s2xs1"], "product_example_s2xs1"),
 ];
 
 /// The example binaries cargo built next to this test's (`cargo test`

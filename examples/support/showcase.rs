@@ -68,7 +68,8 @@ pub struct ScreenshotMode {
 
 /// Screenshot mode for an app built by hand (a game's own plugins on
 /// `offscreen::plugins()`, finished and cleaned up): a `w x h` target
-/// that every manifold camera draws into, saved to `path` by [`run`].
+/// that every manifold camera (and product camera) draws into, saved to
+/// `path` by [`run`].
 /// Returns the target.
 pub fn screenshot_mode(app: &mut App, path: PathBuf, (w, h): (u32, u32)) -> Handle<Image> {
     let target = offscreen::target(app, w, h);
@@ -78,6 +79,13 @@ pub fn screenshot_mode(app: &mut App, path: PathBuf, (w, h): (u32, u32)) -> Hand
     });
     app.add_observer(
         |add: On<Add, ManifoldCamera>, mode: Res<ScreenshotMode>, mut commands: Commands| {
+            commands
+                .entity(add.entity)
+                .insert(RenderTarget::Image(mode.target.clone().into()));
+        },
+    );
+    app.add_observer(
+        |add: On<Add, bevy_manifold::product::ProductCamera>, mode: Res<ScreenshotMode>, mut commands: Commands| {
             commands
                 .entity(add.entity)
                 .insert(RenderTarget::Image(mode.target.clone().into()));

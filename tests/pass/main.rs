@@ -10,7 +10,8 @@
 //! `uploads.rs` (what it uploads and keeps), `sampling.rs` (render scale,
 //! accumulation, cones), `meshes.rs` (Bevy meshes), `animation.rs` (an
 //! animated glTF character), `hdr.rs` (HDR
-//! targets), `materials.rs` (Bevy's materials and lights); `support.rs` holds
+//! targets), `materials.rs` (Bevy's materials and lights), `product.rs` (a camera
+//! in an H2xR or S2xR space); `support.rs` holds
 //! what they share.
 
 mod agreement;
@@ -18,6 +19,7 @@ mod animation;
 mod hdr;
 mod materials;
 mod meshes;
+mod product;
 mod sampling;
 mod support;
 mod uploads;
@@ -27,12 +29,14 @@ use animation::*;
 use hdr::*;
 use materials::*;
 use meshes::*;
+use product::*;
 use sampling::*;
 use uploads::*;
 
 bevy_manifold_test_support::test_main! {
     cpu: [],
     gpu: [
+        a_product_camera_draws_what_the_cpu_reference_traces,
         a_cone_traced_view_is_the_cpu_cone_trace_and_nearer_supersampling,
         the_pass_draws_exact_cells_and_walls_far_from_the_origin_copy,
         the_pass_draws_what_the_tracer_computes_in_every_space,

@@ -24,8 +24,8 @@ struct ProductParams {
     max_distance: f32,
     tan_half_fov: f32,
     fog: f32,
-    pad_a: u32,
-    pad_b: u32,
+    origin_x: u32,
+    origin_y: u32,
 }
 
 // Rust twin: `GpuProductFace`.
@@ -395,6 +395,29 @@ fn camera_ray(i: u32, j: u32) -> ProductRay {
     let dir = unit(params.forward + params.right * x + params.up * y);
     return ProductRay(params.eye, dir);
 }
+
+// The render pass's entry: the pixel under the fragment, in the view's
+// viewport (from its origin), as linear colour, or sRGB-encoded where the
+// target stores encoded values (ENCODE_SRGB). Rust twin: `product_pass`.
+@fragment
+fn product_fragment(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
+    let i = u32(max(position.x - f32(params.origin_x), 0.0));
+    let j = u32(max(position.y - f32(params.origin_y), 0.0));
+    var rgb = pixel(camera_ray(i, j)).color.rgb;
+#ifdef ENCODE_SRGB
+    rgb = encode_srgb(rgb);
+#endif
+    return vec4<f32>(rgb, 1.0);
+}
+
+#ifdef ENCODE_SRGB
+// The sRGB encoding, as output.wgsl's (this module imports nothing).
+// Rust twin: `srgb8` (before its rounding to a byte).
+fn encode_srgb(c: vec3<f32>) -> vec3<f32> {
+    let x = clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));
+    return select(1.055 * pow(x, vec3<f32>(1.0 / 2.4)) - 0.055, 12.92 * x, x <= vec3<f32>(0.0031308));
+}
+#endif
 
 @compute @workgroup_size(8, 8, 1)
 fn product_trace(@builtin(global_invocation_id) id: vec3<u32>) {

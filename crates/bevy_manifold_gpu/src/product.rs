@@ -59,10 +59,10 @@ pub struct GpuProductParams {
     pub tan_half_fov: f32,
     /// Fog density.
     pub fog: f32,
-    /// Padding.
-    pub pad_a: u32,
-    /// Padding.
-    pub pad_b: u32,
+    /// The render pass: the viewport's left pixel column in the target.
+    pub origin_x: u32,
+    /// The render pass: the viewport's top pixel row in the target.
+    pub origin_y: u32,
 }
 
 /// WGSL twin: `ProductFace` in `shaders/product.wgsl`. One face of the
@@ -210,8 +210,8 @@ impl GpuProductScene {
                 max_distance: view.max_distance as f32,
                 tan_half_fov: (view.fov_y_degrees.to_radians() / 2.0).tan() as f32,
                 fog: view.fog as f32,
-                pad_a: 0,
-                pad_b: 0,
+                origin_x: 0,
+                origin_y: 0,
             },
             faces,
             balls,

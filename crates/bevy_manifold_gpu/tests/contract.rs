@@ -84,7 +84,7 @@ fn product_layouts() -> Vec<RustLayout> {
     vec![
         rust_layout!(GpuProductParams => "ProductParams" {
             eye, forward, right, up, fog_color, width, height, max_crossings, side_count, ball_count,
-            curvature, half_height, max_distance, tan_half_fov, fog, pad_a, pad_b,
+            curvature, half_height, max_distance, tan_half_fov, fog, origin_x, origin_y,
         }),
         rust_layout!(GpuProductFace => "ProductFace" { normal, surface, flip, shift, partner, pad }),
         rust_layout!(GpuProductBall => "ProductBall" { center, color, radius, id, reach_trig, pad }),

@@ -44,8 +44,15 @@ fn the_product_tracer_composes_and_validates() {
     let words = spirv(&module, &info).expect("SPIR-V");
     assert_eq!(words.first(), Some(&0x0723_0203), "the SPIR-V magic number");
     let entries: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
-    assert_eq!(entries, ["product_trace"]);
-    assert_eq!(module.entry_points[0].workgroup_size, [8, 8, 1]);
+    assert_eq!(entries, ["product_fragment", "product_trace"]);
+    assert_eq!(module.entry_points[1].workgroup_size, [8, 8, 1]);
+    // With the sRGB encoding the render pass asks for, too.
+    let encoding =
+        GpuTracer::compose_modules(&[], bevy_manifold_gpu::PRODUCT_WGSL, &["ENCODE_SRGB"], &[]).expect("composes");
+    let info = validated(&encoding).expect("validates");
+    spirv(&encoding, &info).expect("SPIR-V");
+    assert!(functions(&encoding).iter().any(|f| f == "encode_srgb"));
+    assert!(!functions(&module).iter().any(|f| f == "encode_srgb"));
 }
 
 #[test]

@@ -1,0 +1,294 @@
+//! The product cameras' pass in Bevy's renderer: each frame a
+//! [`ProductCamera`]'s scene is extracted and packed
+//! ([`bevy_manifold_gpu::product::GpuProductScene`]), its buffers and
+//! bind group made (a few hundred bytes: the faces and the balls), and a
+//! `Core3d` system, before Bevy's opaque pass as the main tracer's, draws
+//! the product tracer's `product_fragment` entry over the viewport.
+//! Ordinary meshes drawn by Bevy afterwards land over the trace.
+
+use super::ProductCamera;
+use bevy::camera::CompositingSpace;
+use bevy::core_pipeline::core_3d::main_opaque_pass_3d;
+use bevy::core_pipeline::{Core3d, Core3dSystems, FullscreenShader};
+use bevy::prelude::*;
+use bevy::render::camera::ExtractedCamera;
+use bevy::render::render_resource::{
+    BindGroup, BindGroupEntry, BindGroupLayoutDescriptor, BindGroupLayoutEntry, BindingType, BufferBindingType,
+    BufferInitDescriptor, BufferUsages, CachedRenderPipelineId, ColorTargetState, ColorWrites, FragmentState,
+    MultisampleState, PipelineCache, RenderPassDescriptor, RenderPipelineDescriptor, ShaderStages,
+    SpecializedRenderPipeline, SpecializedRenderPipelines, TextureFormat,
+};
+use bevy::render::renderer::{RenderContext, RenderDevice, ViewQuery};
+use bevy::render::view::{ExtractedView, Msaa, ViewTarget};
+use bevy::render::{
+    Extract, ExtractSchedule, Render, RenderApp, RenderStartup, RenderSystems, sync_world::RenderEntity,
+};
+use bevy::shader::{Shader, ShaderDefVal};
+use bevy_manifold_gpu::PRODUCT_WGSL;
+use bevy_manifold_gpu::product::GpuProductScene;
+
+/// The product cameras' pass: extract, prepare and draw. Added by
+/// [`super::ProductPlugin`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ProductRenderPlugin;
+
+impl Plugin for ProductRenderPlugin {
+    fn build(&self, app: &mut App) {
+        let Some(render_app) = app.get_sub_app_mut(RenderApp) else {
+            return;
+        };
+        render_app
+            .init_resource::<SpecializedRenderPipelines<ProductPipeline>>()
+            .add_systems(RenderStartup, init_product_pipeline)
+            .add_systems(ExtractSchedule, extract_product_views)
+            .add_systems(
+                Render,
+                prepare_product_views
+                    .in_set(RenderSystems::PrepareBindGroups)
+                    .run_if(resource_exists::<ProductPipeline>),
+            )
+            .add_systems(
+                Core3d,
+                product_pass.in_set(Core3dSystems::MainPass).before(main_opaque_pass_3d),
+            );
+    }
+
+    fn finish(&self, app: &mut App) {
+        let Some(mut shaders) = app.world_mut().get_resource_mut::<Assets<Shader>>() else {
+            return;
+        };
+        let shader = shaders.add(Shader::from_wgsl(PRODUCT_WGSL.source, PRODUCT_WGSL.path));
+        if let Some(render_app) = app.get_sub_app_mut(RenderApp) {
+            render_app.insert_resource(ProductShader(shader));
+        }
+    }
+}
+
+/// The embedded `product.wgsl`, as a shader asset (render world).
+#[derive(Resource, Clone)]
+pub struct ProductShader(pub Handle<Shader>);
+
+/// A product camera's scene in the render world, packed.
+#[derive(Component, Clone, Debug)]
+pub struct ExtractedProductView {
+    /// The scene as the GPU reads it (its size set by prepare).
+    pub packed: GpuProductScene,
+}
+
+/// What the pass needs to draw a product view this frame.
+#[derive(Component, Clone)]
+pub struct ProductViewBinding {
+    /// The specialised pipeline.
+    pub pipeline: CachedRenderPipelineId,
+    /// Group 0: the params, the faces, the balls.
+    pub bind_group: BindGroup,
+}
+
+/// Copies each active product camera's scene, packed, to its render
+/// entity; takes it off cameras that no longer have one.
+pub fn extract_product_views(
+    mut commands: Commands,
+    cameras: Extract<Query<(RenderEntity, &Camera, Option<&ProductCamera>)>>,
+) {
+    for (entity, camera, product) in &cameras {
+        match product.filter(|_| camera.is_active) {
+            Some(p) => {
+                let packed = GpuProductScene::pack(&p.space, &p.scene(), 1, 1);
+                commands.entity(entity).insert(ExtractedProductView { packed });
+            }
+            None => {
+                commands
+                    .entity(entity)
+                    .remove::<(ExtractedProductView, ProductViewBinding)>();
+            }
+        }
+    }
+}
+
+/// What the product pipeline is specialised on: the view target.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ProductPipelineKey {
+    /// The view target's format.
+    pub format: TextureFormat,
+    /// Its sample count.
+    pub samples: u32,
+    /// The shader encodes sRGB itself (`ENCODE_SRGB`).
+    pub encode_srgb: bool,
+}
+
+/// The product pipeline's layout and shader (render world).
+#[derive(Resource, Clone)]
+pub struct ProductPipeline {
+    /// Group 0: params (uniform), faces and balls (storage).
+    pub layout: BindGroupLayoutDescriptor,
+    shader: Handle<Shader>,
+    fullscreen: FullscreenShader,
+}
+
+fn init_product_pipeline(
+    mut commands: Commands,
+    shader: Option<Res<ProductShader>>,
+    fullscreen: Res<FullscreenShader>,
+) {
+    let Some(shader) = shader else {
+        error!("bevy_manifold: the product tracer shader was not registered; product cameras will not render");
+        return;
+    };
+    let entry = |binding, ty| BindGroupLayoutEntry {
+        binding,
+        visibility: ShaderStages::FRAGMENT,
+        ty: BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    let read = BufferBindingType::Storage { read_only: true };
+    let layout = BindGroupLayoutDescriptor::new(
+        "manifold_product",
+        &[entry(0, BufferBindingType::Uniform), entry(1, read), entry(2, read)],
+    );
+    commands.insert_resource(ProductPipeline {
+        layout,
+        shader: shader.0.clone(),
+        fullscreen: fullscreen.clone(),
+    });
+}
+
+impl SpecializedRenderPipeline for ProductPipeline {
+    type Key = ProductPipelineKey;
+
+    fn specialize(&self, key: Self::Key) -> RenderPipelineDescriptor {
+        let shader_defs: Vec<ShaderDefVal> = if key.encode_srgb {
+            vec!["ENCODE_SRGB".into()]
+        } else {
+            Vec::new()
+        };
+        RenderPipelineDescriptor {
+            label: Some("manifold_product".into()),
+            layout: vec![self.layout.clone()],
+            vertex: self.fullscreen.to_vertex_state(),
+            fragment: Some(FragmentState {
+                shader: self.shader.clone(),
+                shader_defs,
+                entry_point: Some("product_fragment".into()),
+                targets: vec![Some(ColorTargetState {
+                    format: key.format,
+                    blend: None,
+                    write_mask: ColorWrites::ALL,
+                })],
+            }),
+            multisample: MultisampleState {
+                count: key.samples,
+                ..default()
+            },
+            ..default()
+        }
+    }
+}
+
+/// Each product view's params (its viewport's size and place), buffers,
+/// bind group and pipeline.
+pub fn prepare_product_views(
+    mut commands: Commands,
+    views: Query<(
+        Entity,
+        &ExtractedProductView,
+        &ExtractedView,
+        &ExtractedCamera,
+        Option<&Msaa>,
+    )>,
+    pipeline: Res<ProductPipeline>,
+    mut pipelines: ResMut<SpecializedRenderPipelines<ProductPipeline>>,
+    pipeline_cache: Res<PipelineCache>,
+    device: Res<RenderDevice>,
+) {
+    for (entity, view, extracted, camera, msaa) in &views {
+        let mut params = view.packed.params;
+        params.width = extracted.viewport.z.max(1);
+        params.height = extracted.viewport.w.max(1);
+        params.origin_x = extracted.viewport.x;
+        params.origin_y = extracted.viewport.y;
+        let buffer = |label: &'static str, contents: &[u8], usage: BufferUsages| {
+            // An empty array still binds a buffer.
+            let padded = [0u8; 256];
+            device.create_buffer_with_data(&BufferInitDescriptor {
+                label: Some(label),
+                contents: if contents.is_empty() { &padded } else { contents },
+                usage,
+            })
+        };
+        let params_buffer = buffer(
+            "manifold_product_params",
+            bytemuck::bytes_of(&params),
+            BufferUsages::UNIFORM,
+        );
+        let faces = buffer(
+            "manifold_product_faces",
+            bytemuck::cast_slice(&view.packed.faces),
+            BufferUsages::STORAGE,
+        );
+        let balls = buffer(
+            "manifold_product_balls",
+            bytemuck::cast_slice(&view.packed.balls),
+            BufferUsages::STORAGE,
+        );
+        let bind_group = device.create_bind_group(
+            "manifold_product",
+            &pipeline_cache.get_bind_group_layout(&pipeline.layout),
+            &[
+                BindGroupEntry {
+                    binding: 0,
+                    resource: params_buffer.as_entire_binding(),
+                },
+                BindGroupEntry {
+                    binding: 1,
+                    resource: faces.as_entire_binding(),
+                },
+                BindGroupEntry {
+                    binding: 2,
+                    resource: balls.as_entire_binding(),
+                },
+            ],
+        );
+        let key = ProductPipelineKey {
+            format: extracted.target_format,
+            samples: msaa.map_or(1, Msaa::samples),
+            encode_srgb: camera.compositing_space == Some(CompositingSpace::Srgb),
+        };
+        let id = pipelines.specialize(&pipeline_cache, &pipeline, key);
+        commands.entity(entity).insert(ProductViewBinding {
+            pipeline: id,
+            bind_group,
+        });
+    }
+}
+
+/// Draws one product view over its viewport.
+pub fn product_pass(
+    view: ViewQuery<(&ExtractedCamera, &ViewTarget, &ProductViewBinding)>,
+    pipeline_cache: Res<PipelineCache>,
+    mut ctx: RenderContext,
+) {
+    let (camera, target, binding) = view.into_inner();
+    // Still compiling: the view shows its clear colour this frame.
+    let Some(pipeline) = pipeline_cache.get_render_pipeline(binding.pipeline) else {
+        return;
+    };
+    let color = [Some(target.get_color_attachment())];
+    let mut pass = ctx.begin_tracked_render_pass(RenderPassDescriptor {
+        label: Some("manifold_product"),
+        color_attachments: &color,
+        depth_stencil_attachment: None,
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    if let Some(viewport) = camera.viewport.as_ref() {
+        pass.set_camera_viewport(viewport);
+    }
+    pass.set_render_pipeline(pipeline);
+    pass.set_bind_group(0, &binding.bind_group, &[]);
+    pass.draw(0..3, 0..1);
+}

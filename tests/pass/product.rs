@@ -1,0 +1,96 @@
+//! A [`ProductCamera`] in a Bevy app: the pass draws what the CPU f64
+//! reference traces for the camera's scene, in H2xR and S2xR; a camera
+//! that moves draws its new view.
+
+use super::support::*;
+use bevy::prelude::*;
+use bevy_manifold::product::ProductCamera;
+use bevy_manifold::space::product::ProductSpace;
+use bevy_manifold::trace::product::render;
+
+/// A product camera on a `Camera3d` that renders into `image`.
+fn spawn_product_camera(app: &mut App, image: &Handle<Image>, camera: ProductCamera) -> Entity {
+    app.world_mut()
+        .spawn((
+            Camera3d::default(),
+            bevy::camera::RenderTarget::Image(image.clone().into()),
+            camera,
+        ))
+        .id()
+}
+
+/// What the pass draws for a product camera is the CPU reference's view
+/// (sRGB bytes within 3 of it in 99% of the pixels: the rest are
+/// silhouettes, where f32 and f64 sphere tracing part, and far hits in
+/// H2xR); after the camera moves, the new view, as the headless GPU
+/// tracer draws it.
+pub fn a_product_camera_draws_what_the_cpu_reference_traces() {
+    for space in [ProductSpace::genus_two_x_s1(2.0), ProductSpace::s2_x_s1(2.0)] {
+        let mut app = headless_app(true);
+        let image = target(&mut app, W, H);
+        let camera = ProductCamera::default_for(space.clone());
+        let entity = spawn_product_camera(&mut app, &image, camera.clone());
+        wait_for_pipelines(&mut app);
+        let shown = capture(&mut app, &image);
+        let cpu: Vec<[f32; 3]> = render(&space, &camera.balls, &camera.view, W, H)
+            .iter()
+            .map(|p| p.color)
+            .collect();
+        let agree = close_to(&shown, &cpu, 3);
+        eprintln!(
+            "{}: {:.3}% of pixels within 3/255 of the CPU reference",
+            space.name,
+            100.0 * agree
+        );
+        assert!(agree >= 0.99, "{}: {agree}", space.name);
+        // Balls and fog: the picture is not one colour.
+        let mut colours: Vec<&[u8]> = shown.chunks_exact(4).collect();
+        colours.sort_unstable();
+        colours.dedup();
+        assert!(colours.len() > 20, "{}: {} colours", space.name, colours.len());
+        // Moved forward 1.5 and turned: the pass follows the camera, and
+        // draws what the headless GPU tracer draws (the same shader and
+        // f32 arithmetic: the pass's plumbing, exactly) and, but for the
+        // f32 rays that part from the f64 ones (in H2xR far hits), what
+        // the CPU traces.
+        let moved = camera
+            .view
+            .moved(&space, [1.0, 0.0, 0.2], 1.5)
+            .turned(space.geometry, 0.4, 0.1);
+        app.world_mut()
+            .get_mut::<ProductCamera>(entity)
+            .expect("the camera")
+            .view = moved;
+        let shown_moved = capture(&mut app, &image);
+        let mut moved_scene = camera.scene();
+        moved_scene.view = moved;
+        let headless: Vec<[f32; 3]> = bevy_manifold_gpu::GpuTracer::new()
+            .expect("a GPU")
+            .render_product(&space, &moved_scene, W, H)
+            .expect("the headless trace")
+            .iter()
+            .map(|p| p.color)
+            .collect();
+        let cpu_moved: Vec<[f32; 3]> = render(&space, &camera.balls, &moved, W, H)
+            .iter()
+            .map(|p| p.color)
+            .collect();
+        let (same, near) = (
+            close_to(&shown_moved, &headless, 1),
+            close_to(&shown_moved, &cpu_moved, 3),
+        );
+        eprintln!(
+            "{} moved: {:.3}% within 1/255 of the headless trace, {:.3}% within 3/255 of the CPU reference",
+            space.name,
+            100.0 * same,
+            100.0 * near
+        );
+        assert!(same >= 0.999, "{} moved: {same}", space.name);
+        assert!(near >= 0.98, "{} moved: {near}", space.name);
+        assert!(
+            close_to(&shown_moved, &cpu, 3) < 0.9,
+            "{}: the view did not change",
+            space.name
+        );
+    }
+}
