@@ -730,3 +730,80 @@ fn a_scene_spawned_as_entities_gathers_back_to_itself() {
         assert_eq!(got.lighting, scene.lighting, "{g}");
     }
 }
+
+/// Balls in a product space as entities: a [`ProductBody`] with a
+/// [`ProductVelocity`] under a [`ProductSpaceRoot`] moves along its
+/// geodesic through the faces (where the core's `flow` takes it, the
+/// centre always in the prism), and the root's [`ProductCamera`] shows
+/// it where it is each frame, with the root's space.
+///
+/// [`ProductBody`]: bevy_manifold::product::ProductBody
+/// [`ProductVelocity`]: bevy_manifold::product::ProductVelocity
+/// [`ProductSpaceRoot`]: bevy_manifold::product::ProductSpaceRoot
+/// [`ProductCamera`]: bevy_manifold::product::ProductCamera
+#[test]
+fn product_bodies_move_through_the_faces_and_the_camera_shows_them() {
+    use bevy_manifold::geometry::product::{ProductPoint, ProductTangent};
+    use bevy_manifold::product::{ProductBody, ProductCamera, ProductSpaceRoot, ProductVelocity};
+    use bevy_manifold::space::product::ProductSpace;
+    use bevy_manifold::trace::product::{ProductRay, flow};
+    use std::sync::Arc;
+    let space = ProductSpace::genus_two_x_s1(2.0);
+    let g = space.geometry;
+    let mut app = app(Duration::from_millis(100));
+    let root = app.world_mut().spawn(ProductSpaceRoot(Arc::new(space.clone()))).id();
+    let start = ProductPoint::ORIGIN;
+    let v = ProductTangent::new(DVec3::new(1.2, 0.5, 0.0), 0.7);
+    let body = app
+        .world_mut()
+        .spawn((
+            ChildOf(root),
+            ProductBody {
+                center: start,
+                radius: 0.2,
+                id: 7,
+            },
+            ProductVelocity(v),
+        ))
+        .id();
+    // A camera with a scene of its own, which the root's replaces.
+    let camera = app
+        .world_mut()
+        .spawn((ChildOf(root), ProductCamera::default_for(ProductSpace::s2_x_s1(1.0))))
+        .id();
+    let mut travelled = 0.0;
+    for _ in 0..60 {
+        app.update();
+        let dt = f64::from(app.world().resource::<Time>().delta_secs());
+        travelled += dt * v.length(g);
+        let at = app.world().get::<ProductBody>(body).expect("the body").center;
+        assert!(space.contains(at, 1e-9), "{at:?} left the prism");
+    }
+    assert!(travelled > 5.0, "{travelled}");
+    // Where the core's flow takes the centre over the same distance.
+    let expected = flow(
+        &space,
+        ProductRay {
+            origin: start,
+            dir: v.unit(g),
+        },
+        travelled,
+        1000,
+    );
+    eprintln!("travelled {travelled:.3} through {} faces", expected.faces.len());
+    assert!(expected.faces.len() >= 2, "{} faces", expected.faces.len());
+    let at = app.world().get::<ProductBody>(body).expect("the body").center;
+    assert!(
+        g.distance(at, expected.ray.origin) < 1e-9,
+        "{at:?} vs {:?}",
+        expected.ray.origin
+    );
+    let speed = app.world().get::<ProductVelocity>(body).expect("velocity").0.length(g);
+    assert!((speed - v.length(g)).abs() < 1e-9);
+    // The camera shows the body where it is, in the root's space.
+    let shown = app.world().get::<ProductCamera>(camera).expect("the camera");
+    assert_eq!(shown.space.name, "genus 2 x S1");
+    assert_eq!(shown.balls.len(), 1);
+    assert_eq!(shown.balls[0].id, 7);
+    assert!(g.distance(shown.balls[0].center, at) < 1e-12);
+}

@@ -2,14 +2,16 @@
 //! on a `Camera3d` looks into a product space, traced every frame by the
 //! product tracer (`bevy_manifold_gpu`'s `shaders/product.wgsl`, its
 //! `product_fragment` entry) over the camera's viewport; with a
-//! [`crate::camera::FlyCamera`] it flies through the space along
+//! `FlyCamera` (feature `fly_camera`) it flies through the space along
 //! geodesics, wrapping through the faces.
 //!
 //! These spaces have their own types
 //! ([`ProductSpace`](bevy_manifold_core::space::product::ProductSpace),
 //! balls of the product metric), apart from the `ManifoldSpace` of E3, H3
-//! and S3: their entities, placements, meshes and lights are not traced
-//! yet, only the camera's scene of balls.
+//! and S3. Their entities are balls: a [`ProductSpaceRoot`] holds a space,
+//! and the [`ProductBody`]s among its children (moved by a
+//! [`ProductVelocity`] through the faces) are what the [`ProductCamera`]s
+//! among its children show. Meshes and lights are not traced there yet.
 //!
 //! ```no_run
 //! use bevy::prelude::*;
@@ -35,8 +37,9 @@ pub mod render;
 
 use crate::placement::{GeodesicVelocity, ManifoldSystems};
 use bevy::prelude::*;
+use bevy_manifold_core::geometry::product::{ProductPoint, ProductTangent};
 use bevy_manifold_core::space::product::ProductSpace;
-use bevy_manifold_core::trace::product::{ProductBall, ProductScene, ProductView};
+use bevy_manifold_core::trace::product::{ProductBall, ProductRay, ProductScene, ProductView, flow};
 use std::sync::Arc;
 
 /// A camera looking into a product space: the space, the balls in it and
@@ -76,12 +79,107 @@ impl ProductCamera {
     }
 }
 
+/// The root of a product space: the [`ProductBody`]s among its children
+/// are what the [`ProductCamera`]s among its children show (each frame,
+/// by [`gather_product_bodies`]).
+///
+/// It has a `Transform` (and with `render` a `Visibility`): the identity,
+/// visible, for the cameras among its children, as Bevy's hierarchy
+/// wants.
+#[derive(Component, Clone, Debug)]
+#[cfg_attr(feature = "render", require(Transform, Visibility))]
+#[cfg_attr(not(feature = "render"), require(Transform))]
+pub struct ProductSpaceRoot(pub Arc<ProductSpace>);
+
+/// A ball in a product space, a child of a [`ProductSpaceRoot`]: a
+/// geodesic ball of the product metric about `center`, which stays in
+/// the space's prism (a moving body is carried through the faces).
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct ProductBody {
+    /// Its centre, in the prism.
+    pub center: ProductPoint,
+    /// Its radius.
+    pub radius: f64,
+    /// The object id the tracer reports (and its colour).
+    pub id: u32,
+}
+
+/// A [`ProductBody`]'s velocity: a tangent vector at its centre, in
+/// distance per second. [`move_product_bodies`] moves the body along its
+/// geodesic, through the faces, and turns the velocity as the geodesic
+/// and the gluings turn it.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct ProductVelocity(pub ProductTangent);
+
+/// Moves every [`ProductBody`] with a [`ProductVelocity`] along its
+/// geodesic for the frame's time, through the faces of its root's space
+/// ([`flow`]).
+pub fn move_product_bodies(
+    time: Res<Time>,
+    roots: Query<&ProductSpaceRoot>,
+    mut bodies: Query<(&mut ProductBody, &mut ProductVelocity, &ChildOf)>,
+) {
+    let dt = f64::from(time.delta_secs());
+    for (mut body, mut velocity, parent) in &mut bodies {
+        let Ok(root) = roots.get(parent.parent()) else {
+            continue;
+        };
+        let g = root.0.geometry;
+        // Its part tangent at the centre (all of it, for a velocity made
+        // as the docs say).
+        let (v, c) = (velocity.0, body.center.surface);
+        let v = ProductTangent::new(v.surface - c * (g.form(v.surface, c) * g.curvature()), v.height);
+        let speed = v.length(g);
+        let moving = speed * dt > 0.0 && speed.is_finite();
+        if !moving {
+            continue;
+        }
+        let ray = ProductRay {
+            origin: body.center,
+            dir: v.unit(g),
+        };
+        let end = flow(&root.0, ray, speed * dt, 64).ray;
+        body.center = end.origin;
+        velocity.0 = ProductTangent::new(end.dir.surface * speed, end.dir.height * speed);
+    }
+}
+
+/// Each [`ProductCamera`] that is a child of a [`ProductSpaceRoot`] shows
+/// that root's space and the [`ProductBody`]s among its children (its
+/// own `balls` are replaced); other cameras keep theirs.
+pub fn gather_product_bodies(
+    roots: Query<(&ProductSpaceRoot, &Children)>,
+    bodies: Query<&ProductBody>,
+    mut cameras: Query<(&mut ProductCamera, &ChildOf)>,
+) {
+    for (mut camera, parent) in &mut cameras {
+        let Ok((root, children)) = roots.get(parent.parent()) else {
+            continue;
+        };
+        let balls: Vec<ProductBall> = children
+            .iter()
+            .filter_map(|c| bodies.get(c).ok())
+            .map(|b| ProductBall {
+                center: b.center,
+                radius: b.radius,
+                id: b.id,
+            })
+            .collect();
+        if !Arc::ptr_eq(&camera.space, &root.0) {
+            camera.space = root.0.clone();
+        }
+        if camera.balls != balls {
+            camera.balls = balls;
+        }
+    }
+}
+
 /// Flies every [`ProductCamera`] that has a [`GeodesicVelocity`] (a
-/// [`crate::camera::FlyCamera`] sets it from the keys and the mouse):
+/// `FlyCamera` (feature `fly_camera`) sets it from the keys and the mouse):
 /// the eye moves along its geodesic through the faces
-/// ([`ProductView::moved`]) and the frame turns ([`ProductView::turned`];
-/// roll is not applied). The velocity is in the camera's frame, `-z`
-/// forward, as for the other cameras.
+/// ([`ProductView::moved`]) and the frame turns and rolls
+/// ([`ProductView::turned`], [`ProductView::rolled`]). The velocity is in
+/// the camera's frame, `-z` forward, as for the other cameras.
 pub fn fly_product_cameras(time: Res<Time>, mut cameras: Query<(&mut ProductCamera, &GeodesicVelocity)>) {
     let dt = f64::from(time.delta_secs());
     for (mut camera, velocity) in &mut cameras {
@@ -90,7 +188,10 @@ pub fn fly_product_cameras(time: Res<Time>, mut cameras: Query<(&mut ProductCame
         }
         let g = camera.space.geometry;
         let v = velocity.linear;
-        let mut view = camera.view.turned(g, -velocity.angular.y * dt, velocity.angular.x * dt);
+        let mut view = camera
+            .view
+            .turned(g, -velocity.angular.y * dt, velocity.angular.x * dt)
+            .rolled(g, velocity.angular.z * dt);
         let speed = v.length();
         if speed > 0.0 {
             view = view.moved(&camera.space, [-v.z / speed, v.x / speed, v.y / speed], speed * dt);
@@ -99,8 +200,9 @@ pub fn fly_product_cameras(time: Res<Time>, mut cameras: Query<(&mut ProductCame
     }
 }
 
-/// The product cameras: [`fly_product_cameras`], and with feature
-/// `render` their pass ([`render::ProductRenderPlugin`]). Part of
+/// The product spaces' systems: [`fly_product_cameras`],
+/// [`move_product_bodies`] and [`gather_product_bodies`], and with feature
+/// `render` the cameras' pass ([`render::ProductRenderPlugin`]). Part of
 /// [`crate::ManifoldPlugins`].
 #[derive(Debug, Clone, Copy, Default)]
 pub struct ProductPlugin;
@@ -109,7 +211,12 @@ impl Plugin for ProductPlugin {
     fn build(&self, app: &mut App) {
         // In the integration set: after the fly camera's input, which sets
         // the velocity before it.
-        app.add_systems(PostUpdate, fly_product_cameras.in_set(ManifoldSystems::Integrate));
+        app.add_systems(
+            PostUpdate,
+            (fly_product_cameras, move_product_bodies, gather_product_bodies)
+                .chain()
+                .in_set(ManifoldSystems::Integrate),
+        );
         #[cfg(feature = "render")]
         app.add_plugins(render::ProductRenderPlugin);
     }

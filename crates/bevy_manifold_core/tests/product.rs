@@ -571,8 +571,8 @@ fn a_ball_at_a_vertex_is_seen_in_every_copy_round_it() {
 /// length, or round a great circle of the sphere (2 pi), it comes back to
 /// where it was, looking the same way (parallel transport round a closed
 /// geodesic of a product is the identity here); in genus 2 x S1, moving
-/// and moving back through the faces comes back too; turning keeps the
-/// frame orthonormal, and a whole turn is no turn.
+/// and moving back through the faces comes back too; turning and rolling
+/// keep the frame orthonormal, and a whole turn or roll is none.
 #[test]
 fn a_flying_view_comes_back_round_closed_geodesics() {
     use bevy_manifold_core::trace::product::{ProductScene, ProductView};
@@ -631,4 +631,20 @@ fn a_flying_view_comes_back_round_closed_geodesics() {
         1e-12,
     );
     orthonormal(h, &view.turned(h, 0.7, 0.3));
+    // Rolling: a whole roll, a roll and back; where it looks stays.
+    same(h, &view.rolled(h, std::f64::consts::TAU), &view, 1e-12);
+    same(h, &view.rolled(h, 0.9).rolled(h, -0.9), &view, 1e-12);
+    let rolled = view.rolled(h, std::f64::consts::FRAC_PI_2);
+    orthonormal(h, &rolled);
+    let d = ProductTangent::new(
+        rolled.frame[0].surface - view.frame[0].surface,
+        rolled.frame[0].height - view.frame[0].height,
+    );
+    assert!(d.length(h) < 1e-12);
+    // A quarter roll turns the right into the up.
+    let d = ProductTangent::new(
+        rolled.frame[1].surface - view.frame[2].surface,
+        rolled.frame[1].height - view.frame[2].height,
+    );
+    assert!(d.length(h) < 1e-12);
 }

@@ -158,6 +158,22 @@ impl ProductView {
     }
 }
 
+impl ProductView {
+    /// The frame rolled by `angle` (radians, its right towards its up)
+    /// about where it looks.
+    #[must_use]
+    pub fn rolled(&self, g: ProductGeometry, angle: f64) -> Self {
+        let [f, r, u] = self.frame;
+        let (c, s) = (angle.cos(), angle.sin());
+        let r2 = ProductTangent::new(r.surface * c + u.surface * s, r.height * c + u.height * s);
+        let u2 = ProductTangent::new(u.surface * c - r.surface * s, u.height * c - r.height * s);
+        Self {
+            frame: orthonormal(g, self.eye, [f, r2, u2]),
+            ..*self
+        }
+    }
+}
+
 /// `w`, a tangent at the ray's origin, carried `s` along the ray's
 /// geodesic by parallel transport: its surface part's component along
 /// the geodesic turns with it, the rest (normal to the geodesic's plane)
