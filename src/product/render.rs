@@ -1,7 +1,8 @@
 //! The product cameras' pass in Bevy's renderer: each frame a
 //! [`ProductCamera`]'s scene is extracted and packed
-//! ([`bevy_manifold_gpu::product::GpuProductScene`]), its buffers and
-//! bind group made (a few hundred bytes: the faces and the balls), and a
+//! ([`bevy_manifold_gpu::product::GpuProductScene`]), its buffers written
+//! where what they hold changed ([`ProductBuffers`]: the params when the
+//! view moves, the faces and balls when they change), and a
 //! `Core3d` system, before Bevy's opaque pass as the main tracer's, draws
 //! the product tracer's `product_fragment` entry over the viewport.
 //! Ordinary meshes drawn by Bevy afterwards land over the trace.
@@ -10,15 +11,16 @@ use super::ProductCamera;
 use bevy::camera::CompositingSpace;
 use bevy::core_pipeline::core_3d::main_opaque_pass_3d;
 use bevy::core_pipeline::{Core3d, Core3dSystems, FullscreenShader};
+use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
 use bevy::render::camera::ExtractedCamera;
 use bevy::render::render_resource::{
-    BindGroup, BindGroupEntry, BindGroupLayoutDescriptor, BindGroupLayoutEntry, BindingType, BufferBindingType,
+    BindGroup, BindGroupEntry, BindGroupLayoutDescriptor, BindGroupLayoutEntry, BindingType, Buffer, BufferBindingType,
     BufferInitDescriptor, BufferUsages, CachedRenderPipelineId, ColorTargetState, ColorWrites, FragmentState,
     MultisampleState, PipelineCache, RenderPassDescriptor, RenderPipelineDescriptor, ShaderStages,
     SpecializedRenderPipeline, SpecializedRenderPipelines, TextureFormat,
 };
-use bevy::render::renderer::{RenderContext, RenderDevice, ViewQuery};
+use bevy::render::renderer::{RenderContext, RenderDevice, RenderQueue, ViewQuery};
 use bevy::render::view::{ExtractedView, Msaa, ViewTarget};
 use bevy::render::{
     Extract, ExtractSchedule, Render, RenderApp, RenderStartup, RenderSystems, sync_world::RenderEntity,
@@ -39,6 +41,7 @@ impl Plugin for ProductRenderPlugin {
         };
         render_app
             .init_resource::<SpecializedRenderPipelines<ProductPipeline>>()
+            .init_resource::<ProductBuffers>()
             .add_systems(RenderStartup, init_product_pipeline)
             .add_systems(ExtractSchedule, extract_product_views)
             .add_systems(
@@ -188,8 +191,43 @@ impl SpecializedRenderPipeline for ProductPipeline {
     }
 }
 
+/// A product view's buffers and bind group, kept between frames: the
+/// params written again when the view moves, the faces and balls when
+/// they change, everything made again when their counts change.
+struct ProductViewBuffers {
+    scene: GpuProductScene,
+    params: Buffer,
+    faces: Buffer,
+    balls: Buffer,
+    bind_group: BindGroup,
+}
+
+/// The product views' buffers, by render entity, and what was uploaded.
+#[derive(Resource, Default)]
+pub struct ProductBuffers {
+    views: HashMap<Entity, ProductViewBuffers>,
+    /// What has been uploaded so far.
+    pub uploads: ProductUploads,
+}
+
+/// What the product views have uploaded since the app started: how many
+/// writes of each kind and their bytes (for the tests, and to see that a
+/// still view uploads nothing).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ProductUploads {
+    /// Writes of a view's params (its eye moved or turned, its size
+    /// changed).
+    pub params: u64,
+    /// Writes of a view's faces or balls.
+    pub scenes: u64,
+    /// Bytes written, buffers made new included.
+    pub bytes: u64,
+}
+
 /// Each product view's params (its viewport's size and place), buffers,
-/// bind group and pipeline.
+/// bind group and pipeline. A view's buffers are kept between frames and
+/// written only where what they hold changed.
+#[allow(clippy::too_many_arguments, reason = "a render system's resources")]
 pub fn prepare_product_views(
     mut commands: Commands,
     views: Query<(
@@ -203,44 +241,115 @@ pub fn prepare_product_views(
     mut pipelines: ResMut<SpecializedRenderPipelines<ProductPipeline>>,
     pipeline_cache: Res<PipelineCache>,
     device: Res<RenderDevice>,
+    queue: Res<RenderQueue>,
+    mut buffers: ResMut<ProductBuffers>,
 ) {
+    let buffers = &mut *buffers;
     for (entity, view, extracted, camera, msaa) in &views {
-        let mut params = view.packed.params;
-        params.width = extracted.viewport.z.max(1);
-        params.height = extracted.viewport.w.max(1);
-        params.origin_x = extracted.viewport.x;
-        params.origin_y = extracted.viewport.y;
-        let buffer = |label: &'static str, contents: &[u8], usage: BufferUsages| {
+        let mut scene = view.packed.clone();
+        scene.params.width = extracted.viewport.z.max(1);
+        scene.params.height = extracted.viewport.w.max(1);
+        scene.params.origin_x = extracted.viewport.x;
+        scene.params.origin_y = extracted.viewport.y;
+        let uploads = &mut buffers.uploads;
+        let kept = buffers
+            .views
+            .get_mut(&entity)
+            .filter(|b| b.scene.faces.len() == scene.faces.len() && b.scene.balls.len() == scene.balls.len());
+        let bind_group = match kept {
+            Some(kept) => {
+                if kept.scene.params != scene.params {
+                    queue.write_buffer(&kept.params, 0, bytemuck::bytes_of(&scene.params));
+                    uploads.params += 1;
+                    uploads.bytes += std::mem::size_of_val(&scene.params) as u64;
+                }
+                for (old, new, buffer) in [
+                    (
+                        bytemuck::cast_slice::<_, u8>(&kept.scene.faces),
+                        bytemuck::cast_slice::<_, u8>(&scene.faces),
+                        &kept.faces,
+                    ),
+                    (
+                        bytemuck::cast_slice(&kept.scene.balls),
+                        bytemuck::cast_slice(&scene.balls),
+                        &kept.balls,
+                    ),
+                ] {
+                    if old != new && !new.is_empty() {
+                        queue.write_buffer(buffer, 0, new);
+                        uploads.scenes += 1;
+                        uploads.bytes += new.len() as u64;
+                    }
+                }
+                kept.scene = scene;
+                kept.bind_group.clone()
+            }
+            None => {
+                let made = ProductViewBuffers::new(&device, &pipeline_cache, &pipeline, scene, uploads);
+                let bind_group = made.bind_group.clone();
+                buffers.views.insert(entity, made);
+                bind_group
+            }
+        };
+        let key = ProductPipelineKey {
+            format: extracted.target_format,
+            samples: msaa.map_or(1, Msaa::samples),
+            encode_srgb: camera.compositing_space == Some(CompositingSpace::Srgb),
+        };
+        let id = pipelines.specialize(&pipeline_cache, &pipeline, key);
+        commands.entity(entity).insert(ProductViewBinding {
+            pipeline: id,
+            bind_group,
+        });
+    }
+    // The buffers of views that are gone.
+    buffers.views.retain(|e, _| views.contains(*e));
+}
+
+impl ProductViewBuffers {
+    /// A view's buffers made and filled, and its bind group.
+    fn new(
+        device: &RenderDevice,
+        pipeline_cache: &PipelineCache,
+        pipeline: &ProductPipeline,
+        scene: GpuProductScene,
+        uploads: &mut ProductUploads,
+    ) -> Self {
+        let mut buffer = |label: &'static str, contents: &[u8], usage: BufferUsages| {
             // An empty array still binds a buffer.
             let padded = [0u8; 256];
+            let contents = if contents.is_empty() { &padded[..] } else { contents };
+            uploads.bytes += contents.len() as u64;
             device.create_buffer_with_data(&BufferInitDescriptor {
                 label: Some(label),
-                contents: if contents.is_empty() { &padded } else { contents },
-                usage,
+                contents,
+                usage: usage | BufferUsages::COPY_DST,
             })
         };
-        let params_buffer = buffer(
+        let params = buffer(
             "manifold_product_params",
-            bytemuck::bytes_of(&params),
+            bytemuck::bytes_of(&scene.params),
             BufferUsages::UNIFORM,
         );
         let faces = buffer(
             "manifold_product_faces",
-            bytemuck::cast_slice(&view.packed.faces),
+            bytemuck::cast_slice(&scene.faces),
             BufferUsages::STORAGE,
         );
         let balls = buffer(
             "manifold_product_balls",
-            bytemuck::cast_slice(&view.packed.balls),
+            bytemuck::cast_slice(&scene.balls),
             BufferUsages::STORAGE,
         );
+        uploads.params += 1;
+        uploads.scenes += 2;
         let bind_group = device.create_bind_group(
             "manifold_product",
             &pipeline_cache.get_bind_group_layout(&pipeline.layout),
             &[
                 BindGroupEntry {
                     binding: 0,
-                    resource: params_buffer.as_entire_binding(),
+                    resource: params.as_entire_binding(),
                 },
                 BindGroupEntry {
                     binding: 1,
@@ -252,16 +361,13 @@ pub fn prepare_product_views(
                 },
             ],
         );
-        let key = ProductPipelineKey {
-            format: extracted.target_format,
-            samples: msaa.map_or(1, Msaa::samples),
-            encode_srgb: camera.compositing_space == Some(CompositingSpace::Srgb),
-        };
-        let id = pipelines.specialize(&pipeline_cache, &pipeline, key);
-        commands.entity(entity).insert(ProductViewBinding {
-            pipeline: id,
+        Self {
+            scene,
+            params,
+            faces,
+            balls,
             bind_group,
-        });
+        }
     }
 }
 

@@ -23,7 +23,8 @@ fn spawn_product_camera(app: &mut App, image: &Handle<Image>, camera: ProductCam
 /// (sRGB bytes within 3 of it in 99% of the pixels: the rest are
 /// silhouettes, where f32 and f64 sphere tracing part, and far hits in
 /// H2xR); after the camera moves, the new view, as the headless GPU
-/// tracer draws it.
+/// tracer draws it. A still view uploads nothing; a moving one only its
+/// params.
 pub fn a_product_camera_draws_what_the_cpu_reference_traces() {
     for space in [ProductSpace::genus_two_x_s1(2.0), ProductSpace::s2_x_s1(2.0)] {
         let mut app = headless_app(true);
@@ -48,6 +49,18 @@ pub fn a_product_camera_draws_what_the_cpu_reference_traces() {
         colours.sort_unstable();
         colours.dedup();
         assert!(colours.len() > 20, "{}: {} colours", space.name, colours.len());
+        // A still view uploads nothing more.
+        let uploads = |app: &App| {
+            app.sub_app(bevy::render::RenderApp)
+                .world()
+                .resource::<bevy_manifold::product::render::ProductBuffers>()
+                .uploads
+        };
+        let still = uploads(&app);
+        for _ in 0..5 {
+            app.update();
+        }
+        assert_eq!(uploads(&app), still, "{}: a still view uploaded", space.name);
         // Moved forward 1.5 and turned: the pass follows the camera, and
         // draws what the headless GPU tracer draws (the same shader and
         // f32 arithmetic: the pass's plumbing, exactly) and, but for the
@@ -86,6 +99,10 @@ pub fn a_product_camera_draws_what_the_cpu_reference_traces() {
             100.0 * near
         );
         assert!(same >= 0.999, "{} moved: {same}", space.name);
+        // Moving wrote the params again, not the faces and balls.
+        let moved_uploads = uploads(&app);
+        assert!(moved_uploads.params > still.params, "{moved_uploads:?}");
+        assert_eq!(moved_uploads.scenes, still.scenes, "{moved_uploads:?}");
         assert!(near >= 0.98, "{} moved: {near}", space.name);
         assert!(
             close_to(&shown_moved, &cpu, 3) < 0.9,
