@@ -27,7 +27,7 @@ use bevy::render::{
 };
 use bevy::shader::{Shader, ShaderDefVal};
 use bevy_manifold_gpu::PRODUCT_WGSL;
-use bevy_manifold_gpu::product::GpuProductScene;
+use bevy_manifold_gpu::product::{GpuProductScene, storage_bytes};
 
 /// The product cameras' pass: extract, prepare and draw. Added by
 /// [`super::ProductPlugin`].
@@ -87,17 +87,21 @@ pub struct ProductViewBinding {
     pub bind_group: BindGroup,
 }
 
+/// What [`extract_product_views`] reads of a camera: its render entity,
+/// the camera and its product camera, with their change ticks.
+type ExtractedCameraItem = (RenderEntity, Ref<'static, Camera>, Option<Ref<'static, ProductCamera>>);
+
 /// Copies each active product camera's scene, packed, to its render
-/// entity; takes it off cameras that no longer have one.
-pub fn extract_product_views(
-    mut commands: Commands,
-    cameras: Extract<Query<(RenderEntity, &Camera, Option<&ProductCamera>)>>,
-) {
+/// entity when the camera or its scene changed (the render entity keeps
+/// it otherwise); takes it off cameras that no longer have one.
+pub fn extract_product_views(mut commands: Commands, cameras: Extract<Query<ExtractedCameraItem>>) {
     for (entity, camera, product) in &cameras {
         match product.filter(|_| camera.is_active) {
             Some(p) => {
-                let packed = GpuProductScene::pack(&p.space, &p.scene(), 1, 1);
-                commands.entity(entity).insert(ExtractedProductView { packed });
+                if p.is_changed() || camera.is_changed() {
+                    let packed = GpuProductScene::pack(&p.space, &p.scene(), 1, 1);
+                    commands.entity(entity).insert(ExtractedProductView { packed });
+                }
             }
             None => {
                 commands
@@ -316,9 +320,6 @@ impl ProductViewBuffers {
         uploads: &mut ProductUploads,
     ) -> Self {
         let mut buffer = |label: &'static str, contents: &[u8], usage: BufferUsages| {
-            // An empty array still binds a buffer.
-            let padded = [0u8; 256];
-            let contents = if contents.is_empty() { &padded[..] } else { contents };
             uploads.bytes += contents.len() as u64;
             device.create_buffer_with_data(&BufferInitDescriptor {
                 label: Some(label),
@@ -333,12 +334,12 @@ impl ProductViewBuffers {
         );
         let faces = buffer(
             "manifold_product_faces",
-            bytemuck::cast_slice(&scene.faces),
+            &storage_bytes(&scene.faces),
             BufferUsages::STORAGE,
         );
         let balls = buffer(
             "manifold_product_balls",
-            bytemuck::cast_slice(&scene.balls),
+            &storage_bytes(&scene.balls),
             BufferUsages::STORAGE,
         );
         uploads.params += 1;

@@ -139,6 +139,18 @@ pub struct GpuProductScene {
 /// rounding). WGSL twin: `REACH_SLACK` in `shaders/product.wgsl`.
 pub const REACH_SLACK: f64 = 1e-3;
 
+/// A storage array's bytes as they are bound: an empty array still binds
+/// a buffer, of one zeroed element (`T`'s size, at least 16 bytes).
+/// The headless runner and the Bevy pass bind the faces and balls so.
+#[must_use]
+pub fn storage_bytes<T: Pod>(items: &[T]) -> std::borrow::Cow<'_, [u8]> {
+    if items.is_empty() {
+        std::borrow::Cow::Owned(vec![0; std::mem::size_of::<T>().max(16)])
+    } else {
+        std::borrow::Cow::Borrowed(bytemuck::cast_slice(items))
+    }
+}
+
 fn point(p: ProductPoint) -> [f32; 4] {
     [
         p.surface.x as f32,

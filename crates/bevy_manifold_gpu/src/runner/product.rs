@@ -6,7 +6,7 @@
 use super::GpuTracer;
 use super::timing::TraceTiming;
 use crate::GpuError;
-use crate::product::{GpuProductPixel, GpuProductScene};
+use crate::product::{GpuProductPixel, GpuProductScene, storage_bytes};
 use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::trace::product::{ProductPixel, ProductScene};
 use wgpu::util::DeviceExt;
@@ -204,15 +204,7 @@ impl GpuTracer {
         }
         let layout = self.product_pipeline()?.layout.clone();
         let d = &self.device;
-        let storage = |label, data: &[u8]| {
-            // An empty array still binds a buffer (of one element).
-            let padded;
-            let contents = if data.is_empty() {
-                padded = vec![0u8; 256];
-                &padded[..]
-            } else {
-                data
-            };
+        let storage = |label, contents: &[u8]| {
             d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(label),
                 contents,
@@ -224,8 +216,8 @@ impl GpuTracer {
             contents: bytemuck::bytes_of(&gpu.params),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let faces = storage("product faces", bytemuck::cast_slice(&gpu.faces));
-        let balls = storage("product balls", bytemuck::cast_slice(&gpu.balls));
+        let faces = storage("product faces", &storage_bytes(&gpu.faces));
+        let balls = storage("product balls", &storage_bytes(&gpu.balls));
         let pixels = d.create_buffer(&wgpu::BufferDescriptor {
             label: Some("product pixels"),
             size: bytes as u64,

@@ -154,7 +154,7 @@ pub fn transport(space: &ProductSpace, face: usize, ray: &ProductRay) -> Product
 /// at the start of each segment and the segment's length (to the face it
 /// leaves through, or to the end). The segment returning false stops the
 /// walk there. Returns the walk at its end.
-fn walk_segments(
+pub(crate) fn walk_segments(
     space: &ProductSpace,
     ray: ProductRay,
     distance: f64,
@@ -200,8 +200,8 @@ pub fn flow(space: &ProductSpace, ray: ProductRay, distance: f64, max_crossings:
 
 /// The balls the ray enters within `max_distance` (through at most
 /// `max_crossings` faces), nearest first, up to 64 of them. Each ball is
-/// looked for in the prism and as its images through each face's gluing
-/// (the part of it that reaches over a face).
+/// looked for in the prism as itself and as its [`images`] that reach
+/// into the prism.
 #[must_use]
 pub fn hits(
     space: &ProductSpace,

@@ -3,7 +3,7 @@
 //! distance. The WGSL twin is `product.wgsl`'s `pixel` (in the
 //! `bevy_manifold_gpu` crate), which reads the same [`ProductScene`].
 
-use super::{ProductBall, ProductRay, advance, exit_face, hits_among, images};
+use super::{ProductBall, ProductRay, hits_among, images, walk_segments};
 use crate::geometry::product::{ProductGeometry, ProductPoint, ProductTangent};
 use crate::space::product::ProductSpace;
 use glam::DVec3;
@@ -109,32 +109,26 @@ impl ProductView {
         if !moving {
             return *self;
         }
-        let mut ray = ProductRay {
+        let ray = ProductRay {
             origin: self.eye,
             dir: dir.unit(g),
         };
+        // Each segment carries the frame along it, after the gluing of the
+        // face crossed before it.
         let mut frame = self.frame;
-        let mut left = distance;
-        let mut skip = None;
-        for _ in 0..64 {
-            let exit = exit_face(space, &ray, skip).filter(|(_, s)| *s < left);
-            let s = exit.map_or(left, |(_, s)| s);
-            frame = frame.map(|w| carried(g, &ray, w, s));
-            ray = advance(g, &ray, s);
-            left -= s;
-            let Some((face, _)) = exit else { break };
-            let m = space.gluings[face].isometry();
-            let origin = g.normalize_point(m.apply(ray.origin));
-            ray = ProductRay {
-                origin,
-                dir: g.normalize_tangent(origin, m.apply_tangent(ray.dir)),
-            };
-            frame = frame.map(|w| m.apply_tangent(w));
-            skip = Some(space.partner(face));
-        }
+        let mut glued = 0;
+        let end = walk_segments(space, ray, distance, 64, |walk, _, length| {
+            if let Some(&face) = walk.faces.get(glued) {
+                let m = space.gluings[face].isometry();
+                frame = frame.map(|w| m.apply_tangent(w));
+                glued += 1;
+            }
+            frame = frame.map(|w| carried(g, &walk.ray, w, length));
+            true
+        });
         Self {
-            eye: ray.origin,
-            frame: orthonormal(g, ray.origin, frame),
+            eye: end.ray.origin,
+            frame: orthonormal(g, end.ray.origin, frame),
             ..*self
         }
     }
