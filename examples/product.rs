@@ -5,14 +5,20 @@
 //! moving through the faces. `--space NAME` picks the space: `genus2xs1`
 //! (the default: a closed genus-2 surface times a circle),
 //! `twisted-genus2xs1`, `s2xs1`, `twisted-s2xs1` or `mirrored-prism`.
+//! `--cells` (or the C key) shades each copy of the prism in its own
+//! colour, by its exact cell. `--tour FILE` plays a product tour
+//! (`assets/tours/s2xs1.product-tour.json`, round and round; `--at
+//! SECONDS` holds it at that moment) instead of flying.
 //!
-//! `cargo run --release --example product [-- --space NAME] [-- --screenshot FILE.png [--size WxH]]`
+//! `cargo run --release --example product [-- --space NAME] [-- --cells] [-- --tour FILE [--at SECONDS]] [-- --screenshot FILE.png [--size WxH]]`
 
 use bevy::prelude::*;
 use bevy_manifold::geometry::product::ProductTangent;
 use bevy_manifold::prelude::*;
-use bevy_manifold::product::{ProductBody, ProductCamera, ProductSpaceRoot, ProductVelocity};
+use bevy_manifold::product::{ProductBody, ProductCamera, ProductSpaceRoot, ProductTourPlayer, ProductVelocity};
+use bevy_manifold::space::cells::CellTint;
 use bevy_manifold::space::product::ProductSpace;
+use bevy_manifold::tour::product::ProductTour;
 use glam::DVec3;
 use std::sync::Arc;
 #[path = "support/showcase.rs"]
@@ -21,11 +27,29 @@ mod showcase;
 
 fn main() -> AppExit {
     let mut app = showcase::app("A product space", "H2xR or S2xR: geodesics bend up and down the circle");
-    app.add_systems(Startup, setup);
+    app.add_systems(Startup, setup).add_systems(Update, toggle_cells);
     showcase::run(app)
 }
 
+/// C: per-cell shading on or off.
+fn toggle_cells(keys: Res<ButtonInput<KeyCode>>, mut cameras: Query<&mut ProductCamera>) {
+    if keys.just_pressed(KeyCode::KeyC) {
+        for mut camera in &mut cameras {
+            camera.view.tint = match camera.view.tint {
+                Some(_) => None,
+                None => Some(CellTint::ByCell),
+            };
+        }
+    }
+}
+
 fn setup(mut commands: Commands) {
+    if let Some(path) = showcase::arg("--tour") {
+        match ProductTour::load(&path) {
+            Ok(tour) => return play(&mut commands, tour),
+            Err(e) => eprintln!("error: {e}; flying instead"),
+        }
+    }
     let name = showcase::arg("--space").unwrap_or_else(|| "genus2xs1".into());
     let space = ProductSpace::named(&name, 2.0, 3).unwrap_or_else(|| {
         eprintln!(
@@ -35,7 +59,10 @@ fn setup(mut commands: Commands) {
         ProductSpace::genus_two_x_s1(2.0)
     });
     // The default scene's view, and its balls as entities.
-    let camera = ProductCamera::default_for(space.clone());
+    let mut camera = ProductCamera::default_for(space.clone());
+    if showcase::flag("--cells") {
+        camera.view.tint = Some(CellTint::ByCell);
+    }
     let root = commands.spawn(ProductSpaceRoot(Arc::new(space.clone()))).id();
     for (k, ball) in camera.balls.iter().enumerate() {
         let body = commands
@@ -67,4 +94,27 @@ fn setup(mut commands: Commands) {
             ..default()
         },
     ));
+}
+
+/// The tour's space, its balls as entities, and a camera that plays it.
+fn play(commands: &mut Commands, tour: ProductTour) {
+    let mut player = ProductTourPlayer::new(tour);
+    player.looping = true;
+    if let Some(at) = showcase::arg("--at").and_then(|a| a.parse::<f64>().ok()) {
+        player.time = at.clamp(0.0, player.tour.duration());
+        player.playing = false;
+    }
+    let camera = player.camera();
+    let root = commands.spawn(ProductSpaceRoot(camera.space.clone())).id();
+    for ball in &camera.balls {
+        commands.spawn((
+            ChildOf(root),
+            ProductBody {
+                center: ball.center,
+                radius: ball.radius,
+                id: ball.id,
+            },
+        ));
+    }
+    commands.spawn((ChildOf(root), Camera3d::default(), camera, player));
 }

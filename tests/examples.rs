@@ -33,10 +33,21 @@ const FIGURES: &[(&str, &[&str], &str)] = &[
     ("instances", &[], "instances_torus"),
     // Animated glTF characters, each held at its phase of the sway.
     ("animated", &[], "animated_seifert_weber"),
-    // The product geometries: a genus-2 surface times a circle, and the
-    // sphere times a circle.
+    // The product geometries: a genus-2 surface times a circle, the
+    // sphere times a circle, and the mirrored prism shaded by cell.
     ("product", &[], "product_example_genus2xs1"),
     ("product", &["--space", "s2xs1"], "product_example_s2xs1"),
+    (
+        "product",
+        &["--space", "mirrored-prism", "--cells"],
+        "product_example_mirrored_cells",
+    ),
+    // The tour through S2 x S1, held on its climb up the circle.
+    (
+        "product",
+        &["--tour", "assets/tours/s2xs1.product-tour.json", "--at", "8"],
+        "product_tour_s2xs1",
+    ),
 ];
 
 /// The example binaries cargo built next to this test's (`cargo test`

@@ -11,7 +11,8 @@
 //! and S3. Their entities are balls: a [`ProductSpaceRoot`] holds a space,
 //! and the [`ProductBody`]s among its children (moved by a
 //! [`ProductVelocity`] through the faces) are what the [`ProductCamera`]s
-//! among its children show. Meshes and lights are not traced there yet.
+//! among its children show. A [`ProductTourPlayer`] flies a camera
+//! through a product tour. Meshes and lights are not traced there yet.
 //!
 //! ```no_run
 //! use bevy::prelude::*;
@@ -39,6 +40,7 @@ use crate::placement::{GeodesicVelocity, ManifoldSystems};
 use bevy::prelude::*;
 use bevy_manifold_core::geometry::product::{ProductPoint, ProductTangent};
 use bevy_manifold_core::space::product::ProductSpace;
+use bevy_manifold_core::tour::product::ProductTour;
 use bevy_manifold_core::trace::product::{ProductBall, ProductRay, ProductScene, ProductView, flow};
 use std::sync::Arc;
 
@@ -200,8 +202,85 @@ pub fn fly_product_cameras(time: Res<Time>, mut cameras: Query<(&mut ProductCame
     }
 }
 
-/// The product spaces' systems: [`fly_product_cameras`],
-/// [`move_product_bodies`] and [`gather_product_bodies`], and with feature
+/// Plays a product tour on its entity's [`ProductCamera`]: each frame the
+/// camera's view (eye, frame, field of view, per-cell shading) is the
+/// tour's at the player's time, which runs while `playing` (round again
+/// at the end where `looping`, else it stops there).
+///
+/// ```no_run
+/// use bevy::prelude::*;
+/// use bevy_manifold::product::ProductTourPlayer;
+/// use bevy_manifold::tour::product::ProductTour;
+///
+/// fn setup(mut commands: Commands) {
+///     let tour = ProductTour::load("assets/tours/s2xs1.product-tour.json").expect("the tour");
+///     let player = ProductTourPlayer::new(tour);
+///     commands.spawn((Camera3d::default(), player.camera(), player));
+/// }
+/// ```
+#[derive(Component, Clone, Debug)]
+pub struct ProductTourPlayer {
+    /// The tour.
+    pub tour: Arc<ProductTour>,
+    /// Seconds into it.
+    pub time: f64,
+    /// Whether the time runs.
+    pub playing: bool,
+    /// Whether it starts again at the end.
+    pub looping: bool,
+}
+
+impl ProductTourPlayer {
+    /// A player at the tour's start, playing, not looping.
+    #[must_use]
+    pub fn new(tour: ProductTour) -> Self {
+        Self {
+            tour: Arc::new(tour),
+            time: 0.0,
+            playing: true,
+            looping: false,
+        }
+    }
+
+    /// The camera the tour is seen by: its space, its balls and its view
+    /// at the player's time.
+    #[must_use]
+    pub fn camera(&self) -> ProductCamera {
+        ProductCamera {
+            space: Arc::new(self.tour.space.clone()),
+            balls: self.tour.balls.clone(),
+            view: self.tour.view_at(self.time),
+        }
+    }
+}
+
+/// Advances each [`ProductTourPlayer`] and sets its camera's view to the
+/// tour's ([`ProductTour::view_at`]).
+pub fn play_product_tours(time: Res<Time>, mut players: Query<(&mut ProductTourPlayer, &mut ProductCamera)>) {
+    for (mut player, mut camera) in &mut players {
+        if player.playing {
+            let duration = player.tour.duration();
+            let mut t = player.time + f64::from(time.delta_secs());
+            if t > duration {
+                if player.looping && duration > 0.0 {
+                    t %= duration;
+                } else {
+                    t = duration;
+                    player.playing = false;
+                }
+            }
+            player.time = t;
+        }
+        let view = player.tour.view_at(player.time);
+        if camera.view != view {
+            camera.view = view;
+        }
+    }
+}
+
+/// The product spaces' systems: [`play_product_tours`],
+/// [`fly_product_cameras`], [`move_product_bodies`] and
+/// [`gather_product_bodies`], and with feature
 /// `render` the cameras' pass ([`render::ProductRenderPlugin`]). Part of
 /// [`crate::ManifoldPlugins`].
 #[derive(Debug, Clone, Copy, Default)]
@@ -213,7 +292,12 @@ impl Plugin for ProductPlugin {
         // the velocity before it.
         app.add_systems(
             PostUpdate,
-            (fly_product_cameras, move_product_bodies, gather_product_bodies)
+            (
+                play_product_tours,
+                fly_product_cameras,
+                move_product_bodies,
+                gather_product_bodies,
+            )
                 .chain()
                 .in_set(ManifoldSystems::Integrate),
         );

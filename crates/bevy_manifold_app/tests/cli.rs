@@ -244,8 +244,9 @@ fn render_refuses_sizes_and_levels_no_tracer_takes() {
 }
 
 /// `product` renders each product space on the CPU: a PNG of the size
-/// asked for, with the balls and the fog in it (several colours); bad
-/// lengths and sizes are refused by name.
+/// asked for, with the balls and the fog in it (several colours); with
+/// `--cells` the balls seen in other copies of the prism change colour;
+/// bad lengths and sizes are refused by name.
 fn product_renders_each_space_and_refuses_bad_numbers() {
     for space in [
         "s2xs1",
@@ -254,25 +255,25 @@ fn product_renders_each_space_and_refuses_bad_numbers() {
         "twisted-genus2xs1",
         "mirrored-prism",
     ] {
-        let out = tmp(&format!("product_{space}.png"));
-        let o = run(&[
-            "product",
-            "--space",
-            space,
-            "--width",
-            "40",
-            "--height",
-            "24",
-            "--out",
-            out.to_str().expect("utf-8"),
-        ]);
-        assert!(o.status.success(), "{space}: {}", stderr(&o));
-        let png = image::open(&out).expect("a PNG").to_rgb8();
+        // The space drawn at 40x24, with `extra` arguments.
+        let draw = |name: &str, extra: &[&str]| {
+            let out = tmp(&format!("product_{space}{name}.png"));
+            let mut all = vec!["product", "--space", space, "--width", "40", "--height", "24"];
+            all.extend(extra);
+            all.extend(["--out", out.to_str().expect("utf-8")]);
+            let o = run(&all);
+            assert!(o.status.success(), "{space}: {}", stderr(&o));
+            image::open(&out).expect("a PNG").to_rgb8()
+        };
+        let png = draw("", &[]);
         assert_eq!(png.dimensions(), (40, 24));
         let mut colours: Vec<[u8; 3]> = png.pixels().map(|p| p.0).collect();
         colours.sort_unstable();
         colours.dedup();
         assert!(colours.len() > 20, "{space}: {} colours", colours.len());
+        let by_cell = draw("_cells", &["--cells"]);
+        let changed = png.pixels().zip(by_cell.pixels()).filter(|(a, b)| a != b).count();
+        assert!(changed > 40, "{space}: {changed} pixels changed by cell");
     }
     // A space's file, exported, edited and drawn from the file; a broken
     // one is named with its field.
@@ -313,6 +314,69 @@ fn product_renders_each_space_and_refuses_bad_numbers() {
     let err = stderr(&o);
     assert!(
         !o.status.success() && err.contains("broken.json: gluings[0]") && !err.contains("panicked"),
+        "{err}"
+    );
+    // The tour through S2 x S1: one moment, then every frame at 1 fps.
+    let tour = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../assets/tours/s2xs1.product-tour.json"
+    );
+    let moment = tmp("product_tour_moment.png");
+    let o = run(&[
+        "product",
+        "--tour",
+        tour,
+        "--time",
+        "8",
+        "--width",
+        "24",
+        "--height",
+        "16",
+        "--out",
+        moment.to_str().expect("utf-8"),
+    ]);
+    assert!(
+        o.status.success() && stdout(&o).contains("S2 x S1, 8 s of"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(image::open(&moment).expect("a PNG").to_rgb8().dimensions(), (24, 16));
+    let frames = tmp("product_tour_frames");
+    let o = run(&[
+        "product",
+        "--tour",
+        tour,
+        "--fps",
+        "1",
+        "--width",
+        "8",
+        "--height",
+        "6",
+        "--out",
+        frames.to_str().expect("utf-8"),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // 25.85 s at 1 fps: frames at 0, 1, ..., 26.
+    let written = std::fs::read_dir(&frames).expect("the frames").count();
+    assert_eq!(written, 27, "{}", stdout(&o));
+    let bad = tmp("bad.product-tour.json");
+    std::fs::write(
+        &bad,
+        r#"{"product_space": "s2xs1", "legs": [{"fly": {"seconds": -1, "speed": 1}}]}"#,
+    )
+    .expect("write");
+    let o = run(&[
+        "product",
+        "--tour",
+        bad.to_str().expect("utf-8"),
+        "--out",
+        moment.to_str().expect("utf-8"),
+    ]);
+    let err = stderr(&o);
+    assert!(
+        !o.status.success()
+            && err.contains("bad.product-tour.json: legs[0].fly.seconds: must be positive")
+            && !err.contains("panicked"),
         "{err}"
     );
     let out = tmp("never_product.png");

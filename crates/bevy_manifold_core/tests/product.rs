@@ -6,6 +6,7 @@
 
 use bevy_manifold_core::geometry::product::{ProductGeometry, ProductIsometry, ProductPoint, ProductTangent};
 use bevy_manifold_core::space::product::{ProductGluing, ProductSpace, ProductSpaceError};
+use bevy_manifold_core::space::product_cells::ProductElement;
 use bevy_manifold_core::trace::product::{ProductBall, ProductRay, exit_face, flow, hits};
 use glam::DVec3;
 use std::f64::consts::{PI, TAU};
@@ -382,6 +383,8 @@ fn a_rendered_view_sees_what_the_rays_hit() {
         max_distance: 10.0,
         max_crossings: 16,
         fog: 0.0,
+        cell: Some(ProductElement::IDENTITY),
+        tint: None,
     };
     let image = render(&space, &[ball], &view, 33, 33);
     let middle = image[16 * 33 + 16];
@@ -411,6 +414,66 @@ fn a_rendered_view_sees_what_the_rays_hit() {
         for i in 0..33 {
             assert_eq!(image[j * 33 + i].object, image[i * 33 + (32 - j)].object, "({i}, {j})");
         }
+    }
+}
+
+/// Per-cell shading: looking straight up in S2 x S1, the ball is seen in
+/// the copy above the eye's (one step up the circle); after the eye flies
+/// once round the circle it is in the next copy up, and so is what it
+/// sees. A highlighted copy tints the ball in it, and only there.
+#[test]
+fn cells_are_named_along_the_circle_and_tint_the_balls_in_them() {
+    use bevy_manifold_core::space::cells::CellTint;
+    use bevy_manifold_core::space::product_cells::product_cell_id;
+    use bevy_manifold_core::trace::product::{ProductView, palette, render};
+    let space = ProductSpace::s2_x_s1(1.5);
+    let ball = ProductBall {
+        center: ProductPoint::new(DVec3::Z, -0.6),
+        radius: 0.1,
+        id: 1,
+    };
+    let view = ProductView {
+        eye: ProductPoint::new(DVec3::Z, 0.2),
+        frame: [
+            ProductTangent::new(DVec3::ZERO, 1.0),
+            ProductTangent::new(DVec3::X, 0.0),
+            ProductTangent::new(DVec3::Y, 0.0),
+        ],
+        fov_y_degrees: 30.0,
+        max_distance: 10.0,
+        max_crossings: 16,
+        fog: 0.0,
+        cell: Some(ProductElement::IDENTITY),
+        tint: None,
+    };
+    let middle = |v: &ProductView| render(&space, &[ball], v, 9, 9)[4 * 9 + 4];
+    let seen = middle(&view);
+    // Up 0.55 to the top face, then from -0.75 to the ball's bottom at
+    // -0.7 in the next copy.
+    assert_eq!(seen.object, 1);
+    assert!((seen.distance - 0.6).abs() < 1e-9, "{}", seen.distance);
+    assert_eq!(seen.cell, product_cell_id([0, 0], 1));
+    // Once round the circle, straight up: one copy up, through one face.
+    let round = view.moved(&space, [1.0, 0.0, 0.0], 1.5);
+    assert!((round.eye.height - 0.2).abs() < 1e-9);
+    assert_eq!(round.cell.map(|c| c.steps()), Some(1));
+    let after = middle(&round);
+    assert_eq!(after.cell, product_cell_id([0, 0], 2));
+    assert!((after.distance - seen.distance).abs() < 1e-9);
+    // Highlighting the copy it is seen in tints it; another copy does not.
+    let lit = middle(&ProductView {
+        tint: Some(CellTint::Highlight(after.cell)),
+        ..round
+    });
+    let other = middle(&ProductView {
+        tint: Some(CellTint::Highlight(seen.cell)),
+        ..round
+    });
+    let base = palette(1);
+    for (c, b) in base.iter().enumerate() {
+        assert!((lit.color[c] - after.color[c] * CellTint::HIGHLIGHT[c]).abs() < 1e-6);
+        assert!((other.color[c] - after.color[c]).abs() < 1e-6);
+        assert!(after.color[c] <= b + 1e-6);
     }
 }
 
@@ -647,4 +710,114 @@ fn a_flying_view_comes_back_round_closed_geodesics() {
         rolled.frame[1].height - view.frame[2].height,
     );
     assert!(d.length(h) < 1e-12);
+}
+
+/// The tour through S2 x S1 (`assets/tours/s2xs1.product-tour.json`):
+/// looking straight up the circle, the view one circle (2) later is the
+/// same picture, one copy up (every pixel's copy one step higher); round
+/// the sphere, a great circle closes after 2 pi: the eye is back where it
+/// started, looking the same way, in the same copy.
+#[test]
+fn the_tour_through_s2xs1_repeats_up_the_circle_and_closes_round_the_sphere() {
+    use bevy_manifold_core::space::product_cells::product_cell_id;
+    use bevy_manifold_core::tour::product::ProductTour;
+    use bevy_manifold_core::trace::product::{ProductView, render};
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../assets/tours/s2xs1.product-tour.json"
+    );
+    let tour = ProductTour::load(path).expect("the tour");
+    let g = tour.space.geometry;
+    let close = |a: &ProductView, b: &ProductView| {
+        g.distance(a.eye, b.eye) < 1e-9
+            && a.frame
+                .iter()
+                .zip(&b.frame)
+                .all(|(u, v)| (u.surface - v.surface).length() < 1e-9 && (u.height - v.height).abs() < 1e-9)
+    };
+    // The climb: 6.5 s in, 6 s at speed 1, straight up.
+    let (a, b) = (tour.view_at(7.0), tour.view_at(9.0));
+    assert!(a.frame[0].height > 1.0 - 1e-9, "not straight up: {:?}", a.frame[0]);
+    assert!(close(&a, &b), "{a:?} {b:?}");
+    let steps = |v: &ProductView| v.cell.expect("a copy").steps();
+    assert_eq!(steps(&b), steps(&a) + 1);
+    let (pa, pb) = (
+        render(&tour.space, &tour.balls, &a, 24, 16),
+        render(&tour.space, &tour.balls, &b, 24, 16),
+    );
+    assert!(pa.iter().filter(|p| p.object != 0).count() > 20);
+    for (p, q) in pa.iter().zip(&pb) {
+        assert_eq!((p.object, p.crossings), (q.object, q.crossings));
+        assert!((p.distance - q.distance).abs() < 1e-9 || p.object == 0);
+        if p.object != 0 {
+            let up = |c| {
+                (0..100)
+                    .find(|k| product_cell_id([0, 0], *k) == c)
+                    .expect("a copy up the circle")
+            };
+            assert_eq!(up(q.cell), up(p.cell) + 1);
+        }
+    }
+    // Round the sphere: from 15 s, 2 pi at speed 0.8.
+    let (start, end) = (tour.view_at(15.0), tour.view_at(15.0 + std::f64::consts::TAU / 0.8));
+    assert!(start.frame[0].height.abs() < 1e-9, "not level: {:?}", start.frame[0]);
+    assert!(close(&start, &end), "{start:?} {end:?}");
+    assert_eq!(start.cell, end.cell);
+    let halfway = tour.view_at(15.0 + std::f64::consts::PI / 0.8);
+    assert!((g.distance(start.eye, halfway.eye) - std::f64::consts::PI).abs() < 1e-9);
+    assert_eq!(
+        tour.caption_at(16.0),
+        Some("Level again, then round the sphere: a great circle closes after 2 pi")
+    );
+}
+
+/// Broken product tours name the file and the field.
+#[test]
+fn broken_product_tours_name_the_field() {
+    use bevy_manifold_core::tour::product::ProductTourDesc;
+    for (text, needle) in [
+        (
+            r#"{"product_space": "torus", "legs": []}"#,
+            "t.json: product_space: \"torus\" is not one of",
+        ),
+        (
+            r#"{"product_space": "s2xs1", "length": -1, "legs": []}"#,
+            "t.json: length: must be in (0.01, 100]",
+        ),
+        (
+            r#"{"product_space": "s2xs1", "legs": [{"fly": {"seconds": 0, "speed": 1}}]}"#,
+            "t.json: legs[0].fly.seconds: must be positive",
+        ),
+        (
+            r#"{"product_space": "s2xs1", "legs": [{"turn": {"seconds": 1}}, {"fly": {"seconds": 1, "speed": 1e9}}]}"#,
+            "t.json: legs[1].fly.speed",
+        ),
+        (
+            r#"{"product_space": "s2xs1", "legs": [{"caption": "both", "fly": {"seconds": 1, "speed": 1}, "turn": {"seconds": 1}}]}"#,
+            "t.json: legs[0]: must be one leg",
+        ),
+        (
+            r#"{"product_space": "s2xs1", "legs": [{"turn": {"seconds": 1, "yaw_degrees": 1e300}}]}"#,
+            "t.json: legs[0].turn: angles",
+        ),
+        (
+            r#"{"product_space": "s2xs1", "legs": [{"fly": {"seconds": 1e5, "speed": 1}}]}"#,
+            "t.json: legs[0].fly: flies 100000 units: too far for one leg",
+        ),
+        (
+            r#"{"product_space": "s2xs1", "legs": [{"turn": {"seconds": 1e5}}]}"#,
+            "t.json: legs[0]: the tour passes",
+        ),
+    ] {
+        let e = ProductTourDesc::parse(text, "t.json")
+            .and_then(|d| d.build("t.json"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(needle), "{e}");
+    }
+    let e = ProductTourDesc::parse(r#"{"product_space": "s2xs1", "legs": [], "speed": 2}"#, "t.json").unwrap_err();
+    assert!(
+        e.to_string().contains("t.json: not a tour file: unknown field `speed`"),
+        "{e}"
+    );
 }

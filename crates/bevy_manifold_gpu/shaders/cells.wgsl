@@ -2,15 +2,16 @@
 // ray ended in, as the two words of a CellId, and the per-cell tint.
 //
 // Rust twin: crates/bevy_manifold_core/src/space/cells.rs (CellScheme::
-// id_within, CellId::hash, CellTint::tint, hash32, hash_key; u32
-// arithmetic only, so both sides make the same ids).
+// id_within, hash_key; u32 arithmetic only, so both sides make the same
+// ids); the tint itself is cell_tint.wgsl's.
 //
 // Shader defs read: CELLS_FINITE, CELLS_TABLE, CELLS_LATTICE (else
 // CELLS_HASHED),
-// CELL_COLORS (cell_hash, cell_color); MESHES through bindings.
+// CELL_COLORS (cell_color); MESHES through bindings.
 #define_import_path bevy_manifold::cells
 
 #import bevy_manifold::bindings::{params, cell_table, CELL_OUTSIDE}
+#import bevy_manifold::cell_tint::{hash32, cell_tint}
 
 // The cell id as (lo, hi) words of CellId, from the cell's group element
 // (and, for finite groups, its table index). Rust twin: CellScheme::id_within.
@@ -65,38 +66,11 @@ fn cell_id(cell: mat4x4<f32>, index: u32) -> vec2<u32> {
 }
 
 #ifdef CELL_COLORS
-// CellId::hash
-fn cell_hash(id: vec2<u32>) -> u32 {
-    return hash32(id.x ^ hash32(id.y));
-}
-
-// CellTint::tint
+// CellTint::tint with the tracer's mode and words.
 fn cell_color(id: vec2<u32>) -> vec3<f32> {
-    let origin = id.x == 0u && id.y == 0u;
-    // CellTint::UNKNOWN for a cell the table does not reach.
-    if id.x == 0u && id.y == 0x40000000u {
-        return vec3<f32>(0.5);
-    }
-    if params.cell_mode == 1u {
-        return select(vec3<f32>(1.0), vec3<f32>(1.0, 0.55, 0.15), id.x == params.cell_a && id.y == params.cell_b);
-    }
-    if params.cell_mode == 2u {
-        return vec3<f32>(select(0.12, 1.0, origin || (cell_hash(id) >> 8u) < params.cell_a));
-    }
-    if origin {
-        return vec3<f32>(1.0);
-    }
-    let h = cell_hash(id);
-    return 0.25 + 0.75 * vec3<f32>(f32(h & 0xffu), f32((h >> 8u) & 0xffu), f32((h >> 16u) & 0xffu)) / 255.0;
+    return cell_tint(id, params.cell_mode, params.cell_a, params.cell_b);
 }
 #endif
-
-// PCG's output permutation. Rust twin: `hash32`.
-fn hash32(x: u32) -> u32 {
-    let state = x * 747796405u + 2891336453u;
-    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-    return (word >> 22u) ^ word;
-}
 
 // Hash of a rounded cell centre, seeded. Rust twin: `hash_key`.
 fn hash_key(key: vec4<i32>, seed: u32) -> u32 {

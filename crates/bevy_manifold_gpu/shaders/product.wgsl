@@ -6,6 +6,11 @@
 // (in closed form) and goes on from the gluing's image of its exit point.
 // Balls are geodesic balls of the product metric, found by sphere
 // tracing. The Rust side packs the inputs: `GpuProductScene::pack`.
+// A ray counts the copy of the prism it is in as the core's exact cells
+// do (space/product_cells.rs): an index in the table of cells around the
+// camera for the surface part, its flip and steps up the line apart.
+
+#import bevy_manifold::cell_tint::{hash32, cell_tint}
 
 // Rust twin: `GpuProductParams`.
 struct ProductParams {
@@ -26,6 +31,14 @@ struct ProductParams {
     fog: f32,
     origin_x: u32,
     origin_y: u32,
+    tint_mode: u32,
+    tint_a: u32,
+    tint_b: u32,
+    cell_count: u32,
+    camera_steps: i32,
+    camera_flip: i32,
+    pad_a: u32,
+    pad_b: u32,
 }
 
 // Rust twin: `GpuProductFace`.
@@ -35,7 +48,7 @@ struct ProductFace {
     flip: f32,
     shift: f32,
     partner: u32,
-    pad: u32,
+    cross_steps: i32,
 }
 
 // Rust twin: `GpuProductBall`.
@@ -53,8 +66,16 @@ struct ProductPixel {
     color: vec4<f32>,
     object: u32,
     crossings: u32,
-    pad_a: u32,
-    pad_b: u32,
+    cell: vec2<u32>,
+}
+
+// The copy of the prism a ray is in, from the camera's: its surface
+// part's index in the table (PRODUCT_OUTSIDE past it) and its line part.
+// Rust twin: `ProductElement` (the walk's, before the camera's copy).
+struct ProductCell {
+    index: u32,
+    steps: i32,
+    flip: i32,
 }
 
 // A point (or tangent) is the surface's model point (xyz) and the height
@@ -68,6 +89,15 @@ struct ProductRay {
 @group(0) @binding(1) var<storage, read> faces: array<ProductFace>;
 @group(0) @binding(2) var<storage, read> balls: array<ProductBall>;
 @group(0) @binding(3) var<storage, read_write> pixels: array<ProductPixel>;
+// The table of cells around the camera: `neighbours[k * faces + f]`, then
+// each cell's tile seen from the camera (two words). Rust twin:
+// `ProductCellTable` (its `neighbours` and `tiles_around`).
+@group(0) @binding(4) var<storage, read> cells: array<u32>;
+
+// A neighbour not in the table. Rust twin: `OUTSIDE`.
+const PRODUCT_OUTSIDE: u32 = 0xffffffffu;
+// CellId::BEYOND_TABLE's words.
+const BEYOND_TABLE: vec2<u32> = vec2<u32>(0u, 0x40000000u);
 
 // No face.
 const NO_FACE: u32 = 0xffffffffu;
@@ -339,6 +369,7 @@ fn pixel(start: ProductRay) -> ProductPixel {
     var travelled = 0.0;
     var skip = NO_FACE;
     var crossings = 0u;
+    var cell = ProductCell(0u, 0, 1);
     loop {
         let exit = exit_face(ray, skip);
         let leaves = exit.face != NO_FACE && travelled + exit.s < params.max_distance;
@@ -348,23 +379,56 @@ fn pixel(start: ProductRay) -> ProductPixel {
         }
         let hit = nearest_entry(ray, length);
         if hit.ball != NO_FACE {
-            return shade(advance(ray, hit.s), hit.ball, travelled + hit.s, crossings);
+            return shade(advance(ray, hit.s), hit.ball, travelled + hit.s, crossings, product_cell_id(cell));
         }
         if !leaves || crossings >= params.max_crossings {
             break;
         }
         ray = transport(exit.face, advance(ray, exit.s));
+        cell = cross_cell(cell, exit.face);
         travelled += exit.s;
         skip = faces[exit.face].partner;
         crossings++;
     }
-    return ProductPixel(vec4<f32>(params.fog_color.rgb, -1.0), 0u, 0u, 0u, 0u);
+    return ProductPixel(vec4<f32>(params.fog_color.rgb, -1.0), 0u, 0u, BEYOND_TABLE);
 }
 
-// The ball's colour lit from the eye (the cosine between the way into the
-// ball, towards its centre, and the ray), fogged. Rust twin: `pixel`'s
-// shading (and `ProductGeometry::log` for the way in).
-fn shade(at: ProductRay, b: u32, distance: f32, crossings: u32) -> ProductPixel {
+// The copy across `face`: the table's neighbour, the line's steps and
+// flip counted exactly. Rust twin: `ProductCells::cross`.
+fn cross_cell(cell: ProductCell, face: u32) -> ProductCell {
+    var index = PRODUCT_OUTSIDE;
+    if cell.index != PRODUCT_OUTSIDE && cell.index < params.cell_count {
+        index = cells[cell.index * (params.side_count + 2u) + face];
+    }
+    let flip = select(1, -1, faces[face].flip < 0.0);
+    return ProductCell(index, cell.steps + cell.flip * faces[face].cross_steps, cell.flip * flip);
+}
+
+// The id of the copy `cell` names from the camera's: its tile (from the
+// table) and its steps up the line. Rust twins: `ProductCells::id` and
+// `product_cell_id`.
+fn product_cell_id(cell: ProductCell) -> vec2<u32> {
+    if cell.index == PRODUCT_OUTSIDE || cell.index >= params.cell_count {
+        return BEYOND_TABLE;
+    }
+    let at = params.cell_count * (params.side_count + 2u) + 2u * cell.index;
+    let tile = vec2<u32>(cells[at], cells[at + 1u]);
+    if tile.x == 0xffffffffu && tile.y == 0xffffffffu {
+        return BEYOND_TABLE;
+    }
+    let steps = params.camera_steps + params.camera_flip * cell.steps;
+    if tile.x == 0u && tile.y == 0u && steps == 0 {
+        return vec2<u32>(0u);
+    }
+    let s = bitcast<u32>(steps);
+    return vec2<u32>(tile.x ^ hash32(s), (tile.y ^ hash32(s ^ 0x9e3779b9u)) & 0x3fffffffu);
+}
+
+// The ball's colour, tinted by its cell's, lit from the eye (the cosine
+// between the way into the ball, towards its centre, and the ray),
+// fogged. Rust twin: `pixel`'s shading (and `ProductGeometry::log` for
+// the way in).
+fn shade(at: ProductRay, b: u32, distance: f32, crossings: u32, cell: vec2<u32>) -> ProductPixel {
     let p = at.origin;
     let q = balls[b].center;
     let t = q.xyz - p.xyz * (form(q.xyz, p.xyz) * params.curvature);
@@ -380,8 +444,12 @@ fn shade(at: ProductRay, b: u32, distance: f32, crossings: u32) -> ProductPixel 
         lit = clamp((form(inward.xyz, at.dir.xyz) + inward.w * at.dir.w) / d, 0.0, 1.0);
     }
     let fog = exp(-params.fog * distance);
-    let color = balls[b].color.rgb * (0.25 + 0.75 * lit) * fog + params.fog_color.rgb * (1.0 - fog);
-    return ProductPixel(vec4<f32>(color, distance), balls[b].id, crossings, 0u, 0u);
+    var base = balls[b].color.rgb;
+    if params.tint_mode != 0u {
+        base *= cell_tint(cell, params.tint_mode - 1u, params.tint_a, params.tint_b);
+    }
+    let color = base * (0.25 + 0.75 * lit) * fog + params.fog_color.rgb * (1.0 - fog);
+    return ProductPixel(vec4<f32>(color, distance), balls[b].id, crossings, cell);
 }
 
 // The pixel's ray: the unit tangent forward + x right + y up at the eye.
@@ -411,7 +479,7 @@ fn product_fragment(@builtin(position) position: vec4<f32>) -> @location(0) vec4
 }
 
 #ifdef ENCODE_SRGB
-// The sRGB encoding, as output.wgsl's (this module imports nothing).
+// The sRGB encoding, as output.wgsl's (this module imports the tint only).
 // Rust twin: `srgb8` (before its rounding to a byte).
 fn encode_srgb(c: vec3<f32>) -> vec3<f32> {
     let x = clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));

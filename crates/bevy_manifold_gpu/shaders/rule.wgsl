@@ -8,7 +8,7 @@
 #define_import_path bevy_manifold::rule
 
 #import bevy_manifold::bindings::params
-#import bevy_manifold::cells::hash32
+#import bevy_manifold::cell_tint::hash32
 
 // CellId::BEYOND_TABLE.
 fn beyond_table(id: vec2<u32>) -> bool {

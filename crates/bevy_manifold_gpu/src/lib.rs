@@ -73,15 +73,22 @@ macro_rules! wgsl {
     };
 }
 
+/// The per-cell tint of a cell id, `shaders/cell_tint.wgsl`, imported by
+/// `cells` (in [`SHADER_IMPORTS`]) and by [`PRODUCT_WGSL`].
+pub const CELL_TINT_WGSL: WgslModule = wgsl!("cell_tint");
+
 /// The tracer's import modules, each after the modules it imports (the
 /// order naga_oil's composer needs; Bevy resolves them by their
 /// `#define_import_path`, `bevy_manifold::<name>`). Each is the WGSL twin
 /// of a Rust file of the same name: `bindings` of [`layout`], `geometry`
-/// of the core's `geometry/mod.rs`, `cells` and `rule` of its `space/`,
+/// of the core's `geometry/mod.rs`, `cells` and `rule` of its `space/`
+/// (and [`CELL_TINT_WGSL`] of its `space/cell_id.rs` with the tint of
+/// `space/cells.rs`),
 /// `bvh` of its `mesh/`, and the others of its `trace/` (the tracer's
 /// stages: see `bevy_manifold_core::trace`).
-pub const SHADER_IMPORTS: [WgslModule; 22] = [
+pub const SHADER_IMPORTS: [WgslModule; 23] = [
     wgsl!("output"),
+    CELL_TINT_WGSL,
     wgsl!("bindings"),
     wgsl!("geometry"),
     wgsl!("step"),
@@ -124,7 +131,7 @@ pub fn undecorated(name: &str) -> &str {
 pub const RENDER_WGSL: WgslModule = wgsl!("render");
 
 /// The tracer of the product spaces (H2xR, S2xR), `shaders/product.wgsl`:
-/// one module of its own, with no imports (twin of the core's
+/// one module of its own, importing [`CELL_TINT_WGSL`] only (twin of the core's
 /// `trace::product`), entry `product_trace` (compute, the headless
 /// runner's [`GpuTracer::render_product`]). Its inputs are
 /// [`product::GpuProductScene`]'s.

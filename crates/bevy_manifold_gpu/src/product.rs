@@ -22,6 +22,7 @@
 
 use bevy_manifold_core::geometry::product::{ProductPoint, ProductTangent};
 use bevy_manifold_core::space::product::ProductSpace;
+use bevy_manifold_core::space::product_cells::{ProductCellTable, ProductCells, ProductElement};
 use bevy_manifold_core::trace::product::{FOG_COLOR, ProductScene, images, palette};
 use bytemuck::{Pod, Zeroable};
 
@@ -63,6 +64,24 @@ pub struct GpuProductParams {
     pub origin_x: u32,
     /// The render pass: the viewport's top pixel row in the target.
     pub origin_y: u32,
+    /// Per-cell shading: 0 for none, else the mode of
+    /// [`CellTint::words`](bevy_manifold_core::space::cells::CellTint::words) plus 1.
+    pub tint_mode: u32,
+    /// The tint's first word.
+    pub tint_a: u32,
+    /// The tint's second word.
+    pub tint_b: u32,
+    /// Cells in the table bound with the scene ([`GpuProductCells`]); 0
+    /// for none (every cell's id is then `CellId::BEYOND_TABLE`).
+    pub cell_count: u32,
+    /// The eye's copy's steps up the line ([`ProductElement::steps`]).
+    pub camera_steps: i32,
+    /// -1 where the eye's copy turns the line over, else 1.
+    pub camera_flip: i32,
+    /// Padding.
+    pub pad_a: u32,
+    /// Padding.
+    pub pad_b: u32,
 }
 
 /// WGSL twin: `ProductFace` in `shaders/product.wgsl`. One face of the
@@ -81,8 +100,10 @@ pub struct GpuProductFace {
     pub shift: f32,
     /// The face a ray comes in through after this one.
     pub partner: u32,
-    /// Padding.
-    pub pad: u32,
+    /// The steps up the line a crossing of this face adds (its partner's
+    /// gluing's shift over the prism's height; the exact cells'
+    /// [`ProductCells::cross`]).
+    pub cross_steps: i32,
 }
 
 /// WGSL twin: `ProductBall` in `shaders/product.wgsl`. A ball or one of
@@ -117,10 +138,8 @@ pub struct GpuProductPixel {
     pub object: u32,
     /// The faces crossed on the way.
     pub crossings: u32,
-    /// Padding.
-    pub pad_a: u32,
-    /// Padding.
-    pub pad_b: u32,
+    /// The copy the ball was seen in: its `CellId`'s low and high words.
+    pub cell: [u32; 2],
 }
 
 /// A product scene as the GPU reads it.
@@ -200,11 +219,16 @@ impl GpuProductScene {
                     flip: m.flip as f32,
                     shift: m.shift as f32,
                     partner: space.partner(f) as u32,
-                    pad: 0,
+                    cross_steps: cross_steps(space, f),
                 }
             })
             .collect();
         let [fr, fg, fb] = FOG_COLOR;
+        let [tint_mode, tint_a, tint_b] = view.tint.map_or([0; 3], |t| {
+            let [mode, a, b] = t.words();
+            [mode + 1, a, b]
+        });
+        let camera = view.cell.unwrap_or(ProductElement::IDENTITY);
         Self {
             params: GpuProductParams {
                 eye: point(view.eye),
@@ -224,9 +248,74 @@ impl GpuProductScene {
                 fog: view.fog as f32,
                 origin_x: 0,
                 origin_y: 0,
+                tint_mode,
+                tint_a,
+                tint_b,
+                cell_count: 0,
+                camera_steps: camera.steps() as i32,
+                camera_flip: if camera.flips() { -1 } else { 1 },
+                pad_a: 0,
+                pad_b: 0,
             },
             faces,
             balls,
+        }
+    }
+}
+
+/// The steps up the line a crossing of `face` adds: its partner's gluing's
+/// shift in prism heights (0 where it is not a whole number of them, a
+/// space without exact cells).
+fn cross_steps(space: &ProductSpace, face: usize) -> i32 {
+    let shift = space.gluings[space.partner(face)].isometry().shift / space.height;
+    if (shift - shift.round()).abs() < 1e-9 && shift.abs() < 1e6 {
+        shift.round() as i32
+    } else {
+        0
+    }
+}
+
+/// The table of cells around the eye's copy as `shaders/product.wgsl`
+/// reads it (binding 4): the [`ProductCellTable`]'s neighbours, then each
+/// cell's tile seen from the eye ([`ProductCellTable::tiles_around`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GpuProductCells {
+    /// The words: `count * faces` neighbours, then `2 * count` tile words.
+    pub words: Vec<u32>,
+    /// Cells in the table; 0 for none.
+    pub count: u32,
+}
+
+impl GpuProductCells {
+    /// No table: every copy's id is `CellId::BEYOND_TABLE`.
+    #[must_use]
+    pub fn none() -> Self {
+        Self {
+            words: Vec::new(),
+            count: 0,
+        }
+    }
+
+    /// `table` seen from the eye's copy `eye` (none where the eye's copy
+    /// is unknown).
+    #[must_use]
+    pub fn pack(cells: &ProductCells, table: &ProductCellTable, eye: Option<&ProductElement>) -> Self {
+        let Some(eye) = eye else { return Self::none() };
+        let mut words = table.neighbours.clone();
+        words.extend(table.tiles_around(cells, eye).into_iter().flatten());
+        Self {
+            words,
+            count: table.len() as u32,
+        }
+    }
+
+    /// The table of `space` about the eye of `scene`, grown to
+    /// `budget` cells; none where the space has no exact cells.
+    #[must_use]
+    pub fn of(space: &ProductSpace, eye: Option<&ProductElement>, budget: usize) -> Self {
+        match ProductCells::of(space) {
+            Some(cells) => Self::pack(&cells, &ProductCellTable::grow(&cells, budget), eye),
+            None => Self::none(),
         }
     }
 }

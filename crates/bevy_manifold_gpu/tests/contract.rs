@@ -84,11 +84,12 @@ fn product_layouts() -> Vec<RustLayout> {
     vec![
         rust_layout!(GpuProductParams => "ProductParams" {
             eye, forward, right, up, fog_color, width, height, max_crossings, side_count, ball_count,
-            curvature, half_height, max_distance, tan_half_fov, fog, origin_x, origin_y,
+            curvature, half_height, max_distance, tan_half_fov, fog, origin_x, origin_y, tint_mode, tint_a,
+            tint_b, cell_count, camera_steps, camera_flip, pad_a, pad_b,
         }),
-        rust_layout!(GpuProductFace => "ProductFace" { normal, surface, flip, shift, partner, pad }),
+        rust_layout!(GpuProductFace => "ProductFace" { normal, surface, flip, shift, partner, cross_steps }),
         rust_layout!(GpuProductBall => "ProductBall" { center, color, radius, id, reach_trig, pad }),
-        rust_layout!(GpuProductPixel => "ProductPixel" { color, object, crossings, pad_a, pad_b }),
+        rust_layout!(GpuProductPixel => "ProductPixel" { color, object, crossings, cell }),
     ]
 }
 
@@ -148,11 +149,16 @@ fn every_gpu_struct_has_its_wgsl_twins_size_and_offsets() {
 
 #[test]
 fn every_product_struct_has_its_wgsl_twins_size_and_offsets() {
-    let module =
-        GpuTracer::compose_modules(&[], bevy_manifold_gpu::PRODUCT_WGSL, &[], &[]).expect("product.wgsl composes");
+    let module = GpuTracer::compose_modules(
+        &[bevy_manifold_gpu::CELL_TINT_WGSL],
+        bevy_manifold_gpu::PRODUCT_WGSL,
+        &[],
+        &[],
+    )
+    .expect("product.wgsl composes");
     let mismatches = layout_mismatches_of(&module, product_layouts());
     assert!(mismatches.is_empty(), "{mismatches:#?}");
-    // The product tracer's bindings: params, faces, balls, pixels.
+    // The product tracer's bindings: params, faces, balls, pixels, cells.
     let bound: Vec<(u32, String)> = module
         .global_variables
         .iter()
@@ -160,7 +166,7 @@ fn every_product_struct_has_its_wgsl_twins_size_and_offsets() {
         .collect();
     assert_eq!(
         bound,
-        [(0, "params"), (1, "faces"), (2, "balls"), (3, "pixels")].map(|(b, n)| (b, n.to_owned()))
+        [(0, "params"), (1, "faces"), (2, "balls"), (3, "pixels"), (4, "cells")].map(|(b, n)| (b, n.to_owned()))
     );
 }
 

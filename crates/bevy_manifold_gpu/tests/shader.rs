@@ -39,7 +39,13 @@ fn spirv(module: &naga::Module, info: &naga::valid::ModuleInfo) -> Result<Vec<u3
 /// as SPIR-V, with its one compute entry.
 #[test]
 fn the_product_tracer_composes_and_validates() {
-    let module = GpuTracer::compose_modules(&[], bevy_manifold_gpu::PRODUCT_WGSL, &[], &[]).expect("composes");
+    let module = GpuTracer::compose_modules(
+        &[bevy_manifold_gpu::CELL_TINT_WGSL],
+        bevy_manifold_gpu::PRODUCT_WGSL,
+        &[],
+        &[],
+    )
+    .expect("composes");
     let info = validated(&module).expect("validates");
     let words = spirv(&module, &info).expect("SPIR-V");
     assert_eq!(words.first(), Some(&0x0723_0203), "the SPIR-V magic number");
@@ -47,8 +53,13 @@ fn the_product_tracer_composes_and_validates() {
     assert_eq!(entries, ["product_fragment", "product_trace"]);
     assert_eq!(module.entry_points[1].workgroup_size, [8, 8, 1]);
     // With the sRGB encoding the render pass asks for, too.
-    let encoding =
-        GpuTracer::compose_modules(&[], bevy_manifold_gpu::PRODUCT_WGSL, &["ENCODE_SRGB"], &[]).expect("composes");
+    let encoding = GpuTracer::compose_modules(
+        &[bevy_manifold_gpu::CELL_TINT_WGSL],
+        bevy_manifold_gpu::PRODUCT_WGSL,
+        &["ENCODE_SRGB"],
+        &[],
+    )
+    .expect("composes");
     let info = validated(&encoding).expect("validates");
     spirv(&encoding, &info).expect("SPIR-V");
     assert!(functions(&encoding).iter().any(|f| f == "encode_srgb"));

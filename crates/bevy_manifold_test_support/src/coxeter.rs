@@ -64,6 +64,24 @@ impl RightAngledCoxeter {
         Some(RightAngledCoxeter { commute })
     }
 
+    /// The group with `generators` mirrors in which the pairs `commuting`
+    /// meet at right angles, and no other two meet: as for the mirrored
+    /// right-angled polygon times an interval of the product geometries.
+    ///
+    /// # Panics
+    /// With more than 128 generators, or a pair naming one that is not.
+    #[must_use]
+    pub fn from_commuting(generators: usize, commuting: &[(usize, usize)]) -> Self {
+        assert!(generators <= 128, "{generators} generators");
+        let mut commute = vec![0u128; generators];
+        for &(a, b) in commuting {
+            assert!(a < generators && b < generators && a != b, "pair ({a}, {b})");
+            commute[a] |= 1 << b;
+            commute[b] |= 1 << a;
+        }
+        RightAngledCoxeter { commute }
+    }
+
     /// Generators: one per face.
     #[must_use]
     pub fn generators(&self) -> usize {

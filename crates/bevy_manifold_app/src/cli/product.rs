@@ -1,9 +1,12 @@
 //! `bevy_manifold product`: a view of a space of the product geometries
 //! (H2xR, S2xR), traced on the CPU by the math crate's reference tracer
-//! (or with `--gpu` by its WGSL twin) and written as a PNG.
+//! (or with `--gpu` by its WGSL twin) and written as a PNG; or a product
+//! tour's frames (`--tour`).
 
 use bevy_manifold::space::product::ProductSpace;
-use bevy_manifold::trace::product::{ProductScene, render};
+use bevy_manifold::tour::product::ProductTour;
+use bevy_manifold::trace::product::{ProductPixel, ProductScene, render};
+use bevy_manifold_gpu::GpuTracer;
 use clap::Args;
 use std::path::PathBuf;
 
@@ -14,8 +17,19 @@ pub struct ProductArgs {
     /// `twisted-genus2xs1` (turned by k eighths of a turn),
     /// `mirrored-prism` (the right-angled pentagon x interval, all
     /// mirrors), or a product space file (`.json`, as `--export` writes).
-    #[arg(long, value_name = "NAME|FILE")]
-    space: String,
+    #[arg(long, value_name = "NAME|FILE", required_unless_present = "tour")]
+    space: Option<String>,
+    /// A product tour file (`*.product-tour.json`): its frames, into the
+    /// directory `--out` (or with `--time`, the one frame, into the PNG
+    /// `--out`).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["space", "export"])]
+    tour: Option<PathBuf>,
+    /// Frames per second of the tour.
+    #[arg(long, default_value_t = 24, value_parser = clap::value_parser!(u32).range(1..=240), requires = "tour")]
+    fps: u32,
+    /// The one moment of the tour to draw, in seconds.
+    #[arg(long, requires = "tour", value_parser = seconds)]
+    time: Option<f64>,
     /// The length of the circle (or interval) of a named space.
     #[arg(long, default_value_t = 2.0, value_parser = length, allow_negative_numbers = true)]
     length: f64,
@@ -39,14 +53,18 @@ pub struct ProductArgs {
     /// of the CPU; without a GPU adapter, a warning and the CPU.
     #[arg(long)]
     gpu: bool,
+    /// Shade each copy of the prism in its own colour, by its exact cell
+    /// (the paper's per-cell shading).
+    #[arg(long)]
+    cells: bool,
 }
 
 /// The space named, or read from its file.
 fn space_of(args: &ProductArgs) -> Result<ProductSpace, String> {
-    if let Some(space) = ProductSpace::named(&args.space, args.length, args.twist) {
+    let path = args.space.as_deref().unwrap_or_default();
+    if let Some(space) = ProductSpace::named(path, args.length, args.twist) {
         return Ok(space);
     }
-    let path = &args.space;
     let text = std::fs::read_to_string(path).map_err(|e| {
         format!(
             "{path}: {e} (not a product space file, nor one of {})",
@@ -54,6 +72,14 @@ fn space_of(args: &ProductArgs) -> Result<ProductSpace, String> {
         )
     })?;
     ProductSpace::from_json(&text, path).map_err(|e| e.to_string())
+}
+
+fn seconds(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        Ok(v) => Err(format!("must be 0 or more, got {v}")),
+        Err(e) => Err(e.to_string()),
+    }
 }
 
 fn length(s: &str) -> Result<f64, String> {
@@ -64,8 +90,11 @@ fn length(s: &str) -> Result<f64, String> {
     }
 }
 
-/// Renders the view and writes it.
+/// Renders the view (or the tour) and writes it.
 pub fn run(args: &ProductArgs) -> Result<(), String> {
+    if let Some(tour) = &args.tour {
+        return run_tour(args, tour);
+    }
     let space = space_of(args)?;
     space.validate().map_err(|e| e.to_string())?;
     if args.export {
@@ -75,32 +104,89 @@ pub fn run(args: &ProductArgs) -> Result<(), String> {
     let Some(out) = &args.out else {
         return Err("--out FILE.png is needed to draw the space".into());
     };
-    let scene = ProductScene::default_for(&space);
-    let (w, h) = (args.width, args.height);
-    let gpu = if args.gpu {
-        match bevy_manifold_gpu::GpuTracer::new() {
-            Ok(mut tracer) => Some(
-                tracer
-                    .render_product(&space, &scene, w, h)
-                    .map_err(|e| format!("{}: {e}", space.name))?,
-            ),
-            Err(e) => {
-                eprintln!("warning: {e}; tracing on the CPU instead");
-                None
-            }
-        }
-    } else {
-        None
+    let mut scene = ProductScene::default_for(&space);
+    if args.cells {
+        scene.view.tint = Some(bevy_manifold::space::cells::CellTint::ByCell);
+    }
+    let mut gpu = args.gpu.then(gpu_tracer).flatten();
+    let on = if gpu.is_some() { "GPU" } else { "CPU" };
+    write_png(
+        &trace(&space, &scene, gpu.as_mut(), (args.width, args.height))?,
+        out,
+        (args.width, args.height),
+    )?;
+    println!(
+        "wrote {} ({}x{}, {}, traced on the {on})",
+        out.display(),
+        args.width,
+        args.height,
+        space.name
+    );
+    Ok(())
+}
+
+/// The tour's frames, or its one frame at `--time`.
+fn run_tour(args: &ProductArgs, path: &std::path::Path) -> Result<(), String> {
+    let tour = ProductTour::load(path).map_err(|e| e.to_string())?;
+    let Some(out) = &args.out else {
+        return Err("--out is needed: a directory for the frames (a PNG with --time)".into());
     };
-    let traced = gpu.is_some();
-    let pixels = gpu.unwrap_or_else(|| render(&space, &scene.balls, &scene.view, w, h));
+    let size = (args.width, args.height);
+    let mut gpu = args.gpu.then(gpu_tracer).flatten();
+    if let Some(t) = args.time {
+        write_png(&trace(&tour.space, &tour.scene_at(t), gpu.as_mut(), size)?, out, size)?;
+        println!(
+            "wrote {} ({}, {t} s of {} s)",
+            out.display(),
+            tour.space.name,
+            tour.duration()
+        );
+        return Ok(());
+    }
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let frames = (tour.duration() * f64::from(args.fps)).ceil() as u64 + 1;
+    for k in 0..frames {
+        let t = k as f64 / f64::from(args.fps);
+        let file = out.join(format!("frame_{k:05}.png"));
+        write_png(&trace(&tour.space, &tour.scene_at(t), gpu.as_mut(), size)?, &file, size)?;
+    }
+    println!(
+        "wrote {frames} frames of {} ({} s at {} fps) into {}",
+        tour.space.name,
+        tour.duration(),
+        args.fps,
+        out.display()
+    );
+    Ok(())
+}
+
+/// The GPU tracer, or a warning and none.
+fn gpu_tracer() -> Option<GpuTracer> {
+    GpuTracer::new()
+        .map_err(|e| eprintln!("warning: {e}; tracing on the CPU instead"))
+        .ok()
+}
+
+/// The scene's pixels, on the GPU where there is one.
+fn trace(
+    space: &ProductSpace,
+    scene: &ProductScene,
+    gpu: Option<&mut GpuTracer>,
+    (w, h): (u32, u32),
+) -> Result<Vec<ProductPixel>, String> {
+    match gpu {
+        Some(gpu) => gpu
+            .render_product(space, scene, w, h)
+            .map_err(|e| format!("{}: {e}", space.name)),
+        None => Ok(render(space, &scene.balls, &scene.view, w, h)),
+    }
+}
+
+fn write_png(pixels: &[ProductPixel], out: &std::path::Path, (w, h): (u32, u32)) -> Result<(), String> {
     let bytes: Vec<u8> = pixels
         .iter()
         .flat_map(|p| p.color.map(bevy_manifold::trace::srgb8).into_iter().chain([255]))
         .collect();
     image::save_buffer(out, &bytes, w, h, image::ExtendedColorType::Rgba8)
-        .map_err(|e| format!("{}: {e}", out.display()))?;
-    let on = if traced { "GPU" } else { "CPU" };
-    println!("wrote {} ({w}x{h}, {}, traced on the {on})", out.display(), space.name);
-    Ok(())
+        .map_err(|e| format!("{}: {e}", out.display()))
 }

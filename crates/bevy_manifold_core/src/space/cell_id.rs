@@ -69,7 +69,7 @@ impl CellId {
     }
 
     /// 32 bits hashed from the id, in 32-bit arithmetic only so the GPU
-    /// (`cell_hash` in `bevy_manifold_gpu`'s `shaders/cells.wgsl`) gets the same bits.
+    /// (`cell_hash` in `bevy_manifold_gpu`'s `shaders/cell_tint.wgsl`) gets the same bits.
     #[must_use]
     pub fn hash(self) -> u32 {
         hash32((self.0 as u32) ^ hash32((self.0 >> 32) as u32))
@@ -77,7 +77,7 @@ impl CellId {
 }
 
 /// A 32-bit integer hash (PCG's output permutation), identical in WGSL
-/// (`hash32` in `bevy_manifold_gpu`'s `shaders/cells.wgsl`).
+/// (`hash32` in `bevy_manifold_gpu`'s `shaders/cell_tint.wgsl`).
 #[must_use]
 pub fn hash32(x: u32) -> u32 {
     let state = x.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);

@@ -4,7 +4,8 @@
 //! this id, so two paths to the same copy give the same colour.
 //!
 //! WGSL twin: `shaders/cells.wgsl` in `bevy_manifold_gpu` (`cell_id`,
-//! `cell_hash`, `cell_color`).
+//! `cell_color`), and its `shaders/cell_tint.wgsl` (`cell_tint`) for
+//! [`CellTint::tint`].
 //!
 //! - **Lattice**: Euclidean box domains (the 3-torus, the mirrored cube),
 //!   whose copies sit on a lattice of boxes. The id packs the integer triple

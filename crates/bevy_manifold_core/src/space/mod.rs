@@ -32,6 +32,7 @@ pub mod lens;
 pub mod library;
 mod polyhedron;
 pub mod product;
+pub mod product_cells;
 pub mod product_file;
 pub mod rule;
 mod volume;

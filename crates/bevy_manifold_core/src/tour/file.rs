@@ -87,6 +87,25 @@ pub const MAX_TOUR_BYTES: u64 = 32 << 20;
 /// Longest tour, in seconds (a day).
 pub const MAX_SECONDS: f64 = 86_400.0;
 
+/// A tour file's JSON read into `T` (at most [`MAX_TOUR_BYTES`]), named
+/// by the file in errors: the tour files' and the product tour files'.
+pub(crate) fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, TourError> {
+    let p = path.display().to_string();
+    let text = crate::text::read_capped(path, MAX_TOUR_BYTES).map_err(|message| TourError::Io {
+        path: p.clone(),
+        message,
+    })?;
+    parse_json(&text, &p)
+}
+
+/// Tour JSON parsed into `T`; `path` names it in errors.
+pub(crate) fn parse_json<T: serde::de::DeserializeOwned>(text: &str, path: &str) -> Result<T, TourError> {
+    serde_json::from_str(crate::text::without_bom(text)).map_err(|e| TourError::Json {
+        path: path.into(),
+        message: e.to_string(),
+    })
+}
+
 /// The scene a tour is seen in: the paper's, with these parts.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -293,12 +312,7 @@ impl TourDesc {
     /// # Errors
     /// Unreadable file or malformed JSON, named by the file.
     pub fn load(path: impl AsRef<Path>) -> Result<TourDesc, TourError> {
-        let p = path.as_ref().display().to_string();
-        let text = crate::text::read_capped(path.as_ref(), MAX_TOUR_BYTES).map_err(|message| TourError::Io {
-            path: p.clone(),
-            message,
-        })?;
-        Self::parse(&text, &p)
+        read_json(path.as_ref())
     }
 
     /// Parses tour JSON; `path` names it in errors.
@@ -306,10 +320,7 @@ impl TourDesc {
     /// # Errors
     /// Malformed JSON, a missing or unknown field.
     pub fn parse(text: &str, path: &str) -> Result<TourDesc, TourError> {
-        serde_json::from_str(crate::text::without_bom(text)).map_err(|e| TourError::Json {
-            path: path.into(),
-            message: e.to_string(),
-        })
+        parse_json(text, path)
     }
 
     /// The file's JSON, pretty-printed.

@@ -29,6 +29,7 @@
 mod build;
 pub mod file;
 pub mod path;
+pub mod product;
 
 pub use file::{EntryDesc, MAX_TOTAL_WORDS, MAX_TOUR_BYTES, SceneDesc, TourDesc, TourError};
 pub use path::{PathFrame, PathKey, Segment, TourPath};

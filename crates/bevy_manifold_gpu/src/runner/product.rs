@@ -6,8 +6,10 @@
 use super::GpuTracer;
 use super::timing::TraceTiming;
 use crate::GpuError;
-use crate::product::{GpuProductPixel, GpuProductScene, storage_bytes};
+use crate::product::{GpuProductCells, GpuProductPixel, GpuProductScene, storage_bytes};
+use bevy_manifold_core::space::cell_id::CellId;
 use bevy_manifold_core::space::product::ProductSpace;
+use bevy_manifold_core::space::product_cells::DEFAULT_PRODUCT_TABLE_CELLS;
 use bevy_manifold_core::trace::product::{ProductPixel, ProductScene};
 use wgpu::util::DeviceExt;
 
@@ -80,6 +82,7 @@ impl GpuTracer {
                     f64::from(p.color[3])
                 },
                 crossings: p.crossings as usize,
+                cell: CellId(u64::from(p.cell[0]) | (u64::from(p.cell[1]) << 32)),
                 color: [p.color[0], p.color[1], p.color[2]],
             })
             .collect())
@@ -109,7 +112,7 @@ impl GpuTracer {
     /// The product pipeline, built on first use.
     fn product_pipeline(&mut self) -> Result<&ProductPipeline, GpuError> {
         if self.product.is_none() {
-            let module = Self::compose_modules(&[], crate::PRODUCT_WGSL, &[], &[])?;
+            let module = Self::compose_modules(&[crate::CELL_TINT_WGSL], crate::PRODUCT_WGSL, &[], &[])?;
             let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
             let shader = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("product.wgsl"),
@@ -133,6 +136,7 @@ impl GpuTracer {
                     entry(1, read),
                     entry(2, read),
                     entry(3, wgpu::BufferBindingType::Storage { read_only: false }),
+                    entry(4, read),
                 ],
             });
             let pipeline_layout = self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -187,7 +191,9 @@ impl GpuTracer {
                 "an image of {width}x{height} pixels is empty"
             )));
         }
-        let gpu = GpuProductScene::pack(space, scene, width, height);
+        let mut gpu = GpuProductScene::pack(space, scene, width, height);
+        let cells = GpuProductCells::of(space, view.cell.as_ref(), DEFAULT_PRODUCT_TABLE_CELLS);
+        gpu.params.cell_count = cells.count;
         if gpu.balls.len() > MAX_PRODUCT_BALLS {
             return Err(GpuError::Settings(format!(
                 "the scene makes {} balls with their images, more than the {MAX_PRODUCT_BALLS} the product tracer takes",
@@ -218,6 +224,7 @@ impl GpuTracer {
         });
         let faces = storage("product faces", &storage_bytes(&gpu.faces));
         let balls = storage("product balls", &storage_bytes(&gpu.balls));
+        let table = storage("product cells", &storage_bytes(&cells.words));
         let pixels = d.create_buffer(&wgpu::BufferDescriptor {
             label: Some("product pixels"),
             size: bytes as u64,
@@ -243,6 +250,10 @@ impl GpuTracer {
                 wgpu::BindGroupEntry {
                     binding: 3,
                     resource: pixels.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: table.as_entire_binding(),
                 },
             ],
         });

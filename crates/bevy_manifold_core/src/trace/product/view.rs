@@ -5,7 +5,10 @@
 
 use super::{ProductBall, ProductRay, hits_among, images, walk_segments};
 use crate::geometry::product::{ProductGeometry, ProductPoint, ProductTangent};
+use crate::space::cell_id::CellId;
+use crate::space::cells::CellTint;
 use crate::space::product::ProductSpace;
+use crate::space::product_cells::{ProductCells, ProductElement};
 use glam::DVec3;
 #[cfg(feature = "parallel")]
 use rayon::prelude::*;
@@ -66,6 +69,8 @@ impl ProductScene {
                 max_distance: 12.0,
                 max_crossings: 24,
                 fog: 0.08,
+                cell: Some(ProductElement::IDENTITY),
+                tint: None,
             },
         }
     }
@@ -87,6 +92,14 @@ pub struct ProductView {
     pub max_crossings: usize,
     /// Fog density (per unit of distance); 0 for none.
     pub fog: f64,
+    /// The copy of the prism the eye is in, exactly
+    /// ([`ProductCells`]): the origin copy to begin with, kept by
+    /// [`ProductView::moved`]; `None` once it is too far to name (its
+    /// cells are then shaded [`CellTint::UNKNOWN`]).
+    pub cell: Option<ProductElement>,
+    /// Per-cell shading: each ball's colour times the tint of the copy
+    /// it is seen in; `None` for the balls' own colours.
+    pub tint: Option<CellTint>,
 }
 
 impl ProductView {
@@ -117,10 +130,18 @@ impl ProductView {
         // face crossed before it.
         let mut frame = self.frame;
         let mut glued = 0;
+        let mut cells: Option<Option<ProductCells>> = None;
+        let mut cell = self.cell;
         let end = walk_segments(space, ray, distance, 64, |walk, _, length| {
             if let Some(&face) = walk.faces.get(glued) {
                 let m = space.gluings[face].isometry();
                 frame = frame.map(|w| m.apply_tangent(w));
+                // The space's exact group, made at the first crossing.
+                let exact = cells.get_or_insert_with(|| ProductCells::of(space));
+                cell = match (exact, cell) {
+                    (Some(exact), Some(c)) => exact.cross(&c, face).ok(),
+                    _ => None,
+                };
                 glued += 1;
             }
             frame = frame.map(|w| carried(g, &walk.ray, w, length));
@@ -129,6 +150,7 @@ impl ProductView {
         Self {
             eye: end.ray.origin,
             frame: orthonormal(g, end.ray.origin, frame),
+            cell,
             ..*self
         }
     }
@@ -208,6 +230,11 @@ pub struct ProductPixel {
     pub distance: f64,
     /// Faces crossed on the way.
     pub crossings: usize,
+    /// The copy of the prism the ball was seen in
+    /// ([`ProductCells::id`] of the eye's copy times the faces crossed);
+    /// [`CellId::BEYOND_TABLE`] where the space has no exact cells or
+    /// the copy is too far to name, and for nothing hit.
+    pub cell: CellId,
     /// Linear RGB: the ball's colour lit from the eye, fogged by the
     /// distance; the fog's colour where nothing is hit.
     pub color: [f32; 3],
@@ -227,18 +254,21 @@ pub fn render(
 ) -> Vec<ProductPixel> {
     let (w, h) = (width as usize, height as usize);
     let images = images(space, balls);
+    let cells = ProductCells::of(space);
+    let cells = cells.as_ref();
     #[cfg(feature = "parallel")]
     let indices = (0..w * h).into_par_iter();
     #[cfg(not(feature = "parallel"))]
     let indices = 0..w * h;
     indices
-        .map(|k| pixel(space, &images, view, (k % w, k / w), (w, h)))
+        .map(|k| pixel(space, cells, &images, view, (k % w, k / w), (w, h)))
         .collect()
 }
 
 /// One pixel of [`render`].
 fn pixel(
     space: &ProductSpace,
+    cells: Option<&ProductCells>,
     images: &[ProductBall],
     view: &ProductView,
     (i, j): (usize, usize),
@@ -267,6 +297,7 @@ fn pixel(
             object: 0,
             distance: f64::INFINITY,
             crossings: 0,
+            cell: CellId::BEYOND_TABLE,
             color: FOG_COLOR,
         };
     };
@@ -276,13 +307,23 @@ fn pixel(
         Some((inward, _)) => (g.form(inward.surface, hit.dir.surface) + inward.height * hit.dir.height).clamp(0.0, 1.0),
         None => 1.0,
     };
+    let cell = match (cells, view.cell) {
+        (Some(cells), Some(eye)) => cells
+            .element(&hit.faces)
+            .and_then(|e| cells.compose(&eye, &e))
+            .map_or(CellId::BEYOND_TABLE, |e| cells.id(&e)),
+        _ => CellId::BEYOND_TABLE,
+    };
+    let tint = view.tint.map_or([1.0; 3], |t| t.tint(cell));
     let base = palette(hit.object);
+    let base: [f32; 3] = std::array::from_fn(|c| base[c] * tint[c]);
     let fog = (-view.fog * hit.distance).exp() as f32;
     let shade = 0.25 + 0.75 * lit as f32;
     ProductPixel {
         object: hit.object,
         distance: hit.distance,
         crossings: hit.faces.len(),
+        cell,
         color: std::array::from_fn(|c| base[c] * shade * fog + FOG_COLOR[c] * (1.0 - fog)),
     }
 }
