@@ -807,3 +807,96 @@ fn product_bodies_move_through_the_faces_and_the_camera_shows_them() {
     assert_eq!(shown.balls[0].id, 7);
     assert!(g.distance(shown.balls[0].center, at) < 1e-12);
 }
+
+/// Gameplay casts in a product space ([`ProductRayCast`]): in S2 x S1
+/// with a circle of 2, straight up from under two bodies on the pole
+/// (at heights 0.5 and -0.5, radius 0.1), a ray meets each again every
+/// circle, one more face crossed each time round; a body casting leaves
+/// itself out; a ray along the sphere meets neither (they are 0.5 above
+/// and below it), and a ray that is not finite meets nothing.
+///
+/// [`ProductRayCast`]: bevy_manifold::product::ProductRayCast
+#[test]
+fn product_casts_meet_each_body_again_every_circle() {
+    use bevy::ecs::system::RunSystemOnce;
+    use bevy_manifold::geometry::product::{ProductPoint, ProductTangent};
+    use bevy_manifold::product::{ProductBody, ProductCamera, ProductRayCast, ProductSpaceRoot};
+    use bevy_manifold::space::product::ProductSpace;
+    use bevy_manifold::trace::product::ProductRay;
+    use std::sync::Arc;
+    let space = ProductSpace::s2_x_s1(2.0);
+    let mut app = app(Duration::from_millis(16));
+    let root = app.world_mut().spawn(ProductSpaceRoot(Arc::new(space.clone()))).id();
+    let body = |app: &mut App, height: f64, id: u32| {
+        app.world_mut()
+            .spawn((
+                ChildOf(root),
+                ProductBody {
+                    center: ProductPoint::new(DVec3::Z, height),
+                    radius: 0.1,
+                    id,
+                },
+            ))
+            .id()
+    };
+    let (a, b) = (body(&mut app, 0.5, 1), body(&mut app, -0.5, 2));
+    let mut camera = ProductCamera::default_for(space.clone());
+    camera.view.eye = ProductPoint::ORIGIN;
+    camera.view.frame = [
+        ProductTangent::new(DVec3::ZERO, 1.0),
+        ProductTangent::new(DVec3::X, 0.0),
+        ProductTangent::new(DVec3::Y, 0.0),
+    ];
+    let eye = app.world_mut().spawn((ChildOf(root), camera)).id();
+    app.update();
+    let settings = RayCastSettings {
+        max_distance: 4.5,
+        ..default()
+    };
+    let seen = app
+        .world_mut()
+        .run_system_once(move |cast: ProductRayCast| {
+            let up = cast.from_camera(eye, [1.0, 0.0, 0.0], &settings);
+            let without_a = cast.from_camera(
+                eye,
+                [1.0, 0.0, 0.0],
+                &RayCastSettings {
+                    exclude: Some(a),
+                    ..settings.clone()
+                },
+            );
+            let from_a = cast.from_body(a, ProductTangent::new(DVec3::ZERO, 1.0), &settings);
+            let across = cast.from_camera(
+                eye,
+                [0.0, 1.0, 0.0],
+                &RayCastSettings {
+                    max_distance: 10.0,
+                    ..settings.clone()
+                },
+            );
+            let broken = cast.cast(
+                root,
+                ProductRay {
+                    origin: ProductPoint::ORIGIN,
+                    dir: ProductTangent::new(DVec3::new(f64::NAN, 0.0, 0.0), 1.0),
+                },
+                &settings,
+            );
+            (up, without_a, from_a, across, broken)
+        })
+        .expect("the cast runs");
+    let (up, without_a, from_a, across, broken) = seen;
+    let summary = |hits: &[bevy_manifold::product::ProductRayHit]| -> Vec<(Entity, f64, usize)> {
+        hits.iter()
+            .map(|h| (h.entity, (h.distance * 1e9).round() / 1e9, h.faces.len()))
+            .collect()
+    };
+    assert_eq!(
+        summary(&up),
+        vec![(a, 0.4, 0), (b, 1.4, 1), (a, 2.4, 1), (b, 3.4, 2), (a, 4.4, 2)]
+    );
+    assert_eq!(summary(&without_a), vec![(b, 1.4, 1), (b, 3.4, 2)]);
+    // From A's centre up: the top at 0.5, then from -1 to B's bottom at -0.6.
+    assert_eq!(summary(&from_a), vec![(b, 0.9, 1), (b, 2.9, 2)]);
+    assert!(across.is_empty() && broken.is_empty(), "{across:?} {broken:?}");
+}

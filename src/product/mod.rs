@@ -11,8 +11,8 @@
 //! and S3. Their entities are balls: a [`ProductSpaceRoot`] holds a space,
 //! and the [`ProductBody`]s among its children (moved by a
 //! [`ProductVelocity`] through the faces) are what the [`ProductCamera`]s
-//! among its children show. A [`ProductTourPlayer`] flies a camera
-//! through a product tour. Meshes and lights are not traced there yet.
+//! among its children show; [`ProductRayCast`] casts rays against them.
+//! A [`ProductTourPlayer`] flies a camera through a product tour. Meshes and lights are not traced there yet.
 //!
 //! ```no_run
 //! use bevy::prelude::*;
@@ -33,8 +33,11 @@
 //!     .run();
 //! ```
 
+pub mod cast;
 #[cfg(feature = "render")]
 pub mod render;
+
+pub use cast::{ProductRayCast, ProductRayHit};
 
 use crate::placement::{GeodesicVelocity, ManifoldSystems};
 use bevy::prelude::*;
