@@ -19,8 +19,9 @@
 //! [`ProductCells::of`] recognises those entries in the `f64` gluings
 //! (the smallest numerators within 1e-9, over `2^k` for `k <= 3`) and
 //! proves them: each gluing times its partner's is the identity,
-//! exactly. Products of integers are checked: past `i128` (about
-//! distance 40 across the surface) an element is [`TooFar`]. The sphere
+//! exactly. Products of integers are checked: past `i128` (about 28
+//! crossings straight across the octagon, distance 85) an element is
+//! [`TooFar`]. The sphere
 //! (S2xS1 and its twists) has no sides: its copies are named by `steps`
 //! alone.
 //!
