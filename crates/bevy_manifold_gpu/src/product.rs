@@ -308,14 +308,4 @@ impl GpuProductCells {
             count: table.len() as u32,
         }
     }
-
-    /// The table of `space` about the eye of `scene`, grown to
-    /// `budget` cells; none where the space has no exact cells.
-    #[must_use]
-    pub fn of(space: &ProductSpace, eye: Option<&ProductElement>, budget: usize) -> Self {
-        match ProductCells::of(space) {
-            Some(cells) => Self::pack(&cells, &ProductCellTable::grow(&cells, budget), eye),
-            None => Self::none(),
-        }
-    }
 }

@@ -53,7 +53,7 @@ impl ProductGluing {
 }
 
 /// A compact space of H2xR or S2xR as a glued prism.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ProductSpace {
     /// Its name.
     pub name: String,

@@ -545,13 +545,15 @@ impl ProductCellTable {
                 break;
             }
             if elements.len() > budget {
+                // Whole spheres only: drop the one that did not fit.
+                for e in &elements[start..] {
+                    index.remove(e);
+                }
                 elements.truncate(start);
                 break;
             }
             sphere = start..elements.len();
         }
-        // The index again, of the whole spheres kept.
-        let index: HashMap<ProductElement, u32> = elements.iter().enumerate().map(|(k, e)| (*e, k as u32)).collect();
         let neighbours = elements
             .iter()
             .flat_map(|e| {

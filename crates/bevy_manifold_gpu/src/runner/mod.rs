@@ -35,6 +35,9 @@ pub struct GpuTracer {
     kept: Option<PackedSpace>,
     /// The product spaces' pipeline, built on first use.
     product: Option<product::ProductPipeline>,
+    /// The last product space traced, with its exact cells and their
+    /// table (none where it has no exact cells): grown once per space.
+    product_cells: Option<product::ProductCellsKept>,
 }
 
 impl GpuTracer {
@@ -124,6 +127,7 @@ impl GpuTracer {
             fragment_pipelines: HashMap::new(),
             kept: None,
             product: None,
+            product_cells: None,
         })
     }
 

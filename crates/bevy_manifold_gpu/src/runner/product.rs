@@ -9,7 +9,9 @@ use crate::GpuError;
 use crate::product::{GpuProductCells, GpuProductPixel, GpuProductScene, storage_bytes};
 use bevy_manifold_core::space::cell_id::CellId;
 use bevy_manifold_core::space::product::ProductSpace;
-use bevy_manifold_core::space::product_cells::DEFAULT_PRODUCT_TABLE_CELLS;
+use bevy_manifold_core::space::product_cells::{
+    DEFAULT_PRODUCT_TABLE_CELLS, ProductCellTable, ProductCells, ProductElement,
+};
 use bevy_manifold_core::trace::product::{ProductPixel, ProductScene};
 use wgpu::util::DeviceExt;
 
@@ -18,6 +20,10 @@ pub(super) struct ProductPipeline {
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::ComputePipeline,
 }
+
+/// A product space with its exact cells and their table, kept by the
+/// tracer between traces of that space.
+pub(super) type ProductCellsKept = (ProductSpace, Option<(ProductCells, ProductCellTable)>);
 
 /// A product scene uploaded and bound.
 struct ProductBound {
@@ -160,6 +166,24 @@ impl GpuTracer {
         Ok(self.product.as_ref().expect("built above"))
     }
 
+    /// The table of cells about the eye's copy `eye` in `space`: the
+    /// space's exact cells and table are grown on its first trace and
+    /// kept while the same space is traced (a tour's frames, a benchmark's
+    /// repeats); none where it has no exact cells.
+    fn product_cells(&mut self, space: &ProductSpace, eye: Option<&ProductElement>) -> GpuProductCells {
+        if self.product_cells.as_ref().is_none_or(|(kept, _)| kept != space) {
+            let exact = ProductCells::of(space).map(|cells| {
+                let table = ProductCellTable::grow(&cells, DEFAULT_PRODUCT_TABLE_CELLS);
+                (cells, table)
+            });
+            self.product_cells = Some((space.clone(), exact));
+        }
+        match &self.product_cells {
+            Some((_, Some((cells, table)))) => GpuProductCells::pack(cells, table, eye),
+            _ => GpuProductCells::none(),
+        }
+    }
+
     /// Checks, packs and uploads a product scene, its pipeline built.
     fn bind_product(
         &mut self,
@@ -192,7 +216,7 @@ impl GpuTracer {
             )));
         }
         let mut gpu = GpuProductScene::pack(space, scene, width, height);
-        let cells = GpuProductCells::of(space, view.cell.as_ref(), DEFAULT_PRODUCT_TABLE_CELLS);
+        let cells = self.product_cells(space, view.cell.as_ref());
         gpu.params.cell_count = cells.count;
         if gpu.balls.len() > MAX_PRODUCT_BALLS {
             return Err(GpuError::Settings(format!(
