@@ -11,8 +11,10 @@
 //! and S3. Their entities are balls: a [`ProductSpaceRoot`] holds a space,
 //! and the [`ProductBody`]s among its children (moved by a
 //! [`ProductVelocity`] through the faces) are what the [`ProductCamera`]s
-//! among its children show; [`ProductRayCast`] casts rays against them.
-//! A [`ProductTourPlayer`] flies a camera through a product tour. Meshes and lights are not traced there yet.
+//! among its children show, lit by the [`ProductPointLight`]s among its
+//! children (every image of each, with shadows); [`ProductRayCast`] casts
+//! rays against the bodies. A [`ProductTourPlayer`] flies a camera
+//! through a product tour. Meshes are not traced there yet.
 //!
 //! ```no_run
 //! use bevy::prelude::*;
@@ -44,12 +46,14 @@ use bevy::prelude::*;
 use bevy_manifold_core::geometry::product::{ProductPoint, ProductTangent};
 use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::tour::product::ProductTour;
-use bevy_manifold_core::trace::product::{ProductBall, ProductRay, ProductScene, ProductView, flow};
+use bevy_manifold_core::trace::product::{
+    ProductBall, ProductLight, ProductLighting, ProductRay, ProductScene, ProductView, flow,
+};
 use std::sync::Arc;
 
-/// A camera looking into a product space: the space, the balls in it and
-/// the view (the eye, its frame, how far and through how many faces it
-/// sees, the fog). Put it on a `Camera3d`; the camera's own `Transform`
+/// A camera looking into a product space: the space, the balls and
+/// lights in it and the view (the eye, its frame, how far and through how
+/// many faces it sees, the fog). Put it on a `Camera3d`; the camera's own `Transform`
 /// and projection are not used (the view's frame and field of view are).
 #[derive(Component, Clone, Debug)]
 pub struct ProductCamera {
@@ -57,6 +61,11 @@ pub struct ProductCamera {
     pub space: Arc<ProductSpace>,
     /// The balls, in the space's prism.
     pub balls: Vec<ProductBall>,
+    /// The lights, in the space's prism; none: the balls are lit from
+    /// the eye.
+    pub lights: Vec<ProductLight>,
+    /// How the lights light the balls (their images, shadows).
+    pub lighting: ProductLighting,
     /// Where the eye is and how it sees.
     pub view: ProductView,
 }
@@ -67,9 +76,17 @@ impl ProductCamera {
     #[must_use]
     pub fn default_for(space: ProductSpace) -> Self {
         let scene = ProductScene::default_for(&space);
+        Self::of(space, scene)
+    }
+
+    /// `scene` in `space`.
+    #[must_use]
+    pub fn of(space: ProductSpace, scene: ProductScene) -> Self {
         Self {
             space: Arc::new(space),
             balls: scene.balls,
+            lights: scene.lights,
+            lighting: scene.lighting,
             view: scene.view,
         }
     }
@@ -79,6 +96,8 @@ impl ProductCamera {
     pub fn scene(&self) -> ProductScene {
         ProductScene {
             balls: self.balls.clone(),
+            lights: self.lights.clone(),
+            lighting: self.lighting,
             view: self.view,
         }
     }
@@ -108,6 +127,34 @@ pub struct ProductBody {
     /// The object id the tracer reports (and its colour).
     pub id: u32,
 }
+
+/// A point light in a product space, a child of a [`ProductSpaceRoot`]:
+/// the [`ProductCamera`]s among the root's children are lit by it (by
+/// every image of it, as their `lighting` says).
+///
+/// ```
+/// use bevy::prelude::*;
+/// use bevy_manifold::prelude::*;
+/// use bevy_manifold::product::{ProductCamera, ProductPointLight, ProductSpaceRoot};
+/// use bevy_manifold::space::product::ProductSpace;
+/// use bevy_manifold::trace::product::ProductLight;
+/// use bevy_manifold::geometry::product::ProductPoint;
+/// use std::sync::Arc;
+///
+/// let mut app = App::new();
+/// app.add_plugins((MinimalPlugins, ManifoldPlugins::default()));
+/// let space = ProductSpace::s2_x_s1(2.0);
+/// let root = app.world_mut().spawn(ProductSpaceRoot(Arc::new(space.clone()))).id();
+/// let light = ProductLight::point(ProductPoint::new(glam::DVec3::Z, 0.5), 5.0);
+/// app.world_mut().spawn((ChildOf(root), ProductPointLight(light)));
+/// let camera = app.world_mut().spawn((ChildOf(root), ProductCamera::default_for(space))).id();
+/// app.update();
+/// assert_eq!(app.world().get::<ProductCamera>(camera).unwrap().lights, [light]);
+/// ```
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "render", require(Transform, Visibility))]
+#[cfg_attr(not(feature = "render"), require(Transform))]
+pub struct ProductPointLight(pub ProductLight);
 
 /// A [`ProductBody`]'s velocity: a tangent vector at its centre, in
 /// distance per second. [`move_product_bodies`] moves the body along its
@@ -150,11 +197,13 @@ pub fn move_product_bodies(
 }
 
 /// Each [`ProductCamera`] that is a child of a [`ProductSpaceRoot`] shows
-/// that root's space and the [`ProductBody`]s among its children (its
-/// own `balls` are replaced); other cameras keep theirs.
+/// that root's space and the [`ProductBody`]s among its children, lit by
+/// the [`ProductPointLight`]s among them (its own `balls` and `lights`
+/// are replaced); other cameras keep theirs.
 pub fn gather_product_bodies(
     roots: Query<(&ProductSpaceRoot, &Children)>,
     bodies: Query<&ProductBody>,
+    lights: Query<&ProductPointLight>,
     mut cameras: Query<(&mut ProductCamera, &ChildOf)>,
 ) {
     for (mut camera, parent) in &mut cameras {
@@ -175,6 +224,14 @@ pub fn gather_product_bodies(
         }
         if camera.balls != balls {
             camera.balls = balls;
+        }
+        let lit: Vec<ProductLight> = children
+            .iter()
+            .filter_map(|c| lights.get(c).ok())
+            .map(|l| l.0)
+            .collect();
+        if camera.lights != lit {
+            camera.lights = lit;
         }
     }
 }
@@ -249,11 +306,7 @@ impl ProductTourPlayer {
     /// at the player's time.
     #[must_use]
     pub fn camera(&self) -> ProductCamera {
-        ProductCamera {
-            space: Arc::new(self.tour.space.clone()),
-            balls: self.tour.balls.clone(),
-            view: self.tour.view_at(self.time),
-        }
+        ProductCamera::of(self.tour.space.clone(), self.tour.scene_at(self.time))
     }
 }
 

@@ -36,7 +36,8 @@ use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::space::product_cells::{
     DEFAULT_PRODUCT_TABLE_CELLS, ProductCellTable, ProductCells, ProductElement,
 };
-use bevy_manifold_gpu::product::{GpuProductCells, GpuProductScene, storage_bytes};
+use bevy_manifold_core::trace::product::{ProductLight, ProductLighting};
+use bevy_manifold_gpu::product::{GpuProductCells, GpuProductLight, GpuProductScene, storage_bytes};
 use bevy_manifold_gpu::{CELL_TINT_WGSL, PRODUCT_WGSL};
 use std::sync::{Arc, Weak};
 
@@ -172,16 +173,41 @@ type ExtractedCameraItem = (
     Option<Ref<'static, ProductCellWords>>,
 );
 
+/// A camera's light images, packed, and what they were made from: its
+/// space (by address), lights and lighting.
+type LightImages = HashMap<Entity, (usize, Vec<ProductLight>, ProductLighting, Vec<GpuProductLight>)>;
+
 /// Copies each active product camera's scene, packed, to its render
 /// entity when the camera or its scene changed (the render entity keeps
-/// it otherwise); takes it off cameras that no longer have one.
-pub fn extract_product_views(mut commands: Commands, cameras: Extract<Query<ExtractedCameraItem>>) {
+/// it otherwise); takes it off cameras that no longer have one. A
+/// camera's light images are worked out again only when its space, lights
+/// or lighting change, not as its eye moves.
+pub fn extract_product_views(
+    mut commands: Commands,
+    cameras: Extract<Query<ExtractedCameraItem>>,
+    mut images: Local<LightImages>,
+) {
+    let mut live = Vec::new();
     for (entity, camera, product, words) in &cameras {
         match product.filter(|_| camera.is_active) {
             Some(p) => {
+                live.push(entity);
                 let words = words.filter(|_| p.view.tint.is_some());
                 if p.is_changed() || camera.is_changed() || words.as_ref().is_some_and(Ref::is_changed) {
-                    let mut packed = GpuProductScene::pack(&p.space, &p.scene(), 1, 1);
+                    let scene = p.scene();
+                    let space = Arc::as_ptr(&p.space) as usize;
+                    let same = |c: &(usize, Vec<ProductLight>, ProductLighting, Vec<GpuProductLight>)| {
+                        c.0 == space && c.1 == scene.lights && c.2 == scene.lighting
+                    };
+                    let lights = match images.get(&entity) {
+                        Some(c) if same(c) => c.3.clone(),
+                        _ => {
+                            let packed = GpuProductScene::pack_lights(&p.space, &scene);
+                            images.insert(entity, (space, scene.lights.clone(), scene.lighting, packed.clone()));
+                            packed
+                        }
+                    };
+                    let mut packed = GpuProductScene::pack_lit(&p.space, &scene, lights, (1, 1));
                     let cells = words.map(|w| w.cells.clone());
                     packed.params.cell_count = cells.as_ref().map_or(0, |c| c.count);
                     commands.entity(entity).insert(ExtractedProductView { packed, cells });
@@ -194,6 +220,7 @@ pub fn extract_product_views(mut commands: Commands, cameras: Extract<Query<Extr
             }
         }
     }
+    images.retain(|e, _| live.contains(e));
 }
 
 /// What the product pipeline is specialised on: the view target.
@@ -210,8 +237,8 @@ pub struct ProductPipelineKey {
 /// The product pipeline's layout and shader (render world).
 #[derive(Resource, Clone)]
 pub struct ProductPipeline {
-    /// Group 0: params (uniform), faces, balls and the cell table
-    /// (storage).
+    /// Group 0: params (uniform), faces, balls, the cell table and the
+    /// light images (storage).
     pub layout: BindGroupLayoutDescriptor,
     shader: Handle<Shader>,
     fullscreen: FullscreenShader,
@@ -245,6 +272,7 @@ fn init_product_pipeline(
             entry(2, read),
             // 3 is the compute entry's pixels.
             entry(4, read),
+            entry(5, read),
         ],
     );
     commands.insert_resource(ProductPipeline {
@@ -296,6 +324,7 @@ struct ProductViewBuffers {
     faces: Buffer,
     balls: Buffer,
     table: Buffer,
+    lights: Buffer,
     bind_group: BindGroup,
 }
 
@@ -360,6 +389,7 @@ pub fn prepare_product_views(
         let kept = buffers.views.get_mut(&entity).filter(|b| {
             b.scene.faces.len() == scene.faces.len()
                 && b.scene.balls.len() == scene.balls.len()
+                && b.scene.lights.len() == scene.lights.len()
                 && table_words(b.cells.as_ref()).len() == table_words(cells.as_ref()).len()
         });
         let bind_group = match kept {
@@ -379,6 +409,11 @@ pub fn prepare_product_views(
                         bytemuck::cast_slice(&kept.scene.balls),
                         bytemuck::cast_slice(&scene.balls),
                         &kept.balls,
+                    ),
+                    (
+                        bytemuck::cast_slice(&kept.scene.lights),
+                        bytemuck::cast_slice(&scene.lights),
+                        &kept.lights,
                     ),
                 ] {
                     if old != new && !new.is_empty() {
@@ -460,8 +495,13 @@ impl ProductViewBuffers {
             &storage_bytes(table_words(cells.as_ref())),
             BufferUsages::STORAGE,
         );
+        let lights = buffer(
+            "manifold_product_lights",
+            &storage_bytes(&scene.lights),
+            BufferUsages::STORAGE,
+        );
         uploads.params += 1;
-        uploads.scenes += 2;
+        uploads.scenes += 3;
         uploads.tables += 1;
         let bind_group = device.create_bind_group(
             "manifold_product",
@@ -483,6 +523,10 @@ impl ProductViewBuffers {
                     binding: 4,
                     resource: table.as_entire_binding(),
                 },
+                BindGroupEntry {
+                    binding: 5,
+                    resource: lights.as_entire_binding(),
+                },
             ],
         );
         Self {
@@ -492,6 +536,7 @@ impl ProductViewBuffers {
             faces,
             balls,
             table,
+            lights,
             bind_group,
         }
     }

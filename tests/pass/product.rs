@@ -6,7 +6,7 @@ use super::support::*;
 use bevy::prelude::*;
 use bevy_manifold::product::ProductCamera;
 use bevy_manifold::space::product::ProductSpace;
-use bevy_manifold::trace::product::render;
+use bevy_manifold::trace::product::{ProductScene, render};
 
 /// What the product pass has uploaded so far.
 fn product_uploads(app: &App) -> bevy_manifold::product::render::ProductUploads {
@@ -41,10 +41,7 @@ pub fn a_product_camera_draws_what_the_cpu_reference_traces() {
         let entity = spawn_product_camera(&mut app, &image, camera.clone());
         wait_for_pipelines(&mut app);
         let shown = capture(&mut app, &image);
-        let cpu: Vec<[f32; 3]> = render(&space, &camera.balls, &camera.view, W, H)
-            .iter()
-            .map(|p| p.color)
-            .collect();
+        let cpu: Vec<[f32; 3]> = render(&space, &camera.scene(), W, H).iter().map(|p| p.color).collect();
         let agree = close_to(&shown, &cpu, 3);
         eprintln!(
             "{}: {:.3}% of pixels within 3/255 of the CPU reference",
@@ -86,10 +83,18 @@ pub fn a_product_camera_draws_what_the_cpu_reference_traces() {
             .iter()
             .map(|p| p.color)
             .collect();
-        let cpu_moved: Vec<[f32; 3]> = render(&space, &camera.balls, &moved, W, H)
-            .iter()
-            .map(|p| p.color)
-            .collect();
+        let cpu_moved: Vec<[f32; 3]> = render(
+            &space,
+            &ProductScene {
+                view: moved,
+                ..camera.scene()
+            },
+            W,
+            H,
+        )
+        .iter()
+        .map(|p| p.color)
+        .collect();
         let (same, near) = (
             close_to(&shown_moved, &headless, 1),
             close_to(&shown_moved, &cpu_moved, 3),
@@ -139,7 +144,7 @@ pub fn a_product_camera_shades_each_copy_by_its_cell() {
             p.iter().map(|p| p.color).collect()
         };
         let headless = colors(gpu.render_product(&space, &scene, W, H).expect("the headless trace"));
-        let cpu = colors(render(&space, &camera.balls, &view, W, H));
+        let cpu = colors(render(&space, &ProductScene { view, ..camera.scene() }, W, H));
         let (same, near) = (close_to(&shown, &headless, 1), close_to(&shown, &cpu, 3));
         eprintln!(
             "{} by cell: {:.3}% within 1/255 of the headless trace, {:.3}% within 3/255 of the CPU reference",

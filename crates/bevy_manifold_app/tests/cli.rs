@@ -245,8 +245,9 @@ fn render_refuses_sizes_and_levels_no_tracer_takes() {
 
 /// `product` renders each product space on the CPU: a PNG of the size
 /// asked for, with the balls and the fog in it (several colours); with
-/// `--cells` the balls seen in other copies of the prism change colour;
-/// bad lengths and sizes are refused by name.
+/// `--cells` the balls seen in other copies of the prism change colour,
+/// and with `--lights` the balls are lit otherwise; bad lengths and sizes
+/// are refused by name.
 fn product_renders_each_space_and_refuses_bad_numbers() {
     for space in [
         "s2xs1",
@@ -274,6 +275,9 @@ fn product_renders_each_space_and_refuses_bad_numbers() {
         let by_cell = draw("_cells", &["--cells"]);
         let changed = png.pixels().zip(by_cell.pixels()).filter(|(a, b)| a != b).count();
         assert!(changed > 40, "{space}: {changed} pixels changed by cell");
+        let lit = draw("_lights", &["--lights"]);
+        let changed = png.pixels().zip(lit.pixels()).filter(|(a, b)| a != b).count();
+        assert!(changed > 40, "{space}: {changed} pixels changed by the lights");
     }
     // A space's file, exported, edited and drawn from the file; a broken
     // one is named with its field.

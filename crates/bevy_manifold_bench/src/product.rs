@@ -67,10 +67,8 @@ pub fn run(width: u32, height: u32, levels: u32, runs: u32) -> Result<(), String
             .time_product(&space, &scene, (width, height), runs)
             .map_err(|e| e.to_string())?;
         let gpu_ms = t.device_ms.unwrap_or(t.wall_ms);
-        let cpu = best_ms(runs, || {
-            Ok(render_product(&space, &scene.balls, &scene.view, width, height))
-        })?;
-        let image = render_product(&space, &scene.balls, &scene.view, width, height);
+        let cpu = best_ms(runs, || Ok(render_product(&space, &scene, width, height)))?;
+        let image = render_product(&space, &scene, width, height);
         let hits = image.iter().filter(|p| p.object != 0).count();
         let crossings = image.iter().map(|p| p.crossings as f64).sum::<f64>() / image.len() as f64;
         worst = worst.max(gpu_ms / sw_ms);

@@ -365,7 +365,7 @@ fn a_million_crossings_keep_the_ray_on_the_model() {
 /// has nothing else).
 #[test]
 fn a_rendered_view_sees_what_the_rays_hit() {
-    use bevy_manifold_core::trace::product::{ProductView, render};
+    use bevy_manifold_core::trace::product::{ProductScene, ProductView, render};
     let space = ProductSpace::s2_x_s1(1.5);
     let ball = ProductBall {
         center: ProductPoint::new(DVec3::Z, 0.5),
@@ -386,7 +386,7 @@ fn a_rendered_view_sees_what_the_rays_hit() {
         cell: Some(ProductElement::IDENTITY),
         tint: None,
     };
-    let image = render(&space, &[ball], &view, 33, 33);
+    let image = render(&space, &ProductScene::new(vec![ball], view), 33, 33);
     let middle = image[16 * 33 + 16];
     assert_eq!(middle.object, 1);
     assert!((middle.distance - 0.4).abs() < 1e-9);
@@ -425,7 +425,7 @@ fn a_rendered_view_sees_what_the_rays_hit() {
 fn cells_are_named_along_the_circle_and_tint_the_balls_in_them() {
     use bevy_manifold_core::space::cells::CellTint;
     use bevy_manifold_core::space::product_cells::product_cell_id;
-    use bevy_manifold_core::trace::product::{ProductView, palette, render};
+    use bevy_manifold_core::trace::product::{ProductScene, ProductView, palette, render};
     let space = ProductSpace::s2_x_s1(1.5);
     let ball = ProductBall {
         center: ProductPoint::new(DVec3::Z, -0.6),
@@ -446,7 +446,7 @@ fn cells_are_named_along_the_circle_and_tint_the_balls_in_them() {
         cell: Some(ProductElement::IDENTITY),
         tint: None,
     };
-    let middle = |v: &ProductView| render(&space, &[ball], v, 9, 9)[4 * 9 + 4];
+    let middle = |v: &ProductView| render(&space, &ProductScene::new(vec![ball], *v), 9, 9)[4 * 9 + 4];
     let seen = middle(&view);
     // Up 0.55 to the top face, then from -0.75 to the ball's bottom at
     // -0.7 in the next copy.
@@ -721,7 +721,7 @@ fn a_flying_view_comes_back_round_closed_geodesics() {
 fn the_tour_through_s2xs1_repeats_up_the_circle_and_closes_round_the_sphere() {
     use bevy_manifold_core::space::product_cells::product_cell_id;
     use bevy_manifold_core::tour::product::ProductTour;
-    use bevy_manifold_core::trace::product::{ProductView, render};
+    use bevy_manifold_core::trace::product::{ProductScene, ProductView, render};
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../assets/tours/s2xs1.product-tour.json"
@@ -742,8 +742,8 @@ fn the_tour_through_s2xs1_repeats_up_the_circle_and_closes_round_the_sphere() {
     let steps = |v: &ProductView| v.cell.expect("a copy").steps();
     assert_eq!(steps(&b), steps(&a) + 1);
     let (pa, pb) = (
-        render(&tour.space, &tour.balls, &a, 24, 16),
-        render(&tour.space, &tour.balls, &b, 24, 16),
+        render(&tour.space, &ProductScene::new(tour.balls.clone(), a), 24, 16),
+        render(&tour.space, &ProductScene::new(tour.balls.clone(), b), 24, 16),
     );
     assert!(pa.iter().filter(|p| p.object != 0).count() > 20);
     for (p, q) in pa.iter().zip(&pb) {

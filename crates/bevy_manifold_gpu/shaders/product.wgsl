@@ -1,7 +1,7 @@
 // The tracer of the product spaces (H2xR, S2xR) on the GPU, in f32.
 // Rust twin: crates/bevy_manifold_core/src/trace/product/mod.rs (the walk
-// through the faces and the balls' entries) and its `view.rs` (the
-// pixel); the geometry is the core's geometry/product.rs. A ray follows
+// through the faces and the balls' entries), its `view.rs` (the pixel)
+// and its `light.rs` (the lights, their arcs and shadows); the geometry is the core's geometry/product.rs. A ray follows
 // its exact geodesic through the prism, leaves through the nearest face
 // (in closed form) and goes on from the gluing's image of its exit point.
 // Balls are geodesic balls of the product metric, found by sphere
@@ -37,8 +37,8 @@ struct ProductParams {
     cell_count: u32,
     camera_steps: i32,
     camera_flip: i32,
-    pad_a: u32,
-    pad_b: u32,
+    light_count: u32,
+    shadows: u32,
 }
 
 // Rust twin: `GpuProductFace`.
@@ -59,6 +59,17 @@ struct ProductBall {
     id: u32,
     reach_trig: f32,
     pad: u32,
+}
+
+// One image of a light: its colour (rgb) and power (w). Rust twin:
+// `GpuProductLight` (the core's `ProductLightImage`).
+struct ProductLight {
+    position: vec4<f32>,
+    color: vec4<f32>,
+    inv_range_sq: f32,
+    min_area: f32,
+    pad_a: u32,
+    pad_b: u32,
 }
 
 // Rust twin: `GpuProductPixel`.
@@ -93,6 +104,9 @@ struct ProductRay {
 // each cell's tile seen from the camera (two words). Rust twin:
 // `ProductCellTable` (its `neighbours` and `tiles_around`).
 @group(0) @binding(4) var<storage, read> cells: array<u32>;
+// The light images. Rust twin: `light_images` (packed by
+// `GpuProductScene::pack_lights`).
+@group(0) @binding(5) var<storage, read> lights: array<ProductLight>;
 
 // A neighbour not in the table. Rust twin: `OUTSIDE`.
 const PRODUCT_OUTSIDE: u32 = 0xffffffffu;
@@ -424,31 +438,156 @@ fn product_cell_id(cell: ProductCell) -> vec2<u32> {
     return vec2<u32>(tile.x ^ hash32(s), (tile.y ^ hash32(s ^ 0x9e3779b9u)) & 0x3fffffffu);
 }
 
-// The ball's colour, tinted by its cell's, lit from the eye (the cosine
-// between the way into the ball, towards its centre, and the ray),
-// fogged. Rust twin: `pixel`'s shading (and `ProductGeometry::log` for
-// the way in).
-fn shade(at: ProductRay, b: u32, distance: f32, crossings: u32, cell: vec2<u32>) -> ProductPixel {
-    let p = at.origin;
-    let q = balls[b].center;
+// The ambient light of a lit scene. Rust twin: `AMBIENT`.
+const AMBIENT: f32 = 0.08;
+// How far a shadow ray starts off the surface. Rust twin: `SHADOW_OFFSET`.
+const SHADOW_OFFSET: f32 = 1e-4;
+
+// The product metric on tangents. Rust twin: `ProductGeometry::dot`.
+fn dot4(u: vec4<f32>, v: vec4<f32>) -> f32 {
+    return form(u.xyz, v.xyz) + u.w * v.w;
+}
+
+// The unit tangent at p towards q, scaled by the distance (zero for
+// q = p). Rust twin: `ProductGeometry::log`.
+fn log_map(p: vec4<f32>, q: vec4<f32>) -> vec4<f32> {
     let t = q.xyz - p.xyz * (form(q.xyz, p.xyz) * params.curvature);
     let n = sqrt(max(form(t, t), 0.0));
     let ds = surface_distance(p.xyz, q.xyz);
-    var inward = vec4<f32>(0.0, 0.0, 0.0, q.w - p.w);
+    var surface = vec3<f32>(0.0);
     if n > 1e-30 && ds > 0.0 {
-        inward = vec4<f32>(t * (ds / n), q.w - p.w);
+        surface = t * (ds / n);
     }
-    var lit = 1.0;
-    let d = sqrt(max(form(inward.xyz, inward.xyz), 0.0) + inward.w * inward.w);
-    if d > 0.0 {
-        lit = clamp((form(inward.xyz, at.dir.xyz) + inward.w * at.dir.w) / d, 0.0, 1.0);
+    return vec4<f32>(surface, q.w - p.w);
+}
+
+// The area a light's power spreads over at distance d along a geodesic
+// whose surface part is `surface` long. Rust twin:
+// `ProductGeometry::light_area`.
+fn light_area(d: f32, surface: f32) -> f32 {
+    var spread = 1.0;
+    if abs(surface) > 1e-6 {
+        spread = abs(trig(surface).y) / abs(surface);
     }
-    let fog = exp(-params.fog * distance);
+    return 4.0 * 3.14159265 * d * d * spread;
+}
+
+// A light image's irradiance along an arc of `length` whose surface part
+// is `surface` long. Rust twin: `arc_irradiance`.
+fn arc_irradiance(l: u32, length: f32, surface: f32) -> f32 {
+    let f = length * length * lights[l].inv_range_sq;
+    let window = clamp(1.0 - f * f, 0.0, 1.0);
+    let area = max(light_area(length, surface), lights[l].min_area);
+    return lights[l].color.w * window * window / area * exp(-params.fog * length);
+}
+
+// Whether a ball stands on the way from x (unit normal `normal`) along
+// the unit tangent `dir` for `length`, walked through the faces from
+// SHADOW_OFFSET off the surface. Rust twin: `shadowed`.
+fn shadowed(x: vec4<f32>, normal: vec4<f32>, dir: vec4<f32>, length: f32) -> bool {
+    let start = normalize_point(advance(ProductRay(x, normal), SHADOW_OFFSET).origin);
+    var ray = ProductRay(start, normalize_tangent(start, dir));
+    var travelled = 0.0;
+    var skip = NO_FACE;
+    var crossings = 0u;
+    loop {
+        let exit = exit_face(ray, skip);
+        let leaves = exit.face != NO_FACE && travelled + exit.s < length;
+        var segment = length - travelled;
+        if leaves {
+            segment = exit.s;
+        }
+        if nearest_entry(ray, segment).ball != NO_FACE {
+            return true;
+        }
+        if !leaves || crossings >= params.max_crossings {
+            return false;
+        }
+        ray = transport(exit.face, advance(ray, exit.s));
+        travelled += exit.s;
+        skip = faces[exit.face].partner;
+        crossings++;
+    }
+    return false;
+}
+
+// The light a surface point x (unit normal, seen along `view`, of colour
+// `albedo`) receives from every light image along each of its arcs (in
+// S2xR also the long way round): Lambert plus a Blinn lobe, each arc's
+// light only where its way is free when shadows are on. Rust twins:
+// `direct` and `light_arcs`.
+fn direct(x: vec4<f32>, normal: vec4<f32>, view: vec4<f32>, albedo: vec3<f32>) -> vec3<f32> {
+    var rgb = vec3<f32>(0.0);
+    for (var l = 0u; l < params.light_count; l++) {
+        let v = log_map(x, lights[l].position);
+        let length = sqrt(max(dot4(v, v), 0.0));
+        if length <= 0.0 {
+            continue;
+        }
+        let surface = surface_distance(x.xyz, lights[l].position.xyz);
+        let speed = sqrt(max(form(v.xyz, v.xyz), 0.0));
+        var arcs = 1u;
+        if params.curvature > 0.0 && speed > 1e-6 {
+            arcs = 2u;
+        }
+        for (var a = 0u; a < arcs; a++) {
+            var dir = v / length;
+            var s = length;
+            var along = surface;
+            if a == 1u {
+                along = 6.2831855 - surface;
+                s = sqrt(along * along + v.w * v.w);
+                dir = vec4<f32>(-v.xyz / speed * (along / s), v.w / s);
+            }
+            let nl = dot4(normal, dir);
+            if nl <= 0.0 {
+                continue;
+            }
+            let e = arc_irradiance(l, s, along);
+            if e <= 0.0 || (params.shadows != 0u && shadowed(x, normal, dir, s)) {
+                continue;
+            }
+            let half = dir + view;
+            let hl = sqrt(max(dot4(half, half), 0.0));
+            var nh = 0.0;
+            if hl > 1e-6 {
+                nh = max(dot4(normal, half) / hl, 0.0);
+            }
+            let spec = pow(nh, 32.0) * 0.35;
+            rgb += (albedo * nl + vec3<f32>(spec)) * e * lights[l].color.rgb;
+        }
+    }
+    return rgb;
+}
+
+// The ball's colour, tinted by its cell's, lit by the light images (from
+// the eye where there are none: the cosine between the way into the
+// ball, towards its centre, and the ray), fogged. Rust twin: `pixel`'s
+// shading.
+fn shade(at: ProductRay, b: u32, distance: f32, crossings: u32, cell: vec2<u32>) -> ProductPixel {
+    let p = at.origin;
+    let inward = log_map(p, balls[b].center);
+    let d = sqrt(max(dot4(inward, inward), 0.0));
     var base = balls[b].color.rgb;
     if params.tint_mode != 0u {
         base *= cell_tint(cell, params.tint_mode - 1u, params.tint_a, params.tint_b);
     }
-    let color = base * (0.25 + 0.75 * lit) * fog + params.fog_color.rgb * (1.0 - fog);
+    var rgb = vec3<f32>(0.0);
+    if params.light_count == 0u {
+        var lamp = 1.0;
+        if d > 0.0 {
+            lamp = clamp(dot4(inward, at.dir) / d, 0.0, 1.0);
+        }
+        rgb = base * (0.25 + 0.75 * lamp);
+    } else {
+        var normal = -at.dir;
+        if d > 0.0 {
+            normal = -inward / d;
+        }
+        rgb = base * AMBIENT + direct(p, normal, -at.dir, base);
+    }
+    let fog = exp(-params.fog * distance);
+    let color = rgb * fog + params.fog_color.rgb * (1.0 - fog);
     return ProductPixel(vec4<f32>(color, distance), balls[b].id, crossings, cell);
 }
 

@@ -23,7 +23,7 @@
 use bevy_manifold_core::geometry::product::{ProductPoint, ProductTangent};
 use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::space::product_cells::{ProductCellTable, ProductCells, ProductElement};
-use bevy_manifold_core::trace::product::{FOG_COLOR, ProductScene, images, palette};
+use bevy_manifold_core::trace::product::{FOG_COLOR, ProductScene, images, light_images, palette};
 use bytemuck::{Pod, Zeroable};
 
 /// WGSL twin: `ProductParams` in `shaders/product.wgsl`.
@@ -78,10 +78,11 @@ pub struct GpuProductParams {
     pub camera_steps: i32,
     /// -1 where the eye's copy turns the line over, else 1.
     pub camera_flip: i32,
-    /// Padding.
-    pub pad_a: u32,
-    /// Padding.
-    pub pad_b: u32,
+    /// The light images ([`GpuProductLight`]); 0: the balls are lit from
+    /// the eye.
+    pub light_count: u32,
+    /// 1 where the balls cast shadows.
+    pub shadows: u32,
 }
 
 /// WGSL twin: `ProductFace` in `shaders/product.wgsl`. One face of the
@@ -126,6 +127,26 @@ pub struct GpuProductBall {
     pub pad: u32,
 }
 
+/// WGSL twin: `ProductLight` in `shaders/product.wgsl`. One image of a
+/// light, the twin of the core's
+/// [`ProductLightImage`](bevy_manifold_core::trace::product::ProductLightImage).
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuProductLight {
+    /// Where it is: surface point (xyz) and height (w).
+    pub position: [f32; 4],
+    /// Its colour (linear rgb) and power (w).
+    pub color: [f32; 4],
+    /// `1 / range^2`; 0: no cut-off.
+    pub inv_range_sq: f32,
+    /// The least area its power spreads over.
+    pub min_area: f32,
+    /// Padding.
+    pub pad_a: u32,
+    /// Padding.
+    pub pad_b: u32,
+}
+
 /// WGSL twin: `ProductPixel` in `shaders/product.wgsl`. What one pixel
 /// sees, the twin of the core's
 /// [`ProductPixel`](bevy_manifold_core::trace::product::ProductPixel).
@@ -152,6 +173,8 @@ pub struct GpuProductScene {
     /// Each ball, then its images that reach into the prism (the CPU
     /// tracer's [`images`]).
     pub balls: Vec<GpuProductBall>,
+    /// The light images ([`GpuProductScene::pack_lights`]).
+    pub lights: Vec<GpuProductLight>,
 }
 
 /// How much farther than its radius the shader looks for a ball (f32
@@ -192,6 +215,36 @@ impl GpuProductScene {
     /// `scene` in `space`, for a `width x height` image.
     #[must_use]
     pub fn pack(space: &ProductSpace, scene: &ProductScene, width: u32, height: u32) -> Self {
+        Self::pack_lit(space, scene, Self::pack_lights(space, scene), (width, height))
+    }
+
+    /// The images of `scene`'s lights as the GPU reads them (the core's
+    /// [`light_images`]): worked out once while the lights stay, as the
+    /// Bevy pass does.
+    #[must_use]
+    pub fn pack_lights(space: &ProductSpace, scene: &ProductScene) -> Vec<GpuProductLight> {
+        light_images(space, &scene.lights, scene.lighting)
+            .iter()
+            .map(|l| GpuProductLight {
+                position: point(l.position),
+                color: [l.color[0], l.color[1], l.color[2], l.intensity as f32],
+                inv_range_sq: l.inv_range_sq as f32,
+                min_area: l.min_area as f32,
+                pad_a: 0,
+                pad_b: 0,
+            })
+            .collect()
+    }
+
+    /// `scene` in `space` lit by `lights` (its lights' images, packed by
+    /// [`GpuProductScene::pack_lights`]), for a `width x height` image.
+    #[must_use]
+    pub fn pack_lit(
+        space: &ProductSpace,
+        scene: &ProductScene,
+        lights: Vec<GpuProductLight>,
+        (width, height): (u32, u32),
+    ) -> Self {
         let view = &scene.view;
         let [forward, right, up] = view.frame;
         let balls: Vec<GpuProductBall> = images(space, &scene.balls)
@@ -254,11 +307,12 @@ impl GpuProductScene {
                 cell_count: 0,
                 camera_steps: camera.steps() as i32,
                 camera_flip: if camera.flips() { -1 } else { 1 },
-                pad_a: 0,
-                pad_b: 0,
+                light_count: lights.len() as u32,
+                shadows: u32::from(scene.lighting.shadows),
             },
             faces,
             balls,
+            lights,
         }
     }
 }

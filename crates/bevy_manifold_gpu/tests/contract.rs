@@ -17,7 +17,7 @@ use bevy_manifold_gpu::bindings::{BINDINGS, BindingKind};
 use bevy_manifold_gpu::layout::{
     GpuBall, GpuFace, GpuInstance, GpuLight, GpuParams, GpuPixel, GpuTube, NO_INSTANCE_TREES, NO_JOINT,
 };
-use bevy_manifold_gpu::product::{GpuProductBall, GpuProductFace, GpuProductParams, GpuProductPixel};
+use bevy_manifold_gpu::product::{GpuProductBall, GpuProductFace, GpuProductLight, GpuProductParams, GpuProductPixel};
 use bevy_manifold_gpu::{
     FLAG_NO_CULL, FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE, GpuCellScheme, GpuTracer, RENDER_WGSL, SHADER_IMPORTS,
     TraceDefs, WgslModule, undecorated,
@@ -85,8 +85,9 @@ fn product_layouts() -> Vec<RustLayout> {
         rust_layout!(GpuProductParams => "ProductParams" {
             eye, forward, right, up, fog_color, width, height, max_crossings, side_count, ball_count,
             curvature, half_height, max_distance, tan_half_fov, fog, origin_x, origin_y, tint_mode, tint_a,
-            tint_b, cell_count, camera_steps, camera_flip, pad_a, pad_b,
+            tint_b, cell_count, camera_steps, camera_flip, light_count, shadows,
         }),
+        rust_layout!(GpuProductLight => "ProductLight" { position, color, inv_range_sq, min_area, pad_a, pad_b }),
         rust_layout!(GpuProductFace => "ProductFace" { normal, surface, flip, shift, partner, cross_steps }),
         rust_layout!(GpuProductBall => "ProductBall" { center, color, radius, id, reach_trig, pad }),
         rust_layout!(GpuProductPixel => "ProductPixel" { color, object, crossings, cell }),
@@ -158,7 +159,8 @@ fn every_product_struct_has_its_wgsl_twins_size_and_offsets() {
     .expect("product.wgsl composes");
     let mismatches = layout_mismatches_of(&module, product_layouts());
     assert!(mismatches.is_empty(), "{mismatches:#?}");
-    // The product tracer's bindings: params, faces, balls, pixels, cells.
+    // The product tracer's bindings: params, faces, balls, pixels, cells,
+    // lights.
     let bound: Vec<(u32, String)> = module
         .global_variables
         .iter()
@@ -166,7 +168,15 @@ fn every_product_struct_has_its_wgsl_twins_size_and_offsets() {
         .collect();
     assert_eq!(
         bound,
-        [(0, "params"), (1, "faces"), (2, "balls"), (3, "pixels"), (4, "cells")].map(|(b, n)| (b, n.to_owned()))
+        [
+            (0, "params"),
+            (1, "faces"),
+            (2, "balls"),
+            (3, "pixels"),
+            (4, "cells"),
+            (5, "lights")
+        ]
+        .map(|(b, n)| (b, n.to_owned()))
     );
 }
 

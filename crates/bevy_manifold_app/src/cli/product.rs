@@ -57,6 +57,10 @@ pub struct ProductArgs {
     /// (the paper's per-cell shading).
     #[arg(long)]
     cells: bool,
+    /// Light the balls by two point lights, every image of each, with
+    /// shadows (`ProductScene::lit_for`), instead of from the eye.
+    #[arg(long)]
+    lights: bool,
 }
 
 /// The space named, or read from its file.
@@ -104,7 +108,11 @@ pub fn run(args: &ProductArgs) -> Result<(), String> {
     let Some(out) = &args.out else {
         return Err("--out FILE.png is needed to draw the space".into());
     };
-    let mut scene = ProductScene::default_for(&space);
+    let mut scene = if args.lights {
+        ProductScene::lit_for(&space)
+    } else {
+        ProductScene::default_for(&space)
+    };
     if args.cells {
         scene.view.tint = Some(bevy_manifold::space::cells::CellTint::ByCell);
     }
@@ -178,7 +186,7 @@ fn trace(
         Some(gpu) => gpu
             .render_product(space, scene, w, h)
             .map_err(|e| format!("{}: {e}", space.name)),
-        None => Ok(render(space, &scene.balls, &scene.view, w, h)),
+        None => Ok(render(space, scene, w, h)),
     }
 }
 

@@ -225,6 +225,35 @@ impl ProductGeometry {
         2.0 * std::f64::consts::PI * d * sum * h / 3.0
     }
 
+    /// The product metric on tangents: `<u, v>` of the surface parts
+    /// plus the product of the vertical speeds.
+    #[must_use]
+    pub fn dot(self, u: ProductTangent, v: ProductTangent) -> f64 {
+        self.form(u.surface, v.surface) + u.height * v.height
+    }
+
+    /// The area a point light's power spreads over at distance `d` along
+    /// a geodesic whose surface part is `surface` long (the fall-off of
+    /// its irradiance is the inverse): `4 pi d^2 S(surface) / surface`,
+    /// `S` the surface's sine (`sinh` on H2, `|sin|` on S2), and
+    /// `4 pi d^2` for a vertical geodesic. This is exact and local: in
+    /// polar coordinates the geodesic sphere's area element in that
+    /// direction is `d S(d cos a) da dtheta` against the unit sphere's
+    /// `cos a da dtheta` (`surface = d cos a`), so a light's rays spread
+    /// by their ratio `d^2 S(surface) / surface`; its mean over the
+    /// directions is [`ProductGeometry::sphere_area`] over `4 pi`. On S2
+    /// it vanishes where the rays refocus (`surface` a multiple of `pi`):
+    /// a caustic, which the lights cap by their size.
+    #[must_use]
+    pub fn light_area(self, d: f64, surface: f64) -> f64 {
+        let spread = if surface.abs() < 1e-9 {
+            1.0
+        } else {
+            self.trig(surface).1.abs() / surface.abs()
+        };
+        4.0 * std::f64::consts::PI * d * d * spread
+    }
+
     /// How far `p` is from the surface's model (`|<p, p> - k|`).
     #[must_use]
     pub fn point_error(self, p: ProductPoint) -> f64 {

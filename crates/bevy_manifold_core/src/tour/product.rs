@@ -321,10 +321,7 @@ impl ProductTour {
     /// The scene at time `t`: the balls and the view.
     #[must_use]
     pub fn scene_at(&self, t: f64) -> ProductScene {
-        ProductScene {
-            balls: self.balls.clone(),
-            view: self.view_at(t),
-        }
+        ProductScene::new(self.balls.clone(), self.view_at(t))
     }
 }
 

@@ -143,6 +143,7 @@ impl GpuTracer {
                     entry(2, read),
                     entry(3, wgpu::BufferBindingType::Storage { read_only: false }),
                     entry(4, read),
+                    entry(5, read),
                 ],
             });
             let pipeline_layout = self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -249,6 +250,7 @@ impl GpuTracer {
         let faces = storage("product faces", &storage_bytes(&gpu.faces));
         let balls = storage("product balls", &storage_bytes(&gpu.balls));
         let table = storage("product cells", &storage_bytes(&cells.words));
+        let lights = storage("product lights", &storage_bytes(&gpu.lights));
         let pixels = d.create_buffer(&wgpu::BufferDescriptor {
             label: Some("product pixels"),
             size: bytes as u64,
@@ -278,6 +280,10 @@ impl GpuTracer {
                 wgpu::BindGroupEntry {
                     binding: 4,
                     resource: table.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: lights.as_entire_binding(),
                 },
             ],
         });

@@ -27,9 +27,14 @@
 use crate::geometry::product::{ProductGeometry, ProductIsometry, ProductPoint, ProductTangent};
 use crate::space::product::ProductSpace;
 
+mod light;
 mod view;
 
-pub use view::{FOG_COLOR, ProductPixel, ProductScene, ProductView, palette, render};
+pub use light::{
+    LightArc, MAX_PRODUCT_LIGHT_IMAGES, ProductLight, ProductLightImage, ProductLighting, SHADOW_OFFSET,
+    arc_irradiance, direct, light_arcs, light_images, shadowed,
+};
+pub use view::{AMBIENT, FOG_COLOR, ProductPixel, ProductScene, ProductView, palette, render};
 
 /// A ray: a point and a unit tangent there.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -1,8 +1,10 @@
 //! What a view of a product space sees: each pixel's ray followed to its
-//! first ball ([`super::hits`]), lit from the eye and fogged by its
+//! first ball ([`super::hits`]), lit by the scene's lights
+//! ([`super::light`]; from the eye where it has none) and fogged by its
 //! distance. The WGSL twin is `product.wgsl`'s `pixel` (in the
 //! `bevy_manifold_gpu` crate), which reads the same [`ProductScene`].
 
+use super::light::{ProductLight, ProductLightImage, ProductLighting, direct, light_images};
 use super::{ProductBall, ProductRay, hits_among, images, walk_segments};
 use crate::geometry::product::{ProductGeometry, ProductPoint, ProductTangent};
 use crate::space::cell_id::CellId;
@@ -13,16 +15,55 @@ use glam::DVec3;
 #[cfg(feature = "parallel")]
 use rayon::prelude::*;
 
-/// What a product space shows: balls in the prism, and a view.
+/// What a product space shows: balls and lights in the prism, and a
+/// view.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProductScene {
     /// The balls, in the prism.
     pub balls: Vec<ProductBall>,
+    /// The lights, in the prism; none: the balls are lit from the eye.
+    pub lights: Vec<ProductLight>,
+    /// How the lights light the scene (their images, shadows).
+    pub lighting: ProductLighting,
     /// The eye and how far it sees.
     pub view: ProductView,
 }
 
 impl ProductScene {
+    /// `balls` seen by `view`, with no lights (lit from the eye).
+    #[must_use]
+    pub fn new(balls: Vec<ProductBall>, view: ProductView) -> Self {
+        Self {
+            balls,
+            lights: Vec::new(),
+            lighting: ProductLighting::default(),
+            view,
+        }
+    }
+
+    /// [`ProductScene::default_for`] lit by two lights, a warm one high
+    /// beyond the ball on the axis (which shades the smallest ball from
+    /// it) and a cool one low between the eye and that ball, with their
+    /// images and shadows (`bevy_manifold product --lights`).
+    #[must_use]
+    pub fn lit_for(space: &ProductSpace) -> Self {
+        let g = space.geometry;
+        let l = space.height;
+        let at = |angle: f64, d: f64, h: f64| polar(g, angle, d, h);
+        let mut scene = Self::default_for(space);
+        scene.lights = vec![
+            ProductLight {
+                color: [1.0, 0.85, 0.65],
+                ..ProductLight::point(at(1.14, 0.55, 0.42 * l), 6.0)
+            },
+            ProductLight {
+                color: [0.6, 0.75, 1.0],
+                ..ProductLight::point(at(2.75, 0.4, -0.3 * l), 4.0)
+            },
+        ];
+        scene
+    }
+
     /// The scene `bevy_manifold product` draws: a ball on the prism's
     /// axis, two off it at other heights, the eye off the axis looking
     /// across it and a little up, through at most 24 faces and 12 units,
@@ -31,10 +72,7 @@ impl ProductScene {
     pub fn default_for(space: &ProductSpace) -> Self {
         let g = space.geometry;
         let l = space.height;
-        let at = |angle: f64, d: f64, h: f64| {
-            let (c, s) = g.trig(d);
-            ProductPoint::new(DVec3::new(s * angle.cos(), s * angle.sin(), c), h)
-        };
+        let at = |angle: f64, d: f64, h: f64| polar(g, angle, d, h);
         let r = 0.22 * l.min(1.0);
         let balls = vec![
             ProductBall {
@@ -60,9 +98,9 @@ impl ProductScene {
         let forward = ProductTangent::new(toward.surface * tilt.cos(), tilt.sin());
         let up = ProductTangent::new(-toward.surface * tilt.sin(), tilt.cos());
         let right = g.normalize_tangent(eye, ProductTangent::new(DVec3::NEG_Y, 0.0));
-        Self {
+        Self::new(
             balls,
-            view: ProductView {
+            ProductView {
                 eye,
                 frame: [forward, right, up],
                 fov_y_degrees: 70.0,
@@ -72,8 +110,15 @@ impl ProductScene {
                 cell: Some(ProductElement::IDENTITY),
                 tint: None,
             },
-        }
+        )
     }
+}
+
+/// The point at surface distance `d` from the origin in direction
+/// `angle`, at height `h`.
+fn polar(g: ProductGeometry, angle: f64, d: f64, h: f64) -> ProductPoint {
+    let (c, s) = g.trig(d);
+    ProductPoint::new(DVec3::new(s * angle.cos(), s * angle.sin(), c), h)
 }
 
 /// A view from inside a product space: where the eye is and its frame.
@@ -240,20 +285,18 @@ pub struct ProductPixel {
     pub color: [f32; 3],
 }
 
-/// The view's image, `width x height`, rows from the top: each pixel's
+/// The scene's image, `width x height`, rows from the top: each pixel's
 /// ray the unit tangent `forward + x right + y up` (`x`, `y` on the image
 /// plane of the field of view), followed to its first ball; in parallel
 /// with the `parallel` feature.
 #[must_use]
-pub fn render(
-    space: &ProductSpace,
-    balls: &[ProductBall],
-    view: &ProductView,
-    width: u32,
-    height: u32,
-) -> Vec<ProductPixel> {
+pub fn render(space: &ProductSpace, scene: &ProductScene, width: u32, height: u32) -> Vec<ProductPixel> {
     let (w, h) = (width as usize, height as usize);
-    let images = images(space, balls);
+    let lit = Lit {
+        balls: images(space, &scene.balls),
+        lights: light_images(space, &scene.lights, scene.lighting),
+        shadows: scene.lighting.shadows,
+    };
     let cells = ProductCells::of(space);
     let cells = cells.as_ref();
     #[cfg(feature = "parallel")]
@@ -261,15 +304,23 @@ pub fn render(
     #[cfg(not(feature = "parallel"))]
     let indices = 0..w * h;
     indices
-        .map(|k| pixel(space, cells, &images, view, (k % w, k / w), (w, h)))
+        .map(|k| pixel(space, cells, &lit, &scene.view, (k % w, k / w), (w, h)))
         .collect()
+}
+
+/// What a [`render`] lights: the balls and their images, the light
+/// images, and whether the balls shadow.
+struct Lit {
+    balls: Vec<ProductBall>,
+    lights: Vec<ProductLightImage>,
+    shadows: bool,
 }
 
 /// One pixel of [`render`].
 fn pixel(
     space: &ProductSpace,
     cells: Option<&ProductCells>,
-    images: &[ProductBall],
+    lit: &Lit,
     view: &ProductView,
     (i, j): (usize, usize),
     (w, h): (usize, usize),
@@ -287,7 +338,7 @@ fn pixel(
     .unit(g);
     let seen = hits_among(
         space,
-        images,
+        &lit.balls,
         ProductRay { origin: view.eye, dir },
         view.max_distance,
         view.max_crossings,
@@ -301,12 +352,8 @@ fn pixel(
             color: FOG_COLOR,
         };
     };
-    // Lit from the eye: the cosine between the normal (from the centre
-    // out) and the way back along the ray.
-    let lit = match g.log(hit.point, hit.center) {
-        Some((inward, _)) => (g.form(inward.surface, hit.dir.surface) + inward.height * hit.dir.height).clamp(0.0, 1.0),
-        None => 1.0,
-    };
+    // The way into the ball, towards its centre: minus the normal.
+    let inward = g.log(hit.point, hit.center).map(|(v, _)| v);
     let cell = match (cells, view.cell) {
         (Some(cells), Some(eye)) => cells
             .element(&hit.faces)
@@ -317,16 +364,42 @@ fn pixel(
     let tint = view.tint.map_or([1.0; 3], |t| t.tint(cell));
     let base = palette(hit.object);
     let base: [f32; 3] = std::array::from_fn(|c| base[c] * tint[c]);
+    let rgb: [f32; 3] = if lit.lights.is_empty() {
+        // Lit from the eye: the cosine between the normal and the way
+        // back along the ray.
+        let lamp = inward.map_or(1.0, |v| g.dot(v, hit.dir).clamp(0.0, 1.0));
+        let shade = 0.25 + 0.75 * lamp as f32;
+        base.map(|b| b * shade)
+    } else {
+        let normal = inward.map_or(ProductTangent::new(-hit.dir.surface, -hit.dir.height), |v| {
+            ProductTangent::new(-v.surface, -v.height)
+        });
+        let back = ProductTangent::new(-hit.dir.surface, -hit.dir.height);
+        let light = direct(
+            space,
+            &lit.balls,
+            &lit.lights,
+            (hit.point, normal, back),
+            base,
+            view.fog,
+            lit.shadows,
+            view.max_crossings,
+        );
+        std::array::from_fn(|c| base[c] * AMBIENT + light[c])
+    };
     let fog = (-view.fog * hit.distance).exp() as f32;
-    let shade = 0.25 + 0.75 * lit as f32;
     ProductPixel {
         object: hit.object,
         distance: hit.distance,
         crossings: hit.faces.len(),
         cell,
-        color: std::array::from_fn(|c| base[c] * shade * fog + FOG_COLOR[c] * (1.0 - fog)),
+        color: std::array::from_fn(|c| rgb[c] * fog + FOG_COLOR[c] * (1.0 - fog)),
     }
 }
+
+/// The ambient light of a lit scene (the other spaces' too). WGSL twin:
+/// `AMBIENT` in `product.wgsl`.
+pub const AMBIENT: f32 = 0.08;
 
 /// The fog's colour, and what a ray that hits nothing sees.
 pub const FOG_COLOR: [f32; 3] = [0.7, 0.75, 0.8];
