@@ -6,19 +6,24 @@
 //! (the default: a closed genus-2 surface times a circle),
 //! `twisted-genus2xs1`, `s2xs1`, `twisted-s2xs1` or `mirrored-prism`.
 //! `--cells` (or the C key) shades each copy of the prism in its own
-//! colour, by its exact cell. `--tour FILE` plays a product tour
+//! colour, by its exact cell. `--lights` lights the balls by two point
+//! lights (entities with a `ProductPointLight`), every image of each, with
+//! shadows; the L key turns them off and on. `--tour FILE` plays a product tour
 //! (`assets/tours/s2xs1.product-tour.json`, round and round; `--at
 //! SECONDS` holds it at that moment) instead of flying.
 //!
-//! `cargo run --release --example product [-- --space NAME] [-- --cells] [-- --tour FILE [--at SECONDS]] [-- --screenshot FILE.png [--size WxH]]`
+//! `cargo run --release --example product [-- --space NAME] [-- --cells] [-- --lights] [-- --tour FILE [--at SECONDS]] [-- --screenshot FILE.png [--size WxH]]`
 
 use bevy::prelude::*;
 use bevy_manifold::geometry::product::ProductTangent;
 use bevy_manifold::prelude::*;
-use bevy_manifold::product::{ProductBody, ProductCamera, ProductSpaceRoot, ProductTourPlayer, ProductVelocity};
+use bevy_manifold::product::{
+    ProductBody, ProductCamera, ProductPointLight, ProductSpaceRoot, ProductTourPlayer, ProductVelocity,
+};
 use bevy_manifold::space::cells::CellTint;
 use bevy_manifold::space::product::ProductSpace;
 use bevy_manifold::tour::product::ProductTour;
+use bevy_manifold::trace::product::{ProductLight, ProductScene};
 use glam::DVec3;
 use std::sync::Arc;
 #[path = "support/showcase.rs"]
@@ -27,8 +32,30 @@ mod showcase;
 
 fn main() -> AppExit {
     let mut app = showcase::app("A product space", "H2xR or S2xR: geodesics bend up and down the circle");
-    app.add_systems(Startup, setup).add_systems(Update, toggle_cells);
+    app.add_systems(Startup, setup)
+        .add_systems(Update, (toggle_cells, toggle_lights));
     showcase::run(app)
+}
+
+/// A light of the scene, lit or not (its `ProductPointLight` on or off).
+#[derive(Component)]
+struct Lamp(ProductLight);
+
+/// L: the lights off or on.
+fn toggle_lights(
+    keys: Res<ButtonInput<KeyCode>>,
+    mut commands: Commands,
+    lamps: Query<(Entity, &Lamp, Has<ProductPointLight>)>,
+) {
+    if keys.just_pressed(KeyCode::KeyL) {
+        for (entity, lamp, lit) in &lamps {
+            if lit {
+                commands.entity(entity).remove::<ProductPointLight>();
+            } else {
+                commands.entity(entity).insert(ProductPointLight(lamp.0));
+            }
+        }
+    }
 }
 
 /// C: per-cell shading on or off.
@@ -64,6 +91,11 @@ fn setup(mut commands: Commands) {
         camera.view.tint = Some(CellTint::ByCell);
     }
     let root = commands.spawn(ProductSpaceRoot(Arc::new(space.clone()))).id();
+    if showcase::flag("--lights") {
+        for light in ProductScene::lit_for(&space).lights {
+            commands.spawn((ChildOf(root), Lamp(light), ProductPointLight(light)));
+        }
+    }
     for (k, ball) in camera.balls.iter().enumerate() {
         let body = commands
             .spawn((

@@ -37,6 +37,12 @@ const FIGURES: &[(&str, &[&str], &str)] = &[
     // sphere times a circle, and the mirrored prism shaded by cell.
     ("product", &[], "product_example_genus2xs1"),
     ("product", &["--space", "s2xs1"], "product_example_s2xs1"),
+    // Lit by two point lights, every image of each, with shadows.
+    (
+        "product",
+        &["--space", "s2xs1", "--lights"],
+        "product_example_s2xs1_lit",
+    ),
     (
         "product",
         &["--space", "mirrored-prism", "--cells"],

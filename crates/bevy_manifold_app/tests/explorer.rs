@@ -64,6 +64,7 @@ fn settings_round_trip_and_broken_files_are_replaced_not_lost() {
         refine_still: false,
         still_samples: 64,
         smooth_detail: false,
+        lights: false,
         panel: false,
     };
     mine.save(&path).expect("saved");
@@ -161,8 +162,9 @@ fn explore_headless(dir: &std::path::Path, args: &[&str]) -> std::process::Outpu
         .expect("the binary runs")
 }
 
-/// `explore --space` opens a library space by name and a `.gen` file by
-/// path (here in the headless fallback, which says which space it drew),
+/// `explore --space` opens a library space by name, a `.gen` file by
+/// path and a product space by name (here in the headless fallback, which
+/// says which space it drew),
 /// and refuses a name that is no space and a broken file, naming them,
 /// without drawing anything. Without a runtime directory it makes its
 /// own, so the libraries do not complain of its absence.
@@ -189,6 +191,10 @@ fn explore_opens_the_space_it_is_given_and_names_a_bad_one() {
     let (ok, stdout, stderr, png) = run(&["--space", gen_file.to_str().expect("utf-8")]);
     assert!(ok && png, "{stdout}\n{stderr}");
     assert!(stdout.contains("view of lens-7-2 "), "{stdout}");
+    // A product space by name, drawn by the product tracer.
+    let (ok, stdout, stderr, png) = run(&["--space", "s2xs1"]);
+    assert!(ok && png, "{stdout}\n{stderr}");
+    assert!(stdout.contains("view of S2 x S1 "), "{stdout}");
     let (ok, stdout, stderr, png) = run(&["--space", "no-such-space"]);
     assert!(!ok && !png, "{stdout}\n{stderr}");
     assert!(
@@ -237,7 +243,14 @@ fn switching_spaces_100_times_leaks_no_buffers_or_pipelines() {
     app.cleanup();
     app.update();
     app.world_mut().resource_mut::<ExplorerView>().wanted = UVec2::new(48, 27);
-    let names = catalog::NAMES;
+    // The catalog's five and three product spaces (a product camera and
+    // its own pass between them).
+    let names: Vec<&str> = catalog::NAMES
+        .iter()
+        .copied()
+        .chain(["s2xs1", "genus2xs1", "mirrored-prism"])
+        .collect();
+    assert_eq!(200 % names.len(), 0, "the switches end where they began");
     let switch = |app: &mut App, i: usize| {
         app.world_mut().resource_mut::<ExplorerSettings>().space = names[i % names.len()].to_string();
         app.update();
@@ -287,7 +300,7 @@ fn switching_spaces_100_times_leaks_no_buffers_or_pipelines() {
     assert_eq!(
         world.space.name(),
         catalog::torus(1.0).name(),
-        "100 switches over 5 spaces end where they began"
+        "100 switches over 8 spaces end where they began"
     );
     // Every counter counts: the explorer's view is a texture with a view,
     // and it has buffers, bind groups and a render pipeline.
@@ -309,10 +322,13 @@ fn switching_spaces_100_times_leaks_no_buffers_or_pipelines() {
             after[k]
         );
     }
-    // One space root is left, with its camera.
+    // One space root is left, with its camera, and no product space.
     let w = app.world_mut();
     assert_eq!(w.query::<&ManifoldSpace>().iter(w).count(), 1);
     assert_eq!(w.query::<&ManifoldCamera>().iter(w).count(), 1);
+    let products = w.query::<&bevy_manifold::product::ProductSpaceRoot>().iter(w).count();
+    let cameras = w.query::<&bevy_manifold::product::ProductCamera>().iter(w).count();
+    assert_eq!((products, cameras), (0, 0));
 }
 
 /// The settings file, fuzzed (the `fuzz` module of the test support):
@@ -749,8 +765,76 @@ fn the_camera_rides_the_vehicle_forward_along_the_geodesic() {
     assert!(max_abs(end - ahead) < 1e-9);
 }
 
+/// A product space picked in the panel (its name in the settings) is
+/// shown by a `ProductCamera` among its balls and lights; the levels, the
+/// distance, the fog and the per-cell shading reach its view; lights off
+/// takes them away and keeps the view; a space of E3 picked after it
+/// brings back a `ManifoldSpace`, and nothing of the product is left.
+fn product_spaces_open_in_the_explorer() {
+    use bevy_manifold::placement::ManifoldSpace;
+    use bevy_manifold::product::{ProductBody, ProductCamera, ProductPointLight, ProductSpaceRoot};
+    use bevy_manifold::space::cells::CellTint;
+    let mut app = headless_explorer();
+    app.world_mut().resource_mut::<ExplorerSettings>().space = "genus2xs1".into();
+    app.update();
+    app.update();
+    let world = app.world().resource::<ExplorerWorld>().clone();
+    let product = world.product.clone().expect("a product space shown");
+    assert_eq!((product.name.as_str(), world.name()), ("genus 2 x S1", "genus 2 x S1"));
+    assert!(app.world().get::<ProductSpaceRoot>(world.root).is_some());
+    assert!(app.world().get::<ManifoldSpace>(world.root).is_none());
+    let count = |app: &mut App| {
+        let lights = app.world_mut().query::<&ProductPointLight>().iter(app.world()).count();
+        let balls = app.world_mut().query::<&ProductBody>().iter(app.world()).count();
+        (lights, balls)
+    };
+    assert_eq!(count(&mut app), (2, 3));
+    {
+        let mut s = app.world_mut().resource_mut::<ExplorerSettings>();
+        s.levels = 7;
+        s.max_distance = 9.0;
+        s.fog = true;
+        s.fog_density = 0.2;
+        s.cells = true;
+        s.cell_mode = CellMode::ByCell;
+    }
+    app.update();
+    let camera = app
+        .world()
+        .get::<ProductCamera>(world.camera)
+        .expect("the product camera");
+    assert_eq!(camera.view.max_crossings, 7);
+    assert!((camera.view.max_distance - 9.0).abs() < 1e-12 && (camera.view.fog - 0.2).abs() < 1e-12);
+    assert_eq!(camera.view.tint, Some(CellTint::ByCell));
+    assert_eq!(camera.lights.len(), 2, "lit by the root's lights");
+    assert_eq!(camera.balls.len(), 3);
+    // Moved, then the lights turned off: the view stays where it was.
+    let moved = camera.view.moved(&product, [1.0, 0.0, 0.0], 0.3);
+    app.world_mut().get_mut::<ProductCamera>(world.camera).unwrap().view = moved;
+    app.world_mut().resource_mut::<ExplorerSettings>().lights = false;
+    app.update();
+    app.update();
+    let now = app.world().resource::<ExplorerWorld>().clone();
+    let camera = app
+        .world()
+        .get::<ProductCamera>(now.camera)
+        .expect("the product camera");
+    assert_eq!(camera.view.eye, moved.eye);
+    assert!(camera.lights.is_empty());
+    assert_eq!(count(&mut app), (0, 3));
+    // Back to the 3-torus.
+    app.world_mut().resource_mut::<ExplorerSettings>().space = "torus".into();
+    app.update();
+    let back = app.world().resource::<ExplorerWorld>().clone();
+    assert!(back.product.is_none());
+    assert!(app.world().get::<ManifoldSpace>(back.root).is_some());
+    let roots = app.world_mut().query::<&ProductSpaceRoot>().iter(app.world()).count();
+    assert_eq!((roots, count(&mut app)), (0, (0, 0)));
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [
+        product_spaces_open_in_the_explorer,
         a_tour_opened_in_the_explorer_flies_the_camera_along_it,
         views_recorded_as_keyframes_are_where_the_saved_tour_goes,
         the_camera_rides_the_vehicle_forward_along_the_geodesic,

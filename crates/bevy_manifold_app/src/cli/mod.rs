@@ -4,7 +4,7 @@
 use bevy_manifold_bench as bench;
 mod cell;
 mod library;
-mod product;
+pub(crate) mod product;
 mod show;
 pub mod tour;
 

@@ -176,7 +176,7 @@ fn gpu_tracer() -> Option<GpuTracer> {
 }
 
 /// The scene's pixels, on the GPU where there is one.
-fn trace(
+pub(crate) fn trace(
     space: &ProductSpace,
     scene: &ProductScene,
     gpu: Option<&mut GpuTracer>,
@@ -190,7 +190,8 @@ fn trace(
     }
 }
 
-fn write_png(pixels: &[ProductPixel], out: &std::path::Path, (w, h): (u32, u32)) -> Result<(), String> {
+/// The pixels' colours written as an sRGB PNG.
+pub(crate) fn write_png(pixels: &[ProductPixel], out: &std::path::Path, (w, h): (u32, u32)) -> Result<(), String> {
     let bytes: Vec<u8> = pixels
         .iter()
         .flat_map(|p| p.color.map(bevy_manifold::trace::srgb8).into_iter().chain([255]))

@@ -55,12 +55,57 @@ pub fn view_scene(
     (space, scene, trace)
 }
 
+/// [`render_instead`] in a product space: its lit scene (or lit from the
+/// eye, as the settings say) from its start, traced by the product tracer
+/// (its WGSL twin where there is an adapter).
+fn render_product_instead(
+    why: &str,
+    settings: &ExplorerSettings,
+    space: &bevy_manifold::space::product::ProductSpace,
+    out: &Path,
+    gpu: bool,
+) -> AppExit {
+    use bevy_manifold::trace::product::ProductScene;
+    let (w, h) = if gpu { (1280, 720) } else { (640, 360) };
+    let mut scene = if settings.lights {
+        ProductScene::lit_for(space)
+    } else {
+        ProductScene::default_for(space)
+    };
+    super::view::set_product_view(&mut scene.view, settings);
+    let mut tracer = gpu.then(bevy_manifold_gpu::GpuTracer::new).and_then(Result::ok);
+    let on = if tracer.is_some() {
+        "on the GPU"
+    } else {
+        "with the CPU reference tracer"
+    };
+    let result = crate::cli::product::trace(space, &scene, tracer.as_mut(), (w, h))
+        .and_then(|pixels| crate::cli::product::write_png(&pixels, out, (w, h)));
+    match result {
+        Ok(()) => {
+            println!(
+                "{why}: rendered the explorer's view of {} to {} ({w}x{h}, {on}) instead of opening a window",
+                space.name,
+                out.display()
+            );
+            AppExit::Success
+        }
+        Err(e) => {
+            eprintln!("{why}, and rendering {} failed: {e}", out.display());
+            AppExit::error()
+        }
+    }
+}
+
 /// Prints why there is no window, renders the view to `out` (1280x720 on
 /// the GPU, 640x360 on the CPU reference) and returns success; an error
 /// exit only when the image cannot be made or written.
 pub fn render_instead(why: &str, settings: &ExplorerSettings, out: &Path) -> AppExit {
     let gpu = probe_adapter_info().is_ok();
     let (w, h) = if gpu { (1280, 720) } else { (640, 360) };
+    if let Some(space) = super::view::product_space(&settings.space) {
+        return render_product_instead(why, settings, &space, out, gpu);
+    }
     let (space, scene, trace) = view_scene(settings, w, h);
     let result = render_any(&space, &scene, &trace, !gpu, false)
         .map_err(|e| e.to_string())

@@ -128,6 +128,7 @@ pub const KEYS: &[(&str, &str)] = &[
 ];
 
 /// The keys for the common toggles (listed in [`KEYS`]).
+#[expect(clippy::too_many_arguments, reason = "a system's parameters")]
 fn keys(
     mut commands: Commands,
     keys: Option<Res<ButtonInput<KeyCode>>>,
@@ -135,6 +136,7 @@ fn keys(
     world: Option<Res<ExplorerWorld>>,
     view: Option<Res<ExplorerView>>,
     cells: Query<&DomainCell, With<ExplorerCamera>>,
+    mut products: Query<&mut bevy_manifold::product::ProductCamera, With<ExplorerCamera>>,
     mut status: ResMut<ExplorerStatus>,
 ) {
     let (Some(keys), Some(world)) = (keys, world) else {
@@ -170,10 +172,17 @@ fn keys(
         settings.cell_mode = CellMode::ALL[(i + 1) % CellMode::ALL.len()];
         settings.cells = true;
     }
+    // The camera's copy: its domain cell's id, or in a product space its
+    // exact copy's.
+    let here = cells.get(world.camera).map(|c| c.id.0).ok().or_else(|| {
+        let (space, camera) = (world.product.as_ref()?, products.get(world.camera).ok()?);
+        let exact = bevy_manifold::space::product_cells::ProductCells::of(space)?;
+        Some(exact.id(&camera.view.cell?).0)
+    });
     if hit(KeyCode::KeyP)
-        && let Ok(cell) = cells.get(world.camera)
+        && let Some(id) = here
     {
-        settings.highlight = cell.id.0;
+        settings.highlight = id;
         settings.cell_mode = CellMode::Highlight;
         settings.cells = true;
     }
@@ -191,12 +200,21 @@ fn keys(
         settings.vehicle = !settings.vehicle;
     }
     if hit(KeyCode::KeyR) {
-        let (placement, _) = bevy_manifold::drawables::paper::paper_camera(&world.space);
-        commands.entity(world.camera).insert((
-            placement,
-            DomainCell::default(),
-            bevy_manifold::tour::FaceWord::default(),
-        ));
+        match (&world.product, products.get_mut(world.camera)) {
+            (Some(space), Ok(mut camera)) => {
+                let mut start = bevy_manifold::trace::product::ProductScene::lit_for(space).view;
+                view::set_product_view(&mut start, &settings);
+                camera.view = start;
+            }
+            _ => {
+                let (placement, _) = bevy_manifold::drawables::paper::paper_camera(&world.space);
+                commands.entity(world.camera).insert((
+                    placement,
+                    DomainCell::default(),
+                    bevy_manifold::tour::FaceWord::default(),
+                ));
+            }
+        }
     }
     if hit(KeyCode::Tab) {
         settings.panel = !settings.panel;
@@ -207,7 +225,7 @@ fn keys(
         let secs = std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
             .map_or(0, |d| d.as_secs());
-        let path = format!("bevy_manifold-{}-{secs}.png", world.space.name());
+        let path = format!("bevy_manifold-{}-{secs}.png", world.name());
         status.say(format!("screenshot: {path} ({}x{})", view.size.x, view.size.y), false);
         commands
             .spawn(Screenshot::image(view.image.clone()))
@@ -358,10 +376,14 @@ pub fn run_for(frames: Option<u32>, screenshot: Option<PathBuf>, tour: Option<Pa
     })
 }
 
-/// What `--space` names, as the settings keep it: a catalog or library
-/// name as it is, a file by its absolute path (so the saved settings find
-/// it from any directory); or why it is neither, naming it.
+/// What `--space` names, as the settings keep it: a catalog, library or
+/// product space's name as it is, a file by its absolute path (so the
+/// saved settings find it from any directory); or why it is none of
+/// these, naming it.
 fn explored_space(space: &str) -> Result<String, String> {
+    if view::product_space(space).is_some() {
+        return Ok(space.to_owned());
+    }
     bevy_manifold::space::catalog::resolve(space).map_err(|e| format!("{space}: {e}"))?;
     let path = std::path::Path::new(space);
     let known = bevy_manifold::space::catalog::by_name(space).is_some()

@@ -17,6 +17,9 @@ use bevy_egui::{
 use bevy_manifold::camera::{AccumulationProgress, AdaptiveRenderScale, ManifoldAccumulation, ManifoldRenderScale};
 use bevy_manifold::geometry::Geometry;
 use bevy_manifold::placement::{DomainCell, Placement};
+use bevy_manifold::product::ProductCamera;
+use bevy_manifold::space::product::ProductSpace;
+use bevy_manifold::space::product_cells::ProductElement;
 use bevy_manifold::space::{catalog, library};
 use bevy_manifold::tour::FaceWord;
 use bevy_manifold::trace::SuzanneMode;
@@ -71,6 +74,7 @@ fn panel(
     mut status: ResMut<ExplorerStatus>,
     world: Res<ExplorerWorld>,
     cameras: Query<(&DomainCell, &Placement, &FaceWord), With<ExplorerCamera>>,
+    products: Query<&ProductCamera, With<ExplorerCamera>>,
     scales: Query<(Option<&ManifoldRenderScale>, Option<&AdaptiveRenderScale>), With<ExplorerCamera>>,
     adapter: Option<Res<RenderAdapterInfo>>,
     mut tour: ResMut<ExplorerTour>,
@@ -115,10 +119,15 @@ fn panel(
                 egui::ScrollArea::vertical().show(ui, |ui| {
                     let camera = cameras.get(world.camera).ok();
                     let cell = camera.map(|c| c.0);
+                    let product_cell = products.get(world.camera).ok().map(|c| c.view.cell);
                     let scale = scales.get(world.camera).ok();
                     egui::CollapsingHeader::new("Tour").default_open(true).show(ui, |ui| {
-                        let pose = camera.map(|(_, p, w)| (p.isometry, w.0.as_slice()));
-                        tour_panel::section(ui, &mut tour, &mut s, &mut status, &world, pose);
+                        if world.product.is_some() {
+                            ui.label("Tours of the product spaces play from the command line (product --tour).");
+                        } else {
+                            let pose = camera.map(|(_, p, w)| (p.isometry, w.0.as_slice()));
+                            tour_panel::section(ui, &mut tour, &mut s, &mut status, &world, pose);
+                        }
                     });
                     contents(
                         ui,
@@ -126,7 +135,7 @@ fn panel(
                         &mut state.path,
                         &mut status,
                         &world,
-                        cell,
+                        (cell, product_cell),
                         adapter.as_deref(),
                         &view,
                         (scale, samples.as_deref()),
@@ -183,15 +192,18 @@ fn contents(
     path: &mut String,
     status: &mut ExplorerStatus,
     world: &ExplorerWorld,
-    cell: Option<&DomainCell>,
+    (cell, product_cell): (Option<&DomainCell>, Option<Option<ProductElement>>),
     adapter: Option<&RenderAdapterInfo>,
     view: &ExplorerView,
     (scale, samples): (ScaleOf, Option<&str>),
 ) {
+    // What only the spaces of E3, H3 and S3 take (the product spaces'
+    // camera has its own tracer, without these).
+    let manifold = world.product.is_none();
     ui.heading("bevy_manifold");
     ui.label("Space");
     egui::ComboBox::from_id_salt("space")
-        .selected_text(world.space.name())
+        .selected_text(world.name())
         .show_ui(ui, |ui| {
             ui.label("The paper's spaces");
             for name in catalog::NAMES {
@@ -216,17 +228,33 @@ fn contents(
                     ui.selectable_value(&mut s.space, name.clone(), name);
                 }
             }
+            ui.separator();
+            ui.label("Product geometries (H2xR, S2xR)");
+            for name in ProductSpace::NAMES {
+                ui.selectable_value(&mut s.space, name.to_string(), name);
+            }
         });
-    let space = &world.space;
-    ui.label(format!(
-        "{} · {} faces · volume {:.4} · group {}",
-        space.geometry(),
-        space.faces().len(),
-        space.volume(),
-        space
-            .group_order()
-            .map_or("infinite".into(), |n| format!("of order {n}"))
-    ));
+    match &world.product {
+        Some(p) => ui.label(format!(
+            "{:?} · {} faces · volume {:.4} · circle {}",
+            p.geometry,
+            p.face_count(),
+            p.volume(),
+            p.height
+        )),
+        None => {
+            let space = &world.space;
+            ui.label(format!(
+                "{} · {} faces · volume {:.4} · group {}",
+                space.geometry(),
+                space.faces().len(),
+                space.volume(),
+                space
+                    .group_order()
+                    .map_or("infinite".into(), |n| format!("of order {n}"))
+            ))
+        }
+    };
     ui.collapsing("Open a space file (.json, .gen)…", |ui| {
         ui.horizontal(|ui| {
             ui.text_edit_singleline(path);
@@ -249,7 +277,7 @@ fn contents(
         ui.checkbox(&mut s.fog, "fog");
         ui.add_enabled(s.fog, egui::Slider::new(&mut s.fog_density, 0.0..=3.0).text("density"));
         let mut c = s.fog_color.map(|v| (v * 255.0).round() as u8);
-        ui.add_enabled_ui(s.fog, |ui| {
+        ui.add_enabled_ui(s.fog && manifold, |ui| {
             if ui.color_edit_button_srgb(&mut c).changed() {
                 s.fog_color = c.map(|v| f32::from(v) / 255.0);
             }
@@ -274,6 +302,61 @@ fn contents(
             });
         }
     });
+    ui.add_enabled(
+        !manifold,
+        egui::Checkbox::new(&mut s.lights, "point lights, with shadows (product spaces)"),
+    );
+    // The rest of the scene and the tracer's options: E3, H3 and S3.
+    ui.add_enabled_ui(manifold, |ui| manifold_options(ui, s));
+    ui.separator();
+    ui.add(egui::Slider::new(&mut s.render_scale, MIN_SCALE..=1.0).text("render scale"));
+    ui.add_enabled_ui(manifold, |ui| tracer_options(ui, s, view, scale, samples));
+    if let Some(ms) = status.mean_frame_ms() {
+        ui.label(format!("frame {ms:.1} ms ({:.1} fps)", 1000.0 / ms.max(0.001)));
+    }
+    frame_plot(ui, status);
+    if let Some(a) = adapter {
+        ui.label(format!("adapter: {} ({:?})", a.name, a.backend));
+    }
+    ui.separator();
+    if let Some(c) = cell {
+        ui.label(format!("cell: {}", describe_cell(&world.space, c)));
+    }
+    if let Some(c) = product_cell {
+        ui.label(match c {
+            Some(e) => format!(
+                "copy: {} circles up{}",
+                e.steps(),
+                if e.flips() { ", turned over" } else { "" }
+            ),
+            None => "copy: too far to name".into(),
+        });
+    }
+    ui.label(format!(
+        "last face crossed: {}",
+        status.last_face.map_or("none".to_string(), |f| f.to_string())
+    ));
+    if let Some((m, error)) = &status.message {
+        let color = if *error {
+            Color32::from_rgb(255, 120, 100)
+        } else {
+            ui.visuals().text_color()
+        };
+        ui.colored_label(color, m);
+    }
+    ui.collapsing("Keys", |ui| {
+        egui::Grid::new("keys").striped(true).show(ui, |ui| {
+            for (k, what) in KEYS {
+                ui.label(*k);
+                ui.label(*what);
+                ui.end_row();
+            }
+        });
+    });
+}
+
+/// The cell rules and the paper's scene (E3, H3 and S3 only).
+fn manifold_options(ui: &mut Ui, s: &mut ExplorerSettings) {
     ui.label("cell rules (from the exact cell ids)");
     ui.checkbox(&mut s.hidden, "on/off: objects in off cells hidden");
     ui.add_enabled_ui(s.hidden, |ui| {
@@ -305,8 +388,11 @@ fn contents(
         s.reflections = 1;
     }
     ui.add(egui::Slider::new(&mut s.reflections, 0..=MAX_REFLECTIONS).text("reflections"));
-    ui.separator();
-    ui.add(egui::Slider::new(&mut s.render_scale, MIN_SCALE..=1.0).text("render scale"));
+}
+
+/// Holding a frame rate, cone tracing, path tracing and refining a still
+/// view (E3, H3 and S3 only).
+fn tracer_options(ui: &mut Ui, s: &mut ExplorerSettings, view: &ExplorerView, scale: ScaleOf, samples: Option<&str>) {
     ui.checkbox(&mut s.hold_frame_rate, "hold a frame rate (trace fewer pixels)");
     let ms = 1000.0 / s.target_fps;
     ui.add_enabled_ui(s.hold_frame_rate, |ui| {
@@ -337,38 +423,6 @@ fn contents(
                 .logarithmic(true)
                 .text("samples per pixel"),
         );
-    });
-    if let Some(ms) = status.mean_frame_ms() {
-        ui.label(format!("frame {ms:.1} ms ({:.1} fps)", 1000.0 / ms.max(0.001)));
-    }
-    frame_plot(ui, status);
-    if let Some(a) = adapter {
-        ui.label(format!("adapter: {} ({:?})", a.name, a.backend));
-    }
-    ui.separator();
-    if let Some(c) = cell {
-        ui.label(format!("cell: {}", describe_cell(&world.space, c)));
-    }
-    ui.label(format!(
-        "last face crossed: {}",
-        status.last_face.map_or("none".to_string(), |f| f.to_string())
-    ));
-    if let Some((m, error)) = &status.message {
-        let color = if *error {
-            Color32::from_rgb(255, 120, 100)
-        } else {
-            ui.visuals().text_color()
-        };
-        ui.colored_label(color, m);
-    }
-    ui.collapsing("Keys", |ui| {
-        egui::Grid::new("keys").striped(true).show(ui, |ui| {
-            for (k, what) in KEYS {
-                ui.label(*k);
-                ui.label(*what);
-                ui.end_row();
-            }
-        });
     });
 }
 

@@ -64,8 +64,9 @@ impl CellMode {
 #[derive(Resource, Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct ExplorerSettings {
-    /// A catalog or library name, or the path of a space file (`.json`,
-    /// `.gen`).
+    /// A catalog or library name, a product space's name
+    /// ([`ProductSpace::NAMES`](bevy_manifold::space::product::ProductSpace::NAMES)),
+    /// or the path of a space file (`.json`, `.gen`).
     pub space: String,
     /// Most face transports per ray.
     pub levels: u32,
@@ -137,6 +138,9 @@ pub struct ExplorerSettings {
     /// Trace each pixel as a cone ([`ManifoldFootprint`]): far copies fade
     /// to their average colour instead of sparkling, moving or still.
     pub smooth_detail: bool,
+    /// In a product space (H2xR, S2xR), the balls lit by two point lights
+    /// (every image of each, with shadows) instead of from the eye.
+    pub lights: bool,
     /// The side panel shown.
     pub panel: bool,
 }
@@ -177,6 +181,7 @@ impl Default for ExplorerSettings {
             refine_still: true,
             still_samples: 16,
             smooth_detail: true,
+            lights: true,
             panel: true,
         }
     }
@@ -378,7 +383,9 @@ impl ExplorerSettings {
             fix("target_fps", self.target_fps.to_string(), v.to_string());
             self.target_fps = v;
         }
-        let known = catalog::by_name(&self.space).is_some() || library::by_name(&self.space).is_some();
+        let known = catalog::by_name(&self.space).is_some()
+            || library::by_name(&self.space).is_some()
+            || super::view::product_space(&self.space).is_some();
         if !known && !Path::new(&self.space).exists() {
             warnings.push(format!(
                 "settings: space '{}' is neither a catalog or library space nor an existing file; using {}",

@@ -3,6 +3,8 @@
 //! space or the scene changes (the one code path the panel, the keys and
 //! the tests use), the camera's components kept in step with the settings,
 //! and the offscreen image the camera renders into at the render scale.
+//! A product space (H2xR, S2xR) is shown by a `ProductCamera` among its
+//! balls and lights instead ([`spawn_product_world`]).
 
 use super::settings::ExplorerSettings;
 use bevy::camera::RenderTarget;
@@ -14,10 +16,15 @@ use bevy_manifold::camera::{
 };
 use bevy_manifold::camera::{FlyCamera, Vehicle};
 use bevy_manifold::drawables::paper::{paper_camera, spawn_paper_scene};
+use bevy_manifold::geometry::product::ProductTangent;
 use bevy_manifold::placement::{DomainCell, FaceCrossed, ManifoldSpace, Placement};
+use bevy_manifold::product::{ProductBody, ProductCamera, ProductPointLight, ProductSpaceRoot, ProductVelocity};
+use bevy_manifold::space::product::ProductSpace;
 use bevy_manifold::space::{Space, catalog};
 use bevy_manifold::tour::FaceWord;
+use bevy_manifold::trace::product::{ProductScene, ProductView};
 use std::collections::VecDeque;
+use std::sync::Arc;
 
 /// Marks the explorer's camera.
 #[derive(Component, Clone, Copy, Debug, Default)]
@@ -30,10 +37,114 @@ pub struct ExplorerWorld {
     pub root: Entity,
     /// The camera.
     pub camera: Entity,
-    /// The space shown.
+    /// The space shown; while a product space is shown, the last space
+    /// of E3, H3 or S3 shown (what the tours and VR keep).
     pub space: Space,
+    /// The product space shown, if one is.
+    pub product: Option<Arc<ProductSpace>>,
     /// The settings the world and camera reflect.
     pub applied: ExplorerSettings,
+}
+
+impl ExplorerWorld {
+    /// The name of the space shown.
+    #[must_use]
+    pub fn name(&self) -> &str {
+        match &self.product {
+            Some(p) => &p.name,
+            None => self.space.name(),
+        }
+    }
+}
+
+/// The product space `name` names ([`ProductSpace::NAMES`]), with the
+/// explorer's circle of 2 and twists of a third (S2xS1) or three eighths
+/// (genus 2).
+#[must_use]
+pub fn product_space(name: &str) -> Option<ProductSpace> {
+    ProductSpace::named(name, 2.0, 3)
+}
+
+/// Spawns the product space `space` with the balls of its lit scene
+/// ([`ProductScene::lit_for`], one of them drifting through the faces),
+/// its two lights when the settings light it, and the explorer's camera
+/// (a `ProductCamera` flown by the fly camera) at `keep` when given, else
+/// where the scene's view starts.
+fn spawn_product_world(
+    commands: &mut Commands,
+    space: &Arc<ProductSpace>,
+    settings: &ExplorerSettings,
+    target: &Handle<Image>,
+    keep: Option<ProductView>,
+) -> (Entity, Entity) {
+    let root = commands
+        .spawn((
+            Name::new(format!("space {}", space.name)),
+            ProductSpaceRoot(space.clone()),
+        ))
+        .id();
+    let scene = ProductScene::lit_for(space);
+    for (k, ball) in scene.balls.iter().enumerate() {
+        let body = commands
+            .spawn((
+                Name::new(format!("ball {}", ball.id)),
+                ChildOf(root),
+                ProductBody {
+                    center: ball.center,
+                    radius: ball.radius,
+                    id: ball.id,
+                },
+            ))
+            .id();
+        if k == 1 {
+            let along = space
+                .geometry
+                .normalize_tangent(ball.center, ProductTangent::new(glam::DVec3::Y, 0.5));
+            commands.entity(body).insert(ProductVelocity(ProductTangent::new(
+                along.surface * 0.3,
+                along.height * 0.3,
+            )));
+        }
+    }
+    if settings.lights {
+        for light in &scene.lights {
+            commands.spawn((Name::new("light"), ChildOf(root), ProductPointLight(*light)));
+        }
+    }
+    let mut camera = ProductCamera {
+        space: space.clone(),
+        balls: scene.balls,
+        lights: scene.lights,
+        lighting: scene.lighting,
+        view: keep.unwrap_or(scene.view),
+    };
+    set_product_view(&mut camera.view, settings);
+    let camera = commands
+        .spawn((
+            Name::new("explorer camera"),
+            ChildOf(root),
+            ExplorerCamera,
+            Camera3d::default(),
+            camera,
+            FlyCamera {
+                speed: 0.6,
+                mouse_button: Some(MouseButton::Right),
+                ..default()
+            },
+            RenderTarget::Image(target.clone().into()),
+        ))
+        .id();
+    (root, camera)
+}
+
+/// A product camera's view as the settings ask: the levels (faces a ray
+/// crosses), the distance, the fog's density (its colour is the product
+/// tracer's own) and the per-cell shading.
+pub fn set_product_view(view: &mut ProductView, settings: &ExplorerSettings) {
+    view.max_crossings = settings.levels as usize;
+    view.max_distance = f64::from(settings.max_distance);
+    view.fog = if settings.fog { settings.fog_density } else { 0.0 };
+    view.tint = settings.cell_shading().tint();
 }
 
 /// The image the explorer's camera renders into, and the size asked for
@@ -181,18 +292,35 @@ pub fn setup(
 ) {
     let size = UVec2::new(640, 360);
     let image = view_image(&mut images, size);
-    let space = catalog::resolve(&settings.space).unwrap_or_else(|e| {
-        status.say(format!("{e}; showing the 3-torus"), true);
-        settings.space = "torus".into();
-        catalog::torus(1.0)
-    });
-    let (root, camera) = spawn_world(&mut commands, &space, &settings, &image, None);
-    commands.insert_resource(ExplorerWorld {
-        root,
-        camera,
-        space,
-        applied: settings.clone(),
-    });
+    let world = match product_space(&settings.space) {
+        Some(product) => {
+            let product = Arc::new(product);
+            let (root, camera) = spawn_product_world(&mut commands, &product, &settings, &image, None);
+            ExplorerWorld {
+                root,
+                camera,
+                space: catalog::torus(1.0),
+                product: Some(product),
+                applied: settings.clone(),
+            }
+        }
+        None => {
+            let space = catalog::resolve(&settings.space).unwrap_or_else(|e| {
+                status.say(format!("{e}; showing the 3-torus"), true);
+                settings.space = "torus".into();
+                catalog::torus(1.0)
+            });
+            let (root, camera) = spawn_world(&mut commands, &space, &settings, &image, None);
+            ExplorerWorld {
+                root,
+                camera,
+                space,
+                product: None,
+                applied: settings.clone(),
+            }
+        }
+    };
+    commands.insert_resource(world);
     commands.insert_resource(ExplorerView {
         image,
         size,
@@ -204,7 +332,10 @@ pub fn setup(
 /// space (or a new scene) despawns the old root with everything under it
 /// and spawns the new one; camera settings only update its components.
 /// A space that cannot be loaded is reported and the settings go back to
-/// the space shown.
+/// the space shown. A product space is shown as [`spawn_product_world`]
+/// spawns it, and spawned again (keeping the view) when its lights are
+/// turned on or off.
+#[expect(clippy::too_many_arguments, reason = "a system's parameters")]
 pub fn apply_settings(
     mut commands: Commands,
     mut settings: ResMut<ExplorerSettings>,
@@ -212,9 +343,40 @@ pub fn apply_settings(
     view: Res<ExplorerView>,
     mut status: ResMut<ExplorerStatus>,
     cameras: Query<(&Placement, &DomainCell, &FaceWord), With<ExplorerCamera>>,
+    mut product_cameras: Query<&mut ProductCamera, With<ExplorerCamera>>,
     mut spaces: Query<&mut ManifoldSpace>,
 ) {
     if !settings.is_changed() || *settings == world.applied {
+        return;
+    }
+    let space_changed = settings.space != world.applied.space;
+    let product = if space_changed {
+        product_space(&settings.space).map(Arc::new)
+    } else {
+        world.product.clone()
+    };
+    if let Some(product) = product {
+        let respawn = space_changed || settings.lights != world.applied.lights;
+        if respawn {
+            let keep = (!space_changed)
+                .then(|| product_cameras.get(world.camera).ok().map(|c| c.view))
+                .flatten();
+            #[cfg(feature = "xr")]
+            bevy_manifold::xr::keep_tracking_root(&mut commands);
+            commands.entity(world.root).despawn();
+            let (root, camera) = spawn_product_world(&mut commands, &product, &settings, &view.image, keep);
+            if space_changed {
+                status.switches += 1;
+                status.last_face = None;
+                status.say(format!("showing {}", product.name), false);
+            }
+            world.root = root;
+            world.camera = camera;
+            world.product = Some(product);
+        } else if let Ok(mut camera) = product_cameras.get_mut(world.camera) {
+            set_product_view(&mut camera.view, &settings);
+        }
+        world.applied = settings.clone();
         return;
     }
     if settings.rule() != world.applied.rule()
@@ -222,7 +384,6 @@ pub fn apply_settings(
     {
         ms.set_rule(settings.rule());
     }
-    let space_changed = settings.space != world.applied.space;
     if space_changed || settings.paper() != world.applied.paper() {
         let space = if space_changed {
             match catalog::resolve(&settings.space) {
@@ -258,6 +419,7 @@ pub fn apply_settings(
             root,
             camera,
             space,
+            product: None,
             applied: settings.clone(),
         };
         return;
