@@ -97,16 +97,7 @@ fn setup(mut commands: Commands) {
         }
     }
     for (k, ball) in camera.balls.iter().enumerate() {
-        let body = commands
-            .spawn((
-                ChildOf(root),
-                ProductBody {
-                    center: ball.center,
-                    radius: ball.radius,
-                    id: ball.id,
-                },
-            ))
-            .id();
+        let body = commands.spawn((ChildOf(root), ProductBody::from(*ball))).id();
         // One ball drifts through the faces (held still for a screenshot).
         if k == 1 && showcase::arg("--screenshot").is_none() {
             let g = space.geometry;
@@ -139,14 +130,7 @@ fn play(commands: &mut Commands, tour: ProductTour) {
     let camera = player.camera();
     let root = commands.spawn(ProductSpaceRoot(camera.space.clone())).id();
     for ball in &camera.balls {
-        commands.spawn((
-            ChildOf(root),
-            ProductBody {
-                center: ball.center,
-                radius: ball.radius,
-                id: ball.id,
-            },
-        ));
+        commands.spawn((ChildOf(root), ProductBody::from(*ball)));
     }
     commands.spawn((ChildOf(root), Camera3d::default(), camera, player));
 }

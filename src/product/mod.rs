@@ -128,6 +128,26 @@ pub struct ProductBody {
     pub id: u32,
 }
 
+impl From<ProductBall> for ProductBody {
+    fn from(b: ProductBall) -> Self {
+        Self {
+            center: b.center,
+            radius: b.radius,
+            id: b.id,
+        }
+    }
+}
+
+impl From<ProductBody> for ProductBall {
+    fn from(b: ProductBody) -> Self {
+        Self {
+            center: b.center,
+            radius: b.radius,
+            id: b.id,
+        }
+    }
+}
+
 /// A point light in a product space, a child of a [`ProductSpaceRoot`]:
 /// the [`ProductCamera`]s among the root's children are lit by it (by
 /// every image of it, as their `lighting` says).
@@ -213,11 +233,7 @@ pub fn gather_product_bodies(
         let balls: Vec<ProductBall> = children
             .iter()
             .filter_map(|c| bodies.get(c).ok())
-            .map(|b| ProductBall {
-                center: b.center,
-                radius: b.radius,
-                id: b.id,
-            })
+            .map(|b| ProductBall::from(*b))
             .collect();
         if !Arc::ptr_eq(&camera.space, &root.0) {
             camera.space = root.0.clone();

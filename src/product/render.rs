@@ -37,7 +37,7 @@ use bevy_manifold_core::space::product_cells::{
     DEFAULT_PRODUCT_TABLE_CELLS, ProductCellTable, ProductCells, ProductElement,
 };
 use bevy_manifold_core::trace::product::{ProductLight, ProductLighting};
-use bevy_manifold_gpu::product::{GpuProductCells, GpuProductLight, GpuProductScene, storage_bytes};
+use bevy_manifold_gpu::product::{GpuProductCells, GpuProductLight, GpuProductScene, ProductShaderDefs, storage_bytes};
 use bevy_manifold_gpu::{CELL_TINT_WGSL, PRODUCT_WGSL};
 use std::sync::{Arc, Weak};
 
@@ -232,6 +232,8 @@ pub struct ProductPipelineKey {
     pub samples: u32,
     /// The shader encodes sRGB itself (`ENCODE_SRGB`).
     pub encode_srgb: bool,
+    /// The code the view's scene needs (cells, lights).
+    pub defs: ProductShaderDefs,
 }
 
 /// The product pipeline's layout and shader (render world).
@@ -286,11 +288,12 @@ impl SpecializedRenderPipeline for ProductPipeline {
     type Key = ProductPipelineKey;
 
     fn specialize(&self, key: Self::Key) -> RenderPipelineDescriptor {
-        let shader_defs: Vec<ShaderDefVal> = if key.encode_srgb {
+        let mut shader_defs: Vec<ShaderDefVal> = if key.encode_srgb {
             vec!["ENCODE_SRGB".into()]
         } else {
             Vec::new()
         };
+        shader_defs.extend(key.defs.names().into_iter().map(ShaderDefVal::from));
         RenderPipelineDescriptor {
             label: Some("manifold_product".into()),
             layout: vec![self.layout.clone()],
@@ -447,6 +450,7 @@ pub fn prepare_product_views(
             format: extracted.target_format,
             samples: msaa.map_or(1, Msaa::samples),
             encode_srgb: camera.compositing_space == Some(CompositingSpace::Srgb),
+            defs: ProductShaderDefs::of(&view.packed.params),
         };
         let id = pipelines.specialize(&pipeline_cache, &pipeline, key);
         commands.entity(entity).insert(ProductViewBinding {

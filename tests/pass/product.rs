@@ -174,3 +174,67 @@ pub fn a_product_camera_shades_each_copy_by_its_cell() {
     let after = product_uploads(&app);
     assert_eq!(after.tables, before.tables + 1, "{after:?}");
 }
+
+/// A product camera lit by `ProductPointLight`s among its root's children
+/// (every image of each, with shadows) draws what the headless GPU tracer
+/// draws for the lit scene (within 1/255: the pass's light images, gathered
+/// and packed once, and its specialised shader) and what the CPU reference
+/// traces (within 3/255 in 98% of the pixels); with the lights taken away
+/// it draws the scene lit from the eye again.
+pub fn a_product_camera_is_lit_by_its_roots_lights() {
+    use bevy_manifold::product::{ProductBody, ProductPointLight, ProductSpaceRoot};
+    use std::sync::Arc;
+    for space in [ProductSpace::s2_x_s1(2.0), ProductSpace::genus_two_x_s1(2.0)] {
+        let mut app = headless_app(true);
+        let image = target(&mut app, W, H);
+        let scene = ProductScene::lit_for(&space);
+        let root = app.world_mut().spawn(ProductSpaceRoot(Arc::new(space.clone()))).id();
+        for b in &scene.balls {
+            app.world_mut().spawn((ChildOf(root), ProductBody::from(*b)));
+        }
+        let lights: Vec<Entity> = scene
+            .lights
+            .iter()
+            .map(|l| app.world_mut().spawn((ChildOf(root), ProductPointLight(*l))).id())
+            .collect();
+        let camera = spawn_product_camera(&mut app, &image, ProductCamera::default_for(space.clone()));
+        app.world_mut().entity_mut(camera).insert(ChildOf(root));
+        wait_for_pipelines(&mut app);
+        let shown = capture(&mut app, &image);
+        let colors = |p: Vec<bevy_manifold::trace::product::ProductPixel>| -> Vec<[f32; 3]> {
+            p.iter().map(|p| p.color).collect()
+        };
+        let headless = colors(
+            bevy_manifold_gpu::GpuTracer::new()
+                .expect("a GPU")
+                .render_product(&space, &scene, W, H)
+                .expect("the headless trace"),
+        );
+        let cpu = colors(render(&space, &scene, W, H));
+        let (same, near) = (close_to(&shown, &headless, 1), close_to(&shown, &cpu, 3));
+        eprintln!(
+            "{} lit: {:.3}% within 1/255 of the headless trace, {:.3}% within 3/255 of the CPU reference",
+            space.name,
+            100.0 * same,
+            100.0 * near
+        );
+        assert!(same >= 0.999, "{} lit: {same}", space.name);
+        assert!(near >= 0.98, "{} lit: {near}", space.name);
+        // The lights taken away: lit from the eye, as the default scene.
+        for l in lights {
+            app.world_mut().entity_mut(l).despawn();
+        }
+        // (The shader without the lights' code is another specialisation.)
+        app.update();
+        wait_for_pipelines(&mut app);
+        let unlit = capture(&mut app, &image);
+        let from_eye = colors(render(&space, &ProductScene::default_for(&space), W, H));
+        let back = close_to(&unlit, &from_eye, 3);
+        assert!(back >= 0.98, "{} without its lights: {back}", space.name);
+        assert!(
+            close_to(&unlit, &cpu, 3) < 0.9,
+            "{}: the lights changed nothing",
+            space.name
+        );
+    }
+}

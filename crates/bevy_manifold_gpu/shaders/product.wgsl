@@ -9,6 +9,10 @@
 // A ray counts the copy of the prism it is in as the core's exact cells
 // do (space/product_cells.rs): an index in the table of cells around the
 // camera for the surface part, its flip and steps up the line apart.
+// Specialised on what a scene needs (`ProductShaderDefs`): PRODUCT_CELLS
+// where a table of cells is bound (else every copy's id is
+// BEYOND_TABLE), PRODUCT_LIGHTS where the scene has lights (else the
+// balls are lit from the eye).
 
 #import bevy_manifold::cell_tint::{hash32, cell_tint}
 
@@ -393,13 +397,19 @@ fn pixel(start: ProductRay) -> ProductPixel {
         }
         let hit = nearest_entry(ray, length);
         if hit.ball != NO_FACE {
-            return shade(advance(ray, hit.s), hit.ball, travelled + hit.s, crossings, product_cell_id(cell));
+            var id = BEYOND_TABLE;
+#ifdef PRODUCT_CELLS
+            id = product_cell_id(cell);
+#endif
+            return shade(advance(ray, hit.s), hit.ball, travelled + hit.s, crossings, id);
         }
         if !leaves || crossings >= params.max_crossings {
             break;
         }
         ray = transport(exit.face, advance(ray, exit.s));
+#ifdef PRODUCT_CELLS
         cell = cross_cell(cell, exit.face);
+#endif
         travelled += exit.s;
         skip = faces[exit.face].partner;
         crossings++;
@@ -407,6 +417,7 @@ fn pixel(start: ProductRay) -> ProductPixel {
     return ProductPixel(vec4<f32>(params.fog_color.rgb, -1.0), 0u, 0u, BEYOND_TABLE);
 }
 
+#ifdef PRODUCT_CELLS
 // The copy across `face`: the table's neighbour, the line's steps and
 // flip counted exactly. Rust twin: `ProductCells::cross`.
 fn cross_cell(cell: ProductCell, face: u32) -> ProductCell {
@@ -437,6 +448,7 @@ fn product_cell_id(cell: ProductCell) -> vec2<u32> {
     let s = bitcast<u32>(steps);
     return vec2<u32>(tile.x ^ hash32(s), (tile.y ^ hash32(s ^ 0x9e3779b9u)) & 0x3fffffffu);
 }
+#endif
 
 // The ambient light of a lit scene. Rust twin: `AMBIENT`.
 const AMBIENT: f32 = 0.08;
@@ -461,6 +473,7 @@ fn log_map(p: vec4<f32>, q: vec4<f32>) -> vec4<f32> {
     return vec4<f32>(surface, q.w - p.w);
 }
 
+#ifdef PRODUCT_LIGHTS
 // The area a light's power spreads over at distance d along a geodesic
 // whose surface part is `surface` long. Rust twin:
 // `ProductGeometry::light_area`.
@@ -559,6 +572,7 @@ fn direct(x: vec4<f32>, normal: vec4<f32>, view: vec4<f32>, albedo: vec3<f32>) -
     }
     return rgb;
 }
+#endif
 
 // The ball's colour, tinted by its cell's, lit by the light images (from
 // the eye where there are none: the cosine between the way into the
@@ -572,20 +586,19 @@ fn shade(at: ProductRay, b: u32, distance: f32, crossings: u32, cell: vec2<u32>)
     if params.tint_mode != 0u {
         base *= cell_tint(cell, params.tint_mode - 1u, params.tint_a, params.tint_b);
     }
-    var rgb = vec3<f32>(0.0);
-    if params.light_count == 0u {
-        var lamp = 1.0;
-        if d > 0.0 {
-            lamp = clamp(dot4(inward, at.dir) / d, 0.0, 1.0);
-        }
-        rgb = base * (0.25 + 0.75 * lamp);
-    } else {
-        var normal = -at.dir;
-        if d > 0.0 {
-            normal = -inward / d;
-        }
-        rgb = base * AMBIENT + direct(p, normal, -at.dir, base);
+#ifdef PRODUCT_LIGHTS
+    var normal = -at.dir;
+    if d > 0.0 {
+        normal = -inward / d;
     }
+    let rgb = base * AMBIENT + direct(p, normal, -at.dir, base);
+#else
+    var lamp = 1.0;
+    if d > 0.0 {
+        lamp = clamp(dot4(inward, at.dir) / d, 0.0, 1.0);
+    }
+    let rgb = base * (0.25 + 0.75 * lamp);
+#endif
     let fog = exp(-params.fog * distance);
     let color = rgb * fog + params.fog_color.rgb * (1.0 - fog);
     return ProductPixel(vec4<f32>(color, distance), balls[b].id, crossings, cell);

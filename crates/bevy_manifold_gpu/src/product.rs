@@ -85,6 +85,65 @@ pub struct GpuProductParams {
     pub shadows: u32,
 }
 
+/// What `shaders/product.wgsl` is specialised on: the code a scene
+/// needs, nothing more. Its shader defs: `PRODUCT_CELLS` where a table of
+/// cells is bound (the copies' ids, for per-cell shading), `PRODUCT_LIGHTS`
+/// where the scene has lights (else the balls are lit from the eye).
+///
+/// ```
+/// use bevy_manifold_core::space::product::ProductSpace;
+/// use bevy_manifold_core::trace::product::ProductScene;
+/// use bevy_manifold_gpu::product::{GpuProductScene, ProductShaderDefs};
+/// let space = ProductSpace::s2_x_s1(2.0);
+/// let lit = GpuProductScene::pack(&space, &ProductScene::lit_for(&space), 8, 8);
+/// assert_eq!(ProductShaderDefs::of(&lit.params).names(), ["PRODUCT_LIGHTS"]);
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct ProductShaderDefs {
+    /// A table of cells is bound: each hit is named by its copy's id.
+    pub cells: bool,
+    /// The scene has lights.
+    pub lights: bool,
+}
+
+impl ProductShaderDefs {
+    /// What the packed scene `params` needs.
+    #[must_use]
+    pub fn of(params: &GpuProductParams) -> Self {
+        Self {
+            cells: params.cell_count > 0,
+            lights: params.light_count > 0,
+        }
+    }
+
+    /// The shader defs.
+    #[must_use]
+    pub fn names(self) -> Vec<&'static str> {
+        [(self.cells, "PRODUCT_CELLS"), (self.lights, "PRODUCT_LIGHTS")]
+            .into_iter()
+            .filter_map(|(on, name)| on.then_some(name))
+            .collect()
+    }
+
+    /// Every specialisation.
+    #[must_use]
+    pub fn all() -> [Self; 4] {
+        let defs = |cells, lights| Self { cells, lights };
+        [
+            defs(false, false),
+            defs(false, true),
+            defs(true, false),
+            defs(true, true),
+        ]
+    }
+
+    /// Its place in [`ProductShaderDefs::all`].
+    #[must_use]
+    pub fn index(self) -> usize {
+        2 * usize::from(self.cells) + usize::from(self.lights)
+    }
+}
+
 /// WGSL twin: `ProductFace` in `shaders/product.wgsl`. One face of the
 /// prism and its gluing.
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]

@@ -64,6 +64,27 @@ fn the_product_tracer_composes_and_validates() {
     spirv(&encoding, &info).expect("SPIR-V");
     assert!(functions(&encoding).iter().any(|f| f == "encode_srgb"));
     assert!(!functions(&module).iter().any(|f| f == "encode_srgb"));
+    // Each specialisation on what a scene needs (cells, lights), with
+    // only its own code: the lights' walk to each light where there are
+    // lights, the table walk where there is a table.
+    for defs in bevy_manifold_gpu::product::ProductShaderDefs::all() {
+        let module = GpuTracer::compose_modules(
+            &[bevy_manifold_gpu::CELL_TINT_WGSL],
+            bevy_manifold_gpu::PRODUCT_WGSL,
+            &defs.names(),
+            &[],
+        )
+        .expect("composes");
+        let info = validated(&module).unwrap_or_else(|e| panic!("{defs:?}: {e}"));
+        spirv(&module, &info).unwrap_or_else(|e| panic!("{defs:?}: {e}"));
+        let has = |name: &str| functions(&module).iter().any(|f| f == name);
+        assert_eq!((has("shadowed"), has("direct")), (defs.lights, defs.lights), "{defs:?}");
+        assert_eq!(
+            (has("cross_cell"), has("product_cell_id")),
+            (defs.cells, defs.cells),
+            "{defs:?}"
+        );
+    }
 }
 
 #[test]

@@ -89,11 +89,7 @@ fn spawn_product_world(
             .spawn((
                 Name::new(format!("ball {}", ball.id)),
                 ChildOf(root),
-                ProductBody {
-                    center: ball.center,
-                    radius: ball.radius,
-                    id: ball.id,
-                },
+                ProductBody::from(*ball),
             ))
             .id();
         if k == 1 {

@@ -34,7 +34,7 @@ pub struct GpuTracer {
     /// a tour.
     kept: Option<PackedSpace>,
     /// The product spaces' pipeline, built on first use.
-    product: Option<product::ProductPipeline>,
+    product: [Option<product::ProductPipeline>; 4],
     /// The last product space traced, with its exact cells and their
     /// table (none where it has no exact cells): grown once per space.
     product_cells: Option<product::ProductCellsKept>,
@@ -126,7 +126,7 @@ impl GpuTracer {
             pipelines: HashMap::new(),
             fragment_pipelines: HashMap::new(),
             kept: None,
-            product: None,
+            product: Default::default(),
             product_cells: None,
         })
     }

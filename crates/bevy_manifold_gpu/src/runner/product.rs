@@ -6,7 +6,7 @@
 use super::GpuTracer;
 use super::timing::TraceTiming;
 use crate::GpuError;
-use crate::product::{GpuProductCells, GpuProductPixel, GpuProductScene, storage_bytes};
+use crate::product::{GpuProductCells, GpuProductPixel, GpuProductScene, ProductShaderDefs, storage_bytes};
 use bevy_manifold_core::space::cell_id::CellId;
 use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::space::product_cells::{
@@ -27,6 +27,7 @@ pub(super) type ProductCellsKept = (ProductSpace, Option<(ProductCells, ProductC
 
 /// A product scene uploaded and bound.
 struct ProductBound {
+    defs: ProductShaderDefs,
     bind: wgpu::BindGroup,
     pixels: wgpu::Buffer,
     count: usize,
@@ -66,7 +67,7 @@ impl GpuTracer {
         height: u32,
     ) -> Result<Vec<ProductPixel>, GpuError> {
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let bound = self.bind_product(space, scene, width, height)?;
+        let bound = self.bind_product(space, scene, (width, height), true)?;
         let bytes = (bound.count * std::mem::size_of::<GpuProductPixel>()) as u64;
         let readback = self.readback_buffer(bytes);
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -97,7 +98,8 @@ impl GpuTracer {
     /// How long tracing `scene` takes on the device, as
     /// [`GpuTracer::time_trace`] times the tracer of E3, H3 and S3 (the
     /// same warm-up, `repeats` passes in one submission, the median pass
-    /// by timestamps where the adapter has them).
+    /// by timestamps where the adapter has them). As the Bevy pass draws
+    /// it: with a table of cells only where the view shades by cell.
     ///
     /// # Errors
     /// As [`GpuTracer::render_product`].
@@ -109,16 +111,16 @@ impl GpuTracer {
         repeats: u32,
     ) -> Result<TraceTiming, GpuError> {
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let bound = self.bind_product(space, scene, width, height)?;
+        let bound = self.bind_product(space, scene, (width, height), scene.view.tint.is_some())?;
         self.timed(scope, repeats, |gpu, encoder, timestamps| {
             gpu.encode_product(encoder, &bound, timestamps);
         })
     }
 
-    /// The product pipeline, built on first use.
-    fn product_pipeline(&mut self) -> Result<&ProductPipeline, GpuError> {
-        if self.product.is_none() {
-            let module = Self::compose_modules(&[crate::CELL_TINT_WGSL], crate::PRODUCT_WGSL, &[], &[])?;
+    /// The product pipeline specialised on `defs`, built on first use.
+    fn product_pipeline(&mut self, defs: ProductShaderDefs) -> Result<&ProductPipeline, GpuError> {
+        if self.product[defs.index()].is_none() {
+            let module = Self::compose_modules(&[crate::CELL_TINT_WGSL], crate::PRODUCT_WGSL, &defs.names(), &[])?;
             let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
             let shader = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("product.wgsl"),
@@ -162,9 +164,9 @@ impl GpuTracer {
             if let Some(e) = pollster::block_on(scope.pop()) {
                 return Err(GpuError::Validation(e.to_string()));
             }
-            self.product = Some(ProductPipeline { layout, pipeline });
+            self.product[defs.index()] = Some(ProductPipeline { layout, pipeline });
         }
-        Ok(self.product.as_ref().expect("built above"))
+        Ok(self.product[defs.index()].as_ref().expect("built above"))
     }
 
     /// The table of cells about the eye's copy `eye` in `space`: the
@@ -185,13 +187,14 @@ impl GpuTracer {
         }
     }
 
-    /// Checks, packs and uploads a product scene, its pipeline built.
+    /// Checks, packs and uploads a product scene, its pipeline built; with
+    /// its table of cells where `table`.
     fn bind_product(
         &mut self,
         space: &ProductSpace,
         scene: &ProductScene,
-        width: u32,
-        height: u32,
+        (width, height): (u32, u32),
+        table: bool,
     ) -> Result<ProductBound, GpuError> {
         space.validate().map_err(|e| GpuError::Settings(e.to_string()))?;
         let view = &scene.view;
@@ -217,8 +220,13 @@ impl GpuTracer {
             )));
         }
         let mut gpu = GpuProductScene::pack(space, scene, width, height);
-        let cells = self.product_cells(space, view.cell.as_ref());
+        let cells = if table {
+            self.product_cells(space, view.cell.as_ref())
+        } else {
+            GpuProductCells::none()
+        };
         gpu.params.cell_count = cells.count;
+        let defs = ProductShaderDefs::of(&gpu.params);
         if gpu.balls.len() > MAX_PRODUCT_BALLS {
             return Err(GpuError::Settings(format!(
                 "the scene makes {} balls with their images, more than the {MAX_PRODUCT_BALLS} the product tracer takes",
@@ -233,7 +241,7 @@ impl GpuTracer {
                 "the pixels need a {bytes}-byte buffer, more than the {limit} bytes this adapter binds"
             )));
         }
-        let layout = self.product_pipeline()?.layout.clone();
+        let layout = self.product_pipeline(defs)?.layout.clone();
         let d = &self.device;
         let storage = |label, contents: &[u8]| {
             d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -288,6 +296,7 @@ impl GpuTracer {
             ],
         });
         Ok(ProductBound {
+            defs,
             bind,
             pixels,
             count,
@@ -302,7 +311,9 @@ impl GpuTracer {
         bound: &ProductBound,
         timestamps: Option<(&wgpu::QuerySet, u32)>,
     ) {
-        let Some(product) = &self.product else { return };
+        let Some(product) = &self.product[bound.defs.index()] else {
+            return;
+        };
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("product trace"),
             timestamp_writes: timestamps.map(|(query_set, at)| wgpu::ComputePassTimestampWrites {
