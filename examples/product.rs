@@ -129,6 +129,10 @@ fn play(commands: &mut Commands, tour: ProductTour) {
     }
     let camera = player.camera();
     let root = commands.spawn(ProductSpaceRoot(camera.space.clone())).id();
+    // The tour's lights (a tour file's `lights`), as the root's children.
+    for light in &camera.lights {
+        commands.spawn((ChildOf(root), Lamp(*light), ProductPointLight(*light)));
+    }
     for ball in &camera.balls {
         commands.spawn((ChildOf(root), ProductBody::from(*ball)));
     }

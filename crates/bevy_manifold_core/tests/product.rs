@@ -821,3 +821,38 @@ fn broken_product_tours_name_the_field() {
         "{e}"
     );
 }
+
+#[test]
+fn a_product_tour_can_be_lit() {
+    // `lights` in the file: the scene at every moment has the lit
+    // scene's two lights (and its lighting); without it, none.
+    use bevy_manifold_core::tour::product::ProductTourDesc;
+    use bevy_manifold_core::trace::product::ProductScene;
+    let text = |lights: &str| {
+        format!(r#"{{"product_space": "genus2xs1", {lights} "legs": [{{"fly": {{"seconds": 2, "speed": 0.5}}}}]}}"#)
+    };
+    let lit = ProductTourDesc::parse(&text(r#""lights": true,"#), "lit")
+        .unwrap()
+        .build("lit")
+        .unwrap();
+    let space = ProductSpace::genus_two_x_s1(2.0);
+    let expected = ProductScene::lit_for(&space);
+    for t in [0.0, 1.0, 2.0] {
+        let scene = lit.scene_at(t);
+        assert_eq!(scene.lights, expected.lights);
+        assert_eq!(scene.lighting, expected.lighting);
+        assert_eq!(scene.balls, expected.balls);
+    }
+    let plain = ProductTourDesc::parse(&text(""), "plain")
+        .unwrap()
+        .build("plain")
+        .unwrap();
+    assert!(plain.scene_at(1.0).lights.is_empty());
+    // The same flight either way.
+    assert_eq!(lit.view_at(1.5), plain.view_at(1.5));
+    // A wrong type is refused, naming the file and what was expected.
+    let e = ProductTourDesc::parse(&text(r#""lights": 3,"#), "bad")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("bad") && e.contains("boolean"), "{e}");
+}

@@ -26,7 +26,7 @@
 use super::file::{FlyDesc, MAX_KEYFRAMES, MAX_SECONDS, TourError, TurnDesc, parse_json, read_json};
 use crate::space::cells::CellTint;
 use crate::space::product::ProductSpace;
-use crate::trace::product::{ProductBall, ProductScene, ProductView};
+use crate::trace::product::{ProductBall, ProductLight, ProductLighting, ProductScene, ProductView};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -45,6 +45,11 @@ pub struct ProductTourDesc {
     /// Vertical field of view in degrees.
     #[serde(default = "fov")]
     pub fov_y_degrees: f64,
+    /// The balls lit by the two point lights of the space's lit scene
+    /// ([`ProductScene::lit_for`]: every image of each, with shadows)
+    /// instead of from the eye.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub lights: bool,
     /// The legs, in order, from the default scene's view.
     pub legs: Vec<ProductLegDesc>,
 }
@@ -129,6 +134,10 @@ pub struct ProductTour {
     pub space: ProductSpace,
     /// The balls (the space's default scene's).
     pub balls: Vec<ProductBall>,
+    /// The lights (none: the balls are lit from the eye).
+    pub lights: Vec<ProductLight>,
+    /// How the lights light the balls.
+    pub lighting: ProductLighting,
     /// Each leg with its start time and the view it starts from.
     legs: Vec<(f64, ProductView, Leg)>,
     /// The end: its time and view.
@@ -199,7 +208,11 @@ impl ProductTourDesc {
                 format!("{} legs, more than {MAX_KEYFRAMES}", self.legs.len()),
             ));
         }
-        let mut scene = ProductScene::default_for(&space);
+        let mut scene = if self.lights {
+            ProductScene::lit_for(&space)
+        } else {
+            ProductScene::default_for(&space)
+        };
         scene.view.fov_y_degrees = self.fov_y_degrees;
         let (mut t, mut view) = (0.0, scene.view);
         let (mut legs, mut captions, mut cells) = (Vec::new(), Vec::new(), Vec::new());
@@ -264,6 +277,8 @@ impl ProductTourDesc {
         Ok(ProductTour {
             space,
             balls: scene.balls,
+            lights: scene.lights,
+            lighting: scene.lighting,
             legs,
             end: (t, view),
             captions,
@@ -318,10 +333,15 @@ impl ProductTour {
         latest(&self.captions, t).map(String::as_str).filter(|c| !c.is_empty())
     }
 
-    /// The scene at time `t`: the balls and the view.
+    /// The scene at time `t`: the balls, the lights and the view.
     #[must_use]
     pub fn scene_at(&self, t: f64) -> ProductScene {
-        ProductScene::new(self.balls.clone(), self.view_at(t))
+        ProductScene {
+            balls: self.balls.clone(),
+            lights: self.lights.clone(),
+            lighting: self.lighting,
+            view: self.view_at(t),
+        }
     }
 }
 
