@@ -100,12 +100,10 @@ fn setup(mut commands: Commands) {
         let body = commands.spawn((ChildOf(root), ProductBody::from(*ball))).id();
         // One ball drifts through the faces (held still for a screenshot).
         if k == 1 && showcase::arg("--screenshot").is_none() {
-            let g = space.geometry;
-            let along = g.normalize_tangent(ball.center, ProductTangent::new(DVec3::Y, 0.5));
-            commands.entity(body).insert(ProductVelocity(ProductTangent::new(
-                along.surface * 0.3,
-                along.height * 0.3,
-            )));
+            let dir = ProductTangent::new(DVec3::Y, 0.5);
+            commands
+                .entity(body)
+                .insert(ProductVelocity::along(space.geometry, ball.center, dir, 0.3));
         }
     }
     commands.spawn((

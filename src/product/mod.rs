@@ -43,7 +43,7 @@ pub use cast::{ProductRayCast, ProductRayHit};
 
 use crate::placement::{GeodesicVelocity, ManifoldSystems};
 use bevy::prelude::*;
-use bevy_manifold_core::geometry::product::{ProductPoint, ProductTangent};
+use bevy_manifold_core::geometry::product::{ProductGeometry, ProductPoint, ProductTangent};
 use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::tour::product::ProductTour;
 use bevy_manifold_core::trace::product::{
@@ -182,6 +182,16 @@ pub struct ProductPointLight(pub ProductLight);
 /// and the gluings turn it.
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct ProductVelocity(pub ProductTangent);
+
+impl ProductVelocity {
+    /// `speed` at the point `at` of a `g` space, in the direction of `dir`
+    /// (made tangent there and of unit length).
+    #[must_use]
+    pub fn along(g: ProductGeometry, at: ProductPoint, dir: ProductTangent, speed: f64) -> Self {
+        let unit = g.normalize_tangent(at, dir);
+        Self(ProductTangent::new(unit.surface * speed, unit.height * speed))
+    }
+}
 
 /// Moves every [`ProductBody`] with a [`ProductVelocity`] along its
 /// geodesic for the frame's time, through the faces of its root's space

@@ -36,8 +36,7 @@ use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::space::product_cells::{
     DEFAULT_PRODUCT_TABLE_CELLS, ProductCellTable, ProductCells, ProductElement,
 };
-use bevy_manifold_core::trace::product::{ProductLight, ProductLighting};
-use bevy_manifold_gpu::product::{GpuProductCells, GpuProductLight, GpuProductScene, ProductShaderDefs, storage_bytes};
+use bevy_manifold_gpu::product::{GpuProductCells, GpuProductScene, PackedLights, ProductShaderDefs, storage_bytes};
 use bevy_manifold_gpu::{CELL_TINT_WGSL, PRODUCT_WGSL};
 use std::sync::{Arc, Weak};
 
@@ -173,10 +172,6 @@ type ExtractedCameraItem = (
     Option<Ref<'static, ProductCellWords>>,
 );
 
-/// A camera's light images, packed, and what they were made from: its
-/// space (by address), lights and lighting.
-type LightImages = HashMap<Entity, (usize, Vec<ProductLight>, ProductLighting, Vec<GpuProductLight>)>;
-
 /// Copies each active product camera's scene, packed, to its render
 /// entity when the camera or its scene changed (the render entity keeps
 /// it otherwise); takes it off cameras that no longer have one. A
@@ -185,7 +180,7 @@ type LightImages = HashMap<Entity, (usize, Vec<ProductLight>, ProductLighting, V
 pub fn extract_product_views(
     mut commands: Commands,
     cameras: Extract<Query<ExtractedCameraItem>>,
-    mut images: Local<LightImages>,
+    mut images: Local<HashMap<Entity, PackedLights>>,
 ) {
     let mut live = Vec::new();
     for (entity, camera, product, words) in &cameras {
@@ -195,18 +190,7 @@ pub fn extract_product_views(
                 let words = words.filter(|_| p.view.tint.is_some());
                 if p.is_changed() || camera.is_changed() || words.as_ref().is_some_and(Ref::is_changed) {
                     let scene = p.scene();
-                    let space = Arc::as_ptr(&p.space) as usize;
-                    let same = |c: &(usize, Vec<ProductLight>, ProductLighting, Vec<GpuProductLight>)| {
-                        c.0 == space && c.1 == scene.lights && c.2 == scene.lighting
-                    };
-                    let lights = match images.get(&entity) {
-                        Some(c) if same(c) => c.3.clone(),
-                        _ => {
-                            let packed = GpuProductScene::pack_lights(&p.space, &scene);
-                            images.insert(entity, (space, scene.lights.clone(), scene.lighting, packed.clone()));
-                            packed
-                        }
-                    };
+                    let lights = images.entry(entity).or_default().get(&p.space, &scene);
                     let mut packed = GpuProductScene::pack_lit(&p.space, &scene, lights, (1, 1));
                     let cells = words.map(|w| w.cells.clone());
                     packed.params.cell_count = cells.as_ref().map_or(0, |c| c.count);

@@ -62,23 +62,21 @@ pub fn run(width: u32, height: u32, levels: u32, runs: u32) -> Result<(), String
     );
     let mut worst: f64 = 0.0;
     for (name, space) in spaces() {
-        let mut scene = ProductScene::default_for(&space);
-        scene.view.max_crossings = levels as usize;
-        let t = tracer
-            .time_product(&space, &scene, (width, height), runs)
-            .map_err(|e| e.to_string())?;
-        let gpu_ms = t.device_ms.unwrap_or(t.wall_ms);
+        // The scene at the run's levels, and its GPU frame time.
+        let mut timed = |mut scene: ProductScene| -> Result<(ProductScene, f64), String> {
+            scene.view.max_crossings = levels as usize;
+            let t = tracer
+                .time_product(&space, &scene, (width, height), runs)
+                .map_err(|e| e.to_string())?;
+            Ok((scene, t.device_ms.unwrap_or(t.wall_ms)))
+        };
+        let (scene, gpu_ms) = timed(ProductScene::default_for(&space))?;
+        let (_, lit_ms) = timed(ProductScene::lit_for(&space))?;
         let cpu = best_ms(runs, || Ok(render_product(&space, &scene, width, height)))?;
         let image = render_product(&space, &scene, width, height);
         let hits = image.iter().filter(|p| p.object != 0).count();
         let crossings = image.iter().map(|p| p.crossings as f64).sum::<f64>() / image.len() as f64;
         worst = worst.max(gpu_ms / sw_ms);
-        let mut lit = ProductScene::lit_for(&space);
-        lit.view.max_crossings = levels as usize;
-        let t = tracer
-            .time_product(&space, &lit, (width, height), runs)
-            .map_err(|e| e.to_string())?;
-        let lit_ms = t.device_ms.unwrap_or(t.wall_ms);
         println!(
             "{name:<18} {gpu_ms:>9.1} {:>7.2}x {cpu:>9.1} {:>6.1}% {crossings:>10.2} {lit_ms:>9.1} {:>7.2}x",
             gpu_ms / sw_ms,

@@ -98,26 +98,24 @@ fn a_lights_images_up_the_circle_turn_with_the_twist() {
     // Heights 0.3 + 2 k nearer than 7 to the prism's [-1, 1]: k from -4
     // (-7.7) to 3 (6.3).
     assert_eq!(found.len(), 8);
-    for k in -4i32..=3 {
-        let turn = f64::from(k) * 2.0 * PI / 3.0;
-        let (s, c) = turn.sin_cos();
+    // The k-th copy turned by k thirds in the sense `sense` (the twist
+    // turns one way or the other: either, but one sense for all).
+    let copy = |k: i32, sense: f64| {
+        let (s, c) = (sense * f64::from(k) * 2.0 * PI / 3.0).sin_cos();
         let p = at.surface;
-        let expected = ProductPoint::new(
+        ProductPoint::new(
             DVec3::new(p.x * c - p.y * s, p.x * s + p.y * c, p.z),
             0.3 + 2.0 * f64::from(k),
-        );
-        // The twist turns one way or the other: either sense, but one
-        // sense for all the copies.
-        let mirrored = ProductPoint::new(DVec3::new(p.x * c + p.y * s, -p.x * s + p.y * c, p.z), expected.height);
-        assert!(
-            found
-                .iter()
-                .any(|i| ProductGeometry::S2xR.distance(i.position, expected) < 1e-9)
-                || found
-                    .iter()
-                    .any(|i| ProductGeometry::S2xR.distance(i.position, mirrored) < 1e-9),
-            "no image at k = {k}"
-        );
+        )
+    };
+    let has = |q: ProductPoint| {
+        found
+            .iter()
+            .any(|i| ProductGeometry::S2xR.distance(i.position, q) < 1e-9)
+    };
+    let sense = if has(copy(1, 1.0)) { 1.0 } else { -1.0 };
+    for k in -4i32..=3 {
+        assert!(has(copy(k, sense)), "no image at k = {k} (turned {sense})");
     }
     assert!((found[0].inv_range_sq - 1.0 / 49.0).abs() < 1e-15);
 }

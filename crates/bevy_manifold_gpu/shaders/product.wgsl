@@ -1,7 +1,8 @@
 // The tracer of the product spaces (H2xR, S2xR) on the GPU, in f32.
 // Rust twin: crates/bevy_manifold_core/src/trace/product/mod.rs (the walk
 // through the faces and the balls' entries), its `view.rs` (the pixel)
-// and its `light.rs` (the lights, their arcs and shadows); the geometry is the core's geometry/product.rs. A ray follows
+// and its `light.rs` (the lights, their arcs and shadows); the geometry
+// is the core's geometry/product.rs. A ray follows
 // its exact geodesic through the prism, leaves through the nearest face
 // (in closed form) and goes on from the gluing's image of its exit point.
 // Balls are geodesic balls of the product metric, found by sphere

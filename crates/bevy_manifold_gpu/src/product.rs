@@ -23,7 +23,9 @@
 use bevy_manifold_core::geometry::product::{ProductPoint, ProductTangent};
 use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::space::product_cells::{ProductCellTable, ProductCells, ProductElement};
-use bevy_manifold_core::trace::product::{FOG_COLOR, ProductScene, images, light_images, palette};
+use bevy_manifold_core::trace::product::{
+    FOG_COLOR, ProductLight, ProductLighting, ProductScene, images, light_images, palette,
+};
 use bytemuck::{Pod, Zeroable};
 
 /// WGSL twin: `ProductParams` in `shaders/product.wgsl`.
@@ -372,6 +374,32 @@ impl GpuProductScene {
             faces,
             balls,
             lights,
+        }
+    }
+}
+
+/// A scene's light images packed ([`GpuProductScene::pack_lights`]),
+/// kept with what they were made from, and made again only when the
+/// space, the lights or the lighting change: a moving eye, or a tour's
+/// frames, share them. The headless runner keeps one; the Bevy pass one
+/// per camera.
+#[derive(Clone, Debug, Default)]
+pub struct PackedLights(Option<(ProductSpace, Vec<ProductLight>, ProductLighting, Vec<GpuProductLight>)>);
+
+impl PackedLights {
+    /// `scene`'s light images in `space`, packed: the kept ones where
+    /// they were made from the same space, lights and lighting.
+    pub fn get(&mut self, space: &ProductSpace, scene: &ProductScene) -> Vec<GpuProductLight> {
+        let same = |(s, l, g, _): &(ProductSpace, Vec<ProductLight>, ProductLighting, Vec<GpuProductLight>)| {
+            s == space && *l == scene.lights && *g == scene.lighting
+        };
+        match &self.0 {
+            Some(kept) if same(kept) => kept.3.clone(),
+            _ => {
+                let packed = GpuProductScene::pack_lights(space, scene);
+                self.0 = Some((space.clone(), scene.lights.clone(), scene.lighting, packed.clone()));
+                packed
+            }
         }
     }
 }

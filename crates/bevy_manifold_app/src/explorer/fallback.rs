@@ -55,18 +55,18 @@ pub fn view_scene(
     (space, scene, trace)
 }
 
-/// [`render_instead`] in a product space: its lit scene (or lit from the
-/// eye, as the settings say) from its start, traced by the product tracer
-/// (its WGSL twin where there is an adapter).
-fn render_product_instead(
-    why: &str,
+/// The explorer's view of a product space drawn to `out`: its lit scene
+/// (or lit from the eye, as the settings say) from its start, traced by
+/// the product tracer (its WGSL twin where there is a GPU tracer).
+/// Returns the space's name and what traced it.
+fn draw_product(
     settings: &ExplorerSettings,
     space: &bevy_manifold::space::product::ProductSpace,
     out: &Path,
+    (w, h): (u32, u32),
     gpu: bool,
-) -> AppExit {
+) -> Result<(String, String), String> {
     use bevy_manifold::trace::product::ProductScene;
-    let (w, h) = if gpu { (1280, 720) } else { (640, 360) };
     let mut scene = if settings.lights {
         ProductScene::lit_for(space)
     } else {
@@ -74,27 +74,31 @@ fn render_product_instead(
     };
     super::view::set_product_view(&mut scene.view, settings);
     let mut tracer = gpu.then(bevy_manifold_gpu::GpuTracer::new).and_then(Result::ok);
-    let on = if tracer.is_some() {
-        "on the GPU"
-    } else {
-        "with the CPU reference tracer"
+    let on = match &tracer {
+        Some(t) => format!("on the GPU ({})", t.adapter_name()),
+        None => "with the CPU reference tracer".into(),
     };
-    let result = crate::cli::product::trace(space, &scene, tracer.as_mut(), (w, h))
-        .and_then(|pixels| crate::cli::product::write_png(&pixels, out, (w, h)));
-    match result {
-        Ok(()) => {
-            println!(
-                "{why}: rendered the explorer's view of {} to {} ({w}x{h}, {on}) instead of opening a window",
-                space.name,
-                out.display()
-            );
-            AppExit::Success
-        }
-        Err(e) => {
-            eprintln!("{why}, and rendering {} failed: {e}", out.display());
-            AppExit::error()
-        }
-    }
+    let pixels = crate::cli::product::trace(space, &scene, tracer.as_mut(), (w, h))?;
+    crate::cli::product::write_png(&pixels, out, (w, h))?;
+    Ok((space.name.clone(), on))
+}
+
+/// The explorer's view of a space of E3, H3 or S3 drawn to `out`, on the
+/// GPU where there is one. Returns the space's name and what traced it.
+fn draw_manifold(
+    settings: &ExplorerSettings,
+    out: &Path,
+    (w, h): (u32, u32),
+    gpu: bool,
+) -> Result<(String, String), String> {
+    let (space, scene, trace) = view_scene(settings, w, h);
+    let (img, used) = render_any(&space, &scene, &trace, !gpu, false).map_err(|e| e.to_string())?;
+    write_png(&img, out).map_err(|e| e.to_string())?;
+    let on = match used {
+        UsedTracer::Gpu(a) => format!("on the GPU ({a})"),
+        UsedTracer::Cpu { .. } => "with the CPU reference tracer".into(),
+    };
+    Ok((space.name().to_owned(), on))
 }
 
 /// Prints why there is no window, renders the view to `out` (1280x720 on
@@ -102,24 +106,18 @@ fn render_product_instead(
 /// exit only when the image cannot be made or written.
 pub fn render_instead(why: &str, settings: &ExplorerSettings, out: &Path) -> AppExit {
     let gpu = probe_adapter_info().is_ok();
-    let (w, h) = if gpu { (1280, 720) } else { (640, 360) };
-    if let Some(space) = super::view::product_space(&settings.space) {
-        return render_product_instead(why, settings, &space, out, gpu);
-    }
-    let (space, scene, trace) = view_scene(settings, w, h);
-    let result = render_any(&space, &scene, &trace, !gpu, false)
-        .map_err(|e| e.to_string())
-        .and_then(|(img, used)| write_png(&img, out).map(|()| used).map_err(|e| e.to_string()));
-    match result {
-        Ok(used) => {
-            let on = match used {
-                UsedTracer::Gpu(a) => format!("on the GPU ({a})"),
-                UsedTracer::Cpu { .. } => "with the CPU reference tracer".into(),
-            };
+    let size = if gpu { (1280, 720) } else { (640, 360) };
+    let drawn = match super::view::product_space(&settings.space) {
+        Some(space) => draw_product(settings, &space, out, size, gpu),
+        None => draw_manifold(settings, out, size, gpu),
+    };
+    match drawn {
+        Ok((name, on)) => {
             println!(
-                "{why}: rendered the explorer's view of {} to {} ({w}x{h}, {on}) instead of opening a window",
-                space.name(),
-                out.display()
+                "{why}: rendered the explorer's view of {name} to {} ({}x{}, {on}) instead of opening a window",
+                out.display(),
+                size.0,
+                size.1
             );
             AppExit::Success
         }

@@ -173,14 +173,16 @@ fn keys(
         settings.cells = true;
     }
     // The camera's copy: its domain cell's id, or in a product space its
-    // exact copy's.
-    let here = cells.get(world.camera).map(|c| c.id.0).ok().or_else(|| {
-        let (space, camera) = (world.product.as_ref()?, products.get(world.camera).ok()?);
-        let exact = bevy_manifold::space::product_cells::ProductCells::of(space)?;
-        Some(exact.id(&camera.view.cell?).0)
-    });
+    // exact copy's (the space's exact cells made only when asked).
+    let here = || {
+        cells.get(world.camera).map(|c| c.id.0).ok().or_else(|| {
+            let (space, camera) = (world.product.as_ref()?, products.get(world.camera).ok()?);
+            let exact = bevy_manifold::space::product_cells::ProductCells::of(space)?;
+            Some(exact.id(&camera.view.cell?).0)
+        })
+    };
     if hit(KeyCode::KeyP)
-        && let Some(id) = here
+        && let Some(id) = here()
     {
         settings.highlight = id;
         settings.cell_mode = CellMode::Highlight;

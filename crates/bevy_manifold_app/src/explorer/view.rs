@@ -93,13 +93,10 @@ fn spawn_product_world(
             ))
             .id();
         if k == 1 {
-            let along = space
-                .geometry
-                .normalize_tangent(ball.center, ProductTangent::new(glam::DVec3::Y, 0.5));
-            commands.entity(body).insert(ProductVelocity(ProductTangent::new(
-                along.surface * 0.3,
-                along.height * 0.3,
-            )));
+            let dir = ProductTangent::new(glam::DVec3::Y, 0.5);
+            commands
+                .entity(body)
+                .insert(ProductVelocity::along(space.geometry, ball.center, dir, 0.3));
         }
     }
     if settings.lights {

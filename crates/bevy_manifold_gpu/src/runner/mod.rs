@@ -33,11 +33,16 @@ pub struct GpuTracer {
     /// per cell of its table, 16,129 in Seifert-Weber), for the frames of
     /// a tour.
     kept: Option<PackedSpace>,
-    /// The product spaces' pipeline, built on first use.
+    /// The product spaces' pipelines, one per specialisation
+    /// (`ProductShaderDefs::index`), each built on first use.
     product: [Option<product::ProductPipeline>; 4],
     /// The last product space traced, with its exact cells and their
     /// table (none where it has no exact cells): grown once per space.
     product_cells: Option<product::ProductCellsKept>,
+    /// The last product scene's lights with their images, packed: worked
+    /// out again only when the space, the lights or the lighting change
+    /// (a tour's frames share them).
+    product_lights: crate::product::PackedLights,
 }
 
 impl GpuTracer {
@@ -128,6 +133,7 @@ impl GpuTracer {
             kept: None,
             product: Default::default(),
             product_cells: None,
+            product_lights: Default::default(),
         })
     }
 

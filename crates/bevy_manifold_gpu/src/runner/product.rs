@@ -219,7 +219,8 @@ impl GpuTracer {
                 "an image of {width}x{height} pixels is empty"
             )));
         }
-        let mut gpu = GpuProductScene::pack(space, scene, width, height);
+        let lights = self.product_lights.get(space, scene);
+        let mut gpu = GpuProductScene::pack_lit(space, scene, lights, (width, height));
         let cells = if table {
             self.product_cells(space, view.cell.as_ref())
         } else {
