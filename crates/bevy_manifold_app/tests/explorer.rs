@@ -209,9 +209,18 @@ fn explore_opens_the_space_it_is_given_and_names_a_bad_one() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// Live GPU objects on the app's device (as the soak run counts them).
+/// Live GPU objects on the app's device (as the soak run counts them),
+/// once the GPU has finished the frames submitted: the staging buffers of
+/// a frame's buffer writes (a dozen or so, freed when its submission is
+/// done) would otherwise be counted or not as the GPU's timing falls.
 fn live(app: &App) -> [isize; GPU_COUNTERS.len()] {
-    bevy_manifold_app::explorer::soak::live_gpu_objects(app.world().resource::<RenderDevice>())
+    let device = app.world().resource::<RenderDevice>();
+    let wait = bevy::render::render_resource::PollType::Wait {
+        submission_index: None,
+        timeout: Some(std::time::Duration::from_secs(10)),
+    };
+    device.poll(wait).expect("the GPU finishes the frames submitted");
+    bevy_manifold_app::explorer::soak::live_gpu_objects(device)
 }
 
 /// Updates until the counts have not changed for 5 frames (freed objects
@@ -250,7 +259,9 @@ fn switching_spaces_100_times_leaks_no_buffers_or_pipelines() {
         .copied()
         .chain(["s2xs1", "genus2xs1", "mirrored-prism"])
         .collect();
-    assert_eq!(200 % names.len(), 0, "the switches end where they began");
+    // Each count is taken in the space the switches began in, as what a
+    // space keeps on the GPU differs by a buffer or so between spaces.
+    let hundred_or_so = 100 - 100 % names.len();
     let switch = |app: &mut App, i: usize| {
         app.world_mut().resource_mut::<ExplorerSettings>().space = names[i % names.len()].to_string();
         app.update();
@@ -262,10 +273,12 @@ fn switching_spaces_100_times_leaks_no_buffers_or_pipelines() {
         switch(&mut app, i);
         offscreen::wait_for_pipelines(&mut app).expect("pipelines");
     }
-    // A hundred switches to reach the steady state (under load, objects
-    // made lazily, an exact-cell table grown off the frame, can still be
-    // arriving after the warm-up), then a hundred more: a leak grows with
-    // the switches, so the second count is no higher than the first.
+    // A hundred switches or so (whole rounds of the spaces) to reach the
+    // steady state (under load, objects made lazily, an exact-cell table
+    // grown off the frame, can still be arriving after the warm-up), then
+    // as many more: a leak grows with the switches, so the second count
+    // is no higher than the first. Each count is taken once the GPU has
+    // finished the frames submitted (`live`).
     // Freed objects go once the GPU is done with them, which under load
     // (the other tests of this binary run beside it) can take longer than
     // five quiet frames: settle again while counts are above. A leak never
@@ -273,34 +286,39 @@ fn switching_spaces_100_times_leaks_no_buffers_or_pipelines() {
     // Buffers, texture views, texture memory and bind groups: freed when
     // the GPU is done with them; pipelines and shader modules from here on.
     const FREED: usize = 4;
+    // Two openings of the same space can differ by a buffer (seen under
+    // load, one way or the other, and steady for hundreds of frames); not
+    // one of the space's own, which are one per binding (`SceneBuffers`).
+    const SLACK: [isize; FREED] = [2, 0, 0, 0];
     let hundred = |app: &mut App, from: usize, floor: Option<[isize; GPU_COUNTERS.len()]>| {
-        for i in from..from + 100 {
+        for i in from..from + hundred_or_so {
             switch(app, i);
         }
         let mut now = settle(app);
-        if let Some(floor) = floor {
-            for _ in 0..20 {
-                if (0..FREED).all(|k| now[k] <= floor[k]) {
-                    break;
-                }
-                now = settle(app);
+        let Some(floor) = floor else {
+            return now;
+        };
+        for _ in 0..20 {
+            if (0..FREED).all(|k| now[k] <= floor[k] + SLACK[k]) {
+                break;
             }
+            now = settle(app);
         }
         now
     };
     let before = hundred(&mut app, 1, None);
-    let after = hundred(&mut app, 101, Some(before));
+    let after = hundred(&mut app, 1 + hundred_or_so, Some(before));
     let status = app.world().resource::<ExplorerStatus>();
     let world = app.world().resource::<ExplorerWorld>();
     eprintln!(
         "after {} switches: live {GPU_COUNTERS:?} {before:?} before, {after:?} after",
         status.switches
     );
-    assert_eq!(status.switches, 2 * names.len() as u64 + 200);
+    assert_eq!(status.switches, (2 * names.len() + 2 * hundred_or_so) as u64);
     assert_eq!(
         world.space.name(),
         catalog::torus(1.0).name(),
-        "100 switches over 8 spaces end where they began"
+        "whole rounds of the 8 spaces end where they began"
     );
     // Every counter counts: the explorer's view is a texture with a view,
     // and it has buffers, bind groups and a render pipeline.
@@ -310,13 +328,13 @@ fn switching_spaces_100_times_leaks_no_buffers_or_pipelines() {
     );
     // Pipelines and shader modules: exactly where they were (each
     // specialisation compiled once). Buffers, texture views, texture
-    // memory and bind groups: no more than before; Bevy may have freed
-    // some of its own since (a leak of one per switch would add a
-    // hundred).
+    // memory and bind groups: no more than before (give or take Bevy's
+    // `SLACK`); Bevy may have freed some of its own since (a leak of one
+    // per switch would add 96).
     assert_eq!(after[FREED..], before[FREED..], "pipelines and shader modules");
     for (k, what) in GPU_COUNTERS[..FREED].iter().enumerate() {
         assert!(
-            after[k] <= before[k],
+            after[k] <= before[k] + SLACK[k],
             "{what}: {} before, {} after",
             before[k],
             after[k]
