@@ -8,8 +8,8 @@
 use bevy_manifold_core::geometry::product::{ProductGeometry, ProductIsometry, ProductPoint, ProductTangent};
 use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::trace::product::{
-    ProductBall, ProductLight, ProductLightImage, ProductLighting, ProductScene, arc_irradiance, direct, images,
-    light_arcs, light_images, render, shadowed,
+    DIM_LIGHT, ProductBall, ProductLight, ProductLightImage, ProductLighting, ProductScene, arc_irradiance, direct,
+    images, light_arcs, light_images, render, shadowed,
 };
 use glam::DVec3;
 use std::f64::consts::PI;
@@ -278,24 +278,42 @@ fn a_light_above_a_ball_lights_it_once_per_circle_and_its_copies_shade_it() {
         let rgb = direct(&space, &balls, &lit, (x, up, up), albedo, 0.0, shadows, 32);
         // Unshadowed: every copy above, at 0.4 + 2 k, within the range;
         // the copies below lie behind the surface. Shadowed: the ball's
-        // copy at 2 hides every copy of the light past it.
-        let e: f64 = if shadows {
-            falloff(0.4)
-        } else {
-            (0..5)
-                .map(|k| 0.4 + 2.0 * f64::from(k))
-                .filter(|s| *s < range)
-                .map(falloff)
-                .sum()
-        };
+        // copy at 2 hides every copy of the light past it, but for the
+        // dim light: copies whose light (its brightest channel) fits in
+        // what is left of `DIM_LIGHT`, nearest first, count at half.
+        // Lambert head-on, and Blinn's lobe at its peak (0.35).
+        let light = |s: f64| albedo.map(|a| (f64::from(a) + 0.35) * falloff(s));
+        let copies = (0..5).map(|k| 0.4 + 2.0 * f64::from(k)).filter(|s| *s < range);
+        let mut expected = [0.0; 3];
+        let mut dim = f64::from(DIM_LIGHT);
+        let mut halves = 0;
+        for (k, s) in copies.enumerate() {
+            let l = light(s);
+            let share = if !shadows || k == 0 {
+                1.0
+            } else if l[2] < dim {
+                dim -= l[2];
+                halves += 1;
+                0.5
+            } else {
+                0.0
+            };
+            for c in 0..3 {
+                expected[c] += share * l[c];
+            }
+        }
+        // Shadowed, the two farthest copies (6.4 and 8.4 on) are dim.
+        assert_eq!(halves, if shadows { 2 } else { 0 });
         for c in 0..3 {
-            // Lambert head-on, and Blinn's lobe at its peak (0.35).
-            let expected = (f64::from(albedo[c]) + 0.35) * e;
             assert!(
-                (f64::from(rgb[c]) - expected).abs() < 1e-6 * expected,
-                "shadows {shadows}: {} against {expected}",
-                rgb[c]
+                (f64::from(rgb[c]) - expected[c]).abs() < 1e-6 * expected[c],
+                "shadows {shadows}: {} against {}",
+                rgb[c],
+                expected[c]
             );
+            // The dim light is off by at most half of `DIM_LIGHT`.
+            let exact = if shadows { light(0.4)[c] } else { expected[c] };
+            assert!((f64::from(rgb[c]) - exact).abs() <= f64::from(DIM_LIGHT) / 2.0);
         }
     }
     // The way up from the top meets the ball's copy at 2 (1.6 on), after

@@ -455,6 +455,9 @@ fn product_cell_id(cell: ProductCell) -> vec2<u32> {
 const AMBIENT: f32 = 0.08;
 // How far a shadow ray starts off the surface. Rust twin: `SHADOW_OFFSET`.
 const SHADOW_OFFSET: f32 = 1e-4;
+// The dim light a hit takes at half without walking its shadows, per
+// channel. Rust twin: `DIM_LIGHT`.
+const DIM_LIGHT: f32 = 2.0 / 255.0;
 
 // The product metric on tangents. Rust twin: `ProductGeometry::dot`.
 fn dot4(u: vec4<f32>, v: vec4<f32>) -> f32 {
@@ -528,10 +531,11 @@ fn shadowed(x: vec4<f32>, normal: vec4<f32>, dir: vec4<f32>, length: f32) -> boo
 // The light a surface point x (unit normal, seen along `view`, of colour
 // `albedo`) receives from every light image along each of its arcs (in
 // S2xR also the long way round): Lambert plus a Blinn lobe, each arc's
-// light only where its way is free when shadows are on. Rust twins:
-// `direct` and `light_arcs`.
+// light only where its way is free when shadows are on (but for the
+// DIM_LIGHT, taken at half). Rust twins: `direct` and `light_arcs`.
 fn direct(x: vec4<f32>, normal: vec4<f32>, view: vec4<f32>, albedo: vec3<f32>) -> vec3<f32> {
     var rgb = vec3<f32>(0.0);
+    var dim = DIM_LIGHT;
     for (var l = 0u; l < params.light_count; l++) {
         let v = log_map(x, lights[l].position);
         let length = sqrt(max(dot4(v, v), 0.0));
@@ -558,7 +562,7 @@ fn direct(x: vec4<f32>, normal: vec4<f32>, view: vec4<f32>, albedo: vec3<f32>) -
                 continue;
             }
             let e = arc_irradiance(l, s, along);
-            if e <= 0.0 || (params.shadows != 0u && shadowed(x, normal, dir, s)) {
+            if e <= 0.0 {
                 continue;
             }
             let half = dir + view;
@@ -568,7 +572,18 @@ fn direct(x: vec4<f32>, normal: vec4<f32>, view: vec4<f32>, albedo: vec3<f32>) -
                 nh = max(dot4(normal, half) / hl, 0.0);
             }
             let spec = pow(nh, 32.0) * 0.35;
-            rgb += (albedo * nl + vec3<f32>(spec)) * e * lights[l].color.rgb;
+            let light = (albedo * nl + vec3<f32>(spec)) * e * lights[l].color.rgb;
+            var share = 1.0;
+            if params.shadows != 0u {
+                let most = max(light.r, max(light.g, light.b));
+                if most < dim {
+                    dim -= most;
+                    share = 0.5;
+                } else if shadowed(x, normal, dir, s) {
+                    continue;
+                }
+            }
+            rgb += light * share;
         }
     }
     return rgb;

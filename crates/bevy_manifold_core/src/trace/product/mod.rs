@@ -31,7 +31,7 @@ mod light;
 mod view;
 
 pub use light::{
-    LightArc, MAX_PRODUCT_LIGHT_IMAGES, ProductLight, ProductLightImage, ProductLighting, SHADOW_OFFSET,
+    DIM_LIGHT, LightArc, MAX_PRODUCT_LIGHT_IMAGES, ProductLight, ProductLightImage, ProductLighting, SHADOW_OFFSET,
     arc_irradiance, direct, light_arcs, light_images, shadowed,
 };
 pub use view::{AMBIENT, FOG_COLOR, ProductPixel, ProductScene, ProductView, palette, render};
