@@ -175,10 +175,15 @@ fn prism_points(space: &ProductSpace) -> Vec<ProductPoint> {
 
 #[test]
 fn the_octagons_light_images_light_the_prism_as_the_whole_orbit() {
-    // Genus 2 x S1 and the mirrored prism: at every sample point of the
-    // prism the kept images give the same light as every image of the
-    // orbit (enumerated by words, independently of the walk of copies).
-    for space in [ProductSpace::genus_two_x_s1(1.2), ProductSpace::mirrored_prism(5, 1.0)] {
+    // Genus 2 x S1 (also turned by 3/8 round the circle) and the mirrored
+    // prism: at every sample point of the prism the kept images give the
+    // same light as every image of the orbit (enumerated by words,
+    // independently of the walk of copies).
+    for space in [
+        ProductSpace::genus_two_x_s1(1.2),
+        ProductSpace::twisted_genus_two_x_s1(1.2, 3),
+        ProductSpace::mirrored_prism(5, 1.0),
+    ] {
         let g = space.geometry;
         let at = point(g, 1.1, 0.2, 0.15);
         for (range, budget) in [(Some(1.4), 64), (None, 24)] {

@@ -224,23 +224,37 @@ fn from_prism(space: &ProductSpace, vertices: &[DVec3], p: ProductPoint) -> (f64
 /// it `h G_f p`). A copy within `r` of the prism is reached through
 /// copies each within `r` of it (those the shortest way crosses), each
 /// meeting that way at a point whose surface and height parts are each
-/// within `r` of the prism's; the light's image in a copy lies within
-/// `far_s` of all of it along the surface and `far_h` up the line (the
-/// farthest the polygon's corners and the prism's ends are from the
-/// light). So walking on from every image whose parts are within `r +
-/// far_s` and `r + far_h` finds every image within `r`.
+/// within `r` of the prism's. Each copy is judged by its anchor, the
+/// image of a point `a` of the prism (the model's origin where the
+/// polygon holds it, else the light's foot, at height 0), which lies
+/// within `far_s` of all of the copy along the surface and `far_h` up
+/// the line (the farthest the polygon's corners and the prism's ends are
+/// from `a`). So walking on from every copy whose anchor's parts are
+/// within `r + far_s` and `r + far_h` finds every image within `r`. (A
+/// central anchor halves `far_s` against the light's own image: the
+/// genus-2 octagon's corners are 2.45 from its centre, 4.9 apart, and
+/// the copies walked grow as `e` to that slack.)
 fn images_of(space: &ProductSpace, l: &ProductLight, budget: usize) -> (Vec<ProductPoint>, f64) {
     let g = space.geometry;
     let vertices = space.vertices();
-    // The farthest corner from the light (the distance from a point is
+    let holds = |q: DVec3| space.sides.iter().all(|s| g.form(*s, q) <= 0.0);
+    let anchor = ProductPoint::new(
+        if holds(ProductPoint::ORIGIN.surface) {
+            ProductPoint::ORIGIN.surface
+        } else {
+            l.position.surface
+        },
+        0.0,
+    );
+    // The farthest corner from the anchor (the distance from a point is
     // convex on the convex polygon), and the farthest end.
-    let far_h = space.height / 2.0 + l.position.height.abs();
+    let far_h = space.height / 2.0;
     let far_s = if space.sides.is_empty() {
         std::f64::consts::PI
     } else {
         vertices
             .iter()
-            .map(|v| g.surface_distance(l.position.surface, *v))
+            .map(|v| g.surface_distance(anchor.surface, *v))
             .fold(0.0f64, f64::max)
     };
     let requested = l.range.filter(|r| r.is_finite() && *r > 0.0).unwrap_or(f64::INFINITY);
@@ -253,37 +267,71 @@ fn images_of(space: &ProductSpace, l: &ProductLight, budget: usize) -> (Vec<Prod
         [r(p.surface.x), r(p.surface.y), r(p.surface.z), r(p.height)]
     };
     // From a short reach, doubled until the budget is met: the copies
-    // walked grow exponentially with it in H2xR.
+    // walked grow exponentially with it in H2xR. Each doubling walks on
+    // from where the last stopped: the images found stay found, and the
+    // images some of whose neighbours lay past the last reach are looked
+    // at again.
     let mut reach = requested.min(1.0);
     let mut last: Option<(Vec<ProductPoint>, f64)> = None;
+    let start = (
+        from_prism(space, &vertices, l.position),
+        l.position,
+        ProductIsometry::IDENTITY,
+    );
+    // Every image within `reach` of the prism, with its distance; only
+    // images to walk on from are kept (every image within `reach` is one).
+    let mut found: Vec<((f64, f64), ProductPoint, ProductIsometry)> = vec![start];
+    let mut seen = std::collections::HashSet::from([key(l.position)]);
+    let mut next = 0;
+    let mut again: Vec<usize> = Vec::new();
     for _ in 0..16 {
-        // Every image within `reach` of the prism, with its distance.
-        let mut found: Vec<((f64, f64), ProductPoint, ProductIsometry)> = vec![(
-            from_prism(space, &vertices, l.position),
-            l.position,
-            ProductIsometry::IDENTITY,
-        )];
-        let mut seen = std::collections::HashSet::from([key(l.position)]);
-        let mut next = 0;
         let mut capped = false;
-        // Only images to walk on from are kept: every image within
-        // `reach` is one.
-        while next < found.len() && !capped {
-            let h = found[next].2;
-            next += 1;
+        let mut queue = std::mem::take(&mut again);
+        loop {
+            let i = match queue.pop() {
+                Some(i) => i,
+                None if next < found.len() => {
+                    next += 1;
+                    next - 1
+                }
+                None => break,
+            };
+            let h = found[i].2;
+            let mut beyond = false;
             for m in &gluings {
                 let e = h.compose(m);
-                let p = g.normalize_point(e.apply(l.position));
-                let (ds, dh) = from_prism(space, &vertices, p);
-                if ds > reach + far_s || dh > reach + far_h || !seen.insert(key(p)) {
+                let (fs, fh) = from_prism(space, &vertices, g.normalize_point(e.apply(anchor)));
+                if fs > reach + far_s || fh > reach + far_h {
+                    beyond = true;
                     continue;
                 }
+                let p = g.normalize_point(e.apply(l.position));
+                if !seen.insert(key(p)) {
+                    continue;
+                }
+                let (ds, dh) = from_prism(space, &vertices, p);
                 if found.len() >= MAX_WALK {
                     capped = true;
                     break;
                 }
                 found.push(((ds, dh), p, e));
             }
+            if beyond {
+                again.push(i);
+            }
+            if capped {
+                break;
+            }
+        }
+        if capped && last.is_none() {
+            // Not even the first reach could be walked: a walk of half
+            // the reach, from the start.
+            reach /= 2.0;
+            found.truncate(1);
+            seen = std::collections::HashSet::from([key(l.position)]);
+            next = 0;
+            again.clear();
+            continue;
         }
         let mut found: Vec<(f64, ProductPoint)> = found.iter().map(|f| (f.0.0.hypot(f.0.1), f.1)).collect();
         found.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -302,15 +350,8 @@ fn images_of(space: &ProductSpace, l: &ProductLight, budget: usize) -> (Vec<Prod
         let within = |r: f64| images.partition_point(|f| f.0 < r);
         let keep = |r: f64| (images[..within(r)].iter().map(|f| f.1).collect(), r);
         if capped {
-            // The walk could not finish: what the last whole one found,
-            // or a walk of half the reach.
-            match last {
-                Some(last) => return last,
-                None => {
-                    reach /= 2.0;
-                    continue;
-                }
-            }
+            // The walk could not finish: what the last whole one found.
+            return last.unwrap_or((Vec::new(), 0.0));
         }
         if within(reach) > budget {
             return keep(images[budget].0);
