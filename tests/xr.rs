@@ -11,16 +11,22 @@ use bevy::camera::RenderTarget;
 use bevy::prelude::*;
 use bevy::render::RenderApp;
 use bevy::time::TimeUpdateStrategy;
+use bevy_manifold::geometry::product::{ProductPoint, ProductTangent};
 use bevy_manifold::placement::{DomainCell, Placement};
 use bevy_manifold::prelude::*;
+use bevy_manifold::product::{ProductBody, ProductCamera, ProductSpaceRoot};
 use bevy_manifold::render::{ManifoldBufferCache, ManifoldUploads, offscreen};
 use bevy_manifold::space::Space;
+use bevy_manifold::space::product::ProductSpace;
+use bevy_manifold::trace::product::ProductView;
+use bevy_manifold::xr::XrProductHead;
 use bevy_manifold::xr::{
     ManifoldXrPlugin, XrBody, XrControllers, XrEye, XrHand, XrHandSide, XrHead, XrLocomotion, XrRecentre, XrTrigger,
 };
 use bevy_mod_xr::camera::{Fov, XrCamera, XrProjection, calculate_projection};
 use bevy_mod_xr::session::XrTrackingRoot;
 use glam::{DVec3, DVec4};
+use std::sync::Arc;
 use std::time::Duration;
 
 /// A left eye's field of view as a headset reports it (radians: left,
@@ -82,6 +88,13 @@ fn rig(space: &Space, world_scale: f64) -> Rig {
     let world = app.world_mut();
     let root = world.spawn(ManifoldSpace::new(space.clone())).id();
     world.spawn((ChildOf(root), XrBody { world_scale }, Placement::default()));
+    spawn_eyes(world, &images);
+    Rig { app, root, images }
+}
+
+/// bevy_mod_openxr's tracking root and its two eyes (with the off-centre
+/// projections of [`fov`], 2 `HALF_IPD` apart), drawing into `images`.
+fn spawn_eyes(world: &mut World, images: &[Handle<Image>; 2]) {
     let tracking = world.spawn((XrTrackingRoot, Transform::default())).id();
     for (i, image) in images.iter().enumerate() {
         let [l, r, d, u] = fov(i);
@@ -105,7 +118,45 @@ fn rig(space: &Space, world_scale: f64) -> Rig {
             Transform::from_xyz(x, 0.0, 0.0),
         ));
     }
+}
+
+/// [`rig`] in a product space: its root, and the body a product camera
+/// with `view` (the root's the `ProductSpaceRoot`).
+fn product_rig(space: &ProductSpace, view: ProductView, world_scale: f64) -> Rig {
+    let mut app = App::new();
+    app.add_plugins(offscreen::plugins().disable::<bevy::log::LogPlugin>())
+        .add_plugins((ManifoldPlugins::default(), ManifoldXrPlugin));
+    app.finish();
+    app.cleanup();
+    let images = [0, 1].map(|_| offscreen::target(&mut app, W, H));
+    let world = app.world_mut();
+    let root = world.spawn(ProductSpaceRoot(Arc::new(space.clone()))).id();
+    let mut camera = ProductCamera::default_for(space.clone());
+    camera.view = view;
+    world.spawn((ChildOf(root), XrBody { world_scale }, camera));
+    spawn_eyes(world, &images);
     Rig { app, root, images }
+}
+
+/// A view from the surface's origin at height 0, looking along the
+/// surface (its `x`), its right the surface's `-y`, its up the line's;
+/// seeing only the prism about it, with no fog.
+fn level_view() -> ProductView {
+    ProductView {
+        eye: ProductPoint::ORIGIN,
+        frame: [
+            ProductTangent::new(DVec3::X, 0.0),
+            ProductTangent::new(DVec3::NEG_Y, 0.0),
+            ProductTangent::new(DVec3::ZERO, 1.0),
+        ],
+        fov_y_degrees: 90.0,
+        frustum: None,
+        max_distance: 3.0,
+        max_crossings: 0,
+        fog: 0.0,
+        cell: None,
+        tint: None,
+    }
 }
 
 impl Rig {
@@ -187,11 +238,14 @@ fn green(p: &[u8]) -> bool {
 /// A function of a distance.
 type OfDistance = fn(f64) -> f64;
 
-/// Distances of a right triangle: `sinh`, `tanh`, `cosh` of H3 (curvature
-/// -1), or their flat limits.
-fn trig(hyperbolic: bool) -> (OfDistance, OfDistance, OfDistance) {
-    if hyperbolic {
+/// Distances of a right triangle: `sin`, `tan`, `cos` of a surface or
+/// space of curvature `k` (1, or -1 for `sinh`, `tanh`, `cosh`), or their
+/// flat limits (0).
+fn trig(k: f64) -> (OfDistance, OfDistance, OfDistance) {
+    if k < 0.0 {
         (f64::sinh, f64::tanh, f64::cosh)
+    } else if k > 0.0 {
+        (f64::sin, f64::tan, f64::cos)
     } else {
         (|x| x, |x| x, |_| 1.0)
     }
@@ -202,15 +256,18 @@ fn trig(hyperbolic: bool) -> (OfDistance, OfDistance, OfDistance) {
 /// the slopes of its left and right edges in the plane of the eyes. The
 /// head, the eye and the ball's centre make a right triangle at the
 /// head; at the eye, the angle between the head and the ball has
-/// `tan = tanh d / sinh a` (E3: `d / a`), so the ball is off the eye's
-/// forward axis by the slope `sinh a / tanh d`; the eye is at distance
-/// `cosh D = cosh a cosh d` (E3: Pythagoras) from the centre, where the
-/// ball subtends a half-angle with `sin = sinh r / sinh D`.
-fn predicted_edges(hyperbolic: bool, a: f64, d: f64, r: f64, side: f64) -> (f64, f64) {
-    let (sinh, tanh, cosh) = trig(hyperbolic);
+/// `tan = tanh d / sinh a` (E3: `d / a`, S: `tan d / sin a`), so the ball
+/// is off the eye's forward axis by the slope `sinh a / tanh d`; the eye
+/// is at distance `cosh D = cosh a cosh d` (E3: Pythagoras, S: `cos D =
+/// cos a cos d`) from the centre, where the ball subtends a half-angle
+/// with `sin = sinh r / sinh D`. In curvature `k`.
+fn predicted_edges(k: f64, a: f64, d: f64, r: f64, side: f64) -> (f64, f64) {
+    let (sinh, tanh, cosh) = trig(k);
     let centre = (-side * sinh(a) / tanh(d)).atan();
-    let far = if hyperbolic {
+    let far = if k < 0.0 {
         (cosh(a) * cosh(d)).acosh()
+    } else if k > 0.0 {
+        (cosh(a) * cosh(d)).acos()
     } else {
         a.hypot(d)
     };
@@ -224,10 +281,7 @@ fn predicted_edges(hyperbolic: bool, a: f64, d: f64, r: f64, side: f64) -> (f64,
 /// tells apart. Both eyes bind one upload of the scene.
 fn the_eyes_see_a_ball_with_the_disparity_the_geometry_predicts() {
     let _one = ONE_RENDER_APP.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-    for (space, hyperbolic, d) in [
-        (catalog::torus(1.0), false, 0.35),
-        (catalog::seifert_weber(), true, 0.6),
-    ] {
+    for (space, k, d) in [(catalog::torus(1.0), 0.0, 0.35), (catalog::seifert_weber(), -1.0, 0.6)] {
         let name = space.name().to_string();
         // 64 mm between the eyes is 0.2 of the space apart.
         let world_scale = f64::from(2.0 * HALF_IPD) / 0.2;
@@ -247,7 +301,7 @@ fn the_eyes_see_a_ball_with_the_disparity_the_geometry_predicts() {
         assert_eq!((cache.len(), cache.scenes()), (2, 1), "{name}: views and scenes held");
         let uploads = render.resource::<ManifoldUploads>();
         eprintln!("{name}: uploads with two eyes: {uploads:?}");
-        if !hyperbolic {
+        if k == 0.0 {
             // (Seifert-Weber's table of exact ids is repacked once grown.)
             assert_eq!((uploads.space, uploads.objects), (1, 1), "{name}: one upload of each");
         }
@@ -260,7 +314,7 @@ fn the_eyes_see_a_ball_with_the_disparity_the_geometry_predicts() {
             let (i0, i1) = widest_run(&shots[eye], j, red).unwrap_or_else(|| panic!("{name}: eye {eye} sees no ball"));
             let seen = (column_slope(eye, f64::from(i0)), column_slope(eye, f64::from(i1)));
             let side = if eye == 0 { -1.0 } else { 1.0 };
-            let want = predicted_edges(hyperbolic, a, d, r, side);
+            let want = predicted_edges(k, a, d, r, side);
             let px = pixel(eye);
             eprintln!(
                 "{name}: eye {eye}: edges at slopes ({:.4}, {:.4}), predicted ({:.4}, {:.4}): off by {:.2} and {:.2} px",
@@ -274,14 +328,14 @@ fn the_eyes_see_a_ball_with_the_disparity_the_geometry_predicts() {
             assert!((seen.0 - want.0).abs() < 0.75 * px, "{name}: eye {eye}: left edge");
             assert!((seen.1 - want.1).abs() < 0.75 * px, "{name}: eye {eye}: right edge");
             mids[eye] = (seen.0 + seen.1) / 2.0;
-            let flat = predicted_edges(false, a, d, r, side);
+            let flat = predicted_edges(0.0, a, d, r, side);
             flat_mids[eye] = (flat.0 + flat.1) / 2.0;
         }
         let px = pixel(0);
         let disparity = (mids[0] - mids[1]) / px;
         let flat = (flat_mids[0] - flat_mids[1]) / px;
         eprintln!("{name}: disparity {disparity:.1} px; the flat formula says {flat:.1} px");
-        if hyperbolic {
+        if k < 0.0 {
             assert!(disparity - flat > 8.0, "{name}: {disparity} vs the flat {flat}");
         }
     }
@@ -607,14 +661,175 @@ fn recentring_puts_the_first_head_pose_at_the_body() {
     assert!((moved - f64::from(0.1f32)).abs() < 1e-6, "moved {moved}");
 }
 
+/// In a product space each eye is the body's view moved along the
+/// geodesic of its offset. Looking along the surface with the eyes apart
+/// along it, the level surface through the eyes and the ball is totally
+/// geodesic (a copy of H2 or of S2), so the row level with the eyes sees
+/// the ball's edges where that surface's right triangles put them,
+/// through each eye's off-centre frustum: in H2 (the genus-2 surface) the
+/// disparity exceeds the flat formula's, on S2 it falls short of it, by
+/// more than 8 pixels either way.
+fn the_eyes_in_a_product_space_see_a_ball_where_its_surface_puts_it() {
+    let _one = ONE_RENDER_APP.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    for space in [ProductSpace::genus_two_x_s1(2.0), ProductSpace::s2_x_s1(2.0)] {
+        let g = space.geometry;
+        let k = g.curvature();
+        let (d, a, r) = (0.6, 0.1, 0.05);
+        let world_scale = f64::from(2.0 * HALF_IPD) / (2.0 * a);
+        let mut rig = product_rig(&space, level_view(), world_scale);
+        let (c, sn) = g.trig(d);
+        let center = ProductPoint::new(DVec3::new(sn, 0.0, c), 0.0);
+        let root = rig.root;
+        rig.app.world_mut().spawn((
+            ChildOf(root),
+            ProductBody {
+                center,
+                radius: r,
+                id: 0,
+            },
+        ));
+        let shots = rig.capture();
+        let mut eyes = rig.app.world_mut().query::<(&XrEye, &ProductCamera)>();
+        for (eye, camera) in eyes.iter(rig.app.world()) {
+            let f = camera.view.frustum.expect("the eye's own frustum");
+            let [l, r, d, u] = fov(eye.0 as usize).map(|x| f64::from(x).tan());
+            let off = (f.left - l)
+                .abs()
+                .max((f.right - r).abs())
+                .max((f.down - d).abs())
+                .max((f.up - u).abs());
+            assert!(off < 1e-5, "eye {}: frustum {f:?}", eye.0);
+            assert_eq!(camera.balls.len(), 1, "the body's ball");
+        }
+        // The ball's colour (orange, lit from the eye), not the fog's
+        // pale blue-grey.
+        let ball = |p: &[u8]| p[2] < 160;
+        let mut mids = [0.0; 2];
+        let mut flat_mids = [0.0; 2];
+        for eye in 0..2 {
+            let j = (0..H)
+                .min_by(|&p, &q| row_slope(eye, p).abs().total_cmp(&row_slope(eye, q).abs()))
+                .expect("rows");
+            let (i0, i1) = widest_run(&shots[eye], j, ball).unwrap_or_else(|| panic!("k {k}: eye {eye} sees no ball"));
+            let seen = (column_slope(eye, f64::from(i0)), column_slope(eye, f64::from(i1)));
+            let side = if eye == 0 { -1.0 } else { 1.0 };
+            let want = predicted_edges(k, a, d, r, side);
+            let px = pixel(eye);
+            eprintln!(
+                "k {k}: eye {eye}: edges at slopes ({:.4}, {:.4}), predicted ({:.4}, {:.4}): off by {:.2} and {:.2} px",
+                seen.0,
+                seen.1,
+                want.0,
+                want.1,
+                (seen.0 - want.0) / px,
+                (seen.1 - want.1) / px
+            );
+            assert!((seen.0 - want.0).abs() < 0.75 * px, "k {k}: eye {eye}: left edge");
+            assert!((seen.1 - want.1).abs() < 0.75 * px, "k {k}: eye {eye}: right edge");
+            mids[eye] = (seen.0 + seen.1) / 2.0;
+            let flat = predicted_edges(0.0, a, d, r, side);
+            flat_mids[eye] = (flat.0 + flat.1) / 2.0;
+        }
+        let px = pixel(0);
+        let disparity = (mids[0] - mids[1]) / px;
+        let flat = (flat_mids[0] - flat_mids[1]) / px;
+        eprintln!("k {k}: disparity {disparity:.1} px; the flat formula says {flat:.1} px");
+        assert!(-k * (disparity - flat) > 8.0, "k {k}: {disparity} vs the flat {flat}");
+    }
+}
+
+/// An app with the XR plugin, a product space and a body whose camera
+/// looks along the surface ([`level_view`]), and two eyes 2 `HALF_IPD`
+/// apart, as [`body_app`] makes them.
+fn product_body_app(space: &ProductSpace) -> (App, Entity) {
+    let mut app = App::new();
+    app.add_plugins((MinimalPlugins, ManifoldPlugins::default(), ManifoldXrPlugin))
+        .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_millis(100)));
+    let mut camera = ProductCamera::default_for(space.clone());
+    camera.view = level_view();
+    let world = app.world_mut();
+    let root = world.spawn(ProductSpaceRoot(Arc::new(space.clone()))).id();
+    let body = world
+        .spawn((ChildOf(root), XrBody { world_scale: 1.0 }, camera.clone()))
+        .id();
+    for i in 0..2u32 {
+        let x = if i == 0 { -HALF_IPD } else { HALF_IPD };
+        world.spawn((XrEye(i), camera.clone(), Transform::from_xyz(x, 0.0, 0.0)));
+    }
+    app.update();
+    (app, body)
+}
+
+/// In a product space the left stick flies the body along the head's
+/// level geodesic at the set speed (S2 x S1: 3 s at 0.3 units/s is 0.9
+/// along a great circle of the sphere, the height kept); the right stick
+/// snap-turns the head by 30 degrees to the right about its own point;
+/// the secondary button brings the body back where it started. The eyes
+/// stay 64 mm apart (at 1 m per unit) along the surface.
+fn the_sticks_fly_a_product_body_along_its_geodesics() {
+    let space = ProductSpace::s2_x_s1(2.0);
+    let g = space.geometry;
+    let (mut app, body) = product_body_app(&space);
+    let head = |app: &App| *app.world().get::<XrProductHead>(body).expect("a head");
+    let set = |app: &mut App, f: &dyn Fn(&mut XrControllers)| f(&mut app.world_mut().resource_mut::<XrControllers>());
+    set(&mut app, &|c| c.hands[0].stick = Vec2::Y);
+    for _ in 0..30 {
+        app.update();
+    }
+    set(&mut app, &|c| c.hands[0].stick = Vec2::ZERO);
+    app.update();
+    app.update();
+    let h = head(&app).view;
+    let flown = g.distance(ProductPoint::ORIGIN, h.eye);
+    assert!((flown - 0.9).abs() < 0.031, "flew {flown}");
+    assert!(
+        h.eye.height.abs() < 1e-9 && h.eye.surface.y.abs() < 1e-9,
+        "level, straight ahead: {:?}",
+        h.eye
+    );
+    assert!(h.eye.surface.x > 0.0, "forward: {:?}", h.eye);
+    let mut eyes = app.world_mut().query::<(&XrEye, &ProductCamera)>();
+    let views: Vec<ProductView> = eyes.iter(app.world()).map(|(_, c)| c.view).collect();
+    let apart = g.distance(views[0].eye, views[1].eye);
+    assert!((apart - f64::from(2.0 * HALF_IPD)).abs() < 1e-6, "eyes {apart} apart");
+
+    // A snap turn to the right, about the head.
+    let before = head(&app).view;
+    set(&mut app, &|c| c.hands[1].stick = Vec2::X);
+    for _ in 0..5 {
+        app.update();
+    }
+    set(&mut app, &|c| c.hands[1].stick = Vec2::ZERO);
+    app.update();
+    app.update();
+    let after = head(&app).view;
+    assert!(g.distance(before.eye, after.eye) < 1e-9, "the head stays put");
+    let angle = g
+        .dot(before.frame[0], after.frame[0])
+        .clamp(-1.0, 1.0)
+        .acos()
+        .to_degrees();
+    assert!((angle - 30.0).abs() < 1e-6, "one snap of {angle} degrees");
+    assert!(g.dot(before.frame[1], after.frame[0]) > 0.0, "turned right");
+
+    // Reset: back where it started.
+    set(&mut app, &|c| c.hands[0].secondary = true);
+    app.update();
+    app.update();
+    let back = g.distance(ProductPoint::ORIGIN, head(&app).view.eye);
+    assert!(back < 1e-9, "reset to {back} from the start");
+}
+
 bevy_manifold_test_support::test_main! {
     cpu: [
         the_sticks_fly_and_turn_the_room_and_the_trigger_is_an_action,
         recentring_puts_the_first_head_pose_at_the_body,
+        the_sticks_fly_a_product_body_along_its_geodesics,
     ],
     gpu: [
         the_eyes_see_a_ball_with_the_disparity_the_geometry_predicts,
         a_hand_at_a_controller_pose_appears_where_the_geometry_predicts,
         both_eyes_trace_at_the_bodys_render_scale_through_their_own_frusta,
+        the_eyes_in_a_product_space_see_a_ball_where_its_surface_puts_it,
     ],
 }

@@ -30,6 +30,8 @@ use super::systems::MAX_CROSSINGS_PER_STEP;
 use crate::geometry::{Geometry, isometry};
 use crate::motion::move_placement;
 use crate::space::FaceKind;
+use crate::space::product::ProductSpace;
+use crate::trace::product::ProductView;
 use bevy::prelude::*;
 use glam::{DMat4, DQuat, DVec3};
 
@@ -80,6 +82,48 @@ pub fn from_head(g: Geometry, head: DMat4, head_room: (DVec3, DQuat), pose: (Vec
     let back = head_room.1.inverse();
     let offset = back * (pose.0.as_dvec3() - head_room.0);
     pose_isometry(g, head, offset, back * pose.1.as_dquat().normalize(), scale)
+}
+
+/// [`head_and_eyes`] in a product space (H2xR, S2xR): the head's view
+/// reached from the body's `body` along the geodesic of its tracked
+/// offset, each eye's from the head's by its offset in the head's frame
+/// ([`ProductView::posed`], through the faces). Returns the head's view,
+/// then the eyes'.
+///
+/// ```
+/// use bevy::prelude::*;
+/// use bevy_manifold::placement::tracked;
+/// use bevy_manifold::space::product::ProductSpace;
+/// use bevy_manifold::trace::product::ProductScene;
+///
+/// let space = ProductSpace::genus_two_x_s1(2.0);
+/// let body = ProductScene::default_for(&space).view;
+/// // Eyes 64 mm apart, 1.6 m up, at 4 m per unit of the space.
+/// let eyes = [-0.032, 0.032].map(|x| (Vec3::new(x, 1.6, 0.0), Quat::IDENTITY));
+/// let (head, [left, right]) = tracked::product_head_and_eyes(&space, &body, eyes, 4.0);
+/// let g = space.geometry;
+/// assert!((g.distance(body.eye, head.eye) - 0.4).abs() < 1e-6);
+/// assert!((g.distance(left.eye, right.eye) - 0.016).abs() < 1e-6);
+/// ```
+#[must_use]
+pub fn product_head_and_eyes(
+    space: &ProductSpace,
+    body: &ProductView,
+    eyes: [(Vec3, Quat); 2],
+    scale: f64,
+) -> (ProductView, [ProductView; 2]) {
+    let room = head_in_room(eyes);
+    let head = body.posed(space, room.0, room.1, scale);
+    let back = room.1.inverse();
+    let eye = |(t, q): (Vec3, Quat)| {
+        head.posed(
+            space,
+            back * (t.as_dvec3() - room.0),
+            back * q.as_dquat().normalize(),
+            scale,
+        )
+    };
+    (head, [eye(eyes[0]), eye(eyes[1])])
 }
 
 /// Where the pose `to` (reached from `from`, inside the domain) lies in

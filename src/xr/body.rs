@@ -100,6 +100,49 @@ pub fn room_move(
     at * step * spin * isometry::inverse(g, at)
 }
 
+/// What the sticks ask of the room this frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum RoomAsk {
+    /// Nothing.
+    Stay,
+    /// Back to the start of the domain.
+    Reset,
+    /// A flight (the stick, in the head's level frame) and a snap turn
+    /// (radians, positive to the left).
+    Move { stick: DVec3, turn: f64 },
+}
+
+/// Reads the sticks as [`XrLocomotion`] says (`armed`: whether a snap
+/// turn and a reset may fire, each re-armed once let go).
+pub(super) fn read_sticks(controllers: &XrControllers, motion: &XrLocomotion, armed: &mut (bool, bool)) -> RoomAsk {
+    let (turn_armed, reset_armed) = (&mut armed.0, &mut armed.1);
+    let left = controllers.hand(XrHandSide::Left);
+    let right = controllers.hand(XrHandSide::Right);
+    let reset = left.secondary || right.secondary;
+    if !motion.enabled {
+        return RoomAsk::Stay;
+    }
+    if reset && *reset_armed {
+        *reset_armed = false;
+        return RoomAsk::Reset;
+    }
+    *reset_armed = !reset;
+    let dead = |v: f32| if v.abs() < DEAD_ZONE { 0.0 } else { f64::from(v) };
+    let stick = DVec3::new(dead(left.stick.x), dead(right.stick.y), -dead(left.stick.y));
+    let mut turn = 0.0;
+    if right.stick.x.abs() >= SNAP_AT && *turn_armed && motion.snap_turn_degrees != 0.0 {
+        *turn_armed = false;
+        turn = -f64::from(right.stick.x.signum()) * motion.snap_turn_degrees.to_radians();
+    } else if right.stick.x.abs() <= SNAP_REARM {
+        *turn_armed = true;
+    }
+    if stick == DVec3::ZERO && turn == 0.0 {
+        RoomAsk::Stay
+    } else {
+        RoomAsk::Move { stick, turn }
+    }
+}
+
 /// Reads the sticks and moves the room.
 pub(super) fn locomotion(
     time: Res<Time>,
@@ -119,35 +162,19 @@ pub(super) fn locomotion(
     let Ok((body, motion, head, in_space, mut placement, mut cell, mut origin)) = bodies.single_mut() else {
         return;
     };
-    let (turn_armed, reset_armed) = armed.get_or_insert((true, true));
-    let left = controllers.hand(XrHandSide::Left);
-    let right = controllers.hand(XrHandSide::Right);
-    let reset = left.secondary || right.secondary;
-    if !motion.enabled {
-        return;
-    }
-    if reset && *reset_armed {
-        *reset_armed = false;
-        placement.set_if_neq(Placement::default());
-        cell.set_if_neq(DomainCell::default());
-        origin.0 = Some(DMat4::IDENTITY);
-        return;
-    }
-    *reset_armed = !reset;
+    let armed = armed.get_or_insert((true, true));
+    let (stick, turn) = match read_sticks(&controllers, motion, armed) {
+        RoomAsk::Stay => return,
+        RoomAsk::Reset => {
+            placement.set_if_neq(Placement::default());
+            cell.set_if_neq(DomainCell::default());
+            origin.0 = Some(DMat4::IDENTITY);
+            return;
+        }
+        RoomAsk::Move { stick, turn } => (stick, turn),
+    };
     let Ok(ms) = spaces.get(in_space.space()) else { return };
-    let dead = |v: f32| if v.abs() < DEAD_ZONE { 0.0 } else { f64::from(v) };
-    let stick = DVec3::new(dead(left.stick.x), dead(right.stick.y), -dead(left.stick.y));
-    let mut turn = 0.0;
-    if right.stick.x.abs() >= SNAP_AT && *turn_armed && motion.snap_turn_degrees != 0.0 {
-        *turn_armed = false;
-        turn = -f64::from(right.stick.x.signum()) * motion.snap_turn_degrees.to_radians();
-    } else if right.stick.x.abs() <= SNAP_REARM {
-        *turn_armed = true;
-    }
     let distance = motion.speed * time.delta_secs_f64();
-    if stick == DVec3::ZERO && turn == 0.0 {
-        return;
-    }
     let g = ms.space().geometry();
     let moved = room_move(g, head.room, stick, distance, turn, body.world_scale);
     // The wrap system carries the new placement back through the faces.

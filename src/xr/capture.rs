@@ -4,7 +4,7 @@
 //! eyes' RGBA bytes are in [`XrEyeCapture::take`]. Tests and
 //! screenshots of a headset session use it; it costs nothing until asked.
 
-use super::late::ExtractedXrEye;
+use super::late::{ExtractedProductXrEye, ExtractedXrEye};
 use bevy::prelude::*;
 use bevy::render::render_resource::{
     BufferDescriptor, BufferUsages, CommandEncoderDescriptor, Extent3d, MapMode, PollType, TexelCopyBufferInfo,
@@ -121,14 +121,19 @@ fn read_back_eyes(
     capture: Res<XrEyeCapture>,
     device: Res<RenderDevice>,
     queue: Res<RenderQueue>,
-    eyes: Query<(&ExtractedXrEye, &ViewTarget)>,
+    eyes: Query<(AnyOf<(&ExtractedXrEye, &ExtractedProductXrEye)>, &ViewTarget)>,
 ) {
     let Ok(mut slot) = capture.0.lock() else { return };
     if !slot.requested {
         return;
     }
     for (eye, target) in &eyes {
-        let Some(out) = slot.images.get_mut(eye.index as usize) else {
+        let index = match eye {
+            (Some(e), _) => e.index,
+            (None, Some(e)) => e.index,
+            (None, None) => continue,
+        };
+        let Some(out) = slot.images.get_mut(index as usize) else {
             continue;
         };
         let texture = target.main_texture();
@@ -171,7 +176,7 @@ fn read_back_eyes(
             let _ = tx.send(r);
         });
         if device.poll(PollType::wait_indefinitely()).is_err() || !matches!(rx.recv(), Ok(Ok(()))) {
-            warn!("xr: eye {} could not be read back", eye.index);
+            warn!("xr: eye {index} could not be read back");
             continue;
         }
         let data = buffer.slice(..).get_mapped_range();

@@ -2,13 +2,20 @@
 //! frame is drawn (bevy_mod_openxr's `locate_views` in
 //! `XrRenderSystems::PreRender`); each eye's manifold view is placed again
 //! from that pose, so the traced image uses the same pose as the
-//! rasterised overlay and the compositor.
+//! rasterised overlay and the compositor. An eye in a product space
+//! ([`super::product`]) is moved again likewise, where its late pose is
+//! still in the same copy of the prism (else it keeps the frame's).
 
-use super::{XrBody, XrEye};
+use super::{XrBody, XrEye, XrRecentre};
 use crate::placement::tracked;
 use crate::placement::{DomainCell, InSpace, Placement};
+use crate::product::ProductCamera;
+use crate::product::render::{ExtractedProductView, ProductViewBinding};
 use crate::render::extract::ExtractedManifoldView;
 use crate::render::pass::ManifoldViewBinding;
+use crate::space::product::ProductSpace;
+use crate::space::product_cells::ProductElement;
+use crate::trace::product::ProductView;
 use bevy::prelude::*;
 use bevy::render::sync_world::RenderEntity;
 use bevy::render::{Extract, Render, RenderApp, RenderSystems};
@@ -32,6 +39,24 @@ pub struct ExtractedXrEye {
     pub world_scale: f64,
     /// [`super::XrHead::recentred`].
     pub recentred: Vec3,
+}
+
+/// An eye in a product space, its body's view copied to the eye's render
+/// entity: what the late pose is measured from.
+#[derive(Component, Clone, Debug)]
+pub struct ExtractedProductXrEye {
+    /// The view index (0 left, 1 right).
+    pub index: u32,
+    /// The body's view.
+    pub body: ProductView,
+    /// The space.
+    pub space: Arc<ProductSpace>,
+    /// [`XrBody::world_scale`].
+    pub world_scale: f64,
+    /// What [`XrRecentre`] takes off the tracked positions.
+    pub recentred: Vec3,
+    /// The copy of the prism the eye was placed in this frame.
+    pub cell: Option<ProductElement>,
 }
 
 /// Frames the render world traced for the headset: counted once per frame
@@ -66,11 +91,14 @@ pub(super) fn build(app: &mut App) {
         )
         .add_systems(
             ExtractSchedule,
-            extract_eyes.after(crate::render::extract::extract_manifold_views),
+            (
+                extract_eyes.after(crate::render::extract::extract_manifold_views),
+                extract_product_eyes,
+            ),
         )
         .add_systems(
             Render,
-            late_latch_eyes
+            (late_latch_eyes, late_latch_product_eyes)
                 .after(XrRenderSystems::PreRender)
                 .in_set(RenderSystems::PrepareResources)
                 .before(crate::render::ManifoldPrepareSystems::Scenes),
@@ -97,11 +125,39 @@ fn extract_eyes(
     }
 }
 
-/// Counts the frame when both eyes are bound to the tracer.
-fn count_traced_eyes(stats: Res<XrFrameStats>, eyes: Query<&ExtractedXrEye, With<ManifoldViewBinding>>) {
+/// Each eye of a product space's body: its body's view, space and scale
+/// on its render entity.
+#[expect(clippy::type_complexity, reason = "a system's query")]
+fn extract_product_eyes(
+    mut commands: Commands,
+    bodies: Extract<Query<(&XrBody, &ProductCamera, Option<&XrRecentre>), Without<XrEye>>>,
+    eyes: Extract<Query<(&XrEye, &ProductCamera, &RenderEntity)>>,
+) {
+    let Ok((body, camera, recentre)) = bodies.single() else {
+        return;
+    };
+    for (eye, eye_camera, render_entity) in &eyes {
+        commands.entity(render_entity.id()).insert(ExtractedProductXrEye {
+            index: eye.0,
+            body: camera.view,
+            space: camera.space.clone(),
+            world_scale: body.world_scale,
+            recentred: recentre.and_then(|r| r.offset).unwrap_or(Vec3::ZERO),
+            cell: eye_camera.view.cell,
+        });
+    }
+}
+
+/// Counts the frame when both eyes are bound to a tracer (the manifold's
+/// or, in a product space, the product pass).
+fn count_traced_eyes(
+    stats: Res<XrFrameStats>,
+    eyes: Query<&ExtractedXrEye, With<ManifoldViewBinding>>,
+    product_eyes: Query<&ExtractedProductXrEye, With<ProductViewBinding>>,
+) {
     let mut seen = [false; 2];
-    for eye in &eyes {
-        if let Some(s) = seen.get_mut(eye.index as usize) {
+    for index in eyes.iter().map(|e| e.index).chain(product_eyes.iter().map(|e| e.index)) {
+        if let Some(s) = seen.get_mut(index as usize) {
             *s = true;
         }
     }
@@ -134,5 +190,33 @@ fn late_latch_eyes(views: Option<Res<OxrViews>>, mut eyes: Query<(&ExtractedXrEy
         view.camera = p.isometry;
         view.element = c.element;
         view.cell = c.cell;
+    }
+}
+
+/// Moves each product eye's packed view to its late-located pose, where
+/// that pose is in the copy of the prism the frame placed the eye in (the
+/// table of cells bound is about that copy).
+fn late_latch_product_eyes(
+    views: Option<Res<OxrViews>>,
+    mut eyes: Query<(&ExtractedProductXrEye, &mut ExtractedProductView)>,
+) {
+    let Some(views) = views else { return };
+    if views.len() < 2 {
+        return;
+    }
+    let poses = [0, 1].map(|i| {
+        let t = views[i].pose.to_transform();
+        (t.translation, t.rotation)
+    });
+    for (eye, mut view) in &mut eyes {
+        let poses = poses.map(|(t, q)| (t - eye.recentred, q));
+        let (_, placed) = tracked::product_head_and_eyes(&eye.space, &eye.body, poses, eye.world_scale);
+        let Some(to) = placed.get(eye.index as usize) else {
+            continue;
+        };
+        let finite = to.eye.surface.is_finite() && to.eye.height.is_finite();
+        if finite && to.cell == eye.cell {
+            view.packed.params.set_eye(to);
+        }
     }
 }

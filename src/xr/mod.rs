@@ -24,7 +24,11 @@
 //!   sticks, triggers, two buttons) and sends [`XrTrigger`] when a trigger
 //!   is pulled or let go, for games;
 //! - flies the room with the sticks ([`XrLocomotion`]: geodesic flight
-//!   through the head, snap turns, a reset).
+//!   through the head, snap turns, a reset);
+//! - in a product space (H2xR, S2xR), where the body is a
+//!   [`crate::product::ProductCamera`], makes each eye a product camera
+//!   whose view is the body's moved to the eye (the same rule; see
+//!   [`XrProductHead`] and [`product_room_move`]).
 //!
 //! The tracer reads each eye's full projection (its frustum is off-centre;
 //! `Frustum` in the core), and both eyes bind one upload of the scene.
@@ -56,11 +60,13 @@ mod body;
 mod capture;
 mod controls;
 mod late;
+mod product;
 
 use crate::camera::{AdaptiveRenderScale, ManifoldCamera, ManifoldFootprint, ManifoldRenderScale};
 use crate::camera::{CellShading, ManifoldFog};
 use crate::placement::tracked::{self, TrackedPose};
 use crate::placement::{DomainCell, InSpace, ManifoldSpace, ManifoldSystems, Placement, WrapOrigin};
+use crate::product::ProductCamera;
 use bevy::camera::CameraMainTextureUsages;
 use bevy::core_pipeline::tonemapping::Tonemapping;
 use bevy::prelude::*;
@@ -74,7 +80,8 @@ pub use body::{XrHand, XrLocomotion, rest_pose, room_move};
 pub use capture::{XrEyeCapture, XrEyeImage, save_eyes, save_eyes_at};
 pub use controls::actions::XrGrip;
 pub use controls::{TRIGGER_PULLED, TRIGGER_RELEASED, XrController, XrControllers, XrHandSide, XrTrigger};
-pub use late::{ExtractedXrEye, XrFrameStats};
+pub use late::{ExtractedProductXrEye, ExtractedXrEye, XrFrameStats};
+pub use product::{XrProductHead, eye_frustum, product_room_move};
 
 /// The body that carries the headset's tracking space (the room) through
 /// the manifold: its [`Placement`] is the room's floor centre and facing.
@@ -154,12 +161,12 @@ impl Plugin for ManifoldXrPlugin {
                 Update,
                 (
                     (adopt_tracking_root, equip_eyes, copy_view_settings).chain(),
-                    (controls::trigger_edges, body::locomotion),
+                    (controls::trigger_edges, body::locomotion, product::product_locomotion),
                 ),
             )
             .add_systems(
                 PostUpdate,
-                (place_eyes, body::place_hands)
+                (place_eyes, body::place_hands, product::place_product_eyes)
                     .chain()
                     .after(bevy_mod_openxr::render::update_views)
                     .after(ManifoldSystems::Wrap)
@@ -210,24 +217,43 @@ fn adopt_tracking_root(
     }
 }
 
-/// Makes each new eye a manifold camera whose `Transform` is the
-/// tracker's.
+/// Makes each new eye a camera whose `Transform` is the tracker's: a
+/// manifold camera, or where the body is in a product space a product
+/// camera; an eye whose body changes kind (the explorer switching
+/// spaces) changes with it.
+#[expect(clippy::type_complexity, reason = "a system's queries")]
 fn equip_eyes(
     mut commands: Commands,
-    eyes: Query<(Entity, &XrCamera), Without<XrEye>>,
-    bodies: Query<Option<&ManifoldCamera>, With<XrBody>>,
+    eyes: Query<(Entity, &XrCamera, Has<XrEye>, Has<ManifoldCamera>, Has<ProductCamera>)>,
+    bodies: Query<(Option<&ManifoldCamera>, Option<&ProductCamera>), With<XrBody>>,
 ) {
-    let settings = bodies.single().ok().flatten().copied().unwrap_or_default();
-    for (entity, camera) in &eyes {
-        commands.entity(entity).insert((
-            settings,
-            XrEye(camera.0),
-            TrackedPose,
-            Msaa::Off,
-            Tonemapping::None,
-            // The eye's view target can be read back (XrEyeCapture).
-            CameraMainTextureUsages::default().with(TextureUsages::COPY_SRC),
-        ));
+    let body = bodies.single().ok();
+    for (entity, camera, equipped, manifold_eye, product_eye) in &eyes {
+        let mut eye = commands.entity(entity);
+        if !equipped {
+            eye.insert((
+                XrEye(camera.0),
+                TrackedPose,
+                Msaa::Off,
+                Tonemapping::None,
+                // The eye's view target can be read back (XrEyeCapture).
+                CameraMainTextureUsages::default().with(TextureUsages::COPY_SRC),
+            ));
+        }
+        // An eye of a product space's body sees it as the body does;
+        // any other is a manifold camera (with none yet, a new one).
+        match body {
+            Some((_, Some(p))) if !product_eye => {
+                eye.remove::<ManifoldCamera>().insert(p.clone());
+            }
+            Some((m, None)) if product_eye || !manifold_eye => {
+                eye.remove::<ProductCamera>().insert(m.copied().unwrap_or_default());
+            }
+            None if !equipped => {
+                eye.insert(ManifoldCamera::default());
+            }
+            _ => {}
+        }
     }
 }
 
@@ -328,24 +354,9 @@ fn place_eyes(
         return;
     };
     let Ok(ms) = spaces.get(in_space.space()) else { return };
-    let mut poses = [(Vec3::ZERO, Quat::IDENTITY); 2];
-    let mut seen = 0;
-    for (eye, transform, ..) in &eyes {
-        if let Some(p) = poses.get_mut(eye.0 as usize) {
-            *p = (transform.translation, transform.rotation);
-            seen += 1;
-        }
-    }
-    if seen < 2 {
+    let Some((poses, recentred)) = room_poses(eyes.iter().map(|(e, t, ..)| (e, t)), recentre) else {
         return;
-    }
-    let recentred = match recentre {
-        Some(mut r) => *r.offset.get_or_insert((poses[0].0 + poses[1].0) / 2.0),
-        None => Vec3::ZERO,
     };
-    for p in &mut poses {
-        p.0 -= recentred;
-    }
     let g = ms.space().geometry();
     // In the body's frame, then carried by the body's placement.
     let (head_from_body, from_body) = tracked::head_and_eyes(g, glam::DMat4::IDENTITY, poses, body.world_scale);
@@ -370,4 +381,32 @@ fn place_eyes(
         recentred,
         eyes: from_body,
     });
+}
+
+/// The two eyes' tracked poses in the room (left, right), less what
+/// [`XrRecentre`] takes off (set from these poses on the first tracked
+/// frame), and what it takes off; `None` until both eyes are there.
+fn room_poses<'a>(
+    eyes: impl Iterator<Item = (&'a XrEye, &'a Transform)>,
+    recentre: Option<Mut<XrRecentre>>,
+) -> Option<([(Vec3, Quat); 2], Vec3)> {
+    let mut poses = [(Vec3::ZERO, Quat::IDENTITY); 2];
+    let mut seen = 0;
+    for (eye, transform) in eyes {
+        if let Some(p) = poses.get_mut(eye.0 as usize) {
+            *p = (transform.translation, transform.rotation);
+            seen += 1;
+        }
+    }
+    if seen < 2 {
+        return None;
+    }
+    let recentred = match recentre {
+        Some(mut r) => *r.offset.get_or_insert((poses[0].0 + poses[1].0) / 2.0),
+        None => Vec3::ZERO,
+    };
+    for p in &mut poses {
+        p.0 -= recentred;
+    }
+    Some((poses, recentred))
 }

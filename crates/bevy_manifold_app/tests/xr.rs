@@ -121,19 +121,34 @@ impl Drop for Monado {
     }
 }
 
-/// The explorer in Monado's simulated headset: the session goes
+/// The explorer in Monado's simulated headset, in its first space (the
+/// paper's scene) and in a product space (the genus-2 surface times a
+/// circle, whose eyes are traced by the product pass): the session goes
 /// IDLE -> READY -> SYNCHRONIZED -> VISIBLE -> FOCUSED, 60 frames are
 /// traced with both eyes, the app exits 0 and the session ends; no wgpu
 /// validation error on the way.
 fn the_xr_explorer_reaches_focused_and_traces_both_eyes_under_monado() {
     let root = PathBuf::from(xr_root().expect("the XR root"));
+    for space in [None, Some("genus2xs1")] {
+        explore_under_monado(&root, space);
+    }
+}
+
+/// One run of [`the_xr_explorer_reaches_focused_and_traces_both_eyes_under_monado`],
+/// in `space` (`None`: the explorer's first).
+fn explore_under_monado(root: &Path, space: Option<&str>) {
+    let name = space.unwrap_or("the first space");
     let bin_dir = root.join("opt/bevy_manifold");
     std::fs::create_dir_all(&bin_dir).expect("bin dir");
     std::fs::copy(binary(), bin_dir.join("bevy_manifold")).expect("binary copied in");
-    let monado = Monado::start(&root);
+    for i in 0..2 {
+        let _ = std::fs::remove_file(root.join(format!("tmp/eyes/eye{i}.png")));
+    }
+    let monado = Monado::start(root);
     let start = Instant::now();
+    let space_args = space.map(|s| ["--space", s]);
     let out = Command::new("chroot")
-        .arg(&root)
+        .arg(root)
         .args([
             "env",
             "HOME=/root",
@@ -151,6 +166,7 @@ fn the_xr_explorer_reaches_focused_and_traces_both_eyes_under_monado() {
             "--xr-capture",
             "/tmp/eyes",
         ])
+        .args(space_args.iter().flatten())
         .output()
         .expect("the client runs");
     let secs = start.elapsed().as_secs_f64();
@@ -159,7 +175,7 @@ fn the_xr_explorer_reaches_focused_and_traces_both_eyes_under_monado() {
     drop(monado);
     let all = format!("stdout:\n{stdout}\nstderr:\n{stderr}");
     eprintln!("{all}");
-    assert!(out.status.success(), "exit {:?} after {secs:.1} s", out.status);
+    assert!(out.status.success(), "{name}: exit {:?} after {secs:.1} s", out.status);
     let states: Vec<&str> = stdout
         .lines()
         .filter_map(|l| l.strip_prefix("xr: session state "))
@@ -171,18 +187,18 @@ fn the_xr_explorer_reaches_focused_and_traces_both_eyes_under_monado() {
             at += 1;
         }
     }
-    assert_eq!(at, wanted.len(), "states seen: {states:?}");
+    assert_eq!(at, wanted.len(), "{name}: states seen: {states:?}");
     let traced: u64 = stdout
         .lines()
         .find_map(|l| l.strip_prefix("xr: focused true, "))
         .and_then(|l| l.split_whitespace().next())
         .and_then(|n| n.parse().ok())
         .unwrap_or_else(|| panic!("no summary line:\n{all}"));
-    assert!(traced >= 60, "{traced} frames with both eyes traced");
-    assert!(!all.contains("Validation Error"), "a wgpu validation error");
-    assert!(!all.contains("panicked"), "a panic");
+    assert!(traced >= 60, "{name}: {traced} frames with both eyes traced");
+    assert!(!all.contains("Validation Error"), "{name}: a wgpu validation error");
+    assert!(!all.contains("panicked"), "{name}: a panic");
     // Each eye's image, read back from its view target: a real picture
-    // (the paper's scene: many colours, not all black), and
+    // (many colours, not all black), and
     // the two differ by a horizontal shift (parallax), not by noise.
     let eyes = [0, 1].map(|i| {
         let path = root.join(format!("tmp/eyes/eye{i}.png"));
@@ -194,24 +210,28 @@ fn the_xr_explorer_reaches_focused_and_traces_both_eyes_under_monado() {
         let colours: std::collections::HashSet<[u8; 4]> = eye.pixels().map(|p| p.0).collect();
         let dark = eye.pixels().filter(|p| p.0[..3].iter().all(|&c| c < 8)).count();
         eprintln!(
-            "xr: eye {i}: {}x{}, {} colours, {:.1}% black",
+            "xr: {name}: eye {i}: {}x{}, {} colours, {:.1}% black",
             eye.width(),
             eye.height(),
             colours.len(),
             100.0 * dark as f64 / f64::from(eye.width() * eye.height())
         );
-        assert!(colours.len() > 200, "eye {i}: {} colours", colours.len());
-        // The torus's space between the tubes is dark: about half the
-        // picture; a blank or failed eye would be all of it.
-        assert!(dark * 10 < 9 * (eye.width() * eye.height()) as usize, "eye {i}: black");
+        assert!(colours.len() > 200, "{name}: eye {i}: {} colours", colours.len());
+        // The torus's space between the tubes is dark, about half the
+        // picture, the product space's fog pale; a blank or failed eye
+        // would be all black.
+        assert!(
+            dark * 10 < 9 * (eye.width() * eye.height()) as usize,
+            "{name}: eye {i}: black"
+        );
     }
     let (shift, at_shift, at_zero) = best_shift(&eyes[0], &eyes[1]);
     eprintln!(
-        "xr: the right eye's image matches the left's best shifted {shift} px (mean difference {at_shift:.2}, unshifted {at_zero:.2})"
+        "xr: {name}: the right eye's image matches the left's best shifted {shift} px (mean difference {at_shift:.2}, unshifted {at_zero:.2})"
     );
-    assert!(at_zero > 1.0, "the two eyes see the same picture");
-    assert!(at_shift < at_zero, "no shift explains the eyes' difference");
-    eprintln!("xr: {traced} frames with both eyes in {secs:.1} s under Monado (states {states:?})");
+    assert!(at_zero > 1.0, "{name}: the two eyes see the same picture");
+    assert!(at_shift < at_zero, "{name}: no shift explains the eyes' difference");
+    eprintln!("xr: {name}: {traced} frames with both eyes in {secs:.1} s under Monado (states {states:?})");
 }
 
 /// The horizontal shift (right image against left, -40 to 40 px) that

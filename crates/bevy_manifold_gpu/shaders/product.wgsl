@@ -24,6 +24,7 @@ struct ProductParams {
     right: vec4<f32>,
     up: vec4<f32>,
     fog_color: vec4<f32>,
+    frustum: vec4<f32>,
     width: u32,
     height: u32,
     max_crossings: u32,
@@ -623,14 +624,21 @@ fn shade(at: ProductRay, b: u32, distance: f32, crossings: u32, cell: vec2<u32>)
     return ProductPixel(vec4<f32>(color, distance), balls[b].id, crossings, cell);
 }
 
-// The pixel's ray: the unit tangent forward + x right + y up at the eye.
-// Rust twin: `pixel`'s ray (of `render`).
+// The pixel's ray: the unit tangent forward + x right + y up at the eye,
+// the slopes x, y from the symmetric frustum of tan_half_fov and the
+// image's aspect, or from the off-centre params.frustum. Rust twins:
+// `ProductView::slopes` and `pixel`'s ray (of `render`).
 fn camera_ray(i: u32, j: u32) -> ProductRay {
     let w = f32(params.width);
     let h = f32(params.height);
-    let aspect = w / max(h, 1.0);
-    let x = ((f32(i) + 0.5) / w * 2.0 - 1.0) * params.tan_half_fov * aspect;
-    let y = (1.0 - (f32(j) + 0.5) / h * 2.0) * params.tan_half_fov;
+    let ndc_x = (f32(i) + 0.5) / w * 2.0 - 1.0;
+    let ndc_y = 1.0 - (f32(j) + 0.5) / h * 2.0;
+    var x = ndc_x * params.tan_half_fov * w / max(h, 1.0);
+    var y = ndc_y * params.tan_half_fov;
+    if params.frustum.x != 0.0 {
+        x = ndc_x * params.frustum.x + params.frustum.z;
+        y = ndc_y * params.frustum.y + params.frustum.w;
+    }
     let dir = unit(params.forward + params.right * x + params.up * y);
     return ProductRay(params.eye, dir);
 }

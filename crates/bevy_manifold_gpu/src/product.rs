@@ -24,7 +24,7 @@ use bevy_manifold_core::geometry::product::{ProductPoint, ProductTangent};
 use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::space::product_cells::{ProductCellTable, ProductCells, ProductElement};
 use bevy_manifold_core::trace::product::{
-    FOG_COLOR, ProductLight, ProductLighting, ProductScene, images, light_images, palette,
+    FOG_COLOR, ProductLight, ProductLighting, ProductScene, ProductView, images, light_images, palette,
 };
 use bytemuck::{Pod, Zeroable};
 
@@ -42,6 +42,10 @@ pub struct GpuProductParams {
     pub up: [f32; 4],
     /// The fog's colour (rgb, 1).
     pub fog_color: [f32; 4],
+    /// An off-centre frustum, `[half width, half height, centre x, centre
+    /// y]` in slopes (`Frustum::half_extent_and_centre`); all 0 for the
+    /// symmetric frustum of `tan_half_fov` and the image's aspect.
+    pub frustum: [f32; 4],
     /// Image width.
     pub width: u32,
     /// Image height.
@@ -85,6 +89,19 @@ pub struct GpuProductParams {
     pub light_count: u32,
     /// 1 where the balls cast shadows.
     pub shadows: u32,
+}
+
+impl GpuProductParams {
+    /// The eye and its frame set from `view`, as [`GpuProductScene::pack`]
+    /// writes them, the rest kept: a view moved late, in the same copy of
+    /// the prism (a headset's eye from its late-located pose).
+    pub fn set_eye(&mut self, view: &ProductView) {
+        let [forward, right, up] = view.frame;
+        self.eye = point(view.eye);
+        self.forward = tangent(forward);
+        self.right = tangent(right);
+        self.up = tangent(up);
+    }
 }
 
 /// What `shaders/product.wgsl` is specialised on: the code a scene
@@ -350,6 +367,9 @@ impl GpuProductScene {
                 right: tangent(right),
                 up: tangent(up),
                 fog_color: [fr, fg, fb, 1.0],
+                frustum: view
+                    .frustum
+                    .map_or([0.0; 4], |f| f.half_extent_and_centre().map(|v| v as f32)),
                 width,
                 height,
                 max_crossings: view.max_crossings.min(u32::MAX as usize) as u32,

@@ -20,6 +20,7 @@
 use super::{ExplorerCamera, ExplorerSettings, ExplorerWorld};
 use bevy::prelude::*;
 use bevy_manifold::space::catalog;
+use bevy_manifold::space::product::ProductSpace;
 use bevy_manifold::xr::{
     ManifoldXrPlugin, XrBody, XrControllers, XrEyeCapture, XrFrameStats, XrHand, XrHandSide, XrState,
 };
@@ -155,7 +156,8 @@ fn hands_on_controllers(
 /// How long both triggers are held to leave.
 const LEAVE_AFTER_SECS: f32 = 2.0;
 
-/// The primary button: the next catalog space; both triggers held: leave.
+/// The primary button: the next space (the catalog's, then the product
+/// spaces', round again); both triggers held: leave.
 fn buttons(
     time: Res<Time>,
     controllers: Res<XrControllers>,
@@ -166,9 +168,10 @@ fn buttons(
     let [left, right] = controllers.hands;
     let primary = left.primary || right.primary;
     if primary && !held.0 {
-        let at = catalog::NAMES.iter().position(|n| *n == settings.space);
-        let next = at.map_or(0, |i| (i + 1) % catalog::NAMES.len());
-        settings.space = catalog::NAMES[next].to_string();
+        let names: Vec<&str> = catalog::NAMES.iter().chain(&ProductSpace::NAMES).copied().collect();
+        let at = names.iter().position(|n| *n == settings.space);
+        let next = at.map_or(0, |i| (i + 1) % names.len());
+        settings.space = names[next].to_string();
     }
     held.0 = primary;
     if left.trigger > 0.9 && right.trigger > 0.9 {

@@ -214,6 +214,11 @@ impl GpuTracer {
                 "the product view's eye, frame, field of view, distance or fog is not finite".into(),
             ));
         }
+        if view.frustum.is_some_and(|f| !f.is_valid()) {
+            return Err(GpuError::Settings(
+                "the product view's frustum is not finite or has no width or height".into(),
+            ));
+        }
         if width == 0 || height == 0 {
             return Err(GpuError::Settings(format!(
                 "an image of {width}x{height} pixels is empty"

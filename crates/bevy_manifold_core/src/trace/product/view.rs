@@ -11,7 +11,8 @@ use crate::space::cell_id::CellId;
 use crate::space::cells::CellTint;
 use crate::space::product::ProductSpace;
 use crate::space::product_cells::{ProductCells, ProductElement};
-use glam::DVec3;
+use crate::trace::Frustum;
+use glam::{DQuat, DVec3};
 #[cfg(feature = "parallel")]
 use rayon::prelude::*;
 
@@ -104,6 +105,7 @@ impl ProductScene {
                 eye,
                 frame: [forward, right, up],
                 fov_y_degrees: 70.0,
+                frustum: None,
                 max_distance: 12.0,
                 max_crossings: 24,
                 fog: 0.08,
@@ -129,8 +131,12 @@ pub struct ProductView {
     /// Unit tangents at the eye, orthonormal: where it looks, its right
     /// and its up.
     pub frame: [ProductTangent; 3],
-    /// The vertical field of view, in degrees.
+    /// The vertical field of view, in degrees (of a symmetric frustum,
+    /// its width from the image's aspect).
     pub fov_y_degrees: f64,
+    /// An off-centre frustum in place of `fov_y_degrees` (an OpenXR
+    /// eye's: [`ProductView::posed`]); `None` for the symmetric one.
+    pub frustum: Option<Frustum>,
     /// How far the rays go.
     pub max_distance: f64,
     /// How many faces a ray may cross.
@@ -235,6 +241,76 @@ impl ProductView {
     }
 }
 
+impl ProductView {
+    /// The view from a pose tracked in a Euclidean space (a headset's
+    /// eye, in metres) measured from this one: the eye moved along the
+    /// geodesic of `translation / scale` in this view's frame (`x` right,
+    /// `y` up, `z` back, as Bevy's; through the faces, as
+    /// [`ProductView::moved`]), then its frame turned by `rotation`
+    /// (`scale`: metres per unit of the space's distance). The rule of
+    /// `bevy_manifold::placement::tracked::pose_isometry`, whose twin
+    /// this is for the product spaces.
+    ///
+    /// ```
+    /// use bevy_manifold_core::space::product::ProductSpace;
+    /// use bevy_manifold_core::trace::product::ProductScene;
+    /// use glam::{DQuat, DVec3};
+    ///
+    /// let space = ProductSpace::s2_x_s1(3.0);
+    /// let view = ProductScene::default_for(&space).view;
+    /// // An eye 3.2 cm right of the head, at 4 m per unit.
+    /// let eye = view.posed(&space, DVec3::X * 0.032, DQuat::IDENTITY, 4.0);
+    /// let d = space.geometry.distance(view.eye, eye.eye);
+    /// assert!((d - 0.008).abs() < 1e-12);
+    /// ```
+    #[must_use]
+    pub fn posed(&self, space: &ProductSpace, translation: DVec3, rotation: DQuat, scale: f64) -> Self {
+        let t = translation / scale;
+        let moved = self.moved(space, [-t.z, t.x, t.y], t.length());
+        let g = space.geometry;
+        let [f, r, u] = moved.frame;
+        // A vector of the pose's frame (x right, y up, z back) as a
+        // tangent of the moved view's.
+        let tangent = |v: DVec3| {
+            ProductTangent::new(
+                r.surface * v.x + u.surface * v.y - f.surface * v.z,
+                r.height * v.x + u.height * v.y - f.height * v.z,
+            )
+        };
+        let q = rotation.normalize();
+        Self {
+            frame: orthonormal(
+                g,
+                moved.eye,
+                [tangent(q * DVec3::NEG_Z), tangent(q * DVec3::X), tangent(q * DVec3::Y)],
+            ),
+            ..moved
+        }
+    }
+
+    /// The slopes `(x, y)` of pixel `(i, j)` of a `w x h` image (rows
+    /// from the top): its ray is the unit tangent `forward + x right +
+    /// y up`. From the symmetric frustum of `fov_y_degrees` and the
+    /// image's aspect, or from the off-centre `frustum`. WGSL twin:
+    /// `camera_ray` in `product.wgsl`.
+    #[must_use]
+    pub fn slopes(&self, (i, j): (usize, usize), (w, h): (usize, usize)) -> [f64; 2] {
+        let ndc_x = (i as f64 + 0.5) / w.max(1) as f64 * 2.0 - 1.0;
+        let ndc_y = 1.0 - (j as f64 + 0.5) / h.max(1) as f64 * 2.0;
+        match self.frustum {
+            Some(f) => {
+                let [hw, hh, cx, cy] = f.half_extent_and_centre();
+                [ndc_x * hw + cx, ndc_y * hh + cy]
+            }
+            None => {
+                let half = (self.fov_y_degrees.to_radians() / 2.0).tan();
+                let aspect = w as f64 / h.max(1) as f64;
+                [ndc_x * half * aspect, ndc_y * half]
+            }
+        }
+    }
+}
+
 /// `w`, a tangent at the ray's origin, carried `s` along the ray's
 /// geodesic by parallel transport: its surface part's component along
 /// the geodesic turns with it, the rest (normal to the geodesic's plane)
@@ -327,10 +403,7 @@ fn pixel(
 ) -> ProductPixel {
     let g = space.geometry;
     let [forward, right, up] = view.frame;
-    let half = (view.fov_y_degrees.to_radians() / 2.0).tan();
-    let aspect = w as f64 / h.max(1) as f64;
-    let x = ((i as f64 + 0.5) / w as f64 * 2.0 - 1.0) * half * aspect;
-    let y = (1.0 - (j as f64 + 0.5) / h as f64 * 2.0) * half;
+    let [x, y] = view.slopes((i, j), (w, h));
     let dir = ProductTangent::new(
         forward.surface + right.surface * x + up.surface * y,
         forward.height + right.height * x + up.height * y,
