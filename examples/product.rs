@@ -8,11 +8,12 @@
 //! `--cells` (or the C key) shades each copy of the prism in its own
 //! colour, by its exact cell. `--lights` lights the balls by two point
 //! lights (entities with a `ProductPointLight`), every image of each, with
-//! shadows; the L key turns them off and on. `--tour FILE` plays a product tour
+//! shadows; the L key turns them off and on. `--edges` (or the X key)
+//! draws the prism's edges as thin tubes. `--tour FILE` plays a product tour
 //! (`assets/tours/s2xs1.product-tour.json`, round and round; `--at
 //! SECONDS` holds it at that moment) instead of flying.
 //!
-//! `cargo run --release --example product [-- --space NAME] [-- --cells] [-- --lights] [-- --tour FILE [--at SECONDS]] [-- --screenshot FILE.png [--size WxH]]`
+//! `cargo run --release --example product [-- --space NAME] [-- --cells] [-- --lights] [-- --edges] [-- --tour FILE [--at SECONDS]] [-- --screenshot FILE.png [--size WxH]]`
 
 use bevy::prelude::*;
 use bevy_manifold::geometry::product::ProductTangent;
@@ -23,7 +24,7 @@ use bevy_manifold::product::{
 use bevy_manifold::space::cells::CellTint;
 use bevy_manifold::space::product::ProductSpace;
 use bevy_manifold::tour::product::ProductTour;
-use bevy_manifold::trace::product::{ProductLight, ProductScene};
+use bevy_manifold::trace::product::{ProductEdges, ProductLight, ProductScene};
 use glam::DVec3;
 use std::sync::Arc;
 #[path = "support/showcase.rs"]
@@ -33,7 +34,7 @@ mod showcase;
 fn main() -> AppExit {
     let mut app = showcase::app("A product space", "H2xR or S2xR: geodesics bend up and down the circle");
     app.add_systems(Startup, setup)
-        .add_systems(Update, (toggle_cells, toggle_lights));
+        .add_systems(Update, (toggle_cells, toggle_lights, toggle_edges));
     showcase::run(app)
 }
 
@@ -70,6 +71,18 @@ fn toggle_cells(keys: Res<ButtonInput<KeyCode>>, mut cameras: Query<&mut Product
     }
 }
 
+/// X: the prism's edges drawn or not.
+fn toggle_edges(keys: Res<ButtonInput<KeyCode>>, mut cameras: Query<&mut ProductCamera>) {
+    if keys.just_pressed(KeyCode::KeyX) {
+        for mut camera in &mut cameras {
+            camera.edges = match camera.edges {
+                Some(_) => None,
+                None => Some(ProductEdges::default()),
+            };
+        }
+    }
+}
+
 fn setup(mut commands: Commands) {
     if let Some(path) = showcase::arg("--tour") {
         match ProductTour::load(&path) {
@@ -89,6 +102,9 @@ fn setup(mut commands: Commands) {
     let mut camera = ProductCamera::default_for(space.clone());
     if showcase::flag("--cells") {
         camera.view.tint = Some(CellTint::ByCell);
+    }
+    if showcase::flag("--edges") {
+        camera.edges = Some(ProductEdges::default());
     }
     let root = commands.spawn(ProductSpaceRoot(Arc::new(space.clone()))).id();
     if showcase::flag("--lights") {

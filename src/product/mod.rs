@@ -47,7 +47,7 @@ use bevy_manifold_core::geometry::product::{ProductGeometry, ProductPoint, Produ
 use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::tour::product::ProductTour;
 use bevy_manifold_core::trace::product::{
-    ProductBall, ProductLight, ProductLighting, ProductRay, ProductScene, ProductView, flow,
+    ProductBall, ProductEdges, ProductLight, ProductLighting, ProductRay, ProductScene, ProductView, flow,
 };
 use std::sync::Arc;
 
@@ -66,6 +66,9 @@ pub struct ProductCamera {
     pub lights: Vec<ProductLight>,
     /// How the lights light the balls (their images, shadows).
     pub lighting: ProductLighting,
+    /// The prism's edges drawn as tubes of the product metric; `None`
+    /// for none.
+    pub edges: Option<ProductEdges>,
     /// Where the eye is and how it sees.
     pub view: ProductView,
 }
@@ -87,6 +90,7 @@ impl ProductCamera {
             balls: scene.balls,
             lights: scene.lights,
             lighting: scene.lighting,
+            edges: scene.edges,
             view: scene.view,
         }
     }
@@ -98,6 +102,7 @@ impl ProductCamera {
             balls: self.balls.clone(),
             lights: self.lights.clone(),
             lighting: self.lighting,
+            edges: self.edges,
             view: self.view,
         }
     }

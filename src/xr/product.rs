@@ -93,7 +93,8 @@ pub(super) fn place_product_eyes(
         let same_scene = std::sync::Arc::ptr_eq(&eye_camera.space, &camera.space)
             && eye_camera.balls == camera.balls
             && eye_camera.lights == camera.lights
-            && eye_camera.lighting == camera.lighting;
+            && eye_camera.lighting == camera.lighting
+            && eye_camera.edges == camera.edges;
         if !same_scene {
             *eye_camera = ProductCamera { view, ..camera.clone() };
         } else if eye_camera.view != view {

@@ -8,8 +8,8 @@
 use bevy_manifold_core::geometry::product::{ProductGeometry, ProductIsometry, ProductPoint, ProductTangent};
 use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::trace::product::{
-    DIM_LIGHT, ProductBall, ProductLight, ProductLightImage, ProductLighting, ProductScene, arc_irradiance, direct,
-    images, light_arcs, light_images, render, shadowed,
+    DIM_LIGHT, ProductBall, ProductLight, ProductLightImage, ProductLighting, ProductScene, ProductTubes,
+    arc_irradiance, direct, images, light_arcs, light_images, render, shadowed,
 };
 use glam::DVec3;
 use std::f64::consts::PI;
@@ -280,7 +280,16 @@ fn a_light_above_a_ball_lights_it_once_per_circle_and_its_copies_shade_it() {
     let falloff = |s: f64| 2.0 * window(s) / (4.0 * PI * s * s);
     for shadows in [false, true] {
         let lit = light_images(&space, &[light], ProductLighting { images: 64, shadows });
-        let rgb = direct(&space, &balls, &lit, (x, up, up), albedo, 0.0, shadows, 32);
+        let rgb = direct(
+            &space,
+            (&balls, &ProductTubes::default()),
+            &lit,
+            (x, up, up),
+            albedo,
+            0.0,
+            shadows,
+            32,
+        );
         // Unshadowed: every copy above, at 0.4 + 2 k, within the range;
         // the copies below lie behind the surface. Shadowed: the ball's
         // copy at 2 hides every copy of the light past it, but for the
@@ -325,9 +334,15 @@ fn a_light_above_a_ball_lights_it_once_per_circle_and_its_copies_shade_it() {
     // one crossing of the top face.
     let arcs = light_arcs(g, x, ProductPoint::new(DVec3::Z, 2.6));
     assert_eq!(arcs.len(), 1, "straight up: no way round the sphere");
-    assert!(shadowed(&space, &balls, (x, up), &arcs[0], 8));
+    assert!(shadowed(
+        &space,
+        (&balls, &ProductTubes::default()),
+        (x, up),
+        &arcs[0],
+        8
+    ));
     assert!(
-        !shadowed(&space, &balls, (x, up), &arcs[0], 0),
+        !shadowed(&space, (&balls, &ProductTubes::default()), (x, up), &arcs[0], 0),
         "the copy is past a face"
     );
 }
@@ -370,7 +385,11 @@ fn a_ball_between_shades_and_beside_does_not() {
             id: 1,
         };
         let balls = images(&space, &[ball]);
-        assert_eq!(shadowed(&space, &balls, (x, normal), &arc, 8), blocked, "{center:?}");
+        assert_eq!(
+            shadowed(&space, (&balls, &ProductTubes::default()), (x, normal), &arc, 8),
+            blocked,
+            "{center:?}"
+        );
     }
 }
 

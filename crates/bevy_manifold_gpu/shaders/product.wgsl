@@ -25,6 +25,7 @@ struct ProductParams {
     up: vec4<f32>,
     fog_color: vec4<f32>,
     frustum: vec4<f32>,
+    edges: vec4<f32>,
     width: u32,
     height: u32,
     max_crossings: u32,
@@ -50,6 +51,7 @@ struct ProductParams {
 // Rust twin: `GpuProductFace`.
 struct ProductFace {
     normal: vec4<f32>,
+    corner: vec4<f32>,
     surface: mat3x3<f32>,
     flip: f32,
     shift: f32,
@@ -121,6 +123,8 @@ const BEYOND_TABLE: vec2<u32> = vec2<u32>(0u, 0x40000000u);
 
 // No face.
 const NO_FACE: u32 = 0xffffffffu;
+// The id a hit on an edge's tube reports. Rust twin: `EDGE_ID`.
+const EDGE_ID: u32 = 0xfffffffeu;
 // Smallest sphere-tracing step, and how near a surface counts as on it
 // (f32: the CPU's `SURFACE` is 1e-12).
 const SURFACE: f32 = 1e-5;
@@ -268,8 +272,18 @@ const REACH_SLACK: f32 = 1e-3;
 // x > y where the segment never comes near. Rust twin: `reach`.
 // `trig` is cosh (H2) or cos (S2) of the radius.
 fn reach(ray: ProductRay, center: vec4<f32>, radius: f32, trig: f32, length: f32) -> vec2<f32> {
+    let span = height_window(ray, center.w, radius, length);
+    if span.x > span.y {
+        return span;
+    }
+    return surface_window(ray, center.xyz, radius, trig, span);
+}
+
+// The part (x, y) of [0, length] of the ray whose height is within
+// `radius` of `height`; x > y for none. Rust twin: `height_window`.
+fn height_window(ray: ProductRay, height: f32, radius: f32, length: f32) -> vec2<f32> {
     let none = vec2<f32>(1.0, -1.0);
-    let dh = ray.origin.w - center.w;
+    let dh = ray.origin.w - height;
     let v = ray.dir.w;
     var lo = 0.0;
     var hi = length;
@@ -286,8 +300,17 @@ fn reach(ray: ProductRay, center: vec4<f32>, radius: f32, trig: f32, length: f32
     if lo > hi {
         return none;
     }
+    return vec2<f32>(lo, hi);
+}
+
+// The part of `span` of the ray whose surface geodesic comes within
+// `radius` of the surface point q, in closed form; x > y for none. Rust
+// twin: `surface_window`. `trig` is cosh (H2) or cos (S2) of the radius.
+fn surface_window(ray: ProductRay, q: vec3<f32>, radius: f32, trig: f32, span: vec2<f32>) -> vec2<f32> {
+    let none = vec2<f32>(1.0, -1.0);
+    let lo = span.x;
+    let hi = span.y;
     let p = ray.origin.xyz;
-    let q = center.xyz;
     let speed = sqrt(max(form(ray.dir.xyz, ray.dir.xyz), 0.0));
     if speed == 0.0 {
         if surface_distance(p, q) <= radius {
@@ -384,6 +407,126 @@ fn nearest_entry(ray: ProductRay, length: f32) -> Entry {
     return best;
 }
 
+#ifdef PRODUCT_EDGES
+// The point of edge e nearest p (a point of the prism): e below
+// side_count the vertical edge over corner e, then each side at the
+// bottom, then at the top (its foot where that falls between the side's
+// corners, else the nearer corner). Rust twin: `ProductEdge::nearest`.
+fn edge_point(e: u32, p: vec4<f32>) -> vec4<f32> {
+    let n = params.side_count;
+    if e < n {
+        return vec4<f32>(faces[e].corner.xyz, p.w);
+    }
+    let i = (e - n) % n;
+    let height = select(-params.half_height, params.half_height, e >= 2u * n);
+    let a = faces[(i + n - 1u) % n].corner.xyz;
+    let b = faces[i].corner.xyz;
+    let normal = faces[i].normal.xyz;
+    let q = p.xyz;
+    let k = params.curvature;
+    let between = form(q, b - a * (k * form(a, b))) >= 0.0 && form(q, a - b * (k * form(a, b))) >= 0.0;
+    var foot = a;
+    if between {
+        foot = normalize_point(vec4<f32>(q - normal * form(q, normal), height)).xyz;
+    } else if surface_distance(q, b) < surface_distance(q, a) {
+        foot = b;
+    }
+    return vec4<f32>(foot, height);
+}
+
+// The ray's surface point at the start of span (xyz), and how far (as
+// |<p, n>|, w) a line <n, p> = 0 may be from it for the ray's surface part
+// to come within `radius` of it on span: sinh d = |<p, n>| (sin d on S2),
+// and the ray moves speed (span.y - span.x) over the surface. Rust twin:
+// `line_bound`.
+fn line_bound(ray: ProductRay, radius: f32, span: vec2<f32>) -> vec4<f32> {
+    let speed = sqrt(max(form(ray.dir.xyz, ray.dir.xyz), 0.0));
+    let reach = radius + speed * (span.y - span.x);
+    let p = advance(ray, span.x).origin.xyz;
+    if params.curvature > 0.0 && reach >= 1.5707964 {
+        return vec4<f32>(p, 3.4e38);
+    }
+    return vec4<f32>(p, trig(reach).y);
+}
+
+// The first distance in span (the part of the ray within the radius of
+// the edge's height) at which the ray enters the tube about edge e from
+// outside, by sphere tracing; -1 for none. Past the ray's origin the span
+// starts outside the tube (the height alone is the radius away). Rust
+// twin: `traced_entry`.
+fn tube_entry(ray: ProductRay, e: u32, span: vec2<f32>) -> f32 {
+    let radius = params.edges.w;
+    var s = span.x;
+    var x = advance(ray, s).origin;
+    var f = product_distance(x, edge_point(e, x)) - radius;
+    var outside = f > SURFACE || span.x > 0.0;
+    for (var k = 0u; k < MAX_STEPS; k++) {
+        if outside && f <= SURFACE {
+            return s;
+        }
+        if !outside && f > SURFACE {
+            outside = true;
+        }
+        s += max(abs(f), SURFACE);
+        if s > span.y {
+            return -1.0;
+        }
+        x = advance(ray, s).origin;
+        f = product_distance(x, edge_point(e, x)) - radius;
+    }
+    return -1.0;
+}
+
+// The nearest edge tube the segment of `length` from the ray's origin
+// enters: (its edge, or NO_FACE, and the distance). A vertical edge's
+// tube in closed form (surface_window), a side's by tube_entry on the
+// part of the ray near its height. Rust twin: `ProductTubes::entry`.
+struct EdgeEntry {
+    edge: u32,
+    s: f32,
+}
+
+fn edge_entry(ray: ProductRay, length: f32) -> EdgeEntry {
+    var best = EdgeEntry(NO_FACE, length);
+    let radius = params.edges.w;
+    let n = params.side_count;
+    let k = params.curvature;
+    let cos_r = trig(radius).x;
+    for (var e = 0u; e < n; e++) {
+        let corner = faces[e].corner.xyz;
+        // cosh (H2) or cos (S2) of the distance to the corner: a ray that
+        // starts inside the tube does not enter it.
+        let c = k * form(ray.origin.xyz, corner);
+        if (k < 0.0 && c <= cos_r) || (k > 0.0 && c >= cos_r) {
+            continue;
+        }
+        let span = surface_window(ray, corner, radius, cos_r, vec2<f32>(0.0, best.s));
+        if span.x <= span.y {
+            best = EdgeEntry(e, span.x);
+        }
+    }
+    for (var top = 0u; top < 2u; top++) {
+        let height = select(-params.half_height, params.half_height, top == 1u);
+        let span = height_window(ray, height, radius, best.s);
+        if span.x > span.y {
+            continue;
+        }
+        let bound = line_bound(ray, radius, span);
+        for (var i = 0u; i < n; i++) {
+            if abs(form(bound.xyz, faces[i].normal.xyz)) > bound.w {
+                continue;
+            }
+            let e = n + top * n + i;
+            let s = tube_entry(ray, e, vec2<f32>(span.x, min(span.y, best.s)));
+            if s >= 0.0 && s <= best.s {
+                best = EdgeEntry(e, s);
+            }
+        }
+    }
+    return best;
+}
+#endif
+
 // What the pixel's ray sees: walked through the faces to its first ball,
 // lit from the eye, fogged by its distance. Rust twin: `pixel` (of the
 // core's trace/product/view.rs).
@@ -401,12 +544,17 @@ fn pixel(start: ProductRay) -> ProductPixel {
             length = exit.s;
         }
         let hit = nearest_entry(ray, length);
-        if hit.ball != NO_FACE {
-            var id = BEYOND_TABLE;
-#ifdef PRODUCT_CELLS
-            id = product_cell_id(cell);
+#ifdef PRODUCT_EDGES
+        let edge = edge_entry(ray, hit.s);
+        if edge.edge != NO_FACE {
+            let at = advance(ray, edge.s);
+            let near = edge_point(edge.edge, at.origin);
+            return shade(at, Seen(near, params.edges.rgb, EDGE_ID), travelled + edge.s, crossings, seen_id(cell));
+        }
 #endif
-            return shade(advance(ray, hit.s), hit.ball, travelled + hit.s, crossings, id);
+        if hit.ball != NO_FACE {
+            let seen = Seen(balls[hit.ball].center, balls[hit.ball].color.rgb, balls[hit.ball].id);
+            return shade(advance(ray, hit.s), seen, travelled + hit.s, crossings, seen_id(cell));
         }
         if !leaves || crossings >= params.max_crossings {
             break;
@@ -420,6 +568,16 @@ fn pixel(start: ProductRay) -> ProductPixel {
         crossings++;
     }
     return ProductPixel(vec4<f32>(params.fog_color.rgb, -1.0), 0u, 0u, BEYOND_TABLE);
+}
+
+// The id of the copy `cell` a hit is seen in: from the table with
+// PRODUCT_CELLS, else BEYOND_TABLE. Rust twin: `pixel`'s cell.
+fn seen_id(cell: ProductCell) -> vec2<u32> {
+#ifdef PRODUCT_CELLS
+    return product_cell_id(cell);
+#else
+    return BEYOND_TABLE;
+#endif
 }
 
 #ifdef PRODUCT_CELLS
@@ -521,6 +679,11 @@ fn shadowed(x: vec4<f32>, normal: vec4<f32>, dir: vec4<f32>, length: f32) -> boo
         if nearest_entry(ray, segment).ball != NO_FACE {
             return true;
         }
+#ifdef PRODUCT_EDGES
+        if edge_entry(ray, segment).edge != NO_FACE {
+            return true;
+        }
+#endif
         if !leaves || crossings >= params.max_crossings {
             return false;
         }
@@ -594,15 +757,23 @@ fn direct(x: vec4<f32>, normal: vec4<f32>, view: vec4<f32>, albedo: vec3<f32>) -
 }
 #endif
 
-// The ball's colour, tinted by its cell's, lit by the light images (from
-// the eye where there are none: the cosine between the way into the
-// ball, towards its centre, and the ray), fogged. Rust twin: `pixel`'s
-// shading.
-fn shade(at: ProductRay, b: u32, distance: f32, crossings: u32, cell: vec2<u32>) -> ProductPixel {
+// What a ray met: a ball's centre (or an edge's point nearest the hit),
+// its colour and the id it reports.
+struct Seen {
+    center: vec4<f32>,
+    color: vec3<f32>,
+    id: u32,
+}
+
+// The ball's (or edge tube's) colour, tinted by its cell's, lit by the
+// light images (from the eye where there are none: the cosine between
+// the way in, towards its centre or edge, and the ray), fogged. Rust
+// twin: `pixel`'s shading.
+fn shade(at: ProductRay, seen: Seen, distance: f32, crossings: u32, cell: vec2<u32>) -> ProductPixel {
     let p = at.origin;
-    let inward = log_map(p, balls[b].center);
+    let inward = log_map(p, seen.center);
     let d = sqrt(max(dot4(inward, inward), 0.0));
-    var base = balls[b].color.rgb;
+    var base = seen.color;
     if params.tint_mode != 0u {
         base *= cell_tint(cell, params.tint_mode - 1u, params.tint_a, params.tint_b);
     }
@@ -621,7 +792,7 @@ fn shade(at: ProductRay, b: u32, distance: f32, crossings: u32, cell: vec2<u32>)
 #endif
     let fog = exp(-params.fog * distance);
     let color = rgb * fog + params.fog_color.rgb * (1.0 - fog);
-    return ProductPixel(vec4<f32>(color, distance), balls[b].id, crossings, cell);
+    return ProductPixel(vec4<f32>(color, distance), seen.id, crossings, cell);
 }
 
 // The pixel's ray: the unit tangent forward + x right + y up at the eye,

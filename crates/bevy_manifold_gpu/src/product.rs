@@ -24,7 +24,7 @@ use bevy_manifold_core::geometry::product::{ProductPoint, ProductTangent};
 use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::space::product_cells::{ProductCellTable, ProductCells, ProductElement};
 use bevy_manifold_core::trace::product::{
-    FOG_COLOR, ProductLight, ProductLighting, ProductScene, ProductView, images, light_images, palette,
+    FOG_COLOR, ProductLight, ProductLighting, ProductScene, ProductTubes, ProductView, images, light_images, palette,
 };
 use bytemuck::{Pod, Zeroable};
 
@@ -46,6 +46,9 @@ pub struct GpuProductParams {
     /// y]` in slopes (`Frustum::half_extent_and_centre`); all 0 for the
     /// symmetric frustum of `tan_half_fov` and the image's aspect.
     pub frustum: [f32; 4],
+    /// The prism's edges drawn as tubes: their colour (rgb) and radius
+    /// (w; 0 for no edges).
+    pub edges: [f32; 4],
     /// Image width.
     pub width: u32,
     /// Image height.
@@ -107,7 +110,10 @@ impl GpuProductParams {
 /// What `shaders/product.wgsl` is specialised on: the code a scene
 /// needs, nothing more. Its shader defs: `PRODUCT_CELLS` where a table of
 /// cells is bound (the copies' ids, for per-cell shading), `PRODUCT_LIGHTS`
-/// where the scene has lights (else the balls are lit from the eye).
+/// where the scene has lights (else the balls are lit from the eye),
+/// `PRODUCT_EDGES` where it draws the prism's edges (their tubes are
+/// looked for on every segment and shadow ray: without them the shader
+/// carries none of that code).
 ///
 /// ```
 /// use bevy_manifold_core::space::product::ProductSpace;
@@ -123,6 +129,8 @@ pub struct ProductShaderDefs {
     pub cells: bool,
     /// The scene has lights.
     pub lights: bool,
+    /// The scene draws the prism's edges.
+    pub edges: bool,
 }
 
 impl ProductShaderDefs {
@@ -132,34 +140,37 @@ impl ProductShaderDefs {
         Self {
             cells: params.cell_count > 0,
             lights: params.light_count > 0,
+            edges: params.edges[3] > 0.0,
         }
     }
 
     /// The shader defs.
     #[must_use]
     pub fn names(self) -> Vec<&'static str> {
-        [(self.cells, "PRODUCT_CELLS"), (self.lights, "PRODUCT_LIGHTS")]
-            .into_iter()
-            .filter_map(|(on, name)| on.then_some(name))
-            .collect()
+        [
+            (self.cells, "PRODUCT_CELLS"),
+            (self.lights, "PRODUCT_LIGHTS"),
+            (self.edges, "PRODUCT_EDGES"),
+        ]
+        .into_iter()
+        .filter_map(|(on, name)| on.then_some(name))
+        .collect()
     }
 
     /// Every specialisation.
     #[must_use]
-    pub fn all() -> [Self; 4] {
-        let defs = |cells, lights| Self { cells, lights };
-        [
-            defs(false, false),
-            defs(false, true),
-            defs(true, false),
-            defs(true, true),
-        ]
+    pub fn all() -> [Self; 8] {
+        std::array::from_fn(|i| Self {
+            cells: i & 4 != 0,
+            lights: i & 2 != 0,
+            edges: i & 1 != 0,
+        })
     }
 
     /// Its place in [`ProductShaderDefs::all`].
     #[must_use]
     pub fn index(self) -> usize {
-        2 * usize::from(self.cells) + usize::from(self.lights)
+        4 * usize::from(self.cells) + 2 * usize::from(self.lights) + usize::from(self.edges)
     }
 }
 
@@ -170,6 +181,10 @@ impl ProductShaderDefs {
 pub struct GpuProductFace {
     /// A side's unit normal covector (xyz); zero for the bottom and top.
     pub normal: [f32; 4],
+    /// A side's corner with the next side (xyz; [`ProductSpace::vertices`]),
+    /// the vertical edge over it and the end of the side's edges; zero for
+    /// the bottom and top.
+    pub corner: [f32; 4],
     /// The gluing's surface part, by columns (each padded to 4, as a WGSL
     /// `mat3x3<f32>`).
     pub surface: [[f32; 4]; 3],
@@ -339,13 +354,17 @@ impl GpuProductScene {
                 }
             })
             .collect();
+        let corners = space.vertices();
+        let tubes = ProductTubes::of(space, scene.edges);
         let faces = (0..space.face_count())
             .map(|f| {
                 let m = space.gluings[f].isometry();
                 let col = |c: glam::DVec3| [c.x as f32, c.y as f32, c.z as f32, 0.0];
                 let n = space.sides.get(f).copied().unwrap_or(glam::DVec3::ZERO);
+                let corner = corners.get(f).copied().unwrap_or(glam::DVec3::ZERO);
                 GpuProductFace {
                     normal: col(n),
+                    corner: col(corner),
                     surface: [col(m.surface.x_axis), col(m.surface.y_axis), col(m.surface.z_axis)],
                     flip: m.flip as f32,
                     shift: m.shift as f32,
@@ -370,6 +389,10 @@ impl GpuProductScene {
                 frustum: view
                     .frustum
                     .map_or([0.0; 4], |f| f.half_extent_and_centre().map(|v| v as f32)),
+                edges: match scene.edges {
+                    Some(e) if !tubes.edges.is_empty() => [e.color[0], e.color[1], e.color[2], tubes.radius as f32],
+                    _ => [0.0; 4],
+                },
                 width,
                 height,
                 max_crossings: view.max_crossings.min(u32::MAX as usize) as u32,

@@ -83,12 +83,12 @@ fn composed() -> naga::Module {
 fn product_layouts() -> Vec<RustLayout> {
     vec![
         rust_layout!(GpuProductParams => "ProductParams" {
-            eye, forward, right, up, fog_color, width, height, max_crossings, side_count, ball_count,
+            eye, forward, right, up, fog_color, frustum, edges, width, height, max_crossings, side_count, ball_count,
             curvature, half_height, max_distance, tan_half_fov, fog, origin_x, origin_y, tint_mode, tint_a,
             tint_b, cell_count, camera_steps, camera_flip, light_count, shadows,
         }),
         rust_layout!(GpuProductLight => "ProductLight" { position, color, inv_range_sq, min_area, pad_a, pad_b }),
-        rust_layout!(GpuProductFace => "ProductFace" { normal, surface, flip, shift, partner, cross_steps }),
+        rust_layout!(GpuProductFace => "ProductFace" { normal, corner, surface, flip, shift, partner, cross_steps }),
         rust_layout!(GpuProductBall => "ProductBall" { center, color, radius, id, reach_trig, pad }),
         rust_layout!(GpuProductPixel => "ProductPixel" { color, object, crossings, cell }),
     ]

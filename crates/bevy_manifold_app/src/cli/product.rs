@@ -5,7 +5,7 @@
 
 use bevy_manifold::space::product::ProductSpace;
 use bevy_manifold::tour::product::ProductTour;
-use bevy_manifold::trace::product::{ProductPixel, ProductScene, render};
+use bevy_manifold::trace::product::{ProductEdges, ProductPixel, ProductScene, render};
 use bevy_manifold_gpu::GpuTracer;
 use clap::Args;
 use std::path::PathBuf;
@@ -61,6 +61,10 @@ pub struct ProductArgs {
     /// shadows (`ProductScene::lit_for`), instead of from the eye.
     #[arg(long)]
     lights: bool,
+    /// Draw the prism's edges as tubes of the product metric of this
+    /// radius (`ProductScene::edges`).
+    #[arg(long, value_name = "RADIUS", value_parser = radius)]
+    edges: Option<f64>,
 }
 
 /// The space named, or read from its file.
@@ -82,6 +86,14 @@ fn seconds(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
         Ok(v) => Err(format!("must be 0 or more, got {v}")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+fn radius(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 && v <= 1.0 => Ok(v),
+        Ok(v) => Err(format!("must be more than 0 and at most 1, got {v}")),
         Err(e) => Err(e.to_string()),
     }
 }
@@ -116,6 +128,10 @@ pub fn run(args: &ProductArgs) -> Result<(), String> {
     if args.cells {
         scene.view.tint = Some(bevy_manifold::space::cells::CellTint::ByCell);
     }
+    scene.edges = args.edges.map(|radius| ProductEdges {
+        radius,
+        ..ProductEdges::default()
+    });
     let mut gpu = args.gpu.then(gpu_tracer).flatten();
     let on = if gpu.is_some() { "GPU" } else { "CPU" };
     write_png(

@@ -73,6 +73,7 @@ fn draw_product(
         ProductScene::default_for(space)
     };
     super::view::set_product_view(&mut scene.view, settings);
+    scene.edges = super::view::product_edges(settings);
     let mut tracer = gpu.then(bevy_manifold_gpu::GpuTracer::new).and_then(Result::ok);
     let on = match &tracer {
         Some(t) => format!("on the GPU ({})", t.adapter_name()),

@@ -22,7 +22,7 @@ use bevy_manifold::product::{ProductBody, ProductCamera, ProductPointLight, Prod
 use bevy_manifold::space::product::ProductSpace;
 use bevy_manifold::space::{Space, catalog};
 use bevy_manifold::tour::FaceWord;
-use bevy_manifold::trace::product::{ProductScene, ProductView};
+use bevy_manifold::trace::product::{ProductEdges, ProductScene, ProductView};
 use std::collections::VecDeque;
 use std::sync::Arc;
 
@@ -109,6 +109,7 @@ fn spawn_product_world(
         balls: scene.balls,
         lights: scene.lights,
         lighting: scene.lighting,
+        edges: product_edges(settings),
         view: keep.unwrap_or(scene.view),
     };
     set_product_view(&mut camera.view, settings);
@@ -138,6 +139,13 @@ pub fn set_product_view(view: &mut ProductView, settings: &ExplorerSettings) {
     view.max_distance = f64::from(settings.max_distance);
     view.fog = if settings.fog { settings.fog_density } else { 0.0 };
     view.tint = settings.cell_shading().tint();
+}
+
+/// The product space's edges as the settings draw them (the domain's
+/// edges: thin tubes).
+#[must_use]
+pub fn product_edges(settings: &ExplorerSettings) -> Option<ProductEdges> {
+    settings.edges.then(ProductEdges::default)
 }
 
 /// The image the explorer's camera renders into, and the size asked for
@@ -368,6 +376,7 @@ pub fn apply_settings(
             world.product = Some(product);
         } else if let Ok(mut camera) = product_cameras.get_mut(world.camera) {
             set_product_view(&mut camera.view, &settings);
+            camera.edges = product_edges(&settings);
         }
         world.applied = settings.clone();
         return;

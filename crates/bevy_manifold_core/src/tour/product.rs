@@ -340,6 +340,7 @@ impl ProductTour {
             balls: self.balls.clone(),
             lights: self.lights.clone(),
             lighting: self.lighting,
+            edges: None,
             view: self.view_at(t),
         }
     }

@@ -214,6 +214,14 @@ impl GpuTracer {
                 "the product view's eye, frame, field of view, distance or fog is not finite".into(),
             ));
         }
+        if let Some(e) = scene.edges
+            && !(e.radius.is_finite() && e.radius >= 0.0 && e.color.iter().all(|c| c.is_finite()))
+        {
+            return Err(GpuError::Settings(format!(
+                "the product scene's edges (radius {}, colour {:?}) are not finite and non-negative",
+                e.radius, e.color
+            )));
+        }
         if view.frustum.is_some_and(|f| !f.is_valid()) {
             return Err(GpuError::Settings(
                 "the product view's frustum is not finite or has no width or height".into(),

@@ -32,7 +32,7 @@
 //! assert_eq!(heights, [-4.0, -2.0, 0.0, 2.0, 4.0]);
 //! ```
 
-use super::{ProductBall, ProductRay, advance, entries, reach, walk_segments};
+use super::{ProductBall, ProductRay, ProductTubes, advance, entries, reach, walk_segments};
 use crate::geometry::product::{ProductGeometry, ProductIsometry, ProductPoint, ProductTangent};
 use crate::space::product::ProductSpace;
 use glam::DVec3;
@@ -420,15 +420,16 @@ pub fn arc_irradiance(g: ProductGeometry, l: &ProductLightImage, (length, surfac
 }
 
 /// Whether a ball (of `balls`, the balls and their images as
-/// [`super::images`] gives them) stands on the way from `x` (a surface
-/// point with unit normal `normal`) along `arc` to its light: the way
+/// [`super::images`] gives them) or an edge's tube (of `tubes`) stands on
+/// the way from `x` (a surface point with unit normal `normal`) along
+/// `arc` to its light: the way
 /// walked through the faces (at most `max_crossings`), from
 /// [`SHADOW_OFFSET`] off the surface. WGSL twin: `shadowed` in
 /// `product.wgsl`.
 #[must_use]
 pub fn shadowed(
     space: &ProductSpace,
-    balls: &[ProductBall],
+    (balls, tubes): (&[ProductBall], &ProductTubes),
     (x, normal): (ProductPoint, ProductTangent),
     arc: &LightArc,
     max_crossings: usize,
@@ -449,7 +450,8 @@ pub fn shadowed(
                 }
             }
         }
-        true
+        blocked = tubes.entry(g, &walk.ray, length).is_some();
+        !blocked
     });
     blocked
 }
@@ -464,7 +466,7 @@ pub fn shadowed(
 #[expect(clippy::too_many_arguments, reason = "the shading inputs are all distinct")]
 pub fn direct(
     space: &ProductSpace,
-    balls: &[ProductBall],
+    (balls, tubes): (&[ProductBall], &ProductTubes),
     lights: &[ProductLightImage],
     (x, normal, view): (ProductPoint, ProductTangent, ProductTangent),
     albedo: [f32; 3],
@@ -500,7 +502,7 @@ pub fn direct(
                 if most < dim {
                     dim -= most;
                     share = 0.5;
-                } else if shadowed(space, balls, (x, normal), &arc, max_crossings) {
+                } else if shadowed(space, (balls, tubes), (x, normal), &arc, max_crossings) {
                     continue;
                 }
             }

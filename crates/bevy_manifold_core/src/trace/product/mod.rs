@@ -26,9 +26,13 @@
 
 use crate::geometry::product::{ProductGeometry, ProductIsometry, ProductPoint, ProductTangent};
 use crate::space::product::ProductSpace;
+use glam::DVec3;
 
+mod edges;
 mod light;
 mod view;
+
+pub use edges::{EDGE_ID, ProductEdge, ProductEdges, ProductTubes};
 
 pub use light::{
     DIM_LIGHT, LightArc, MAX_PRODUCT_LIGHT_IMAGES, ProductLight, ProductLightImage, ProductLighting, SHADOW_OFFSET,
@@ -68,7 +72,8 @@ pub struct ProductHit {
     /// The ray's unit tangent there.
     pub dir: ProductTangent,
     /// The centre of the ball's image it entered, in the prism's frame
-    /// (the ball's own, or its image through a face's gluing).
+    /// (the ball's own, or its image through a face's gluing); for an
+    /// edge's tube ([`EDGE_ID`]), the edge's point nearest the hit.
     pub center: ProductPoint,
     /// The faces crossed before it, in order (the word of the copy of
     /// the prism it is in).
@@ -215,7 +220,13 @@ pub fn hits(
     max_distance: f64,
     max_crossings: usize,
 ) -> Vec<ProductHit> {
-    hits_among(space, &images(space, balls), ray, max_distance, max_crossings)
+    hits_among(
+        space,
+        (&images(space, balls), &ProductTubes::default()),
+        ray,
+        max_distance,
+        max_crossings,
+    )
 }
 
 /// Most images of one ball [`images`] keeps.
@@ -252,10 +263,12 @@ pub fn images(space: &ProductSpace, balls: &[ProductBall]) -> Vec<ProductBall> {
     out
 }
 
-/// [`hits`] among balls and their [`images`], made once.
+/// [`hits`] among balls and their [`images`], made once, and the
+/// prism's edges' tubes (each segment's first entry into one; reported
+/// as [`EDGE_ID`], its `center` the edge's nearest point).
 pub(crate) fn hits_among(
     space: &ProductSpace,
-    images: &[ProductBall],
+    (images, tubes): (&[ProductBall], &ProductTubes),
     ray: ProductRay,
     max_distance: f64,
     max_crossings: usize,
@@ -263,21 +276,24 @@ pub(crate) fn hits_among(
     let g = space.geometry;
     let mut found = Vec::new();
     walk_segments(space, ray, max_distance, max_crossings, |walk, travelled, length| {
-        let mut segment: Vec<(f64, usize)> = Vec::new();
-        for (i, ball) in images.iter().enumerate() {
+        let mut segment: Vec<(f64, u32, ProductPoint)> = Vec::new();
+        for ball in images {
             if let Some(span) = reach(g, &walk.ray, ball.center, ball.radius + REACH_SLACK, length) {
-                entries(g, &walk.ray, ball, span, |s| segment.push((s, i)));
+                entries(g, &walk.ray, ball, span, |s| segment.push((s, ball.id, ball.center)));
             }
         }
+        if let Some((s, near)) = tubes.entry(g, &walk.ray, length) {
+            segment.push((s, EDGE_ID, near));
+        }
         segment.sort_by(|a, b| a.0.total_cmp(&b.0));
-        for (s, i) in segment {
+        for (s, object, center) in segment {
             let at = advance(g, &walk.ray, s);
             found.push(ProductHit {
-                object: images[i].id,
+                object,
                 distance: travelled + s,
                 point: at.origin,
                 dir: at.dir,
-                center: images[i].center,
+                center,
                 faces: walk.faces.clone(),
             });
             if found.len() >= 64 {
@@ -308,8 +324,14 @@ pub fn reach(
     radius: f64,
     length: f64,
 ) -> Option<(f64, f64)> {
-    // The height: |dh + v s| <= radius.
-    let dh = ray.origin.height - center.height;
+    let span = height_window(ray, center.height, radius, length)?;
+    surface_window(g, ray, center.surface, radius, span)
+}
+
+/// The part of `[0, length]` of the ray whose height is within `radius`
+/// of `height` (`|dh + v s| <= radius`). WGSL twin: `height_window`.
+pub(crate) fn height_window(ray: &ProductRay, height: f64, radius: f64, length: f64) -> Option<(f64, f64)> {
+    let dh = ray.origin.height - height;
     let v = ray.dir.height;
     let (mut lo, mut hi) = (0.0f64, length);
     if v == 0.0 {
@@ -321,10 +343,21 @@ pub fn reach(
         lo = lo.max(a.min(b));
         hi = hi.min(a.max(b));
     }
-    if lo > hi {
-        return None;
-    }
-    let (p, q) = (ray.origin.surface, center.surface);
+    (lo <= hi).then_some((lo, hi))
+}
+
+/// The part of `[lo, hi]` of the ray in which its surface geodesic comes
+/// within `radius` of the surface point `q`, in closed form: [`reach`]'s
+/// surface part, and the whole of a vertical edge's tube
+/// ([`edges::ProductTubes`]). WGSL twin: `surface_window`.
+pub(crate) fn surface_window(
+    g: ProductGeometry,
+    ray: &ProductRay,
+    q: DVec3,
+    radius: f64,
+    (lo, hi): (f64, f64),
+) -> Option<(f64, f64)> {
+    let p = ray.origin.surface;
     let speed = g.form(ray.dir.surface, ray.dir.surface).max(0.0).sqrt();
     if speed == 0.0 {
         return (g.surface_distance(p, q) <= radius).then_some((lo, hi));

@@ -4,6 +4,7 @@
 //! distance. The WGSL twin is `product.wgsl`'s `pixel` (in the
 //! `bevy_manifold_gpu` crate), which reads the same [`ProductScene`].
 
+use super::edges::{EDGE_ID, ProductEdges, ProductTubes};
 use super::light::{ProductLight, ProductLightImage, ProductLighting, direct, light_images};
 use super::{ProductBall, ProductRay, hits_among, images, walk_segments};
 use crate::geometry::product::{ProductGeometry, ProductPoint, ProductTangent};
@@ -26,6 +27,8 @@ pub struct ProductScene {
     pub lights: Vec<ProductLight>,
     /// How the lights light the scene (their images, shadows).
     pub lighting: ProductLighting,
+    /// The prism's edges drawn as tubes; `None` for none.
+    pub edges: Option<ProductEdges>,
     /// The eye and how far it sees.
     pub view: ProductView,
 }
@@ -38,6 +41,7 @@ impl ProductScene {
             balls,
             lights: Vec::new(),
             lighting: ProductLighting::default(),
+            edges: None,
             view,
         }
     }
@@ -370,6 +374,8 @@ pub fn render(space: &ProductSpace, scene: &ProductScene, width: u32, height: u3
     let (w, h) = (width as usize, height as usize);
     let lit = Lit {
         balls: images(space, &scene.balls),
+        tubes: ProductTubes::of(space, scene.edges),
+        edge_color: scene.edges.map_or([0.0; 3], |e| e.color),
         lights: light_images(space, &scene.lights, scene.lighting),
         shadows: scene.lighting.shadows,
     };
@@ -384,10 +390,13 @@ pub fn render(space: &ProductSpace, scene: &ProductScene, width: u32, height: u3
         .collect()
 }
 
-/// What a [`render`] lights: the balls and their images, the light
-/// images, and whether the balls shadow.
+/// What a [`render`] lights: the balls and their images, the edges'
+/// tubes and their colour, the light images, and whether the balls and
+/// tubes shadow.
 struct Lit {
     balls: Vec<ProductBall>,
+    tubes: ProductTubes,
+    edge_color: [f32; 3],
     lights: Vec<ProductLightImage>,
     shadows: bool,
 }
@@ -411,7 +420,7 @@ fn pixel(
     .unit(g);
     let seen = hits_among(
         space,
-        &lit.balls,
+        (&lit.balls, &lit.tubes),
         ProductRay { origin: view.eye, dir },
         view.max_distance,
         view.max_crossings,
@@ -425,7 +434,8 @@ fn pixel(
             color: FOG_COLOR,
         };
     };
-    // The way into the ball, towards its centre: minus the normal.
+    // The way into the ball, towards its centre (into the tube, towards
+    // its edge): minus the normal.
     let inward = g.log(hit.point, hit.center).map(|(v, _)| v);
     let cell = match (cells, view.cell) {
         (Some(cells), Some(eye)) => cells
@@ -435,7 +445,11 @@ fn pixel(
         _ => CellId::BEYOND_TABLE,
     };
     let tint = view.tint.map_or([1.0; 3], |t| t.tint(cell));
-    let base = palette(hit.object);
+    let base = if hit.object == EDGE_ID {
+        lit.edge_color
+    } else {
+        palette(hit.object)
+    };
     let base: [f32; 3] = std::array::from_fn(|c| base[c] * tint[c]);
     let rgb: [f32; 3] = if lit.lights.is_empty() {
         // Lit from the eye: the cosine between the normal and the way
@@ -450,7 +464,7 @@ fn pixel(
         let back = ProductTangent::new(-hit.dir.surface, -hit.dir.height);
         let light = direct(
             space,
-            &lit.balls,
+            (&lit.balls, &lit.tubes),
             &lit.lights,
             (hit.point, normal, back),
             base,
