@@ -79,6 +79,17 @@ struct Rig {
 static ONE_RENDER_APP: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 fn rig(space: &Space, world_scale: f64) -> Rig {
+    rig_with(|world| {
+        let root = world.spawn(ManifoldSpace::new(space.clone())).id();
+        world.spawn((ChildOf(root), XrBody { world_scale }, Placement::default()));
+        root
+    })
+}
+
+/// An offscreen app with the XR plugin and two eyes drawing into images
+/// ([`spawn_eyes`]), its space and body spawned by `body` (which returns
+/// the space's root).
+fn rig_with(body: impl FnOnce(&mut World) -> Entity) -> Rig {
     let mut app = App::new();
     app.add_plugins(offscreen::plugins().disable::<bevy::log::LogPlugin>())
         .add_plugins((ManifoldPlugins::default(), ManifoldXrPlugin));
@@ -86,8 +97,7 @@ fn rig(space: &Space, world_scale: f64) -> Rig {
     app.cleanup();
     let images = [0, 1].map(|_| offscreen::target(&mut app, W, H));
     let world = app.world_mut();
-    let root = world.spawn(ManifoldSpace::new(space.clone())).id();
-    world.spawn((ChildOf(root), XrBody { world_scale }, Placement::default()));
+    let root = body(world);
     spawn_eyes(world, &images);
     Rig { app, root, images }
 }
@@ -123,19 +133,13 @@ fn spawn_eyes(world: &mut World, images: &[Handle<Image>; 2]) {
 /// [`rig`] in a product space: its root, and the body a product camera
 /// with `view` (the root's the `ProductSpaceRoot`).
 fn product_rig(space: &ProductSpace, view: ProductView, world_scale: f64) -> Rig {
-    let mut app = App::new();
-    app.add_plugins(offscreen::plugins().disable::<bevy::log::LogPlugin>())
-        .add_plugins((ManifoldPlugins::default(), ManifoldXrPlugin));
-    app.finish();
-    app.cleanup();
-    let images = [0, 1].map(|_| offscreen::target(&mut app, W, H));
-    let world = app.world_mut();
-    let root = world.spawn(ProductSpaceRoot(Arc::new(space.clone()))).id();
-    let mut camera = ProductCamera::default_for(space.clone());
-    camera.view = view;
-    world.spawn((ChildOf(root), XrBody { world_scale }, camera));
-    spawn_eyes(world, &images);
-    Rig { app, root, images }
+    rig_with(|world| {
+        let root = world.spawn(ProductSpaceRoot(Arc::new(space.clone()))).id();
+        let mut camera = ProductCamera::default_for(space.clone());
+        camera.view = view;
+        world.spawn((ChildOf(root), XrBody { world_scale }, camera));
+        root
+    })
 }
 
 /// A view from the surface's origin at height 0, looking along the
@@ -275,6 +279,50 @@ fn predicted_edges(k: f64, a: f64, d: f64, r: f64, side: f64) -> (f64, f64) {
     ((centre - half).tan(), (centre + half).tan())
 }
 
+/// Checks that each eye sees the ball of radius `r` straight ahead of the
+/// head at distance `d` (the eyes `a` to either side, in curvature `k`)
+/// with its edges, in the row level with the eyes, where
+/// [`predicted_edges`] puts them (within 0.75 px); returns the disparity
+/// of its middle and the flat formula's, in pixels.
+fn seen_disparity(
+    name: &str,
+    shots: &[Vec<u8>; 2],
+    is: impl Fn(&[u8]) -> bool + Copy,
+    (k, a, d, r): (f64, f64, f64, f64),
+) -> (f64, f64) {
+    let mut mids = [0.0; 2];
+    let mut flat_mids = [0.0; 2];
+    for eye in 0..2 {
+        let j = (0..H)
+            .min_by(|&p, &q| row_slope(eye, p).abs().total_cmp(&row_slope(eye, q).abs()))
+            .expect("rows");
+        let (i0, i1) = widest_run(&shots[eye], j, is).unwrap_or_else(|| panic!("{name}: eye {eye} sees no ball"));
+        let seen = (column_slope(eye, f64::from(i0)), column_slope(eye, f64::from(i1)));
+        let side = if eye == 0 { -1.0 } else { 1.0 };
+        let want = predicted_edges(k, a, d, r, side);
+        let px = pixel(eye);
+        eprintln!(
+            "{name}: eye {eye}: edges at slopes ({:.4}, {:.4}), predicted ({:.4}, {:.4}): off by {:.2} and {:.2} px",
+            seen.0,
+            seen.1,
+            want.0,
+            want.1,
+            (seen.0 - want.0) / px,
+            (seen.1 - want.1) / px
+        );
+        assert!((seen.0 - want.0).abs() < 0.75 * px, "{name}: eye {eye}: left edge");
+        assert!((seen.1 - want.1).abs() < 0.75 * px, "{name}: eye {eye}: right edge");
+        mids[eye] = (seen.0 + seen.1) / 2.0;
+        let flat = predicted_edges(0.0, a, d, r, side);
+        flat_mids[eye] = (flat.0 + flat.1) / 2.0;
+    }
+    let px = pixel(0);
+    let disparity = (mids[0] - mids[1]) / px;
+    let flat = (flat_mids[0] - flat_mids[1]) / px;
+    eprintln!("{name}: disparity {disparity:.1} px; the flat formula says {flat:.1} px");
+    (disparity, flat)
+}
+
 /// The two eyes see a ball ahead at the slopes the geometry predicts, so
 /// their disparity is the geometry's: in Seifert-Weber (H3) larger than
 /// the flat formula by `tanh d / d`, a difference of many pixels the test
@@ -305,36 +353,7 @@ fn the_eyes_see_a_ball_with_the_disparity_the_geometry_predicts() {
             // (Seifert-Weber's table of exact ids is repacked once grown.)
             assert_eq!((uploads.space, uploads.objects), (1, 1), "{name}: one upload of each");
         }
-        let mut mids = [0.0; 2];
-        let mut flat_mids = [0.0; 2];
-        for eye in 0..2 {
-            let j = (0..H)
-                .min_by(|&p, &q| row_slope(eye, p).abs().total_cmp(&row_slope(eye, q).abs()))
-                .expect("rows");
-            let (i0, i1) = widest_run(&shots[eye], j, red).unwrap_or_else(|| panic!("{name}: eye {eye} sees no ball"));
-            let seen = (column_slope(eye, f64::from(i0)), column_slope(eye, f64::from(i1)));
-            let side = if eye == 0 { -1.0 } else { 1.0 };
-            let want = predicted_edges(k, a, d, r, side);
-            let px = pixel(eye);
-            eprintln!(
-                "{name}: eye {eye}: edges at slopes ({:.4}, {:.4}), predicted ({:.4}, {:.4}): off by {:.2} and {:.2} px",
-                seen.0,
-                seen.1,
-                want.0,
-                want.1,
-                (seen.0 - want.0) / px,
-                (seen.1 - want.1) / px
-            );
-            assert!((seen.0 - want.0).abs() < 0.75 * px, "{name}: eye {eye}: left edge");
-            assert!((seen.1 - want.1).abs() < 0.75 * px, "{name}: eye {eye}: right edge");
-            mids[eye] = (seen.0 + seen.1) / 2.0;
-            let flat = predicted_edges(0.0, a, d, r, side);
-            flat_mids[eye] = (flat.0 + flat.1) / 2.0;
-        }
-        let px = pixel(0);
-        let disparity = (mids[0] - mids[1]) / px;
-        let flat = (flat_mids[0] - flat_mids[1]) / px;
-        eprintln!("{name}: disparity {disparity:.1} px; the flat formula says {flat:.1} px");
+        let (disparity, flat) = seen_disparity(&name, &shots, red, (k, a, d, r));
         if k < 0.0 {
             assert!(disparity - flat > 8.0, "{name}: {disparity} vs the flat {flat}");
         }
@@ -535,6 +554,18 @@ fn body_app(space: &Space) -> (App, Entity) {
     (app, body)
 }
 
+/// Holds a control (`press` sets it) for `updates` updates, then lets go
+/// (`release`) for two.
+fn hold(app: &mut App, updates: usize, press: impl Fn(&mut XrControllers), release: impl Fn(&mut XrControllers)) {
+    press(&mut app.world_mut().resource_mut::<XrControllers>());
+    for _ in 0..updates {
+        app.update();
+    }
+    release(&mut app.world_mut().resource_mut::<XrControllers>());
+    app.update();
+    app.update();
+}
+
 fn head(app: &App, body: Entity) -> XrHead {
     app.world().get::<XrHead>(body).expect("a head").clone()
 }
@@ -549,13 +580,12 @@ fn the_sticks_fly_and_turn_the_room_and_the_trigger_is_an_action() {
     let space = catalog::torus(1.0);
     let (mut app, body) = body_app(&space);
     let set = |app: &mut App, f: &dyn Fn(&mut XrControllers)| f(&mut app.world_mut().resource_mut::<XrControllers>());
-    set(&mut app, &|c| c.hands[0].stick = Vec2::Y);
-    for _ in 0..30 {
-        app.update();
-    }
-    set(&mut app, &|c| c.hands[0].stick = Vec2::ZERO);
-    app.update();
-    app.update();
+    hold(
+        &mut app,
+        30,
+        |c| c.hands[0].stick = Vec2::Y,
+        |c| c.hands[0].stick = Vec2::ZERO,
+    );
     let h = head(&app, body);
     let z = h.placement.position().z / h.placement.position().w;
     // 30 updates of 0.1 s, the first with no head yet... counted exactly:
@@ -567,13 +597,12 @@ fn the_sticks_fly_and_turn_the_room_and_the_trigger_is_an_action() {
 
     // A snap turn: the head's forward turns 30 degrees to the right.
     let before = head(&app, body).placement.forward();
-    set(&mut app, &|c| c.hands[1].stick = Vec2::X);
-    for _ in 0..5 {
-        app.update();
-    }
-    set(&mut app, &|c| c.hands[1].stick = Vec2::ZERO);
-    app.update();
-    app.update();
+    hold(
+        &mut app,
+        5,
+        |c| c.hands[1].stick = Vec2::X,
+        |c| c.hands[1].stick = Vec2::ZERO,
+    );
     let after = head(&app, body).placement.forward();
     let angle = before.truncate().angle_between(after.truncate()).to_degrees();
     assert!((angle - 30.0).abs() < 1e-6, "one snap of {angle} degrees");
@@ -704,36 +733,7 @@ fn the_eyes_in_a_product_space_see_a_ball_where_its_surface_puts_it() {
         // The ball's colour (orange, lit from the eye), not the fog's
         // pale blue-grey.
         let ball = |p: &[u8]| p[2] < 160;
-        let mut mids = [0.0; 2];
-        let mut flat_mids = [0.0; 2];
-        for eye in 0..2 {
-            let j = (0..H)
-                .min_by(|&p, &q| row_slope(eye, p).abs().total_cmp(&row_slope(eye, q).abs()))
-                .expect("rows");
-            let (i0, i1) = widest_run(&shots[eye], j, ball).unwrap_or_else(|| panic!("k {k}: eye {eye} sees no ball"));
-            let seen = (column_slope(eye, f64::from(i0)), column_slope(eye, f64::from(i1)));
-            let side = if eye == 0 { -1.0 } else { 1.0 };
-            let want = predicted_edges(k, a, d, r, side);
-            let px = pixel(eye);
-            eprintln!(
-                "k {k}: eye {eye}: edges at slopes ({:.4}, {:.4}), predicted ({:.4}, {:.4}): off by {:.2} and {:.2} px",
-                seen.0,
-                seen.1,
-                want.0,
-                want.1,
-                (seen.0 - want.0) / px,
-                (seen.1 - want.1) / px
-            );
-            assert!((seen.0 - want.0).abs() < 0.75 * px, "k {k}: eye {eye}: left edge");
-            assert!((seen.1 - want.1).abs() < 0.75 * px, "k {k}: eye {eye}: right edge");
-            mids[eye] = (seen.0 + seen.1) / 2.0;
-            let flat = predicted_edges(0.0, a, d, r, side);
-            flat_mids[eye] = (flat.0 + flat.1) / 2.0;
-        }
-        let px = pixel(0);
-        let disparity = (mids[0] - mids[1]) / px;
-        let flat = (flat_mids[0] - flat_mids[1]) / px;
-        eprintln!("k {k}: disparity {disparity:.1} px; the flat formula says {flat:.1} px");
+        let (disparity, flat) = seen_disparity(&format!("k {k}"), &shots, ball, (k, a, d, r));
         assert!(-k * (disparity - flat) > 8.0, "k {k}: {disparity} vs the flat {flat}");
     }
 }
@@ -772,13 +772,12 @@ fn the_sticks_fly_a_product_body_along_its_geodesics() {
     let (mut app, body) = product_body_app(&space);
     let head = |app: &App| *app.world().get::<XrProductHead>(body).expect("a head");
     let set = |app: &mut App, f: &dyn Fn(&mut XrControllers)| f(&mut app.world_mut().resource_mut::<XrControllers>());
-    set(&mut app, &|c| c.hands[0].stick = Vec2::Y);
-    for _ in 0..30 {
-        app.update();
-    }
-    set(&mut app, &|c| c.hands[0].stick = Vec2::ZERO);
-    app.update();
-    app.update();
+    hold(
+        &mut app,
+        30,
+        |c| c.hands[0].stick = Vec2::Y,
+        |c| c.hands[0].stick = Vec2::ZERO,
+    );
     let h = head(&app).view;
     let flown = g.distance(ProductPoint::ORIGIN, h.eye);
     assert!((flown - 0.9).abs() < 0.031, "flew {flown}");
@@ -795,13 +794,12 @@ fn the_sticks_fly_a_product_body_along_its_geodesics() {
 
     // A snap turn to the right, about the head.
     let before = head(&app).view;
-    set(&mut app, &|c| c.hands[1].stick = Vec2::X);
-    for _ in 0..5 {
-        app.update();
-    }
-    set(&mut app, &|c| c.hands[1].stick = Vec2::ZERO);
-    app.update();
-    app.update();
+    hold(
+        &mut app,
+        5,
+        |c| c.hands[1].stick = Vec2::X,
+        |c| c.hands[1].stick = Vec2::ZERO,
+    );
     let after = head(&app).view;
     assert!(g.distance(before.eye, after.eye) < 1e-9, "the head stays put");
     let angle = g

@@ -166,16 +166,19 @@ fn count_traced_eyes(
     }
 }
 
-/// Places each eye's view from the late-located poses.
-fn late_latch_eyes(views: Option<Res<OxrViews>>, mut eyes: Query<(&ExtractedXrEye, &mut ExtractedManifoldView)>) {
-    let Some(views) = views else { return };
-    if views.len() < 2 {
-        return;
-    }
-    let poses = [0, 1].map(|i| {
+/// Both eyes' late-located poses in the room (left, right); `None` until
+/// OpenXR has located two views.
+fn late_poses(views: Option<Res<OxrViews>>) -> Option<[(Vec3, Quat); 2]> {
+    let views = views.filter(|v| v.len() >= 2)?;
+    Some([0, 1].map(|i| {
         let t = views[i].pose.to_transform();
         (t.translation, t.rotation)
-    });
+    }))
+}
+
+/// Places each eye's view from the late-located poses.
+fn late_latch_eyes(views: Option<Res<OxrViews>>, mut eyes: Query<(&ExtractedXrEye, &mut ExtractedManifoldView)>) {
+    let Some(poses) = late_poses(views) else { return };
     for (eye, mut view) in &mut eyes {
         let poses = poses.map(|(t, q)| (t - eye.recentred, q));
         let g = view.space.space().geometry();
@@ -200,14 +203,7 @@ fn late_latch_product_eyes(
     views: Option<Res<OxrViews>>,
     mut eyes: Query<(&ExtractedProductXrEye, &mut ExtractedProductView)>,
 ) {
-    let Some(views) = views else { return };
-    if views.len() < 2 {
-        return;
-    }
-    let poses = [0, 1].map(|i| {
-        let t = views[i].pose.to_transform();
-        (t.translation, t.rotation)
-    });
+    let Some(poses) = late_poses(views) else { return };
     for (eye, mut view) in &mut eyes {
         let poses = poses.map(|(t, q)| (t - eye.recentred, q));
         let (_, placed) = tracked::product_head_and_eyes(&eye.space, &eye.body, poses, eye.world_scale);
