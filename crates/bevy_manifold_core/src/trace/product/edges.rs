@@ -227,7 +227,7 @@ fn line_bound(g: ProductGeometry, ray: &ProductRay, r: f64, (start, end): (f64, 
 /// changes no faster than the ray moves). Where `start` is past the ray's
 /// origin the ray is at least `r` from the edge there (its height alone
 /// is that far), so it starts outside, on the tube where it meets it
-/// there. WGSL twin: `sphere_entry` in `product.wgsl`.
+/// there. WGSL twin: `tube_entry` in `product.wgsl`.
 fn traced_entry(
     g: ProductGeometry,
     ray: &ProductRay,

@@ -410,7 +410,7 @@ const MAX_NEWTON: usize = 64;
 /// at which `ray` enters `ball` (from outside); a ray that starts inside
 /// enters only after it has left. In H2xR by Newton's method
 /// ([`first_entry_convex`]), in S2xR by sphere tracing, as the shader
-/// does in both. WGSL twin: `sphere_entry` in `product.wgsl`.
+/// does in both. WGSL twin: `first_entry` in `product.wgsl`.
 fn entries(
     g: ProductGeometry,
     ray: &ProductRay,
@@ -455,7 +455,7 @@ fn entries(
 /// changes no faster than the ray moves): a grazing ray takes a few steps
 /// where sphere tracing took a hundred (130 on average per ball and
 /// segment in the bench scenes, to [`SURFACE`]). The shader keeps sphere
-/// tracing (`sphere_entry` in `product.wgsl`): to its f32 tolerance
+/// tracing (`first_entry` in `product.wgsl`): to its f32 tolerance
 /// Newton measured no faster there.
 fn first_entry_convex(
     g: ProductGeometry,
