@@ -900,3 +900,95 @@ fn product_casts_meet_each_body_again_every_circle() {
     assert_eq!(summary(&from_a), vec![(b, 0.9, 1), (b, 2.9, 2)]);
     assert!(across.is_empty() && broken.is_empty(), "{across:?} {broken:?}");
 }
+
+/// Gameplay casts meet meshes too: in genus 2 x S1 a box (the chart's
+/// `[-0.125, 0.125]^3`) whose centre is `atanh 0.5` along x from the
+/// origin is met by a ray along x at 10 degrees up where its surface part
+/// reaches the box's near wall, at surface distance `atanh 0.5 -
+/// atanh 0.125` (distances add along the geodesic), over `cos 10`; a body
+/// in front of it is met first, and a cast that leaves the mesh out meets
+/// only the body.
+#[test]
+fn product_casts_meet_meshes() {
+    use bevy::ecs::system::RunSystemOnce;
+    use bevy_manifold::geometry::product::{ProductIsometry, ProductPoint, ProductTangent};
+    use bevy_manifold::mesh::{MeshData, shapes::cuboid};
+    use bevy_manifold::product::{ProductBody, ProductMeshBody, ProductRayCast, ProductSpaceRoot};
+    use bevy_manifold::space::product::ProductSpace;
+    use bevy_manifold::trace::product::{ProductMesh, ProductRay};
+    use std::sync::Arc;
+    let space = ProductSpace::genus_two_x_s1(2.0);
+    let g = space.geometry;
+    let mut app = app(Duration::from_millis(16));
+    let root = app.world_mut().spawn(ProductSpaceRoot(Arc::new(space.clone()))).id();
+    let mesh = app
+        .world_mut()
+        .spawn((
+            ChildOf(root),
+            ProductMeshBody(ProductMesh {
+                mesh: MeshData::shared(cuboid([0.125; 3])),
+                placement: ProductIsometry::new(g.translation(0.0, 0.5f64.atanh()), 1.0, 0.0),
+                id: 1,
+            }),
+        ))
+        .id();
+    // A ball below the ray's way but for its start: 0.1 along x, 0.2 off
+    // the ray's height there.
+    let a = 10f64.to_radians();
+    let ball = app
+        .world_mut()
+        .spawn((
+            ChildOf(root),
+            ProductBody {
+                center: ProductPoint::new(DVec3::new(0.1f64.sinh(), 0.0, 0.1f64.cosh()), 0.1 * a.tan() - 0.2),
+                radius: 0.05,
+                id: 2,
+            },
+        ))
+        .id();
+    app.update();
+    let ray = ProductRay {
+        origin: ProductPoint::ORIGIN,
+        dir: ProductTangent::new(DVec3::X * a.cos(), a.sin()),
+    };
+    let (all, without) = app
+        .world_mut()
+        .run_system_once(move |cast: ProductRayCast| {
+            let settings = RayCastSettings {
+                max_distance: 2.0,
+                ..default()
+            };
+            let all = cast.cast(root, ray, &settings);
+            let without = cast.cast(
+                root,
+                ray,
+                &RayCastSettings {
+                    exclude: Some(mesh),
+                    ..settings
+                },
+            );
+            (all, without)
+        })
+        .expect("the cast runs");
+    let wall = (0.5f64.atanh() - 0.125f64.atanh()) / a.cos();
+    assert_eq!(all.len(), 1, "{all:?}");
+    assert_eq!(all[0].entity, mesh);
+    assert!((all[0].distance - wall).abs() < 1e-9, "{} against {wall}", all[0].distance);
+    assert!(without.is_empty(), "{without:?}");
+    // Raised into the ray's way, the ball is met first.
+    app.world_mut().get_mut::<ProductBody>(ball).expect("the ball").center.height = 0.1 * a.tan();
+    let first = app
+        .world_mut()
+        .run_system_once(move |cast: ProductRayCast| {
+            cast.cast(
+                root,
+                ray,
+                &RayCastSettings {
+                    max_distance: 2.0,
+                    ..default()
+                },
+            )
+        })
+        .expect("the cast runs");
+    assert_eq!(first.iter().map(|h| h.entity).collect::<Vec<_>>(), [ball, mesh]);
+}

@@ -48,6 +48,7 @@ done
 "${CARGO_TARGET_DIR:-target}/release/bevy_manifold" product --space s2xs1 --lights --out "$out/product_s2xs1_lit.png"
 "${CARGO_TARGET_DIR:-target}/release/bevy_manifold" product --space genus2xs1 --lights --out "$out/product_genus2xs1_lit.png"
 "${CARGO_TARGET_DIR:-target}/release/bevy_manifold" product --space genus2xs1 --lights --edges 0.03 --out "$out/product_genus2xs1_edges.png"
+"${CARGO_TARGET_DIR:-target}/release/bevy_manifold" product --space genus2xs1 --lights --meshes --out "$out/product_genus2xs1_meshes.png"
 "${CARGO_TARGET_DIR:-target}/release/bevy_manifold" product --space mirrored-prism --cells --out "$out/product_mirrored_prism_cells.png"
 "${CARGO_TARGET_DIR:-target}/release/bevy_manifold" product --space twisted-genus2xs1 --cells --out "$out/product_twisted_genus2xs1_cells.png"
 "${CARGO_TARGET_DIR:-target}/release/bevy_manifold" product --space twisted-s2xs1 --cells --out "$out/product_twisted_s2xs1_cells.png"

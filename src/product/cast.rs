@@ -1,19 +1,19 @@
 //! [`ProductRayCast`]: gameplay ray casts in the product spaces, along the
 //! exact geodesics and through the faces as the tracer's rays go, against
-//! the [`ProductBody`]s of a [`ProductSpaceRoot`].
+//! the [`ProductBody`]s and [`ProductMeshBody`]s of a [`ProductSpaceRoot`].
 
-use super::{ProductBody, ProductCamera, ProductSpaceRoot};
+use super::{ProductBody, ProductCamera, ProductMeshBody, ProductSpaceRoot};
 use crate::placement::RayCastSettings;
 use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
 use bevy_manifold_core::geometry::product::{ProductPoint, ProductTangent};
-use bevy_manifold_core::trace::product::{ProductBall, ProductRay, hits};
+use bevy_manifold_core::trace::product::{ProductBall, ProductMesh, ProductObjects, ProductRay, hits_in};
 
 /// One hit of a product cast, in the order of distance (the same body
 /// may be hit again in another copy of the prism).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProductRayHit {
-    /// The body hit.
+    /// The body (or mesh) hit.
     pub entity: Entity,
     /// Distance along the geodesic.
     pub distance: f64,
@@ -26,7 +26,8 @@ pub struct ProductRayHit {
 }
 
 /// Casts geodesic rays through a product space against its
-/// [`ProductBody`]s (every hit, nearest first, at most 64).
+/// [`ProductBody`]s (every hit, nearest first, at most 64) and its
+/// [`ProductMeshBody`]s (each one's first hit in each copy of the prism).
 ///
 /// ```
 /// use bevy::prelude::*;
@@ -46,12 +47,13 @@ pub struct ProductRayHit {
 pub struct ProductRayCast<'w, 's> {
     roots: Query<'w, 's, (&'static ProductSpaceRoot, &'static Children)>,
     bodies: Query<'w, 's, (&'static ProductBody, &'static ChildOf)>,
+    meshes: Query<'w, 's, &'static ProductMeshBody>,
     cameras: Query<'w, 's, (&'static ProductCamera, &'static ChildOf)>,
 }
 
 impl ProductRayCast<'_, '_> {
     /// Casts `ray` (a point in the prism and a tangent there, made unit)
-    /// through the space of the root `root`, against its bodies but
+    /// through the space of the root `root`, against its bodies and meshes but
     /// `settings.exclude`, for `settings.max_distance` and at most
     /// `settings.levels` faces. Empty for a root that is not one, a ray
     /// that is not finite or has no direction.
@@ -72,12 +74,15 @@ impl ProductRayCast<'_, '_> {
             origin,
             dir: g.normalize_tangent(origin, ray.dir),
         };
-        let keys: Vec<(Entity, &ProductBody)> = children
-            .iter()
-            .filter(|c| Some(*c) != settings.exclude)
+        let others = || children.iter().filter(|c| Some(*c) != settings.exclude);
+        let keys: Vec<(Entity, &ProductBody)> = others()
             .filter_map(|c| self.bodies.get(c).ok().map(|(b, _)| (c, b)))
             .collect();
-        // Each body under its index, to name it again in the hits.
+        let mesh_keys: Vec<(Entity, &ProductMeshBody)> = others()
+            .filter_map(|c| self.meshes.get(c).ok().map(|m| (c, m)))
+            .collect();
+        // Each body under its index, then each mesh, to name it again in
+        // the hits.
         let balls: Vec<ProductBall> = keys
             .iter()
             .enumerate()
@@ -87,11 +92,24 @@ impl ProductRayCast<'_, '_> {
                 id: k as u32,
             })
             .collect();
+        let meshes: Vec<ProductMesh> = mesh_keys
+            .iter()
+            .enumerate()
+            .map(|(k, (_, m))| ProductMesh {
+                id: (keys.len() + k) as u32,
+                ..m.0.clone()
+            })
+            .collect();
+        let entity = |id: u32| {
+            let id = id as usize;
+            keys.get(id).map_or_else(|| mesh_keys[id - keys.len()].0, |k| k.0)
+        };
+        let objects = ProductObjects::new(&space.0, &balls, None, &meshes);
         let levels = usize::try_from(settings.levels).unwrap_or(usize::MAX);
-        hits(&space.0, &balls, ray, settings.max_distance, levels)
+        hits_in(&space.0, &objects, ray, settings.max_distance, levels)
             .into_iter()
             .map(|h| ProductRayHit {
-                entity: keys[h.object as usize].0,
+                entity: entity(h.object),
                 distance: h.distance,
                 point: h.point,
                 faces: h.faces,

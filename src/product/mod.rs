@@ -9,12 +9,13 @@
 //! ([`ProductSpace`](bevy_manifold_core::space::product::ProductSpace),
 //! balls of the product metric), apart from the `ManifoldSpace` of E3, H3
 //! and S3. Their entities are balls: a [`ProductSpaceRoot`] holds a space,
-//! and the [`ProductBody`]s among its children (moved by a
-//! [`ProductVelocity`] through the faces) are what the [`ProductCamera`]s
-//! among its children show, lit by the [`ProductPointLight`]s among its
-//! children (every image of each, with shadows); [`ProductRayCast`] casts
-//! rays against the bodies. A [`ProductTourPlayer`] flies a camera
-//! through a product tour. Meshes are not traced there yet.
+//! and the [`ProductBody`]s (balls, moved by a [`ProductVelocity`]
+//! through the faces) and [`ProductMeshBody`]s (meshes; a `Mesh3d` with a
+//! [`ProductMeshPlacement`] becomes one) among its children are what the
+//! [`ProductCamera`]s among its children show, lit by the
+//! [`ProductPointLight`]s among its children (every image of each, with
+//! shadows); [`ProductRayCast`] casts rays against the bodies and meshes.
+//! A [`ProductTourPlayer`] flies a camera through a product tour.
 //!
 //! ```no_run
 //! use bevy::prelude::*;
@@ -43,11 +44,16 @@ pub use cast::{ProductRayCast, ProductRayHit};
 
 use crate::placement::{GeodesicVelocity, ManifoldSystems};
 use bevy::prelude::*;
+use bevy_manifold_core::geometry::product::ProductIsometry;
 use bevy_manifold_core::geometry::product::{ProductGeometry, ProductPoint, ProductTangent};
+#[cfg(feature = "render")]
+use bevy_manifold_core::mesh::MeshData;
 use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::tour::product::ProductTour;
+#[cfg(feature = "render")]
+use bevy_manifold_core::trace::product::mesh::z_up;
 use bevy_manifold_core::trace::product::{
-    ProductBall, ProductEdges, ProductLight, ProductLighting, ProductRay, ProductScene, ProductView, flow,
+    ProductBall, ProductEdges, ProductLight, ProductLighting, ProductMesh, ProductRay, ProductScene, ProductView, flow,
 };
 use std::sync::Arc;
 
@@ -61,6 +67,8 @@ pub struct ProductCamera {
     pub space: Arc<ProductSpace>,
     /// The balls, in the space's prism.
     pub balls: Vec<ProductBall>,
+    /// The meshes, placed in the space's prism.
+    pub meshes: Vec<ProductMesh>,
     /// The lights, in the space's prism; none: the balls are lit from
     /// the eye.
     pub lights: Vec<ProductLight>,
@@ -88,6 +96,7 @@ impl ProductCamera {
         Self {
             space: Arc::new(space),
             balls: scene.balls,
+            meshes: scene.meshes,
             lights: scene.lights,
             lighting: scene.lighting,
             edges: scene.edges,
@@ -100,6 +109,7 @@ impl ProductCamera {
     pub fn scene(&self) -> ProductScene {
         ProductScene {
             balls: self.balls.clone(),
+            meshes: self.meshes.clone(),
             lights: self.lights.clone(),
             lighting: self.lighting,
             edges: self.edges,
@@ -151,6 +161,57 @@ impl From<ProductBody> for ProductBall {
             id: b.id,
         }
     }
+}
+
+/// A mesh in a product space, a child of a [`ProductSpaceRoot`]: its
+/// triangles in its chart (the Klein or gnomonic chart of the surface
+/// times the height, `trace::product::mesh`) and where that chart
+/// stands. The [`ProductCamera`]s among the root's children show it, in
+/// the product metric; [`ProductRayCast`] hits it. A `Mesh3d` with a
+/// [`ProductMeshPlacement`] is made one (feature `render`).
+///
+/// ```
+/// use bevy::prelude::*;
+/// use bevy_manifold::prelude::*;
+/// use bevy_manifold::geometry::product::ProductIsometry;
+/// use bevy_manifold::mesh::{MeshData, shapes::cuboid};
+/// use bevy_manifold::product::{ProductCamera, ProductMeshBody, ProductSpaceRoot};
+/// use bevy_manifold::space::product::ProductSpace;
+/// use bevy_manifold::trace::product::ProductMesh;
+/// use std::sync::Arc;
+///
+/// let mut app = App::new();
+/// app.add_plugins((MinimalPlugins, ManifoldPlugins::default()));
+/// let space = ProductSpace::genus_two_x_s1(2.0);
+/// let root = app.world_mut().spawn(ProductSpaceRoot(Arc::new(space.clone()))).id();
+/// let block = ProductMesh {
+///     mesh: MeshData::shared(cuboid([0.1, 0.1, 0.2])),
+///     placement: ProductIsometry::vertical(0.3),
+///     id: 4,
+/// };
+/// app.world_mut().spawn((ChildOf(root), ProductMeshBody(block.clone())));
+/// let camera = app.world_mut().spawn((ChildOf(root), ProductCamera::default_for(space))).id();
+/// app.update();
+/// assert_eq!(app.world().get::<ProductCamera>(camera).unwrap().meshes, [block]);
+/// ```
+#[derive(Component, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "render", require(Transform, Visibility))]
+#[cfg_attr(not(feature = "render"), require(Transform))]
+pub struct ProductMeshBody(pub ProductMesh);
+
+/// Puts a `Mesh3d` in a product space (feature `render`): on a child of
+/// a [`ProductSpaceRoot`] with a `Mesh3d`, the Bevy mesh (y up, as Bevy's
+/// and glTF's are; one unit of the space per unit of the mesh) is turned
+/// into the product chart's axes (z up, `trace::product::mesh::z_up`) and
+/// made the entity's [`ProductMeshBody`], placed by `placement`
+/// ([`product_mesh_assets`]). Give it no material: the product cameras
+/// trace it, Bevy does not draw it.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct ProductMeshPlacement {
+    /// Where the mesh's chart stands in the prism.
+    pub placement: ProductIsometry,
+    /// The object id the tracer reports (and its colour).
+    pub id: u32,
 }
 
 /// A point light in a product space, a child of a [`ProductSpaceRoot`]:
@@ -232,14 +293,18 @@ pub fn move_product_bodies(
 }
 
 /// Each [`ProductCamera`] that is a child of a [`ProductSpaceRoot`] shows
-/// that root's space and the [`ProductBody`]s among its children, lit by
-/// the [`ProductPointLight`]s among them (its own `balls` and `lights`
-/// are replaced); other cameras keep theirs.
+/// that root's space and the [`ProductBody`]s and [`ProductMeshBody`]s
+/// among its children, lit by the [`ProductPointLight`]s among them (its
+/// own `balls`, `meshes` and `lights` are replaced); other cameras keep
+/// theirs. A mesh that cannot stand in the space (`ProductMesh::check`) is
+/// left out, with a warning.
 pub fn gather_product_bodies(
     roots: Query<(&ProductSpaceRoot, &Children)>,
     bodies: Query<&ProductBody>,
+    meshes: Query<&ProductMeshBody>,
     lights: Query<&ProductPointLight>,
     mut cameras: Query<(&mut ProductCamera, &ChildOf)>,
+    mut warned: Local<bevy::platform::collections::HashSet<Entity>>,
 ) {
     for (mut camera, parent) in &mut cameras {
         let Ok((root, children)) = roots.get(parent.parent()) else {
@@ -255,6 +320,24 @@ pub fn gather_product_bodies(
         }
         if camera.balls != balls {
             camera.balls = balls;
+        }
+        let g = root.0.geometry;
+        let placed: Vec<ProductMesh> = children
+            .iter()
+            .filter_map(|c| meshes.get(c).ok().map(|m| (c, m)))
+            .filter(|(c, m)| match m.0.check(g) {
+                Ok(()) => true,
+                Err(e) => {
+                    if warned.insert(*c) {
+                        warn!("bevy_manifold: the product mesh of entity {c} is not traced: {e}");
+                    }
+                    false
+                }
+            })
+            .map(|(_, m)| m.0.clone())
+            .collect();
+        if camera.meshes != placed {
+            camera.meshes = placed;
         }
         let lit: Vec<ProductLight> = children
             .iter()
@@ -366,7 +449,8 @@ pub fn play_product_tours(time: Res<Time>, mut players: Query<(&mut ProductTourP
 }
 
 /// The product spaces' systems: [`play_product_tours`],
-/// [`fly_product_cameras`], [`move_product_bodies`] and
+/// [`fly_product_cameras`], [`move_product_bodies`],
+/// [`product_mesh_assets`] (feature `render`) and
 /// [`gather_product_bodies`], and with feature
 /// `render` the cameras' pass ([`render::ProductRenderPlugin`]). Part of
 /// [`crate::ManifoldPlugins`].
@@ -390,5 +474,86 @@ impl Plugin for ProductPlugin {
         );
         #[cfg(feature = "render")]
         app.add_plugins(render::ProductRenderPlugin);
+    }
+
+    /// With feature `render`, in apps that have Bevy's meshes:
+    /// [`product_mesh_assets`], before the bodies are gathered.
+    fn finish(&self, app: &mut App) {
+        #[cfg(feature = "render")]
+        if app.world().contains_resource::<Assets<Mesh>>() {
+            app.init_resource::<ProductMeshAssets>().add_systems(
+                PostUpdate,
+                product_mesh_assets
+                    .before(gather_product_bodies)
+                    .after(move_product_bodies)
+                    .in_set(ManifoldSystems::Integrate),
+            );
+        }
+        #[cfg(not(feature = "render"))]
+        let _ = app;
+    }
+}
+
+/// The Bevy meshes made [`ProductMeshBody`]s, by asset: each one's
+/// triangles turned into the product chart's axes with their BVH, made
+/// once (again when the asset changes); `None` for one that cannot be
+/// traced.
+#[cfg(feature = "render")]
+#[derive(Resource, Default)]
+pub struct ProductMeshAssets {
+    meshes: bevy::platform::collections::HashMap<AssetId<Mesh>, Option<Arc<MeshData>>>,
+}
+
+/// Makes each `Mesh3d` with a [`ProductMeshPlacement`] its entity's
+/// [`ProductMeshBody`] ([`ProductMeshPlacement`]): when its asset has
+/// loaded, and again when the asset or the placement changes. A mesh
+/// Bevy cannot give as triangles is warned of once and left out.
+#[cfg(feature = "render")]
+pub fn product_mesh_assets(
+    mut commands: Commands,
+    mut events: MessageReader<AssetEvent<Mesh>>,
+    assets: Res<Assets<Mesh>>,
+    mut cache: ResMut<ProductMeshAssets>,
+    placed: Query<(
+        Entity,
+        &bevy::mesh::Mesh3d,
+        &ProductMeshPlacement,
+        Option<&ProductMeshBody>,
+    )>,
+) {
+    for event in events.read() {
+        if let AssetEvent::Modified { id } | AssetEvent::Removed { id } = event {
+            cache.meshes.remove(id);
+        }
+    }
+    for (entity, mesh, at, body) in &placed {
+        let id = mesh.0.id();
+        let data = match cache.meshes.get(&id) {
+            Some(data) => data.clone(),
+            None => {
+                let Some(asset) = assets.get(id) else { continue };
+                let built = match crate::drawables::tri_mesh(asset) {
+                    Ok(m) => Some(MeshData::shared(z_up(&m, 1.0))),
+                    Err(e) => {
+                        warn!("bevy_manifold: mesh {id} of entity {entity} is not traced in the product space: {e}");
+                        None
+                    }
+                };
+                cache.meshes.insert(id, built.clone());
+                built
+            }
+        };
+        let Some(data) = data else { continue };
+        let wanted = ProductMesh {
+            mesh: data,
+            placement: at.placement,
+            id: at.id,
+        };
+        let same = body.is_some_and(|b| {
+            Arc::ptr_eq(&b.0.mesh, &wanted.mesh) && b.0.placement == wanted.placement && b.0.id == wanted.id
+        });
+        if !same {
+            commands.entity(entity).insert(ProductMeshBody(wanted));
+        }
     }
 }

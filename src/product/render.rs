@@ -36,7 +36,9 @@ use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::space::product_cells::{
     DEFAULT_PRODUCT_TABLE_CELLS, ProductCellTable, ProductCells, ProductElement,
 };
-use bevy_manifold_gpu::product::{GpuProductCells, GpuProductScene, PackedLights, ProductShaderDefs, storage_bytes};
+use bevy_manifold_gpu::product::{
+    GpuProductCells, GpuProductScene, PackedLights, ProductMeshWords, ProductShaderDefs, storage_bytes,
+};
 use bevy_manifold_gpu::{CELL_TINT_WGSL, PRODUCT_WGSL};
 use std::sync::{Arc, Weak};
 
@@ -172,15 +174,20 @@ type ExtractedCameraItem = (
     Option<Ref<'static, ProductCellWords>>,
 );
 
+/// A camera's light images and meshes' words, packed, kept while what
+/// they were made from stays.
+type KeptPacking = (PackedLights, Option<Arc<ProductMeshWords>>);
+
 /// Copies each active product camera's scene, packed, to its render
 /// entity when the camera or its scene changed (the render entity keeps
 /// it otherwise); takes it off cameras that no longer have one. A
 /// camera's light images are worked out again only when its space, lights
-/// or lighting change, not as its eye moves.
+/// or lighting change, and its meshes' words only when its meshes change,
+/// not as its eye (or a mesh) moves.
 pub fn extract_product_views(
     mut commands: Commands,
     cameras: Extract<Query<ExtractedCameraItem>>,
-    mut images: Local<HashMap<Entity, PackedLights>>,
+    mut images: Local<HashMap<Entity, KeptPacking>>,
 ) {
     let mut live = Vec::new();
     for (entity, camera, product, words) in &cameras {
@@ -190,8 +197,11 @@ pub fn extract_product_views(
                 let words = words.filter(|_| p.view.tint.is_some());
                 if p.is_changed() || camera.is_changed() || words.as_ref().is_some_and(Ref::is_changed) {
                     let scene = p.scene();
-                    let lights = images.entry(entity).or_default().get(&p.space, &scene);
-                    let mut packed = GpuProductScene::pack_lit(&p.space, &scene, lights, (1, 1));
+                    let (kept_lights, kept_words) = images.entry(entity).or_default();
+                    let lights = kept_lights.get(&p.space, &scene);
+                    let mesh_words = ProductMeshWords::get(kept_words.as_ref(), &scene.meshes);
+                    *kept_words = Some(mesh_words.clone());
+                    let mut packed = GpuProductScene::pack_with(&p.space, &scene, (lights, mesh_words), (1, 1));
                     let cells = words.map(|w| w.cells.clone());
                     packed.params.cell_count = cells.as_ref().map_or(0, |c| c.count);
                     commands.entity(entity).insert(ExtractedProductView { packed, cells });
@@ -223,8 +233,8 @@ pub struct ProductPipelineKey {
 /// The product pipeline's layout and shader (render world).
 #[derive(Resource, Clone)]
 pub struct ProductPipeline {
-    /// Group 0: params (uniform), faces, balls, the cell table and the
-    /// light images (storage).
+    /// Group 0: params (uniform), faces, balls, the cell table, the
+    /// light images, the mesh images and the meshes' words (storage).
     pub layout: BindGroupLayoutDescriptor,
     shader: Handle<Shader>,
     fullscreen: FullscreenShader,
@@ -259,6 +269,8 @@ fn init_product_pipeline(
             // 3 is the compute entry's pixels.
             entry(4, read),
             entry(5, read),
+            entry(6, read),
+            entry(7, read),
         ],
     );
     commands.insert_resource(ProductPipeline {
@@ -312,6 +324,8 @@ struct ProductViewBuffers {
     balls: Buffer,
     table: Buffer,
     lights: Buffer,
+    meshes: Buffer,
+    mesh_data: Buffer,
     bind_group: BindGroup,
 }
 
@@ -377,6 +391,8 @@ pub fn prepare_product_views(
             b.scene.faces.len() == scene.faces.len()
                 && b.scene.balls.len() == scene.balls.len()
                 && b.scene.lights.len() == scene.lights.len()
+                && b.scene.meshes.len() == scene.meshes.len()
+                && b.scene.mesh_data.words.len() == scene.mesh_data.words.len()
                 && table_words(b.cells.as_ref()).len() == table_words(cells.as_ref()).len()
         });
         let bind_group = match kept {
@@ -402,12 +418,28 @@ pub fn prepare_product_views(
                         bytemuck::cast_slice(&scene.lights),
                         &kept.lights,
                     ),
+                    (
+                        bytemuck::cast_slice(&kept.scene.meshes),
+                        bytemuck::cast_slice(&scene.meshes),
+                        &kept.meshes,
+                    ),
                 ] {
                     if old != new && !new.is_empty() {
                         queue.write_buffer(buffer, 0, new);
                         uploads.scenes += 1;
                         uploads.bytes += new.len() as u64;
                     }
+                }
+                // The meshes' words, compared only where they were made
+                // again (the same meshes share them).
+                if !Arc::ptr_eq(&kept.scene.mesh_data, &scene.mesh_data)
+                    && kept.scene.mesh_data.words != scene.mesh_data.words
+                    && !scene.mesh_data.words.is_empty()
+                {
+                    let words = bytemuck::cast_slice(&scene.mesh_data.words);
+                    queue.write_buffer(&kept.mesh_data, 0, words);
+                    uploads.scenes += 1;
+                    uploads.bytes += words.len() as u64;
                 }
                 let same_table = match (&kept.cells, &cells) {
                     (Some(a), Some(b)) => Arc::ptr_eq(a, b) || a.words == b.words,
@@ -488,8 +520,18 @@ impl ProductViewBuffers {
             &storage_bytes(&scene.lights),
             BufferUsages::STORAGE,
         );
+        let meshes = buffer(
+            "manifold_product_meshes",
+            &storage_bytes(&scene.meshes),
+            BufferUsages::STORAGE,
+        );
+        let mesh_data = buffer(
+            "manifold_product_mesh_data",
+            &storage_bytes(&scene.mesh_data.words),
+            BufferUsages::STORAGE,
+        );
         uploads.params += 1;
-        uploads.scenes += 3;
+        uploads.scenes += 5;
         uploads.tables += 1;
         let bind_group = device.create_bind_group(
             "manifold_product",
@@ -515,6 +557,14 @@ impl ProductViewBuffers {
                     binding: 5,
                     resource: lights.as_entire_binding(),
                 },
+                BindGroupEntry {
+                    binding: 6,
+                    resource: meshes.as_entire_binding(),
+                },
+                BindGroupEntry {
+                    binding: 7,
+                    resource: mesh_data.as_entire_binding(),
+                },
             ],
         );
         Self {
@@ -525,6 +575,8 @@ impl ProductViewBuffers {
             balls,
             table,
             lights,
+            meshes,
+            mesh_data,
             bind_group,
         }
     }

@@ -238,3 +238,83 @@ pub fn a_product_camera_is_lit_by_its_roots_lights() {
         );
     }
 }
+
+/// Meshes in a product space: a Bevy `Cuboid` asset on a `Mesh3d` with a
+/// `ProductMeshPlacement` (y up, turned into the chart's z up) and the
+/// airplane as a `ProductMeshBody`, among the root's children, draw what
+/// the CPU reference traces for `ProductScene::furnished_for` (whose box
+/// is the core's own `cuboid`, made apart from Bevy's) and what the
+/// headless GPU tracer draws. Moving the box's placement writes the mesh
+/// images again, not the meshes' triangles.
+pub fn meshes_in_a_product_space_are_traced() {
+    use bevy_manifold::product::{ProductMeshBody, ProductMeshPlacement, ProductSpaceRoot};
+    use std::sync::Arc;
+    for space in [ProductSpace::genus_two_x_s1(2.0), ProductSpace::s2_x_s1(2.0)] {
+        let mut app = headless_app(true);
+        let image = target(&mut app, W, H);
+        let mut scene = ProductScene::furnished_for(&space);
+        let root = app.world_mut().spawn(ProductSpaceRoot(Arc::new(space.clone()))).id();
+        for b in &scene.balls {
+            app.world_mut()
+                .spawn((ChildOf(root), bevy_manifold::product::ProductBody::from(*b)));
+        }
+        app.world_mut()
+            .spawn((ChildOf(root), ProductMeshBody(scene.meshes[0].clone())));
+        let cuboid = app
+            .world_mut()
+            .resource_mut::<Assets<Mesh>>()
+            .add(Cuboid::new(0.24, 0.36, 0.24));
+        let block = scene.meshes[1].clone();
+        let placed = app
+            .world_mut()
+            .spawn((
+                ChildOf(root),
+                Mesh3d(cuboid),
+                ProductMeshPlacement {
+                    placement: block.placement,
+                    id: block.id,
+                },
+            ))
+            .id();
+        let camera = spawn_product_camera(&mut app, &image, ProductCamera::default_for(space.clone()));
+        app.world_mut().entity_mut(camera).insert(ChildOf(root));
+        wait_for_pipelines(&mut app);
+        let mut gpu = bevy_manifold_gpu::GpuTracer::new().expect("a GPU");
+        let mut compare = |app: &mut App, scene: &ProductScene| {
+            let shown = capture(app, &image);
+            let colors = |p: Vec<bevy_manifold::trace::product::ProductPixel>| -> Vec<[f32; 3]> {
+                p.iter().map(|p| p.color).collect()
+            };
+            let headless = colors(gpu.render_product(&space, scene, W, H).expect("the headless trace"));
+            let cpu = render(&space, scene, W, H);
+            let seen = cpu.iter().filter(|p| p.object == 4 || p.object == 5).count();
+            let cpu = colors(cpu);
+            let (same, near) = (close_to(&shown, &headless, 1), close_to(&shown, &cpu, 3));
+            eprintln!(
+                "{} with meshes: {seen} pixels of meshes, {:.3}% within 1/255 of the headless trace, {:.3}% within 3/255 of the CPU reference",
+                space.name,
+                100.0 * same,
+                100.0 * near
+            );
+            assert!(seen > 100, "{}: {seen} pixels of meshes", space.name);
+            assert!(same >= 0.999 && near >= 0.98, "{}: {same} {near}", space.name);
+        };
+        compare(&mut app, &scene);
+        let before = product_uploads(&app);
+        // The box lifted 0.2 and turned.
+        let g = space.geometry;
+        let lifted =
+            bevy_manifold::geometry::product::ProductIsometry::new(g.rotation(0.5), 1.0, 0.2).compose(&block.placement);
+        app.world_mut()
+            .get_mut::<ProductMeshPlacement>(placed)
+            .expect("the box")
+            .placement = lifted;
+        scene.meshes[1].placement = lifted;
+        compare(&mut app, &scene);
+        let after = product_uploads(&app);
+        // The mesh images written again (and nothing as large as the
+        // triangles: the airplane's alone are 200 of 96 bytes).
+        assert_eq!(after.scenes, before.scenes + 1, "{after:?}");
+        assert!(after.bytes - before.bytes < 4096, "{before:?} {after:?}");
+    }
+}

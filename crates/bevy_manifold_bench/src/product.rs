@@ -5,9 +5,10 @@
 //! Each product space shows its default scene
 //! ([`ProductScene::default_for`]: three balls, fog, lit from the eye) and
 //! its lit scene ([`ProductScene::lit_for`]: two point lights, 32 images
-//! of each, shadows) and with the prism's edges drawn as tubes
-//! ([`ProductEdges::default`]), Seifert-Weber its own (edges, a ball, a
-//! light).
+//! of each, shadows), with the prism's edges drawn as tubes
+//! ([`ProductEdges::default`]) and with meshes
+//! ([`ProductScene::furnished_for`]: the airplane and a box, 156
+//! triangles), Seifert-Weber its own (edges, a ball, a light).
 
 use crate::{best_ms, trace_ms};
 use bevy_manifold::prelude::*;
@@ -38,8 +39,8 @@ pub fn run(width: u32, height: u32, levels: u32, runs: u32) -> Result<(), String
         rayon::current_num_threads()
     );
     println!(
-        "{:<18} {:>9} {:>8} {:>9} {:>7} {:>10} {:>9} {:>8} {:>10} {:>9}",
-        "space", "GPU", "GPU/SW", "CPU f64", "hits", "crossings", "GPU lit", "lit/SW", "no shadows", "edges"
+        "{:<18} {:>9} {:>8} {:>9} {:>7} {:>10} {:>9} {:>8} {:>10} {:>9} {:>9}",
+        "space", "GPU", "GPU/SW", "CPU f64", "hits", "crossings", "GPU lit", "lit/SW", "no shadows", "edges", "meshes"
     );
     let sw = catalog::seifert_weber();
     let settings = TraceSettings {
@@ -80,13 +81,14 @@ pub fn run(width: u32, height: u32, levels: u32, runs: u32) -> Result<(), String
         let mut edged = ProductScene::default_for(&space);
         edged.edges = Some(ProductEdges::default());
         let (_, edges_ms) = timed(edged)?;
+        let (_, meshes_ms) = timed(ProductScene::furnished_for(&space))?;
         let cpu = best_ms(runs, || Ok(render_product(&space, &scene, width, height)))?;
         let image = render_product(&space, &scene, width, height);
         let hits = image.iter().filter(|p| p.object != 0).count();
         let crossings = image.iter().map(|p| p.crossings as f64).sum::<f64>() / image.len() as f64;
         worst = worst.max(gpu_ms / sw_ms);
         println!(
-            "{name:<18} {gpu_ms:>9.1} {:>7.2}x {cpu:>9.1} {:>6.1}% {crossings:>10.2} {lit_ms:>9.1} {:>7.2}x {unshadowed_ms:>10.1} {edges_ms:>9.1}",
+            "{name:<18} {gpu_ms:>9.1} {:>7.2}x {cpu:>9.1} {:>6.1}% {crossings:>10.2} {lit_ms:>9.1} {:>7.2}x {unshadowed_ms:>10.1} {edges_ms:>9.1} {meshes_ms:>9.1}",
             gpu_ms / sw_ms,
             100.0 * hits as f64 / image.len() as f64,
             lit_ms / sw_ms
@@ -94,7 +96,7 @@ pub fn run(width: u32, height: u32, levels: u32, runs: u32) -> Result<(), String
     }
     println!("slowest product space / seifert-weber (GPU, lit from the eye): {worst:.2} x (goal: within 1.5x)");
     println!(
-        "hits: pixels that see a ball (or an edge, in Seifert-Weber); crossings: faces crossed per pixel on the way to what it sees (0 where a product space's ray sees nothing); lit: the same view lit by two point lights, every image of each (32), with shadows (no shadows: the same without them); edges: the default view with the prism's edges drawn as tubes (S2 x S1 has none)"
+        "hits: pixels that see a ball (or an edge, in Seifert-Weber); crossings: faces crossed per pixel on the way to what it sees (0 where a product space's ray sees nothing); lit: the same view lit by two point lights, every image of each (32), with shadows (no shadows: the same without them); edges: the default view with the prism's edges drawn as tubes (S2 x S1 has none); meshes: the default view with the airplane and a box (156 triangles), lit from the eye"
     );
     Ok(())
 }

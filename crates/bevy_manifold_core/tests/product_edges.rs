@@ -8,7 +8,7 @@
 use bevy_manifold_core::geometry::product::{ProductPoint, ProductTangent};
 use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::trace::product::{
-    EDGE_ID, LightArc, ProductEdges, ProductRay, ProductScene, ProductTubes, render, shadowed,
+    EDGE_ID, LightArc, ProductEdges, ProductObjects, ProductRay, ProductScene, ProductTubes, render, shadowed,
 };
 use glam::DVec3;
 
@@ -128,14 +128,32 @@ fn the_tubes_cast_shadows_and_are_seen() {
         surface: d + 0.5,
     };
     let x = (ProductPoint::ORIGIN, ray.dir);
-    assert!(shadowed(&space, (&[], &tubes), x, &arc, 8));
-    assert!(!shadowed(&space, (&[], &ProductTubes::default()), x, &arc, 8));
+    assert!(shadowed(
+        &space,
+        &ProductObjects {
+            tubes: tubes.clone(),
+            ..ProductObjects::default()
+        },
+        x,
+        &arc,
+        8
+    ));
+    assert!(!shadowed(&space, &ProductObjects::default(), x, &arc, 8));
     // Short of the tube: free.
     let short = LightArc {
         length: d - R - 0.01,
         ..arc
     };
-    assert!(!shadowed(&space, (&[], &tubes), x, &short, 8));
+    assert!(!shadowed(
+        &space,
+        &ProductObjects {
+            tubes: tubes.clone(),
+            ..ProductObjects::default()
+        },
+        x,
+        &short,
+        8
+    ));
 
     let mut scene = ProductScene::default_for(&space);
     let plain = render(&space, &scene, 64, 36);

@@ -8,7 +8,7 @@
 use bevy_manifold_core::geometry::product::{ProductGeometry, ProductIsometry, ProductPoint, ProductTangent};
 use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::trace::product::{
-    DIM_LIGHT, ProductBall, ProductLight, ProductLightImage, ProductLighting, ProductScene, ProductTubes,
+    DIM_LIGHT, ProductBall, ProductLight, ProductLightImage, ProductLighting, ProductObjects, ProductScene,
     arc_irradiance, direct, images, light_arcs, light_images, render, shadowed,
 };
 use glam::DVec3;
@@ -282,7 +282,10 @@ fn a_light_above_a_ball_lights_it_once_per_circle_and_its_copies_shade_it() {
         let lit = light_images(&space, &[light], ProductLighting { images: 64, shadows });
         let rgb = direct(
             &space,
-            (&balls, &ProductTubes::default()),
+            &ProductObjects {
+                balls: balls.clone(),
+                ..ProductObjects::default()
+            },
             &lit,
             (x, up, up),
             albedo,
@@ -336,13 +339,25 @@ fn a_light_above_a_ball_lights_it_once_per_circle_and_its_copies_shade_it() {
     assert_eq!(arcs.len(), 1, "straight up: no way round the sphere");
     assert!(shadowed(
         &space,
-        (&balls, &ProductTubes::default()),
+        &ProductObjects {
+            balls: balls.clone(),
+            ..ProductObjects::default()
+        },
         (x, up),
         &arcs[0],
         8
     ));
     assert!(
-        !shadowed(&space, (&balls, &ProductTubes::default()), (x, up), &arcs[0], 0),
+        !shadowed(
+            &space,
+            &ProductObjects {
+                balls: balls.clone(),
+                ..ProductObjects::default()
+            },
+            (x, up),
+            &arcs[0],
+            0
+        ),
         "the copy is past a face"
     );
 }
@@ -386,7 +401,16 @@ fn a_ball_between_shades_and_beside_does_not() {
         };
         let balls = images(&space, &[ball]);
         assert_eq!(
-            shadowed(&space, (&balls, &ProductTubes::default()), (x, normal), &arc, 8),
+            shadowed(
+                &space,
+                &ProductObjects {
+                    balls: balls.clone(),
+                    ..ProductObjects::default()
+                },
+                (x, normal),
+                &arc,
+                8
+            ),
             blocked,
             "{center:?}"
         );

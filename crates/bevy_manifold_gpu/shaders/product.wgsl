@@ -13,7 +13,9 @@
 // Specialised on what a scene needs (`ProductShaderDefs`): PRODUCT_CELLS
 // where a table of cells is bound (else every copy's id is
 // BEYOND_TABLE), PRODUCT_LIGHTS where the scene has lights (else the
-// balls are lit from the eye).
+// balls are lit from the eye), PRODUCT_EDGES where it draws the prism's
+// edges, PRODUCT_MESHES where it has meshes (Rust twin:
+// trace/product/mesh.rs).
 
 #import bevy_manifold::cell_tint::{hash32, cell_tint}
 
@@ -46,6 +48,10 @@ struct ProductParams {
     camera_flip: i32,
     light_count: u32,
     shadows: u32,
+    mesh_count: u32,
+    pad_a: u32,
+    pad_b: u32,
+    pad_c: u32,
 }
 
 // Rust twin: `GpuProductFace`.
@@ -78,6 +84,28 @@ struct ProductLight {
     min_area: f32,
     pad_a: u32,
     pad_b: u32,
+}
+
+// A mesh or one of its images through the faces: the isometry taking the
+// prism to its chart (`to_chart`, `to_flip`, `to_shift`) and the surface
+// part of its inverse (`placement`, for the normals), its chart's origin
+// in the prism, how far it reaches from there (`across` the surface,
+// `tall` up and down; `across_trig` cosh or cos of `across`), its
+// colour, id, and its nodes and triangles in `mesh_data`. Rust twin:
+// `GpuProductMesh` (the core's `ProductMeshImage`).
+struct ProductMesh {
+    to_chart: mat3x3<f32>,
+    placement: mat3x3<f32>,
+    center: vec4<f32>,
+    color: vec4<f32>,
+    to_flip: f32,
+    to_shift: f32,
+    across: f32,
+    across_trig: f32,
+    tall: f32,
+    id: u32,
+    nodes: u32,
+    triangles: u32,
 }
 
 // Rust twin: `GpuProductPixel`.
@@ -115,6 +143,14 @@ struct ProductRay {
 // The light images. Rust twin: `light_images` (packed by
 // `GpuProductScene::pack_lights`).
 @group(0) @binding(5) var<storage, read> lights: array<ProductLight>;
+// The meshes and their images, and their BVHs and triangles (floats by
+// their bits): per node two words of four (its box's min and its leaf's
+// triangle count; its max and its first triangle, or for an inner node
+// the node past its subtree), per triangle six (its corners, then their
+// normals, xyz).
+// Rust twin: `GpuProductScene::meshes` and `mesh_data`.
+@group(0) @binding(6) var<storage, read> meshes: array<ProductMesh>;
+@group(0) @binding(7) var<storage, read> mesh_data: array<vec4<u32>>;
 
 // A neighbour not in the table. Rust twin: `OUTSIDE`.
 const PRODUCT_OUTSIDE: u32 = 0xffffffffu;
@@ -385,7 +421,7 @@ fn first_entry(ray: ProductRay, b: u32, span: vec2<f32>) -> f32 {
 }
 
 // The nearest ball the segment of `length` from the ray's origin enters:
-// (its index, or NO_FACE, and the distance). Rust twin: `hits_among` (one
+// (its index, or NO_FACE, and the distance). Rust twin: `hits_in` (one
 // segment's entries, the nearest kept).
 struct Entry {
     ball: u32,
@@ -529,6 +565,319 @@ fn edge_entry(ray: ProductRay, length: f32) -> EdgeEntry {
 }
 #endif
 
+#ifdef PRODUCT_MESHES
+// How much a triangle's box is padded (chart units; f32: the CPU's
+// BOX_PAD is 1e-9). Rust twin: `BOX_PAD`.
+const BOX_PAD: f32 = 1e-5;
+// How near the plane Newton's method stops (the CPU's ON_PLANE is 1e-13),
+// and its most steps (the CPU's MAX_ROOT_STEPS is 64).
+const ON_PLANE: f32 = 1e-7;
+const MAX_ROOT_STEPS: u32 = 24u;
+// How far outside a triangle a hit on its plane still counts (the CPU's
+// EDGE_SLACK is 1e-9).
+const EDGE_SLACK: f32 = 1e-5;
+
+// A ray's curve in a mesh's chart: its surface part K0 + lambda(s) D,
+// lambda = S(t) / X_w(t) (t the surface arc length), its height h0 + v s.
+// Rust twin: `ChartRay`.
+struct ChartRay {
+    p: vec3<f32>,
+    u: vec3<f32>,
+    speed: f32,
+    k0: vec2<f32>,
+    d: vec2<f32>,
+    h0: f32,
+    v: f32,
+}
+
+// Rust twin: `ChartRay::new`.
+fn chart_ray(ray: ProductRay) -> ChartRay {
+    let p = ray.origin.xyz;
+    let speed = sqrt(max(form(ray.dir.xyz, ray.dir.xyz), 0.0));
+    var u = vec3<f32>(0.0);
+    if speed > 0.0 {
+        u = ray.dir.xyz / speed;
+    }
+    let k0 = p.xy / p.z;
+    return ChartRay(p, u, speed, k0, u.xy - k0 * u.z, ray.origin.w, ray.dir.w);
+}
+
+// Rust twin: `ChartRay::lambda`.
+fn chart_lambda(c: ChartRay, s: f32) -> f32 {
+    let cs = trig(c.speed * s);
+    return cs.y / (c.p.z * cs.x + c.u.z * cs.y);
+}
+
+// Rust twin: `ChartRay::at`.
+fn chart_at(c: ChartRay, s: f32) -> vec3<f32> {
+    return vec3<f32>(c.k0 + c.d * chart_lambda(c, s), c.h0 + c.v * s);
+}
+
+// The derivative along the ray of n . q(s). Rust twin: `ChartRay::slope`.
+fn chart_slope(c: ChartRay, s: f32, n: vec3<f32>) -> f32 {
+    let cs = trig(c.speed * s);
+    let w = c.p.z * cs.x + c.u.z * cs.y;
+    return dot(n.xy, c.d) * c.speed * c.p.z / (w * w) + n.z * c.v;
+}
+
+// The arc length at which lambda is reached. Rust twin: `ChartRay::s_of`.
+fn chart_s_of(c: ChartRay, lambda: f32) -> f32 {
+    let y = lambda * c.p.z;
+    let x = 1.0 - lambda * c.u.z;
+    if params.curvature < 0.0 {
+        return atanh(y / x) / c.speed;
+    }
+    return atan2(y, x) / c.speed;
+}
+
+// The part (x, y) of `span` in which the curve is in the box [mn, mx]: its
+// height in the box's slab, then its lambda in the slabs across; x > y for
+// none. Rust twin: `ChartRay::in_box`.
+fn chart_box(c: ChartRay, mn: vec3<f32>, mx: vec3<f32>, span: vec2<f32>) -> vec2<f32> {
+    let none = vec2<f32>(1.0, -1.0);
+    var lo = span.x;
+    var hi = span.y;
+    if c.v == 0.0 {
+        if c.h0 < mn.z || c.h0 > mx.z {
+            return none;
+        }
+    } else {
+        let e = (mn.z - c.h0) / c.v;
+        let f = (mx.z - c.h0) / c.v;
+        lo = max(lo, min(e, f));
+        hi = min(hi, max(e, f));
+    }
+    if lo > hi {
+        return none;
+    }
+    if c.speed == 0.0 {
+        if any(c.k0 < mn.xy) || any(c.k0 > mx.xy) {
+            return none;
+        }
+        return vec2<f32>(lo, hi);
+    }
+    let l0 = chart_lambda(c, lo);
+    let l1 = chart_lambda(c, hi);
+    var a = l0;
+    var b = l1;
+    for (var i = 0u; i < 2u; i++) {
+        if c.d[i] == 0.0 {
+            if c.k0[i] < mn[i] || c.k0[i] > mx[i] {
+                return none;
+            }
+            continue;
+        }
+        let e = (mn[i] - c.k0[i]) / c.d[i];
+        let f = (mx[i] - c.k0[i]) / c.d[i];
+        a = max(a, min(e, f));
+        b = min(b, max(e, f));
+    }
+    if a > b {
+        return none;
+    }
+    if a > l0 {
+        lo = max(chart_s_of(c, a), lo);
+    }
+    if b < l1 {
+        hi = min(chart_s_of(c, b), hi);
+    }
+    if lo > hi {
+        return none;
+    }
+    return vec2<f32>(lo, hi);
+}
+
+// Where the curve crosses the triangle (a, b, e) within [0, limit]: (s,
+// u, v, 1), or w = 0 for none: the plane's function changes sign on the
+// part of the curve in the triangle's padded box, its root found by
+// Newton's method kept in that bracket, its barycentric weights checked.
+// Rust twin: `cross_triangle`.
+fn cross_triangle(c: ChartRay, a: vec3<f32>, b: vec3<f32>, e: vec3<f32>, limit: f32) -> vec4<f32> {
+    let none = vec4<f32>(0.0);
+    let e1 = b - a;
+    let e2 = e - a;
+    let raw = cross(e1, e2);
+    let scale = length(raw);
+    if scale <= 0.0 {
+        return none;
+    }
+    let n = raw / scale;
+    let pad = vec3<f32>(BOX_PAD);
+    let span = chart_box(c, min(min(a, b), e) - pad, max(max(a, b), e) + pad, vec2<f32>(0.0, limit));
+    if span.x > span.y {
+        return none;
+    }
+    var lo = span.x;
+    var hi = span.y;
+    let f_lo = dot(n, chart_at(c, lo) - a);
+    let f_hi = dot(n, chart_at(c, hi) - a);
+    if f_lo == 0.0 {
+        hi = lo;
+    } else if f_lo * f_hi > 0.0 {
+        return none;
+    }
+    let rising = f_lo < 0.0;
+    var s = lo;
+    for (var k = 0u; k < MAX_ROOT_STEPS; k++) {
+        if hi - lo <= 1e-7 * max(abs(hi), 1.0) {
+            break;
+        }
+        let value = dot(n, chart_at(c, s) - a);
+        if abs(value) < ON_PLANE {
+            break;
+        }
+        if (value < 0.0) == rising {
+            lo = s;
+        } else {
+            hi = s;
+        }
+        let next = s - value / chart_slope(c, s, n);
+        if next > lo && next < hi {
+            s = next;
+        } else {
+            s = 0.5 * (lo + hi);
+        }
+    }
+    let q = chart_at(c, s) - a;
+    let d00 = dot(e1, e1);
+    let d01 = dot(e1, e2);
+    let d11 = dot(e2, e2);
+    let d20 = dot(q, e1);
+    let d21 = dot(q, e2);
+    let denom = d00 * d11 - d01 * d01;
+    let u = (d11 * d20 - d01 * d21) / denom;
+    let v = (d00 * d21 - d01 * d20) / denom;
+    if u >= -EDGE_SLACK && v >= -EDGE_SLACK && u + v <= 1.0 + EDGE_SLACK {
+        return vec4<f32>(s, u, v, 1.0);
+    }
+    return none;
+}
+
+// The unit tangent at the chart point q normal to the chart's plane of
+// normal covector n: J G^-1 n. Rust twin: `chart_normal`.
+fn chart_normal(q: vec3<f32>, n: vec3<f32>) -> vec4<f32> {
+    let k = params.curvature;
+    let p = q.xy;
+    let w2 = 1.0 / (1.0 + k * dot(p, p));
+    let w = sqrt(w2);
+    let m = (n.xy + p * (k * dot(p, n.xy))) / w2;
+    let dw = -k * w * w2 * dot(p, m);
+    return unit(vec4<f32>(w * m.x + q.x * dw, w * m.y + q.y * dw, dw, n.z));
+}
+
+// The three floats of mesh_data's word k.
+fn mesh_point(k: u32) -> vec3<f32> {
+    return bitcast<vec3<f32>>(mesh_data[k].xyz);
+}
+
+// A mesh entered: its index (NO_FACE for none), where, and the unit
+// normal there in the prism, facing the ray. Rust twin: `MeshEntry`.
+struct MeshEntry {
+    mesh: u32,
+    s: f32,
+    normal: vec4<f32>,
+}
+
+// The nearest triangle of mesh m the chart ray `local` meets within
+// [0, length], by the skip links with the exact box test, and its normal
+// in the prism. Rust twin: `ProductMeshImage::first_triangle`.
+fn first_triangle(m: u32, local: ProductRay, length: f32) -> MeshEntry {
+    let c = chart_ray(local);
+    let base = meshes[m].nodes;
+    let count = meshes[m].triangles - base;
+    let tris = meshes[m].triangles;
+    var best = vec4<f32>(length, 0.0, 0.0, 0.0);
+    var best_t = NO_FACE;
+    var i = 0u;
+    loop {
+        if 2u * i >= count {
+            break;
+        }
+        let a = mesh_data[base + 2u * i];
+        let b = mesh_data[base + 2u * i + 1u];
+        let leaf = a.w;
+        let link = b.w;
+        let span = chart_box(c, bitcast<vec3<f32>>(a.xyz), bitcast<vec3<f32>>(b.xyz), vec2<f32>(0.0, best.x));
+        let met = span.x <= span.y;
+        if met && leaf > 0u {
+            for (var t = link; t < link + leaf; t++) {
+                let at = tris + 6u * t;
+                let hit = cross_triangle(c, mesh_point(at), mesh_point(at + 1u), mesh_point(at + 2u), best.x);
+                if hit.w > 0.0 {
+                    best = hit;
+                    best_t = t;
+                }
+            }
+        }
+        if met || leaf > 0u {
+            i++;
+        } else {
+            i = max(link, i + 1u);
+        }
+    }
+    if best_t == NO_FACE {
+        return MeshEntry(NO_FACE, length, vec4<f32>(0.0));
+    }
+    let at = tris + 6u * best_t;
+    let n = mesh_point(at + 3u) * (1.0 - best.y - best.z) + mesh_point(at + 4u) * best.y + mesh_point(at + 5u) * best.z;
+    var normal = chart_normal(chart_at(c, best.x), n);
+    if dot4(normal, advance(local, best.x).dir) > 0.0 {
+        normal = -normal;
+    }
+    return MeshEntry(m, best.x, normal);
+}
+
+// The next stretch (x, y) of [after, length] of the ray within the mesh's
+// reach (its height within `tall`, its surface point within `across`),
+// one turn round the sphere at a time; x > y for none. Rust twin:
+// `window` (of mesh.rs).
+fn mesh_window(ray: ProductRay, m: u32, after: f32, length: f32) -> vec2<f32> {
+    let center = meshes[m].center;
+    var span = height_window(ray, center.w, meshes[m].tall, length);
+    if span.x > span.y {
+        return span;
+    }
+    span.x = max(span.x, after);
+    let across = meshes[m].across;
+    let trig_across = meshes[m].across_trig;
+    span = surface_window(ray, center.xyz, across, trig_across, span);
+    let speed = sqrt(max(form(ray.dir.xyz, ray.dir.xyz), 0.0));
+    if span.x <= span.y && params.curvature > 0.0 && speed > 0.0 {
+        span = surface_window(ray, center.xyz, across, trig_across, vec2<f32>(span.x, min(span.y, span.x + 2.0 * across / speed)));
+    }
+    return span;
+}
+
+// The nearest mesh the segment of `length` from the ray's origin enters:
+// for each stretch of the ray within a mesh's reach, the ray taken into
+// its chart. Rust twin: `ProductMeshImage::entry` (the nearest kept, as
+// `hits_in` sorts them).
+fn mesh_entry(ray: ProductRay, length: f32) -> MeshEntry {
+    var best = MeshEntry(NO_FACE, length, vec4<f32>(0.0));
+    for (var m = 0u; m < params.mesh_count; m++) {
+        var after = 0.0;
+        for (var turn = 0u; turn < 8u; turn++) {
+            let span = mesh_window(ray, m, after, best.s);
+            if span.x > span.y {
+                break;
+            }
+            let start = advance(ray, span.x);
+            let mesh = meshes[m];
+            let origin = normalize_point(vec4<f32>(mesh.to_chart * start.origin.xyz, mesh.to_flip * start.origin.w + mesh.to_shift));
+            let local = ProductRay(origin, vec4<f32>(mesh.to_chart * start.dir.xyz, mesh.to_flip * start.dir.w));
+            let hit = first_triangle(m, local, span.y - span.x);
+            if hit.mesh != NO_FACE {
+                let normal = vec4<f32>(mesh.placement * hit.normal.xyz, mesh.to_flip * hit.normal.w);
+                best = MeshEntry(m, span.x + hit.s, normal);
+                break;
+            }
+            after = span.y + 1e-6;
+        }
+    }
+    return best;
+}
+#endif
+
 // What the pixel's ray sees: walked through the faces to its first ball,
 // lit from the eye, fogged by its distance. Rust twin: `pixel` (of the
 // core's trace/product/view.rs).
@@ -546,17 +895,29 @@ fn pixel(start: ProductRay) -> ProductPixel {
             length = exit.s;
         }
         let hit = nearest_entry(ray, length);
+        var nearest = hit.s;
 #ifdef PRODUCT_EDGES
-        let edge = edge_entry(ray, hit.s);
+        let edge = edge_entry(ray, nearest);
+        nearest = edge.s;
+#endif
+#ifdef PRODUCT_MESHES
+        let mesh = mesh_entry(ray, nearest);
+        if mesh.mesh != NO_FACE {
+            let seen = Seen(mesh.normal, meshes[mesh.mesh].color.rgb, meshes[mesh.mesh].id);
+            return shade(advance(ray, mesh.s), seen, travelled + mesh.s, crossings, seen_id(cell));
+        }
+#endif
+#ifdef PRODUCT_EDGES
         if edge.edge != NO_FACE {
             let at = advance(ray, edge.s);
-            let near = edge_point(edge.edge, at.origin);
-            return shade(at, Seen(near, params.edges.rgb, EDGE_ID), travelled + edge.s, crossings, seen_id(cell));
+            let seen = Seen(away(at, edge_point(edge.edge, at.origin)), params.edges.rgb, EDGE_ID);
+            return shade(at, seen, travelled + edge.s, crossings, seen_id(cell));
         }
 #endif
         if hit.ball != NO_FACE {
-            let seen = Seen(balls[hit.ball].center, balls[hit.ball].color.rgb, balls[hit.ball].id);
-            return shade(advance(ray, hit.s), seen, travelled + hit.s, crossings, seen_id(cell));
+            let at = advance(ray, hit.s);
+            let seen = Seen(away(at, balls[hit.ball].center), balls[hit.ball].color.rgb, balls[hit.ball].id);
+            return shade(at, seen, travelled + hit.s, crossings, seen_id(cell));
         }
         if !leaves || crossings >= params.max_crossings {
             break;
@@ -662,7 +1023,7 @@ fn arc_irradiance(l: u32, length: f32, surface: f32) -> f32 {
     return lights[l].color.w * window * window / area * exp(-params.fog * length);
 }
 
-// Whether a ball stands on the way from x (unit normal `normal`) along
+// Whether a ball, an edge's tube or a mesh stands on the way from x (unit normal `normal`) along
 // the unit tangent `dir` for `length`, walked through the faces from
 // SHADOW_OFFSET off the surface. Rust twin: `shadowed`.
 fn shadowed(x: vec4<f32>, normal: vec4<f32>, dir: vec4<f32>, length: f32) -> bool {
@@ -683,6 +1044,11 @@ fn shadowed(x: vec4<f32>, normal: vec4<f32>, dir: vec4<f32>, length: f32) -> boo
         }
 #ifdef PRODUCT_EDGES
         if edge_entry(ray, segment).edge != NO_FACE {
+            return true;
+        }
+#endif
+#ifdef PRODUCT_MESHES
+        if mesh_entry(ray, segment).mesh != NO_FACE {
             return true;
         }
 #endif
@@ -759,37 +1125,39 @@ fn direct(x: vec4<f32>, normal: vec4<f32>, view: vec4<f32>, albedo: vec3<f32>) -
 }
 #endif
 
-// What a ray met: a ball's centre (or an edge's point nearest the hit),
-// its colour and the id it reports.
+// What a ray met: the unit normal there (facing the ray), its colour and
+// the id it reports.
 struct Seen {
-    center: vec4<f32>,
+    normal: vec4<f32>,
     color: vec3<f32>,
     id: u32,
 }
 
-// The ball's (or edge tube's) colour, tinted by its cell's, lit by the
-// light images (from the eye where there are none: the cosine between
-// the way in, towards its centre or edge, and the ray), fogged. Rust
-// twin: `pixel`'s shading.
+// The unit normal at `at` of a ball about `center` (a tube about its
+// edge's point `center`): away from it, or back along the ray at it. Rust
+// twin: `hits_in`'s normal.
+fn away(at: ProductRay, center: vec4<f32>) -> vec4<f32> {
+    let inward = log_map(at.origin, center);
+    let d = sqrt(max(dot4(inward, inward), 0.0));
+    if d > 0.0 {
+        return -inward / d;
+    }
+    return -at.dir;
+}
+
+// The seen colour, tinted by its cell's, lit by the light images (from
+// the eye where there are none: the cosine between the normal and the
+// way back along the ray), fogged. Rust twin: `pixel`'s shading.
 fn shade(at: ProductRay, seen: Seen, distance: f32, crossings: u32, cell: vec2<u32>) -> ProductPixel {
     let p = at.origin;
-    let inward = log_map(p, seen.center);
-    let d = sqrt(max(dot4(inward, inward), 0.0));
     var base = seen.color;
     if params.tint_mode != 0u {
         base *= cell_tint(cell, params.tint_mode - 1u, params.tint_a, params.tint_b);
     }
 #ifdef PRODUCT_LIGHTS
-    var normal = -at.dir;
-    if d > 0.0 {
-        normal = -inward / d;
-    }
-    let rgb = base * AMBIENT + direct(p, normal, -at.dir, base);
+    let rgb = base * AMBIENT + direct(p, seen.normal, -at.dir, base);
 #else
-    var lamp = 1.0;
-    if d > 0.0 {
-        lamp = clamp(dot4(inward, at.dir) / d, 0.0, 1.0);
-    }
+    let lamp = clamp(-dot4(seen.normal, at.dir), 0.0, 1.0);
     let rgb = base * (0.25 + 0.75 * lamp);
 #endif
     let fog = exp(-params.fog * distance);

@@ -21,12 +21,15 @@
 //! ```
 
 use bevy_manifold_core::geometry::product::{ProductPoint, ProductTangent};
+use bevy_manifold_core::mesh::MeshData;
 use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::space::product_cells::{ProductCellTable, ProductCells, ProductElement};
 use bevy_manifold_core::trace::product::{
-    FOG_COLOR, ProductLight, ProductLighting, ProductScene, ProductTubes, ProductView, images, light_images, palette,
+    FOG_COLOR, ProductLight, ProductLighting, ProductMesh, ProductMeshImage, ProductScene, ProductTubes, ProductView,
+    images, light_images, mesh_images, palette,
 };
 use bytemuck::{Pod, Zeroable};
+use std::sync::Arc;
 
 /// WGSL twin: `ProductParams` in `shaders/product.wgsl`.
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
@@ -92,6 +95,14 @@ pub struct GpuProductParams {
     pub light_count: u32,
     /// 1 where the balls cast shadows.
     pub shadows: u32,
+    /// The meshes and their images ([`GpuProductMesh`]).
+    pub mesh_count: u32,
+    /// Padding.
+    pub pad_a: u32,
+    /// Padding.
+    pub pad_b: u32,
+    /// Padding.
+    pub pad_c: u32,
 }
 
 impl GpuProductParams {
@@ -113,7 +124,7 @@ impl GpuProductParams {
 /// where the scene has lights (else the balls are lit from the eye),
 /// `PRODUCT_EDGES` where it draws the prism's edges (their tubes are
 /// looked for on every segment and shadow ray: without them the shader
-/// carries none of that code).
+/// carries none of that code), `PRODUCT_MESHES` where it has meshes.
 ///
 /// ```
 /// use bevy_manifold_core::space::product::ProductSpace;
@@ -131,6 +142,8 @@ pub struct ProductShaderDefs {
     pub lights: bool,
     /// The scene draws the prism's edges.
     pub edges: bool,
+    /// The scene has meshes.
+    pub meshes: bool,
 }
 
 impl ProductShaderDefs {
@@ -141,6 +154,7 @@ impl ProductShaderDefs {
             cells: params.cell_count > 0,
             lights: params.light_count > 0,
             edges: params.edges[3] > 0.0,
+            meshes: params.mesh_count > 0,
         }
     }
 
@@ -151,6 +165,7 @@ impl ProductShaderDefs {
             (self.cells, "PRODUCT_CELLS"),
             (self.lights, "PRODUCT_LIGHTS"),
             (self.edges, "PRODUCT_EDGES"),
+            (self.meshes, "PRODUCT_MESHES"),
         ]
         .into_iter()
         .filter_map(|(on, name)| on.then_some(name))
@@ -159,18 +174,22 @@ impl ProductShaderDefs {
 
     /// Every specialisation.
     #[must_use]
-    pub fn all() -> [Self; 8] {
+    pub fn all() -> [Self; 16] {
         std::array::from_fn(|i| Self {
-            cells: i & 4 != 0,
-            lights: i & 2 != 0,
-            edges: i & 1 != 0,
+            cells: i & 8 != 0,
+            lights: i & 4 != 0,
+            edges: i & 2 != 0,
+            meshes: i & 1 != 0,
         })
     }
 
     /// Its place in [`ProductShaderDefs::all`].
     #[must_use]
     pub fn index(self) -> usize {
-        4 * usize::from(self.cells) + 2 * usize::from(self.lights) + usize::from(self.edges)
+        8 * usize::from(self.cells)
+            + 4 * usize::from(self.lights)
+            + 2 * usize::from(self.edges)
+            + usize::from(self.meshes)
     }
 }
 
@@ -218,6 +237,42 @@ pub struct GpuProductBall {
     pub reach_trig: f32,
     /// Padding.
     pub pad: u32,
+}
+
+/// WGSL twin: `ProductMesh` in `shaders/product.wgsl`. A mesh or one of
+/// its images through the faces, the twin of the core's
+/// [`ProductMeshImage`].
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+#[repr(C)]
+pub struct GpuProductMesh {
+    /// The surface part of the isometry taking the prism to the mesh's
+    /// chart, by columns (each padded to 4).
+    pub to_chart: [[f32; 4]; 3],
+    /// The surface part of its inverse (the placement), for the normals.
+    pub placement: [[f32; 4]; 3],
+    /// The chart's origin in the prism: surface point (xyz), height (w).
+    pub center: [f32; 4],
+    /// Its colour (linear rgb, 1).
+    pub color: [f32; 4],
+    /// The isometry's flip of the line (1 or -1).
+    pub to_flip: f32,
+    /// The isometry's shift of the line.
+    pub to_shift: f32,
+    /// How far across the surface the mesh reaches from its centre
+    /// ([`ProductMesh::extent`](bevy_manifold_core::trace::product::ProductMesh::extent)),
+    /// with the shader's slack.
+    pub across: f32,
+    /// `cosh` (H2) or `cos` (S2) of `across`.
+    pub across_trig: f32,
+    /// How far up and down it reaches, with the shader's slack.
+    pub tall: f32,
+    /// Its object id.
+    pub id: u32,
+    /// Its first node in the mesh data (in `vec4`s).
+    pub nodes: u32,
+    /// Its first triangle in the mesh data (in `vec4`s; its nodes end
+    /// there).
+    pub triangles: u32,
 }
 
 /// WGSL twin: `ProductLight` in `shaders/product.wgsl`. One image of a
@@ -268,6 +323,72 @@ pub struct GpuProductScene {
     pub balls: Vec<GpuProductBall>,
     /// The light images ([`GpuProductScene::pack_lights`]).
     pub lights: Vec<GpuProductLight>,
+    /// Each mesh, then its images that reach into the prism (the CPU
+    /// tracer's [`mesh_images`]).
+    pub meshes: Vec<GpuProductMesh>,
+    /// The meshes' BVHs and triangles, each mesh's once
+    /// ([`ProductMeshWords`]), shared while the meshes stay.
+    pub mesh_data: Arc<ProductMeshWords>,
+}
+
+/// The BVHs and triangles of a scene's meshes as `shaders/product.wgsl`
+/// reads them (binding 7), each mesh's once ([`pack_mesh_data`]), with
+/// the meshes they were made from: made again only when the meshes
+/// change, not as the eye or the meshes' placements move
+/// ([`ProductMeshWords::get`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ProductMeshWords {
+    /// The meshes, each once, in the order first met.
+    pub meshes: Vec<Arc<MeshData>>,
+    /// Where each one's nodes and triangles start.
+    pub starts: Vec<(u32, u32)>,
+    /// The words.
+    pub words: Vec<[u32; 4]>,
+}
+
+impl ProductMeshWords {
+    /// The words of `meshes`' meshes.
+    #[must_use]
+    pub fn of(meshes: &[ProductMesh]) -> Self {
+        let mut out = Self::default();
+        for mesh in meshes {
+            if !out.meshes.iter().any(|m| Arc::ptr_eq(m, &mesh.mesh)) {
+                let start = pack_mesh_data(&mesh.mesh, &mut out.words);
+                out.meshes.push(mesh.mesh.clone());
+                out.starts.push(start);
+            }
+        }
+        out
+    }
+
+    /// Where `mesh`'s nodes and triangles start, if it is here.
+    #[must_use]
+    pub fn start(&self, mesh: &Arc<MeshData>) -> Option<(u32, u32)> {
+        self.meshes
+            .iter()
+            .position(|m| Arc::ptr_eq(m, mesh))
+            .map(|i| self.starts[i])
+    }
+
+    /// `kept` where it was made from the same meshes as `meshes` (the same
+    /// shared data, in the same order), else the words made again.
+    #[must_use]
+    pub fn get(kept: Option<&Arc<Self>>, meshes: &[ProductMesh]) -> Arc<Self> {
+        let mut unique: Vec<&Arc<MeshData>> = Vec::new();
+        for mesh in meshes {
+            if !unique.iter().any(|m| Arc::ptr_eq(m, &mesh.mesh)) {
+                unique.push(&mesh.mesh);
+            }
+        }
+        match kept {
+            Some(k)
+                if k.meshes.len() == unique.len() && k.meshes.iter().zip(&unique).all(|(a, b)| Arc::ptr_eq(a, b)) =>
+            {
+                k.clone()
+            }
+            _ => Arc::new(Self::of(meshes)),
+        }
+    }
 }
 
 /// How much farther than its radius the shader looks for a ball (f32
@@ -309,6 +430,31 @@ impl GpuProductScene {
     #[must_use]
     pub fn pack(space: &ProductSpace, scene: &ProductScene, width: u32, height: u32) -> Self {
         Self::pack_lit(space, scene, Self::pack_lights(space, scene), (width, height))
+    }
+
+    /// [`GpuProductScene::pack_lit`] with the meshes' words already made
+    /// ([`ProductMeshWords::get`]): a moving eye, or moving meshes,
+    /// share them.
+    #[must_use]
+    pub fn pack_with(
+        space: &ProductSpace,
+        scene: &ProductScene,
+        (lights, words): (Vec<GpuProductLight>, Arc<ProductMeshWords>),
+        size: (u32, u32),
+    ) -> Self {
+        let mut packed = Self::pack_lit(
+            space,
+            &ProductScene {
+                meshes: Vec::new(),
+                ..scene.clone()
+            },
+            lights,
+            size,
+        );
+        packed.meshes = pack_meshes(space, &mesh_images(space, &scene.meshes), &words);
+        packed.params.mesh_count = packed.meshes.len() as u32;
+        packed.mesh_data = words;
+        packed
     }
 
     /// The images of `scene`'s lights as the GPU reads them (the core's
@@ -354,6 +500,8 @@ impl GpuProductScene {
                 }
             })
             .collect();
+        let mesh_data = Arc::new(ProductMeshWords::of(&scene.meshes));
+        let meshes = pack_meshes(space, &mesh_images(space, &scene.meshes), &mesh_data);
         let corners = space.vertices();
         let tubes = ProductTubes::of(space, scene.edges);
         let faces = (0..space.face_count())
@@ -413,12 +561,103 @@ impl GpuProductScene {
                 camera_flip: if camera.flips() { -1 } else { 1 },
                 light_count: lights.len() as u32,
                 shadows: u32::from(scene.lighting.shadows),
+                mesh_count: meshes.len() as u32,
+                pad_a: 0,
+                pad_b: 0,
+                pad_c: 0,
             },
             faces,
             balls,
             lights,
+            meshes,
+            mesh_data,
         }
     }
+}
+
+/// How much farther the shader looks for a mesh than it reaches (f32
+/// rounding). WGSL twin: `mesh_window`'s `across` and `tall` are packed
+/// with it.
+pub const MESH_SLACK: f64 = 1e-4;
+
+/// The mesh images as the GPU reads them, their meshes in `words`
+/// (an image whose mesh is not there is left out).
+#[must_use]
+pub fn pack_meshes(space: &ProductSpace, images: &[ProductMeshImage], words: &ProductMeshWords) -> Vec<GpuProductMesh> {
+    let g = space.geometry;
+    let col = |c: glam::DVec3| [c.x as f32, c.y as f32, c.z as f32, 0.0];
+    images
+        .iter()
+        .filter_map(|image| {
+            let (nodes, triangles) = words.start(&image.mesh)?;
+            let [r, gr, b] = palette(image.id);
+            let (across, tall) = (image.extent.0 + MESH_SLACK, image.extent.1 + MESH_SLACK);
+            Some(GpuProductMesh {
+                to_chart: [
+                    col(image.to_chart.surface.x_axis),
+                    col(image.to_chart.surface.y_axis),
+                    col(image.to_chart.surface.z_axis),
+                ],
+                placement: [
+                    col(image.placement.surface.x_axis),
+                    col(image.placement.surface.y_axis),
+                    col(image.placement.surface.z_axis),
+                ],
+                center: point(image.center),
+                color: [r, gr, b, 1.0],
+                to_flip: image.to_chart.flip as f32,
+                to_shift: image.to_chart.shift as f32,
+                across: across as f32,
+                across_trig: g.trig(across).0 as f32,
+                tall: tall as f32,
+                id: image.id,
+                nodes,
+                triangles,
+            })
+        })
+        .collect()
+}
+
+/// `mesh`'s BVH and triangles appended to `data` as
+/// `shaders/product.wgsl` reads them, in `vec4<u32>`s (floats by their
+/// bits): per node two (its box's min and its leaf's triangle count; its
+/// max and its leaf's first triangle or, for an inner node, the node past
+/// its subtree), then per triangle six (its corners, then their
+/// normals).
+/// Returns where its nodes and its triangles start.
+pub fn pack_mesh_data(mesh: &MeshData, data: &mut Vec<[u32; 4]>) -> (u32, u32) {
+    let nodes = data.len() as u32;
+    for (node, skip) in mesh.nodes.iter().zip(&mesh.skip) {
+        let link = if node.count > 0 { node.first } else { *skip };
+        let [x, y, z] = node.min.map(f32::to_bits);
+        data.push([x, y, z, node.count]);
+        let [x, y, z] = node.max.map(f32::to_bits);
+        data.push([x, y, z, link]);
+    }
+    let triangles = data.len() as u32;
+    let m = &mesh.mesh;
+    let smooth = m.normals.len() == m.positions.len();
+    for tri in &m.triangles {
+        let [a, b, c] = tri.map(|i| m.positions[i as usize]);
+        let face = {
+            let (e1, e2) = (
+                glam::Vec3::from(b) - glam::Vec3::from(a),
+                glam::Vec3::from(c) - glam::Vec3::from(a),
+            );
+            e1.cross(e2).to_array()
+        };
+        let word = |p: [f32; 3]| {
+            let [x, y, z] = p.map(f32::to_bits);
+            [x, y, z, 0]
+        };
+        for p in [a, b, c] {
+            data.push(word(p));
+        }
+        for i in tri {
+            data.push(word(if smooth { m.normals[*i as usize] } else { face }));
+        }
+    }
+    (nodes, triangles)
 }
 
 /// A scene's light images packed ([`GpuProductScene::pack_lights`]),

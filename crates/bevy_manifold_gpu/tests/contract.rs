@@ -17,7 +17,9 @@ use bevy_manifold_gpu::bindings::{BINDINGS, BindingKind};
 use bevy_manifold_gpu::layout::{
     GpuBall, GpuFace, GpuInstance, GpuLight, GpuParams, GpuPixel, GpuTube, NO_INSTANCE_TREES, NO_JOINT,
 };
-use bevy_manifold_gpu::product::{GpuProductBall, GpuProductFace, GpuProductLight, GpuProductParams, GpuProductPixel};
+use bevy_manifold_gpu::product::{
+    GpuProductBall, GpuProductFace, GpuProductLight, GpuProductMesh, GpuProductParams, GpuProductPixel,
+};
 use bevy_manifold_gpu::{
     FLAG_NO_CULL, FLAG_NO_EARLY_STOP, FLAG_NO_RENORMALIZE, GpuCellScheme, GpuTracer, RENDER_WGSL, SHADER_IMPORTS,
     TraceDefs, WgslModule, undecorated,
@@ -85,7 +87,10 @@ fn product_layouts() -> Vec<RustLayout> {
         rust_layout!(GpuProductParams => "ProductParams" {
             eye, forward, right, up, fog_color, frustum, edges, width, height, max_crossings, side_count, ball_count,
             curvature, half_height, max_distance, tan_half_fov, fog, origin_x, origin_y, tint_mode, tint_a,
-            tint_b, cell_count, camera_steps, camera_flip, light_count, shadows,
+            tint_b, cell_count, camera_steps, camera_flip, light_count, shadows, mesh_count, pad_a, pad_b, pad_c,
+        }),
+        rust_layout!(GpuProductMesh => "ProductMesh" {
+            to_chart, placement, center, color, to_flip, to_shift, across, across_trig, tall, id, nodes, triangles,
         }),
         rust_layout!(GpuProductLight => "ProductLight" { position, color, inv_range_sq, min_area, pad_a, pad_b }),
         rust_layout!(GpuProductFace => "ProductFace" { normal, corner, surface, flip, shift, partner, cross_steps }),
@@ -160,7 +165,7 @@ fn every_product_struct_has_its_wgsl_twins_size_and_offsets() {
     let mismatches = layout_mismatches_of(&module, product_layouts());
     assert!(mismatches.is_empty(), "{mismatches:#?}");
     // The product tracer's bindings: params, faces, balls, pixels, cells,
-    // lights.
+    // lights, meshes and their data.
     let bound: Vec<(u32, String)> = module
         .global_variables
         .iter()
@@ -174,7 +179,9 @@ fn every_product_struct_has_its_wgsl_twins_size_and_offsets() {
             (2, "balls"),
             (3, "pixels"),
             (4, "cells"),
-            (5, "lights")
+            (5, "lights"),
+            (6, "meshes"),
+            (7, "mesh_data")
         ]
         .map(|(b, n)| (b, n.to_owned()))
     );

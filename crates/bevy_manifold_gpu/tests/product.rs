@@ -288,6 +288,40 @@ fn the_prisms_edges_agree() {
     assert!(e.contains("edges"), "{e}");
 }
 
+/// Meshes (the airplane and a box of `ProductScene::furnished_for`),
+/// unlit and lit (they shadow the balls and each other), by cell, in
+/// every product space: the GPU's `mesh_entry` against the core's
+/// `ProductMeshImage::entry`; the meshes are seen in many pixels.
+fn the_meshes_agree() {
+    let mut gpu = tracer();
+    let (w, h) = (96, 54);
+    for space in spaces() {
+        for lit in [false, true] {
+            let mut scene = ProductScene::furnished_for(&space);
+            if lit {
+                let lights = ProductScene::lit_for(&space);
+                scene.lights = lights.lights;
+                scene.lighting = lights.lighting;
+            }
+            scene.view.tint = Some(CellTint::ByCell);
+            let cpu = render(&space, &scene, w, h);
+            let ours = gpu.render_product(&space, &scene, w, h).expect("GPU trace");
+            let what = format!("{} with meshes{}", space.name, if lit { ", lit" } else { "" });
+            check(&what, &agreement(&ours, &cpu, space.geometry.curvature()));
+            let seen = cpu.iter().filter(|p| p.object == 4 || p.object == 5).count();
+            eprintln!("  {seen} pixels of meshes");
+            assert!(seen > 150, "{what}: {seen} pixels of meshes");
+        }
+    }
+    // A mesh outside H2xR's chart is refused, by its number.
+    let space = ProductSpace::genus_two_x_s1(2.0);
+    let mut scene = ProductScene::furnished_for(&space);
+    scene.meshes[1].mesh =
+        bevy_manifold_core::mesh::MeshData::shared(bevy_manifold_core::mesh::shapes::cuboid([0.8, 0.8, 0.1]));
+    let e = gpu.render_product(&space, &scene, 8, 8).unwrap_err().to_string();
+    assert!(e.contains("mesh 1") && e.contains("Klein disc"), "{e}");
+}
+
 /// Bad input is refused with a message, not traced.
 fn bad_product_input_is_refused() {
     let mut gpu = tracer();
@@ -314,6 +348,7 @@ bevy_manifold_test_support::test_main! {
         eight_levels_and_a_steep_view_agree_too,
         lit_scenes_agree,
         the_prisms_edges_agree,
+        the_meshes_agree,
         bad_product_input_is_refused,
     ],
 }

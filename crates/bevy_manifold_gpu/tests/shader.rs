@@ -84,6 +84,11 @@ fn the_product_tracer_composes_and_validates() {
             (defs.cells, defs.cells),
             "{defs:?}"
         );
+        assert_eq!(
+            (has("edge_entry"), has("mesh_entry")),
+            (defs.edges, defs.meshes),
+            "{defs:?}"
+        );
     }
 }
 

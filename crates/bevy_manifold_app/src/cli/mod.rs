@@ -77,7 +77,7 @@ enum Command {
     /// Render a view of a space to PNG.
     Render(RenderArgs),
     /// Render a view of a space of the product geometries (H2xR, S2xR)
-    /// to PNG, on the CPU (the GPU pass does not take them yet).
+    /// to PNG, on the CPU (or the GPU with `--gpu`).
     Product(product::ProductArgs),
     /// Tours: check a tour file, render it to frames and video.
     #[command(subcommand)]

@@ -65,6 +65,10 @@ pub struct ProductArgs {
     /// radius (`ProductScene::edges`).
     #[arg(long, value_name = "RADIUS", value_parser = radius)]
     edges: Option<f64>,
+    /// Add two meshes, traced in the product metric: the airplane and a
+    /// box (`ProductScene::furnished_for`).
+    #[arg(long)]
+    meshes: bool,
 }
 
 /// The space named, or read from its file.
@@ -125,6 +129,9 @@ pub fn run(args: &ProductArgs) -> Result<(), String> {
     } else {
         ProductScene::default_for(&space)
     };
+    if args.meshes {
+        scene.meshes = ProductScene::furnished_for(&space).meshes;
+    }
     if args.cells {
         scene.view.tint = Some(bevy_manifold::space::cells::CellTint::ByCell);
     }

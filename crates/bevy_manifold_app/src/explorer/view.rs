@@ -18,7 +18,9 @@ use bevy_manifold::camera::{FlyCamera, Vehicle};
 use bevy_manifold::drawables::paper::{paper_camera, spawn_paper_scene};
 use bevy_manifold::geometry::product::ProductTangent;
 use bevy_manifold::placement::{DomainCell, FaceCrossed, ManifoldSpace, Placement};
-use bevy_manifold::product::{ProductBody, ProductCamera, ProductPointLight, ProductSpaceRoot, ProductVelocity};
+use bevy_manifold::product::{
+    ProductBody, ProductCamera, ProductMeshBody, ProductPointLight, ProductSpaceRoot, ProductVelocity,
+};
 use bevy_manifold::space::product::ProductSpace;
 use bevy_manifold::space::{Space, catalog};
 use bevy_manifold::tour::FaceWord;
@@ -67,6 +69,7 @@ pub fn product_space(name: &str) -> Option<ProductSpace> {
 
 /// Spawns the product space `space` with the balls of its lit scene
 /// ([`ProductScene::lit_for`], one of them drifting through the faces),
+/// the airplane and the box of [`ProductScene::furnished_for`],
 /// its two lights when the settings light it, and the explorer's camera
 /// (a `ProductCamera` flown by the fly camera) at `keep` when given, else
 /// where the scene's view starts.
@@ -104,9 +107,17 @@ fn spawn_product_world(
             commands.spawn((Name::new("light"), ChildOf(root), ProductPointLight(*light)));
         }
     }
+    for mesh in ProductScene::furnished_for(space).meshes {
+        commands.spawn((
+            Name::new(format!("mesh {}", mesh.id)),
+            ChildOf(root),
+            ProductMeshBody(mesh),
+        ));
+    }
     let mut camera = ProductCamera {
         space: space.clone(),
         balls: scene.balls,
+        meshes: Vec::new(),
         lights: scene.lights,
         lighting: scene.lighting,
         edges: product_edges(settings),

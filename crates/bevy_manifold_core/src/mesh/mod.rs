@@ -24,6 +24,7 @@
 pub mod bvh;
 #[cfg(feature = "gltf")]
 pub mod gltf;
+pub mod shapes;
 pub mod vehicle;
 
 pub use bvh::{BvhNode, MeshHit};

@@ -338,6 +338,7 @@ impl ProductTour {
     pub fn scene_at(&self, t: f64) -> ProductScene {
         ProductScene {
             balls: self.balls.clone(),
+            meshes: Vec::new(),
             lights: self.lights.clone(),
             lighting: self.lighting,
             edges: None,

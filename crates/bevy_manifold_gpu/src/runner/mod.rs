@@ -35,7 +35,7 @@ pub struct GpuTracer {
     kept: Option<PackedSpace>,
     /// The product spaces' pipelines, one per specialisation
     /// (`ProductShaderDefs::index`), each built on first use.
-    product: [Option<product::ProductPipeline>; 8],
+    product: [Option<product::ProductPipeline>; 16],
     /// The last product space traced, with its exact cells and their
     /// table (none where it has no exact cells): grown once per space.
     product_cells: Option<product::ProductCellsKept>,

@@ -146,6 +146,8 @@ impl GpuTracer {
                     entry(3, wgpu::BufferBindingType::Storage { read_only: false }),
                     entry(4, read),
                     entry(5, read),
+                    entry(6, read),
+                    entry(7, read),
                 ],
             });
             let pipeline_layout = self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -232,6 +234,10 @@ impl GpuTracer {
                 "an image of {width}x{height} pixels is empty"
             )));
         }
+        for (k, mesh) in scene.meshes.iter().enumerate() {
+            mesh.check(space.geometry)
+                .map_err(|e| GpuError::Settings(format!("the product scene's mesh {k} (id {}): {e}", mesh.id)))?;
+        }
         let lights = self.product_lights.get(space, scene);
         let mut gpu = GpuProductScene::pack_lit(space, scene, lights, (width, height));
         let cells = if table {
@@ -241,6 +247,14 @@ impl GpuTracer {
         };
         gpu.params.cell_count = cells.count;
         let defs = ProductShaderDefs::of(&gpu.params);
+        let data_bytes = (gpu.mesh_data.words.len() * 16) as u64;
+        if data_bytes > self.device.limits().max_storage_buffer_binding_size || gpu.meshes.len() > MAX_PRODUCT_BALLS {
+            return Err(GpuError::Settings(format!(
+                "the scene's meshes make {} images and {data_bytes} bytes of triangles, more than the product tracer takes ({MAX_PRODUCT_BALLS} images, {} bytes)",
+                gpu.meshes.len(),
+                self.device.limits().max_storage_buffer_binding_size
+            )));
+        }
         if gpu.balls.len() > MAX_PRODUCT_BALLS {
             return Err(GpuError::Settings(format!(
                 "the scene makes {} balls with their images, more than the {MAX_PRODUCT_BALLS} the product tracer takes",
@@ -273,6 +287,8 @@ impl GpuTracer {
         let balls = storage("product balls", &storage_bytes(&gpu.balls));
         let table = storage("product cells", &storage_bytes(&cells.words));
         let lights = storage("product lights", &storage_bytes(&gpu.lights));
+        let meshes = storage("product meshes", &storage_bytes(&gpu.meshes));
+        let mesh_data = storage("product mesh data", &storage_bytes(&gpu.mesh_data.words));
         let pixels = d.create_buffer(&wgpu::BufferDescriptor {
             label: Some("product pixels"),
             size: bytes as u64,
@@ -306,6 +322,14 @@ impl GpuTracer {
                 wgpu::BindGroupEntry {
                     binding: 5,
                     resource: lights.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: meshes.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 7,
+                    resource: mesh_data.as_entire_binding(),
                 },
             ],
         });

@@ -32,7 +32,7 @@
 //! assert_eq!(heights, [-4.0, -2.0, 0.0, 2.0, 4.0]);
 //! ```
 
-use super::{ProductBall, ProductRay, ProductTubes, advance, entries, reach, walk_segments};
+use super::{ProductObjects, ProductRay, advance, entries, reach, walk_segments};
 use crate::geometry::product::{ProductGeometry, ProductIsometry, ProductPoint, ProductTangent};
 use crate::space::product::ProductSpace;
 use glam::DVec3;
@@ -419,9 +419,8 @@ pub fn arc_irradiance(g: ProductGeometry, l: &ProductLightImage, (length, surfac
     l.intensity * window * window / area * (-fog * length).exp()
 }
 
-/// Whether a ball (of `balls`, the balls and their images as
-/// [`super::images`] gives them) or an edge's tube (of `tubes`) stands on
-/// the way from `x` (a surface point with unit normal `normal`) along
+/// Whether one of `objects` (a ball, an edge's tube or a mesh, or an
+/// image of one) stands on the way from `x` (a surface point with unit normal `normal`) along
 /// `arc` to its light: the way
 /// walked through the faces (at most `max_crossings`), from
 /// [`SHADOW_OFFSET`] off the surface. WGSL twin: `shadowed` in
@@ -429,7 +428,7 @@ pub fn arc_irradiance(g: ProductGeometry, l: &ProductLightImage, (length, surfac
 #[must_use]
 pub fn shadowed(
     space: &ProductSpace,
-    (balls, tubes): (&[ProductBall], &ProductTubes),
+    objects: &ProductObjects,
     (x, normal): (ProductPoint, ProductTangent),
     arc: &LightArc,
     max_crossings: usize,
@@ -442,7 +441,7 @@ pub fn shadowed(
     };
     let mut blocked = false;
     walk_segments(space, ray, arc.length, max_crossings, |walk, _, length| {
-        for ball in balls {
+        for ball in &objects.balls {
             if let Some(span) = reach(g, &walk.ray, ball.center, ball.radius + super::REACH_SLACK, length) {
                 entries(g, &walk.ray, ball, span, |_| blocked = true);
                 if blocked {
@@ -450,7 +449,8 @@ pub fn shadowed(
                 }
             }
         }
-        blocked = tubes.entry(g, &walk.ray, length).is_some();
+        blocked = objects.tubes.entry(g, &walk.ray, length).is_some()
+            || objects.meshes.iter().any(|m| m.entry(g, &walk.ray, length).is_some());
         !blocked
     });
     blocked
@@ -466,7 +466,7 @@ pub fn shadowed(
 #[expect(clippy::too_many_arguments, reason = "the shading inputs are all distinct")]
 pub fn direct(
     space: &ProductSpace,
-    (balls, tubes): (&[ProductBall], &ProductTubes),
+    objects: &ProductObjects,
     lights: &[ProductLightImage],
     (x, normal, view): (ProductPoint, ProductTangent, ProductTangent),
     albedo: [f32; 3],
@@ -502,7 +502,7 @@ pub fn direct(
                 if most < dim {
                     dim -= most;
                     share = 0.5;
-                } else if shadowed(space, (balls, tubes), (x, normal), &arc, max_crossings) {
+                } else if shadowed(space, objects, (x, normal), &arc, max_crossings) {
                     continue;
                 }
             }

@@ -30,9 +30,11 @@ use glam::DVec3;
 
 mod edges;
 mod light;
+pub mod mesh;
 mod view;
 
 pub use edges::{EDGE_ID, ProductEdge, ProductEdges, ProductTubes};
+pub use mesh::{ProductMesh, ProductMeshError, ProductMeshImage, mesh_images};
 
 pub use light::{
     DIM_LIGHT, LightArc, MAX_PRODUCT_LIGHT_IMAGES, ProductLight, ProductLightImage, ProductLighting, SHADOW_OFFSET,
@@ -71,9 +73,12 @@ pub struct ProductHit {
     pub point: ProductPoint,
     /// The ray's unit tangent there.
     pub dir: ProductTangent,
+    /// The surface's unit normal there, facing the ray.
+    pub normal: ProductTangent,
     /// The centre of the ball's image it entered, in the prism's frame
     /// (the ball's own, or its image through a face's gluing); for an
-    /// edge's tube ([`EDGE_ID`]), the edge's point nearest the hit.
+    /// edge's tube ([`EDGE_ID`]), the edge's point nearest the hit; for a
+    /// mesh, its chart's origin.
     pub center: ProductPoint,
     /// The faces crossed before it, in order (the word of the copy of
     /// the prism it is in).
@@ -220,13 +225,48 @@ pub fn hits(
     max_distance: f64,
     max_crossings: usize,
 ) -> Vec<ProductHit> {
-    hits_among(
-        space,
-        (&images(space, balls), &ProductTubes::default()),
-        ray,
-        max_distance,
-        max_crossings,
-    )
+    let objects = ProductObjects {
+        balls: images(space, balls),
+        ..ProductObjects::default()
+    };
+    hits_in(space, &objects, ray, max_distance, max_crossings)
+}
+
+/// What rays meet in a product space, made once for a scene: the balls
+/// and their [`images`], the prism's edges' tubes, and the meshes and
+/// their [`mesh_images`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ProductObjects {
+    /// The balls and their images.
+    pub balls: Vec<ProductBall>,
+    /// The edges' tubes (none for none).
+    pub tubes: ProductTubes,
+    /// The meshes and their images.
+    pub meshes: Vec<ProductMeshImage>,
+}
+
+impl ProductObjects {
+    /// `balls`, the `edges`' tubes and `meshes` in `space`, with their
+    /// images.
+    #[must_use]
+    pub fn new(
+        space: &ProductSpace,
+        balls: &[ProductBall],
+        edges: Option<ProductEdges>,
+        meshes: &[ProductMesh],
+    ) -> Self {
+        Self {
+            balls: images(space, balls),
+            tubes: ProductTubes::of(space, edges),
+            meshes: mesh_images(space, meshes),
+        }
+    }
+
+    /// What `scene` shows in `space`.
+    #[must_use]
+    pub fn of(space: &ProductSpace, scene: &ProductScene) -> Self {
+        Self::new(space, &scene.balls, scene.edges, &scene.meshes)
+    }
 }
 
 /// Most images of one ball [`images`] keeps.
@@ -243,32 +283,49 @@ pub const MAX_IMAGES_PER_BALL: usize = 64;
 #[must_use]
 pub fn images(space: &ProductSpace, balls: &[ProductBall]) -> Vec<ProductBall> {
     let g = space.geometry;
-    let mut out = Vec::new();
-    for ball in balls {
-        let first = out.len();
-        out.push(*ball);
-        let mut next = first;
-        while next < out.len() && out.len() - first < MAX_IMAGES_PER_BALL {
-            let from = out[next].center;
-            next += 1;
-            for gluing in &space.gluings {
-                let center = g.normalize_point(gluing.isometry().apply(from));
-                let known = out[first..].iter().any(|b| g.distance(b.center, center) < 1e-9);
-                if !known && space.may_meet(center, ball.radius) && out.len() - first < MAX_IMAGES_PER_BALL {
-                    out.push(ProductBall { center, ..*ball });
-                }
+    balls
+        .iter()
+        .flat_map(|ball| {
+            image_isometries(space, ball.center, ball.radius)
+                .into_iter()
+                .map(|m| ProductBall {
+                    center: g.normalize_point(m.apply(ball.center)),
+                    ..*ball
+                })
+        })
+        .collect()
+}
+
+/// The isometries taking a ball about `center` of `radius` onto its
+/// images that may reach into the prism, the identity first: [`images`]'
+/// walk over the gluings, for anything bounded by such a ball (a mesh,
+/// [`mesh::ProductMeshImage`]).
+pub(crate) fn image_isometries(space: &ProductSpace, center: ProductPoint, radius: f64) -> Vec<ProductIsometry> {
+    let g = space.geometry;
+    let mut out = vec![(ProductIsometry::IDENTITY, center)];
+    let mut next = 0;
+    while next < out.len() && out.len() < MAX_IMAGES_PER_BALL {
+        let (from, _) = out[next];
+        next += 1;
+        for gluing in &space.gluings {
+            let m = gluing.isometry().compose(&from);
+            let image = g.normalize_point(m.apply(center));
+            let known = out.iter().any(|(_, c)| g.distance(*c, image) < 1e-9);
+            if !known && space.may_meet(image, radius) && out.len() < MAX_IMAGES_PER_BALL {
+                out.push((m, image));
             }
         }
     }
-    out
+    out.into_iter().map(|(m, _)| m).collect()
 }
 
-/// [`hits`] among balls and their [`images`], made once, and the
-/// prism's edges' tubes (each segment's first entry into one; reported
-/// as [`EDGE_ID`], its `center` the edge's nearest point).
-pub(crate) fn hits_among(
+/// [`hits`] among `objects`: the balls' entries, each segment's first
+/// entry into an edge's tube (reported as [`EDGE_ID`], its `center` the
+/// edge's nearest point) and into each mesh.
+#[must_use]
+pub fn hits_in(
     space: &ProductSpace,
-    (images, tubes): (&[ProductBall], &ProductTubes),
+    objects: &ProductObjects,
     ray: ProductRay,
     max_distance: f64,
     max_crossings: usize,
@@ -276,23 +333,37 @@ pub(crate) fn hits_among(
     let g = space.geometry;
     let mut found = Vec::new();
     walk_segments(space, ray, max_distance, max_crossings, |walk, travelled, length| {
-        let mut segment: Vec<(f64, u32, ProductPoint)> = Vec::new();
-        for ball in images {
+        let mut segment: Vec<(f64, u32, ProductPoint, Option<ProductTangent>)> = Vec::new();
+        for ball in &objects.balls {
             if let Some(span) = reach(g, &walk.ray, ball.center, ball.radius + REACH_SLACK, length) {
-                entries(g, &walk.ray, ball, span, |s| segment.push((s, ball.id, ball.center)));
+                entries(g, &walk.ray, ball, span, |s| {
+                    segment.push((s, ball.id, ball.center, None))
+                });
             }
         }
-        if let Some((s, near)) = tubes.entry(g, &walk.ray, length) {
-            segment.push((s, EDGE_ID, near));
+        if let Some((s, near)) = objects.tubes.entry(g, &walk.ray, length) {
+            segment.push((s, EDGE_ID, near, None));
+        }
+        for mesh in &objects.meshes {
+            if let Some(e) = mesh.entry(g, &walk.ray, length) {
+                segment.push((e.s, mesh.id, mesh.center, Some(e.normal)));
+            }
         }
         segment.sort_by(|a, b| a.0.total_cmp(&b.0));
-        for (s, object, center) in segment {
+        for (s, object, center, normal) in segment {
             let at = advance(g, &walk.ray, s);
+            let back = ProductTangent::new(-at.dir.surface, -at.dir.height);
+            // A ball's or a tube's normal points away from its centre.
+            let normal = normal.unwrap_or_else(|| {
+                g.log(at.origin, center)
+                    .map_or(back, |(v, _)| ProductTangent::new(-v.surface, -v.height))
+            });
             found.push(ProductHit {
                 object,
                 distance: travelled + s,
                 point: at.origin,
                 dir: at.dir,
+                normal,
                 center,
                 faces: walk.faces.clone(),
             });

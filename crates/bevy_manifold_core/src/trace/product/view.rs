@@ -4,10 +4,12 @@
 //! distance. The WGSL twin is `product.wgsl`'s `pixel` (in the
 //! `bevy_manifold_gpu` crate), which reads the same [`ProductScene`].
 
-use super::edges::{EDGE_ID, ProductEdges, ProductTubes};
+use super::edges::{EDGE_ID, ProductEdges};
 use super::light::{ProductLight, ProductLightImage, ProductLighting, direct, light_images};
-use super::{ProductBall, ProductRay, hits_among, images, walk_segments};
-use crate::geometry::product::{ProductGeometry, ProductPoint, ProductTangent};
+use super::mesh::{ProductMesh, z_up};
+use super::{ProductBall, ProductObjects, ProductRay, hits_in, walk_segments};
+use crate::geometry::product::{ProductGeometry, ProductIsometry, ProductPoint, ProductTangent};
+use crate::mesh::{MeshData, shapes, vehicle};
 use crate::space::cell_id::CellId;
 use crate::space::cells::CellTint;
 use crate::space::product::ProductSpace;
@@ -17,12 +19,14 @@ use glam::{DQuat, DVec3};
 #[cfg(feature = "parallel")]
 use rayon::prelude::*;
 
-/// What a product space shows: balls and lights in the prism, and a
-/// view.
+/// What a product space shows: balls, meshes and lights in the prism,
+/// and a view.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProductScene {
     /// The balls, in the prism.
     pub balls: Vec<ProductBall>,
+    /// The meshes, placed in the prism ([`super::mesh`]).
+    pub meshes: Vec<ProductMesh>,
     /// The lights, in the prism; none: the balls are lit from the eye.
     pub lights: Vec<ProductLight>,
     /// How the lights light the scene (their images, shadows).
@@ -39,6 +43,7 @@ impl ProductScene {
     pub fn new(balls: Vec<ProductBall>, view: ProductView) -> Self {
         Self {
             balls,
+            meshes: Vec::new(),
             lights: Vec::new(),
             lighting: ProductLighting::default(),
             edges: None,
@@ -64,6 +69,35 @@ impl ProductScene {
             ProductLight {
                 color: [0.6, 0.75, 1.0],
                 ..ProductLight::point(at(2.75, 0.4, -0.3 * l), 4.0)
+            },
+        ];
+        scene
+    }
+
+    /// [`ProductScene::default_for`] with two meshes ([`super::mesh`]):
+    /// the airplane ([`crate::mesh::vehicle`], 0.45 long) flying across
+    /// the prism above the eye, and a box standing ahead to the right
+    /// (`bevy_manifold product --meshes`).
+    #[must_use]
+    pub fn furnished_for(space: &ProductSpace) -> Self {
+        let g = space.geometry;
+        let l = space.height;
+        let mut scene = Self::default_for(space);
+        let place = |angle: f64, d: f64, turn: f64, h: f64| {
+            ProductIsometry::new(g.translation(angle, d) * g.rotation(turn), 1.0, h)
+        };
+        let airplane = MeshData::shared(z_up(&vehicle::airplane().mesh, 0.45));
+        let block = MeshData::shared(shapes::cuboid([0.12, 0.12, 0.18]));
+        scene.meshes = vec![
+            ProductMesh {
+                mesh: airplane,
+                placement: place(1.6, 0.4, 2.4, 0.32 * l),
+                id: 5,
+            },
+            ProductMesh {
+                mesh: block,
+                placement: place(-1.3, 0.6, 0.4, 0.05 * l),
+                id: 4,
             },
         ];
         scene
@@ -373,8 +407,7 @@ pub struct ProductPixel {
 pub fn render(space: &ProductSpace, scene: &ProductScene, width: u32, height: u32) -> Vec<ProductPixel> {
     let (w, h) = (width as usize, height as usize);
     let lit = Lit {
-        balls: images(space, &scene.balls),
-        tubes: ProductTubes::of(space, scene.edges),
+        objects: ProductObjects::of(space, scene),
         edge_color: scene.edges.map_or([0.0; 3], |e| e.color),
         lights: light_images(space, &scene.lights, scene.lighting),
         shadows: scene.lighting.shadows,
@@ -390,12 +423,10 @@ pub fn render(space: &ProductSpace, scene: &ProductScene, width: u32, height: u3
         .collect()
 }
 
-/// What a [`render`] lights: the balls and their images, the edges'
-/// tubes and their colour, the light images, and whether the balls and
-/// tubes shadow.
+/// What a [`render`] lights: the objects, the edges' colour, the light
+/// images, and whether the objects shadow.
 struct Lit {
-    balls: Vec<ProductBall>,
-    tubes: ProductTubes,
+    objects: ProductObjects,
     edge_color: [f32; 3],
     lights: Vec<ProductLightImage>,
     shadows: bool,
@@ -418,9 +449,9 @@ fn pixel(
         forward.height + right.height * x + up.height * y,
     )
     .unit(g);
-    let seen = hits_among(
+    let seen = hits_in(
         space,
-        (&lit.balls, &lit.tubes),
+        &lit.objects,
         ProductRay { origin: view.eye, dir },
         view.max_distance,
         view.max_crossings,
@@ -434,9 +465,6 @@ fn pixel(
             color: FOG_COLOR,
         };
     };
-    // The way into the ball, towards its centre (into the tube, towards
-    // its edge): minus the normal.
-    let inward = g.log(hit.point, hit.center).map(|(v, _)| v);
     let cell = match (cells, view.cell) {
         (Some(cells), Some(eye)) => cells
             .element(&hit.faces)
@@ -454,17 +482,15 @@ fn pixel(
     let rgb: [f32; 3] = if lit.lights.is_empty() {
         // Lit from the eye: the cosine between the normal and the way
         // back along the ray.
-        let lamp = inward.map_or(1.0, |v| g.dot(v, hit.dir).clamp(0.0, 1.0));
+        let lamp = -g.dot(hit.normal, hit.dir).clamp(-1.0, 0.0);
         let shade = 0.25 + 0.75 * lamp as f32;
         base.map(|b| b * shade)
     } else {
-        let normal = inward.map_or(ProductTangent::new(-hit.dir.surface, -hit.dir.height), |v| {
-            ProductTangent::new(-v.surface, -v.height)
-        });
+        let normal = hit.normal;
         let back = ProductTangent::new(-hit.dir.surface, -hit.dir.height);
         let light = direct(
             space,
-            (&lit.balls, &lit.tubes),
+            &lit.objects,
             &lit.lights,
             (hit.point, normal, back),
             base,
