@@ -973,10 +973,18 @@ fn product_casts_meet_meshes() {
     let wall = (0.5f64.atanh() - 0.125f64.atanh()) / a.cos();
     assert_eq!(all.len(), 1, "{all:?}");
     assert_eq!(all[0].entity, mesh);
-    assert!((all[0].distance - wall).abs() < 1e-9, "{} against {wall}", all[0].distance);
+    assert!(
+        (all[0].distance - wall).abs() < 1e-9,
+        "{} against {wall}",
+        all[0].distance
+    );
     assert!(without.is_empty(), "{without:?}");
     // Raised into the ray's way, the ball is met first.
-    app.world_mut().get_mut::<ProductBody>(ball).expect("the ball").center.height = 0.1 * a.tan();
+    app.world_mut()
+        .get_mut::<ProductBody>(ball)
+        .expect("the ball")
+        .center
+        .height = 0.1 * a.tan();
     let first = app
         .world_mut()
         .run_system_once(move |cast: ProductRayCast| {

@@ -602,10 +602,21 @@ fn chart_ray(ray: ProductRay) -> ChartRay {
     return ChartRay(p, u, speed, k0, u.xy - k0 * u.z, ray.origin.w, ray.dir.w);
 }
 
+// tanh (H2) or tan (S2) of the surface arc length at s: lambda is
+// tau / (P_w + U_w tau), one transcendental where S / X_w takes four
+// (tan's pole is no trouble: lambda is 1 / U_w there, and f32 never
+// lands on it). Rust twin: `ChartRay::tau`.
+fn chart_tau(c: ChartRay, s: f32) -> f32 {
+    if params.curvature < 0.0 {
+        return tanh(c.speed * s);
+    }
+    return tan(c.speed * s);
+}
+
 // Rust twin: `ChartRay::lambda`.
 fn chart_lambda(c: ChartRay, s: f32) -> f32 {
-    let cs = trig(c.speed * s);
-    return cs.y / (c.p.z * cs.x + c.u.z * cs.y);
+    let tau = chart_tau(c, s);
+    return tau / (c.p.z + c.u.z * tau);
 }
 
 // Rust twin: `ChartRay::at`.
@@ -613,11 +624,12 @@ fn chart_at(c: ChartRay, s: f32) -> vec3<f32> {
     return vec3<f32>(c.k0 + c.d * chart_lambda(c, s), c.h0 + c.v * s);
 }
 
-// The derivative along the ray of n . q(s). Rust twin: `ChartRay::slope`.
+// The derivative along the ray of n . q(s): lambda' = speed P_w (1 + k
+// tau^2) / (P_w + U_w tau)^2. Rust twin: `ChartRay::slope`.
 fn chart_slope(c: ChartRay, s: f32, n: vec3<f32>) -> f32 {
-    let cs = trig(c.speed * s);
-    let w = c.p.z * cs.x + c.u.z * cs.y;
-    return dot(n.xy, c.d) * c.speed * c.p.z / (w * w) + n.z * c.v;
+    let tau = chart_tau(c, s);
+    let w = c.p.z + c.u.z * tau;
+    return dot(n.xy, c.d) * c.speed * c.p.z * (1.0 + params.curvature * tau * tau) / (w * w) + n.z * c.v;
 }
 
 // The arc length at which lambda is reached. Rust twin: `ChartRay::s_of`.
@@ -854,24 +866,40 @@ fn mesh_window(ray: ProductRay, m: u32, after: f32, length: f32) -> vec2<f32> {
 // `hits_in` sorts them).
 fn mesh_entry(ray: ProductRay, length: f32) -> MeshEntry {
     var best = MeshEntry(NO_FACE, length, vec4<f32>(0.0));
-    for (var m = 0u; m < params.mesh_count; m++) {
-        var after = 0.0;
-        for (var turn = 0u; turn < 8u; turn++) {
-            let span = mesh_window(ray, m, after, best.s);
-            if span.x > span.y {
-                break;
+    for (var first = 0u; first < params.mesh_count; first += 32u) {
+        // The images of this run of 32 whose reach the segment enters, as
+        // bits: only those are walked. (lavapipe runs a loop's body for
+        // all its lanes while any lane is in it, each lane masked: a walk
+        // per image would cost every pixel the walk's code per image.)
+        var near = 0u;
+        let last = min(first + 32u, params.mesh_count);
+        for (var m = first; m < last; m++) {
+            let span = mesh_window(ray, m, 0.0, best.s);
+            if span.x <= span.y {
+                near |= 1u << (m - first);
             }
-            let start = advance(ray, span.x);
-            let mesh = meshes[m];
-            let origin = normalize_point(vec4<f32>(mesh.to_chart * start.origin.xyz, mesh.to_flip * start.origin.w + mesh.to_shift));
-            let local = ProductRay(origin, vec4<f32>(mesh.to_chart * start.dir.xyz, mesh.to_flip * start.dir.w));
-            let hit = first_triangle(m, local, span.y - span.x);
-            if hit.mesh != NO_FACE {
-                let normal = vec4<f32>(mesh.placement * hit.normal.xyz, mesh.to_flip * hit.normal.w);
-                best = MeshEntry(m, span.x + hit.s, normal);
-                break;
+        }
+        while near != 0u {
+            let m = first + firstTrailingBit(near);
+            near &= near - 1u;
+            var after = 0.0;
+            for (var turn = 0u; turn < 8u; turn++) {
+                let span = mesh_window(ray, m, after, best.s);
+                if span.x > span.y {
+                    break;
+                }
+                let start = advance(ray, span.x);
+                let mesh = meshes[m];
+                let origin = normalize_point(vec4<f32>(mesh.to_chart * start.origin.xyz, mesh.to_flip * start.origin.w + mesh.to_shift));
+                let local = ProductRay(origin, vec4<f32>(mesh.to_chart * start.dir.xyz, mesh.to_flip * start.dir.w));
+                let hit = first_triangle(m, local, span.y - span.x);
+                if hit.mesh != NO_FACE {
+                    let normal = vec4<f32>(mesh.placement * hit.normal.xyz, mesh.to_flip * hit.normal.w);
+                    best = MeshEntry(m, span.x + hit.s, normal);
+                    break;
+                }
+                after = span.y + 1e-6;
             }
-            after = span.y + 1e-6;
         }
     }
     return best;

@@ -279,18 +279,29 @@ impl ChartRay {
         }
     }
 
-    /// `lambda(s) = S(t) / X_w(t)`, `t` the surface arc length.
-    fn lambda(&self, s: f64) -> f64 {
-        let (c, sn) = self.g.trig(self.speed * s);
-        sn / (self.p.z * c + self.u.z * sn)
+    /// `tanh` (H2) or `tan` (S2) of the surface arc length at `s`:
+    /// `lambda = S / X_w = tau / (P_w + U_w tau)`, one transcendental
+    /// (`tan`'s pole is no trouble: `lambda` is `1 / U_w` there).
+    fn tau(&self, s: f64) -> f64 {
+        match self.g {
+            ProductGeometry::H2xR => (self.speed * s).tanh(),
+            ProductGeometry::S2xR => (self.speed * s).tan(),
+        }
     }
 
-    /// The derivative along the ray of `n . q(s)`: `lambda' = speed P_w /
-    /// X_w^2`.
+    /// `lambda(s) = S(t) / X_w(t)`, `t` the surface arc length.
+    fn lambda(&self, s: f64) -> f64 {
+        let tau = self.tau(s);
+        tau / (self.p.z + self.u.z * tau)
+    }
+
+    /// The derivative along the ray of `n . q(s)`: `lambda' = speed P_w
+    /// / X_w^2 = speed P_w (1 + k tau^2) / (P_w + U_w tau)^2`.
     fn slope(&self, s: f64, n: DVec3) -> f64 {
-        let (c, sn) = self.g.trig(self.speed * s);
-        let w = self.p.z * c + self.u.z * sn;
-        n.truncate().dot(self.d) * self.speed * self.p.z / (w * w) + n.z * self.v
+        let tau = self.tau(s);
+        let w = self.p.z + self.u.z * tau;
+        n.truncate().dot(self.d) * self.speed * self.p.z * (1.0 + self.g.curvature() * tau * tau) / (w * w)
+            + n.z * self.v
     }
 
     /// The chart point at `s`.
