@@ -14,6 +14,9 @@ mod game;
 #[path = "../examples/shooter/input.rs"]
 #[allow(dead_code, reason = "the tests use part of the input")]
 mod input;
+#[path = "../examples/shooter/product.rs"]
+#[allow(dead_code, reason = "the tests use part of the product game")]
+mod product;
 #[cfg(feature = "xr")]
 #[path = "../examples/shooter/xr.rs"]
 mod xr;
@@ -574,5 +577,180 @@ fn in_a_headset_the_eyes_crosshairs_converge_where_the_geometry_says() {
             );
             assert!((f64::from(at.x) - want.0).abs() < 1e-3 && (f64::from(at.y) - want.1).abs() < 1e-3);
         }
+    }
+}
+
+/// A product game (`product.rs`) with no targets, the player's view put
+/// at the origin looking along `forward` (a unit tangent there; right is
+/// the origin's x, or y when looking along x), firing once.
+fn product_game(space: &str, forward: bevy_manifold::geometry::product::ProductTangent) -> App {
+    use bevy_manifold::geometry::product::{ProductPoint, ProductTangent};
+    let mut app = product::product_headless_app(config(space), Some(fire_once(space)), Duration::from_secs_f64(TICK));
+    let player = app.world().resource::<product::ProductGame>().player;
+    let mut camera = app
+        .world_mut()
+        .get_mut::<bevy_manifold::product::ProductCamera>(player)
+        .expect("the player");
+    let along_x = forward.surface.x.abs() > 0.5;
+    let right = if along_x {
+        ProductTangent::new(DVec3::Y, 0.0)
+    } else {
+        ProductTangent::new(DVec3::X, 0.0)
+    };
+    let up = if forward.height.abs() > 0.5 {
+        ProductTangent::new(DVec3::Y, 0.0)
+    } else {
+        ProductTangent::new(DVec3::ZERO, 1.0)
+    };
+    camera.view.eye = ProductPoint::ORIGIN;
+    camera.view.frame = [
+        forward,
+        if along_x {
+            right
+        } else {
+            ProductTangent::new(DVec3::X, 0.0)
+        },
+        up,
+    ];
+    app
+}
+
+fn product_log(app: &App) -> Vec<(u64, product::ProductEvent)> {
+    app.world().resource::<product::ProductGame>().log.clone()
+}
+
+/// Plays until an event past the firing, or `max` ticks.
+fn play_product_until_hit(app: &mut App, max: u64) {
+    while product_log(app).len() < 2 && app.world().resource::<product::ProductGame>().tick < max {
+        app.update();
+    }
+}
+
+/// In S2 x S1 with a circle of 2, a shot fired straight up comes back
+/// from below after the circle and hits its shooter: it starts `r_p +
+/// r_s` above the eye and is met `r_p + r_s` below it, so it flies `2 -
+/// 2 (r_p + r_s)` through one face (the top), in the tick that distance
+/// falls in (3 per second, 60 ticks a second).
+#[test]
+fn in_s2xs1_a_shot_up_the_circle_comes_back_and_hits_its_shooter() {
+    use bevy_manifold::geometry::product::ProductTangent;
+    let mut app = product_game("s2xs1", ProductTangent::new(DVec3::ZERO, 1.0));
+    play_product_until_hit(&mut app, 200);
+    let rules = app.world().resource::<product::ProductGame>().rules;
+    let reach = rules.player_radius + rules.shot_radius;
+    let expected = 2.0 - 2.0 * reach;
+    let log = product_log(&app);
+    assert_eq!(log[0], (0, product::ProductEvent::Fired));
+    let (tick, product::ProductEvent::PlayerHit { distance, faces }) = log[1].clone() else {
+        panic!("{log:?}");
+    };
+    assert!((distance - expected).abs() < 1e-9, "{distance} against {expected}");
+    assert_eq!(faces, 1);
+    assert_eq!(tick, (expected / (rules.shot_speed * TICK)).floor() as u64);
+}
+
+/// In S2 x S1 a shot fired along the sphere goes round the great circle
+/// and comes back from behind after `2 pi - 2 (r_p + r_s)`, through no
+/// face.
+#[test]
+fn in_s2xs1_a_shot_round_the_sphere_comes_back_after_two_pi() {
+    use bevy_manifold::geometry::product::ProductTangent;
+    let mut app = product_game("s2xs1", ProductTangent::new(DVec3::X, 0.0));
+    play_product_until_hit(&mut app, 400);
+    let rules = app.world().resource::<product::ProductGame>().rules;
+    let expected = 2.0 * PI - 2.0 * (rules.player_radius + rules.shot_radius);
+    let log = product_log(&app);
+    let product::ProductEvent::PlayerHit { distance, faces } = log[1].1.clone() else {
+        panic!("{log:?}");
+    };
+    assert!((distance - expected).abs() < 1e-9, "{distance} against {expected}");
+    assert_eq!(faces, 0);
+}
+
+/// In the genus-2 surface times a circle, a target 2 along x from the
+/// eye lies past a side of the octagon (whose inradius is `acosh(cot
+/// pi/8)` = 1.53): the game keeps it in the prism, as the gluing's image,
+/// and the shot fired along x meets it through that side, after `2 - r_t
+/// - r_s - (r_p + r_s)`; the target then moves on and the score is 1.
+#[test]
+fn in_genus2xs1_a_target_past_a_side_is_hit_through_it() {
+    use bevy_manifold::geometry::product::{ProductPoint, ProductTangent};
+    use bevy_manifold::trace::product::{ProductRay, flow};
+    let inradius = (1.0 / (PI / 8.0).tan()).acosh();
+    assert!(inradius < 2.0 && inradius > 1.5, "{inradius}");
+    let mut app = product_game("genus2xs1", ProductTangent::new(DVec3::X, 0.0));
+    let (space, rules, root) = {
+        let game = app.world().resource::<product::ProductGame>();
+        (game.space.clone(), game.rules, game.root)
+    };
+    let along = ProductRay {
+        origin: ProductPoint::ORIGIN,
+        dir: ProductTangent::new(DVec3::X, 0.0),
+    };
+    let walk = flow(&space, along, 2.0, 8);
+    assert_eq!(walk.faces.len(), 1, "the target is past one side");
+    let target = app
+        .world_mut()
+        .spawn((
+            ChildOf(root),
+            product::ProductTarget,
+            bevy_manifold::product::ProductBody {
+                center: walk.ray.origin,
+                radius: rules.target_radius,
+                id: product::TARGET_ID,
+            },
+        ))
+        .id();
+    play_product_until_hit(&mut app, 120);
+    let expected = 2.0 - rules.target_radius - rules.shot_radius - (rules.player_radius + rules.shot_radius);
+    let log = product_log(&app);
+    let product::ProductEvent::TargetHit { distance, faces } = log[1].1.clone() else {
+        panic!("{log:?}");
+    };
+    assert!((distance - expected).abs() < 1e-9, "{distance} against {expected}");
+    assert_eq!(faces, 1);
+    let game = app.world().resource::<product::ProductGame>();
+    assert_eq!(game.score, 1);
+    let moved = app
+        .world()
+        .get::<bevy_manifold::product::ProductBody>(target)
+        .unwrap()
+        .center;
+    assert!(
+        space.geometry.distance(moved, walk.ray.origin) > 1e-6,
+        "the target did not move on"
+    );
+}
+
+/// The autopilot plays the product game for 20 seconds in each product
+/// space with its targets: it scores, and a recording of its inputs
+/// replayed as a script plays the same game (the same events at the same
+/// ticks).
+#[test]
+fn the_product_game_is_played_by_the_bot_and_replays_exactly() {
+    for space in ["genus2xs1", "s2xs1", "mirrored-prism"] {
+        let dt = Duration::from_secs_f64(TICK);
+        let config = GameConfig {
+            spawn: true,
+            ..config(space)
+        };
+        let mut app = product::product_headless_app(config.clone(), None, dt);
+        product::with_product_bot(&mut app);
+        while app.world().resource::<product::ProductGame>().tick < 1200 {
+            app.update();
+        }
+        let (score, log) = {
+            let game = app.world().resource::<product::ProductGame>();
+            (game.score, game.log.clone())
+        };
+        eprintln!("{space}: the bot scored {score} in 20 s ({} events)", log.len());
+        assert!(score >= 2, "{space}: the bot scored {score}");
+        let script = app.world().resource::<input::InputSource>().recording(&config, 1200);
+        let script = Script::parse(&script.to_json()).expect("the recording reads back");
+        let mut replay = product::product_headless_app(config, Some(script), dt);
+        while replay.world().resource::<product::ProductGame>().tick < 1200 {
+            replay.update();
+        }
+        assert_eq!(product_log(&replay), log, "{space}: the replay differs");
     }
 }

@@ -32,10 +32,11 @@ done
 # Walls and hidden cells (README "Exact cells").
 "${CARGO_TARGET_DIR:-target}/release/bevy_manifold" render --space seifert-weber --walls 0.3 --hidden 0.6 --cells \
     --rule-seed 2 --out "$out/maze.png"
-# The shooter, a game in progress in three spaces (README "The shooter").
+# The shooter, a game in progress in four spaces (README "The shooter"; the manual's examples).
 "$bin/shooter" --space torus --screenshot "$out/shooter_torus.png"
 "$bin/shooter" --space seifert-weber --screenshot "$out/shooter_seifert_weber.png"
 "$bin/shooter" --space poincare --screenshot "$out/shooter_poincare.png"
+"$bin/shooter" --space genus2xs1 --screenshot "$out/shooter_genus2xs1.png"
 # Billiards, the break in two spaces (manual, "Billiards").
 "$bin/billiards" --space torus --screenshot "$out/billiards_torus.png"
 "$bin/billiards" --space seifert-weber --screenshot "$out/billiards_seifert_weber.png"

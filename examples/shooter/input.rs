@@ -59,7 +59,8 @@ pub struct ScriptEntry {
     pub input: TickInput,
 }
 
-/// A recorded or written game: its config and its inputs.
+/// A recorded or written game: its config and its inputs (in a catalog
+/// space, or a product space: `crate::product`).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Script {
@@ -115,11 +116,13 @@ impl Script {
     /// As [`Script::read`].
     pub fn parse(text: &str) -> Result<Script, String> {
         let s: Script = serde_json::from_str(text).map_err(|e| e.to_string())?;
-        if catalog::by_name(&s.space).is_none() {
+        let product = bevy_manifold::space::product::ProductSpace::NAMES.contains(&s.space.as_str());
+        if catalog::by_name(&s.space).is_none() && !product {
             return Err(format!(
-                "space: no catalog space {:?} (one of {})",
+                "space: no catalog space {:?} (one of {}), nor a product space ({})",
                 s.space,
-                catalog::NAMES.join(", ")
+                catalog::NAMES.join(", "),
+                bevy_manifold::space::product::ProductSpace::NAMES.join(", ")
             ));
         }
         if s.ticks > MAX_TICKS {

@@ -26,13 +26,16 @@
 //! played as a script; `--play` replays one (in the window, or with
 //! `--headless` as fast as it can, printing the score and the events).
 //! `--xr` plays in a headset (`xr.rs`); without an OpenXR runtime it says
-//! so and plays on the desktop.
+//! so and plays on the desktop. In the product spaces (`--space
+//! genus2xs1`, `s2xs1`, ...) the game is `product.rs`: targets, your
+//! shots coming back around, no enemies yet, on the desktop.
 
 mod args;
 mod bot;
 mod combat;
 mod game;
 mod input;
+mod product;
 #[cfg(feature = "audio")]
 mod sound;
 mod view;
@@ -71,11 +74,12 @@ fn run() -> Result<AppExit, String> {
     let mut config = script.as_ref().map_or_else(GameConfig::default, Script::config);
     if script.is_none() {
         config.space.clone_from(&args.space);
-        if catalog::by_name(&config.space).is_none() {
+        if catalog::by_name(&config.space).is_none() && product::product_space(&config.space).is_none() {
             return Err(format!(
-                "--space: no catalog space {:?} (one of {})",
+                "--space: no catalog space {:?} (one of {}), nor a product space ({})",
                 config.space,
-                catalog::NAMES.join(", ")
+                catalog::NAMES.join(", "),
+                bevy_manifold::space::product::ProductSpace::NAMES.join(", ")
             ));
         }
         if let Some(d) = &args.difficulty {
@@ -92,6 +96,9 @@ fn run() -> Result<AppExit, String> {
         Some(s) => showcase::parse_size(s).ok_or(format!("--size: WIDTHxHEIGHT, both at least 1, not {s:?}"))?,
         None => (640, 360),
     };
+    if product::product_space(&config.space).is_some() {
+        return run_product(config, &args, script, size);
+    }
     if args.headless {
         if bot {
             let ticks = args.ticks.unwrap_or(36_000);
@@ -357,4 +364,148 @@ fn screenshot(config: GameConfig, levels: u32, path: PathBuf, (w, h): (u32, u32)
     let played = app.world().resource::<Game>().tick;
     showcase::play_ticks(&mut app, game::TICK_HZ, (ticks - played) as u32);
     showcase::run(app)
+}
+
+/// The game in a product space ([`product`]): headless (a script or the
+/// bot), a screenshot, or in a window.
+fn run_product(
+    config: GameConfig,
+    args: &args::Args,
+    script: Option<Script>,
+    size: (u32, u32),
+) -> Result<AppExit, String> {
+    let tick = Duration::from_secs_f64(1.0 / game::TICK_HZ);
+    if args.xr {
+        eprintln!("warning: --xr: the product spaces' shooter plays on the desktop");
+    }
+    if args.headless {
+        let (ticks, script) = if args.bot {
+            (args.ticks.unwrap_or(36_000).min(input::MAX_TICKS), None)
+        } else {
+            let script = script.ok_or("--headless plays a script (--play FILE.json) or the bot (--bot)")?;
+            (script.ticks, Some(script))
+        };
+        let mut app = product::product_headless_app(config, script, tick);
+        if args.bot {
+            product::with_product_bot(&mut app);
+        }
+        while app.world().resource::<product::ProductGame>().tick < ticks {
+            app.update();
+        }
+        let game = app.world().resource::<product::ProductGame>();
+        for (tick, e) in &game.log {
+            println!("{tick:>6} {e:?}");
+        }
+        println!(
+            "score {} hit by own shots {} after {} ticks ({} events)",
+            game.score,
+            game.hits_taken,
+            game.tick,
+            game.log.len()
+        );
+        return Ok(AppExit::Success);
+    }
+    let screenshot = args.screenshot.clone().or_else(|| {
+        let why = bevy_manifold::render::offscreen::no_display()?;
+        eprintln!("{why}: rendering the game's opening view to shooter.png instead of opening a window (--headless --bot plays without one)");
+        Some(PathBuf::from("shooter.png"))
+    });
+    let mut app = App::new();
+    let script = match screenshot {
+        Some(_) => Some(demo_script(&config)),
+        None => script,
+    };
+    let ticks = script.as_ref().map(|s| s.ticks);
+    match &screenshot {
+        Some(_) => {
+            app.add_plugins(offscreen::plugins());
+        }
+        None => {
+            app.add_plugins(DefaultPlugins.set(WindowPlugin {
+                primary_window: Some(Window {
+                    title: "bevy_manifold shooter: your shots come back around".into(),
+                    resolution: (960, 540).into(),
+                    ..default()
+                }),
+                ..default()
+            }));
+        }
+    }
+    let name = config.space.clone();
+    app.add_plugins((
+        ManifoldPlugins::in_schedule(FixedPostUpdate),
+        product::ProductGamePlugin { config: config.clone() },
+    ))
+    .insert_resource(InputSource { script, ..default() })
+    .add_observer(
+        |add: On<Add, bevy_manifold::product::ProductCamera>, mut commands: Commands| {
+            commands.entity(add.entity).insert(Camera3d::default());
+        },
+    )
+    .add_systems(Startup, hud::spawn_hud)
+    .add_systems(
+        Update,
+        move |game: Option<Res<product::ProductGame>>, mut hud: Query<&mut Text, With<hud::HudText>>| {
+            if let (Some(game), Ok(mut text)) = (game, hud.single_mut()) {
+                text.0 = format!(
+                    "{name}   score {}   hit by own shots {}   WASD Space Shift fly | arrows turn | Q E roll | click, F or Ctrl fire",
+                    game.score, game.hits_taken
+                );
+            }
+        },
+    );
+    if args.bot {
+        product::with_product_bot(&mut app);
+    } else if screenshot.is_none() {
+        app.add_systems(Update, view::read_devices);
+    }
+    if let Some(path) = screenshot {
+        app.finish();
+        app.cleanup();
+        let target = showcase::screenshot_mode(&mut app, path, size);
+        app.add_observer(
+            move |add: On<Add, bevy_manifold::product::ProductCamera>, mut commands: Commands| {
+                commands
+                    .entity(add.entity)
+                    .insert(bevy::camera::RenderTarget::Image(target.clone().into()));
+            },
+        );
+        showcase::play_ticks(&mut app, game::TICK_HZ, 1);
+        let played = app.world().resource::<product::ProductGame>().tick;
+        showcase::play_ticks(
+            &mut app,
+            game::TICK_HZ,
+            (ticks.unwrap_or(0).saturating_sub(played)) as u32,
+        );
+        return Ok(showcase::run(app));
+    }
+    if let Some(n) = args.frames {
+        app.add_systems(
+            PostUpdate,
+            move |mut frames: Local<u32>, mut exit: MessageWriter<AppExit>| {
+                *frames += 1;
+                if *frames >= n {
+                    exit.write(AppExit::Success);
+                }
+            },
+        );
+    }
+    if let Some(path) = args.record.clone() {
+        app.add_systems(
+            Last,
+            move |exits: MessageReader<AppExit>,
+                  source: Res<InputSource>,
+                  config: Res<GameConfig>,
+                  game: Option<Res<product::ProductGame>>| {
+                if !exits.is_empty() {
+                    let ticks = game.map_or(0, |g| g.tick);
+                    match std::fs::write(&path, source.recording(&config, ticks).to_json()) {
+                        Ok(()) => println!("recorded {ticks} ticks to {}", path.display()),
+                        Err(e) => eprintln!("error: --record {}: {e}", path.display()),
+                    }
+                }
+            },
+        );
+    }
+    Ok(app.run())
 }

@@ -164,7 +164,7 @@ fn spawn_hud_and_map(commands: Commands, mut gizmos: ResMut<GizmoConfigStore>) {
 /// The keyboard and mouse (and with the `gamepad` feature every gamepad:
 /// sticks, triggers and bumpers fly and turn as the fly camera's, the
 /// south or west button fires), as the game's live input.
-fn read_devices(
+pub(crate) fn read_devices(
     keys: Res<ButtonInput<KeyCode>>,
     buttons: Res<ButtonInput<MouseButton>>,
     mouse: Res<AccumulatedMouseMotion>,
