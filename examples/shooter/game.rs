@@ -131,7 +131,12 @@ impl Rules {
     /// The rules in `space` at `difficulty`.
     #[must_use]
     pub fn new(space: &Space, difficulty: Difficulty) -> Rules {
-        let r = space.inradius();
+        Rules::scaled(space.inradius(), difficulty)
+    }
+
+    /// The rules for a space of inradius `r` at `difficulty`.
+    #[must_use]
+    pub fn scaled(r: f64, difficulty: Difficulty) -> Rules {
         let f = difficulty.factor();
         Rules {
             player_radius: 0.12 * r,

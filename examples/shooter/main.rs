@@ -173,33 +173,10 @@ fn run() -> Result<AppExit, String> {
         with_bot(&mut app);
     }
     if let Some(n) = args.frames {
-        // In `PostUpdate`, so the recording below (in `Last`) sees the exit.
-        app.add_systems(
-            PostUpdate,
-            move |mut frames: Local<u32>, mut exit: MessageWriter<AppExit>| {
-                *frames += 1;
-                if *frames >= n {
-                    exit.write(AppExit::Success);
-                }
-            },
-        );
+        exit_after(&mut app, n);
     }
     if let Some(path) = record {
-        app.add_systems(
-            Last,
-            move |exits: MessageReader<AppExit>,
-                  source: Res<InputSource>,
-                  config: Res<GameConfig>,
-                  game: Option<Res<Game>>| {
-                if !exits.is_empty() {
-                    let ticks = game.map_or(0, |g| g.tick);
-                    match std::fs::write(&path, source.recording(&config, ticks).to_json()) {
-                        Ok(()) => println!("recorded {ticks} ticks to {}", path.display()),
-                        Err(e) => eprintln!("error: --record {}: {e}", path.display()),
-                    }
-                }
-            },
-        );
+        record_on_exit(&mut app, path, |g: &Game| g.tick);
     }
     Ok(app.run())
 }
@@ -480,32 +457,44 @@ fn run_product(
         return Ok(showcase::run(app));
     }
     if let Some(n) = args.frames {
-        app.add_systems(
-            PostUpdate,
-            move |mut frames: Local<u32>, mut exit: MessageWriter<AppExit>| {
-                *frames += 1;
-                if *frames >= n {
-                    exit.write(AppExit::Success);
-                }
-            },
-        );
+        exit_after(&mut app, n);
     }
     if let Some(path) = args.record.clone() {
-        app.add_systems(
-            Last,
-            move |exits: MessageReader<AppExit>,
-                  source: Res<InputSource>,
-                  config: Res<GameConfig>,
-                  game: Option<Res<product::ProductGame>>| {
-                if !exits.is_empty() {
-                    let ticks = game.map_or(0, |g| g.tick);
-                    match std::fs::write(&path, source.recording(&config, ticks).to_json()) {
-                        Ok(()) => println!("recorded {ticks} ticks to {}", path.display()),
-                        Err(e) => eprintln!("error: --record {}: {e}", path.display()),
-                    }
-                }
-            },
-        );
+        record_on_exit(&mut app, path, |g: &product::ProductGame| g.tick);
     }
     Ok(app.run())
+}
+
+/// Exits after `n` frames: in `PostUpdate`, so the recording (in `Last`)
+/// sees the exit.
+fn exit_after(app: &mut App, n: u32) {
+    app.add_systems(
+        PostUpdate,
+        move |mut frames: Local<u32>, mut exit: MessageWriter<AppExit>| {
+            *frames += 1;
+            if *frames >= n {
+                exit.write(AppExit::Success);
+            }
+        },
+    );
+}
+
+/// Writes the game played as a script to `path` on exit, its length the
+/// game resource `G`'s ticks (`ticks`).
+fn record_on_exit<G: Resource>(app: &mut App, path: PathBuf, ticks: fn(&G) -> u64) {
+    app.add_systems(
+        Last,
+        move |exits: MessageReader<AppExit>,
+              source: Res<InputSource>,
+              config: Res<GameConfig>,
+              game: Option<Res<G>>| {
+            if !exits.is_empty() {
+                let ticks = game.map_or(0, |g| ticks(&g));
+                match std::fs::write(&path, source.recording(&config, ticks).to_json()) {
+                    Ok(()) => println!("recorded {ticks} ticks to {}", path.display()),
+                    Err(e) => eprintln!("error: --record {}: {e}", path.display()),
+                }
+            }
+        },
+    );
 }

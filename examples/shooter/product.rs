@@ -15,7 +15,7 @@
 //! the circle after its length, round the sphere of S2 x S1 after 2 pi.
 //! These spaces have targets and no enemies yet.
 
-use crate::game::{Difficulty, GameConfig};
+use crate::game::{Difficulty, GameConfig, Rules};
 use crate::input::{InputSource, TickInput};
 use bevy::prelude::*;
 use bevy_manifold::geometry::product::{ProductPoint, ProductTangent};
@@ -27,55 +27,19 @@ use bevy_manifold::trace::product::{
 use glam::DVec3;
 use std::sync::Arc;
 
-/// Sizes and speeds in the product spaces (their prisms are about 2 high
-/// and 1 to 1.5 across).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ProductRules {
-    /// The player's radius (its own shots hit it).
-    pub player_radius: f64,
-    /// Flight speed at full thrust, per second.
-    pub player_speed: f64,
-    /// Turn rate at full stick, radians per second.
-    pub turn_rate: f64,
-    /// A shot's speed, per second.
-    pub shot_speed: f64,
-    /// A shot's radius.
-    pub shot_radius: f64,
-    /// Seconds a shot lives.
-    pub shot_life: f64,
-    /// Seconds after firing in which a shot cannot hit its owner.
-    pub grace: f64,
-    /// Seconds between two shots.
-    pub fire_interval: f64,
-    /// A target's radius.
-    pub target_radius: f64,
-    /// Targets in play.
-    pub targets: usize,
-}
-
-impl ProductRules {
-    /// The rules at `difficulty`: harder, smaller targets.
-    #[must_use]
-    pub fn at(difficulty: Difficulty) -> Self {
-        let small = match difficulty {
-            Difficulty::Easy => 1.3,
-            Difficulty::Normal => 1.0,
-            Difficulty::Hard => 0.75,
-        };
-        Self {
-            player_radius: 0.08,
-            player_speed: 0.8,
-            turn_rate: 1.5,
-            shot_speed: 3.0,
-            shot_radius: 0.03,
-            shot_life: 5.0,
-            grace: 0.5,
-            fire_interval: 0.25,
-            target_radius: 0.12 * small,
-            targets: 6,
-        }
+/// The rules in the product spaces: the other spaces' at an inradius of
+/// 1 (their prisms are 2 high and 1 to 1.5 across), the shots living 4
+/// seconds (8 units: round the sphere of S2 x S1 and back).
+#[must_use]
+pub fn product_rules(difficulty: Difficulty) -> Rules {
+    Rules {
+        shot_life: 4.0,
+        ..Rules::scaled(1.0, difficulty)
     }
 }
+
+/// Targets in play.
+pub const TARGETS: usize = 6;
 
 /// What happened, by tick.
 #[derive(Clone, Debug, PartialEq)]
@@ -108,7 +72,7 @@ pub struct ProductGame {
     /// The space.
     pub space: Arc<ProductSpace>,
     /// The rules.
-    pub rules: ProductRules,
+    pub rules: Rules,
     /// Ticks played.
     pub tick: u64,
     /// Targets hit.
@@ -195,7 +159,7 @@ fn target_place(space: &ProductSpace, rng: &mut u64) -> ProductPoint {
 /// targets; with `spawn` off (tests), no targets.
 pub fn start_product_game(mut commands: Commands, config: Res<GameConfig>) {
     let space = Arc::new(product_space(&config.space).expect("a product space's name"));
-    let rules = ProductRules::at(config.difficulty);
+    let rules = product_rules(config.difficulty);
     let root = commands
         .spawn((Name::new("product space"), ProductSpaceRoot(space.clone())))
         .id();
@@ -213,7 +177,7 @@ pub fn start_product_game(mut commands: Commands, config: Res<GameConfig>) {
         .id();
     let mut rng = config.seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
     if config.spawn {
-        for k in 0..rules.targets {
+        for k in 0..TARGETS {
             commands.spawn((
                 Name::new(format!("target {k}")),
                 ChildOf(root),

@@ -10,6 +10,7 @@
 //! forward by finite differences of the chart.
 
 use bevy_manifold_core::geometry::product::{ProductGeometry, ProductIsometry, ProductPoint, ProductTangent};
+use bevy_manifold_core::mesh::shapes::cuboid;
 use bevy_manifold_core::mesh::{MeshData, TriMesh};
 use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::trace::product::mesh::{chart_of, chart_point};
@@ -19,32 +20,9 @@ use bevy_manifold_core::trace::product::{
 use glam::DVec3;
 use std::sync::Arc;
 
-/// The box `[-a, a]^3` of the chart, 12 triangles, four corners of its
-/// own to each face (so each face's normals are its own: flat).
+/// The box `[-a, a]^3` of the chart, 12 triangles, flat-shaded.
 fn cube(a: f32) -> Arc<MeshData> {
-    let corner = |i: u32| {
-        [
-            if i & 1 == 0 { -a } else { a },
-            if i & 2 == 0 { -a } else { a },
-            if i & 4 == 0 { -a } else { a },
-        ]
-    };
-    let quads = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
-    let mut positions = Vec::new();
-    let mut triangles = Vec::new();
-    for quad in quads {
-        let k = positions.len() as u32;
-        positions.extend(quad.map(corner));
-        triangles.extend([[k, k + 1, k + 2], [k, k + 2, k + 3]]);
-    }
-    MeshData::shared(TriMesh::new(positions, None, None, triangles).unwrap())
+    MeshData::shared(cuboid([a; 3]))
 }
 
 /// The octahedron `|x| + |y| + |z| <= a` of the chart (slanted faces),
