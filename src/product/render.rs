@@ -32,12 +32,15 @@ use bevy::render::{
     Extract, ExtractSchedule, Render, RenderApp, RenderStartup, RenderSystems, sync_world::RenderEntity,
 };
 use bevy::shader::{Shader, ShaderDefVal};
+use bevy::tasks::futures_lite::future;
+use bevy::tasks::{AsyncComputeTaskPool, Task, block_on};
 use bevy_manifold_core::space::product::ProductSpace;
 use bevy_manifold_core::space::product_cells::{
     DEFAULT_PRODUCT_TABLE_CELLS, ProductCellTable, ProductCells, ProductElement,
 };
+use bevy_manifold_core::trace::product::{ProductLight, ProductLighting, ProductScene};
 use bevy_manifold_gpu::product::{
-    GpuProductCells, GpuProductScene, PackedLights, ProductMeshWords, ProductShaderDefs, storage_bytes,
+    GpuProductCells, GpuProductLight, GpuProductScene, ProductMeshWords, ProductShaderDefs, storage_bytes,
 };
 use bevy_manifold_gpu::{CELL_TINT_WGSL, PRODUCT_WGSL};
 use std::sync::{Arc, Weak};
@@ -56,6 +59,7 @@ impl Plugin for ProductRenderPlugin {
         render_app
             .init_resource::<SpecializedRenderPipelines<ProductPipeline>>()
             .init_resource::<ProductBuffers>()
+            .init_resource::<ProductLightJobs>()
             .add_systems(RenderStartup, init_product_pipeline)
             .add_systems(ExtractSchedule, extract_product_views)
             .add_systems(
@@ -174,20 +178,123 @@ type ExtractedCameraItem = (
     Option<Ref<'static, ProductCellWords>>,
 );
 
-/// A camera's light images and meshes' words, packed, kept while what
-/// they were made from stays.
-type KeptPacking = (PackedLights, Option<Arc<ProductMeshWords>>);
+/// The light images of the product cameras' scenes (the render world's
+/// resource), worked out off the main thread on Bevy's async compute
+/// pool and shared by every camera that shows the same lights in the
+/// same space (a headset's two eyes share one). In genus 2 x S1 they
+/// take about 65 ms; a camera whose lights change keeps drawing its
+/// last ones until the new ones are ready, and only a camera that has
+/// none yet (its first frame) waits for them.
+#[derive(Resource, Default)]
+pub struct ProductLightJobs {
+    jobs: Vec<LightJob>,
+    /// Light images worked out so far (a job per change of lights, not
+    /// per camera).
+    pub started: u64,
+}
+
+/// One scene's lights and their images, ready or being worked out.
+struct LightJob {
+    space: Arc<ProductSpace>,
+    lights: Vec<ProductLight>,
+    lighting: ProductLighting,
+    state: LightState,
+    /// Asked for since the last sweep of unused jobs.
+    used: bool,
+}
+
+enum LightState {
+    Ready(Arc<Vec<GpuProductLight>>),
+    Pending(Task<Vec<GpuProductLight>>),
+}
+
+impl ProductLightJobs {
+    /// `scene`'s light images in `space`: ready, or `None` while they are
+    /// worked out off the main thread (started on the first ask); with
+    /// `wait`, waited for.
+    fn get(
+        &mut self,
+        space: &Arc<ProductSpace>,
+        scene: &ProductScene,
+        wait: bool,
+    ) -> Option<Arc<Vec<GpuProductLight>>> {
+        let same = |j: &LightJob| {
+            (Arc::ptr_eq(&j.space, space) || *j.space == **space)
+                && j.lights == scene.lights
+                && j.lighting == scene.lighting
+        };
+        let k = match self.jobs.iter().position(same) {
+            Some(k) => k,
+            None => {
+                let (s, sc) = (space.clone(), scene.clone());
+                let state = if scene.lights.is_empty() {
+                    LightState::Ready(Arc::new(Vec::new()))
+                } else {
+                    self.started += 1;
+                    LightState::Pending(
+                        AsyncComputeTaskPool::get().spawn(async move { GpuProductScene::pack_lights(&s, &sc) }),
+                    )
+                };
+                self.jobs.push(LightJob {
+                    space: space.clone(),
+                    lights: scene.lights.clone(),
+                    lighting: scene.lighting,
+                    state,
+                    used: false,
+                });
+                self.jobs.len() - 1
+            }
+        };
+        let job = &mut self.jobs[k];
+        job.used = true;
+        if let LightState::Pending(task) = &mut job.state {
+            let done = if wait {
+                Some(block_on(task))
+            } else {
+                block_on(future::poll_once(task))
+            };
+            if let Some(images) = done {
+                job.state = LightState::Ready(Arc::new(images));
+            }
+        }
+        match &job.state {
+            LightState::Ready(images) => Some(images.clone()),
+            LightState::Pending(_) => None,
+        }
+    }
+
+    /// Drops the jobs no camera asked for since the last sweep.
+    fn sweep(&mut self) {
+        self.jobs.retain(|j| j.used);
+        for j in &mut self.jobs {
+            j.used = false;
+        }
+    }
+}
+
+/// What a camera was last packed with: its light images (kept while
+/// new ones are worked out) and its meshes' words.
+#[derive(Default)]
+pub struct KeptPacking {
+    lights: Option<Arc<Vec<GpuProductLight>>>,
+    words: Option<Arc<ProductMeshWords>>,
+    /// Packed with stale lights: packed again each frame until the new
+    /// ones are ready.
+    stale: bool,
+}
 
 /// Copies each active product camera's scene, packed, to its render
 /// entity when the camera or its scene changed (the render entity keeps
 /// it otherwise); takes it off cameras that no longer have one. A
 /// camera's light images are worked out again only when its space, lights
-/// or lighting change, and its meshes' words only when its meshes change,
-/// not as its eye (or a mesh) moves.
+/// or lighting change, off the main thread and once for every camera
+/// that shows them ([`ProductLightJobs`]), and its meshes' words only when
+/// its meshes change, not as its eye (or a mesh) moves.
 pub fn extract_product_views(
     mut commands: Commands,
     cameras: Extract<Query<ExtractedCameraItem>>,
-    mut images: Local<HashMap<Entity, KeptPacking>>,
+    mut jobs: ResMut<ProductLightJobs>,
+    mut kept: Local<HashMap<Entity, KeptPacking>>,
 ) {
     let mut live = Vec::new();
     for (entity, camera, product, words) in &cameras {
@@ -195,12 +302,18 @@ pub fn extract_product_views(
             Some(p) => {
                 live.push(entity);
                 let words = words.filter(|_| p.view.tint.is_some());
-                if p.is_changed() || camera.is_changed() || words.as_ref().is_some_and(Ref::is_changed) {
+                let kept = kept.entry(entity).or_default();
+                let changed = p.is_changed() || camera.is_changed() || words.as_ref().is_some_and(Ref::is_changed);
+                if changed || kept.stale {
                     let scene = p.scene();
-                    let (kept_lights, kept_words) = images.entry(entity).or_default();
-                    let lights = kept_lights.get(&p.space, &scene);
-                    let mesh_words = ProductMeshWords::get(kept_words.as_ref(), &scene.meshes);
-                    *kept_words = Some(mesh_words.clone());
+                    let fresh = jobs.get(&p.space, &scene, kept.lights.is_none());
+                    kept.stale = fresh.is_none();
+                    if let Some(fresh) = fresh {
+                        kept.lights = Some(fresh);
+                    }
+                    let lights = kept.lights.as_deref().cloned().unwrap_or_default();
+                    let mesh_words = ProductMeshWords::get(kept.words.as_ref(), &scene.meshes);
+                    kept.words = Some(mesh_words.clone());
                     let mut packed = GpuProductScene::pack_with(&p.space, &scene, (lights, mesh_words), (1, 1));
                     let cells = words.map(|w| w.cells.clone());
                     packed.params.cell_count = cells.as_ref().map_or(0, |c| c.count);
@@ -214,7 +327,8 @@ pub fn extract_product_views(
             }
         }
     }
-    images.retain(|e, _| live.contains(e));
+    kept.retain(|e, _| live.contains(e));
+    jobs.sweep();
 }
 
 /// What the product pipeline is specialised on: the view target.

@@ -40,6 +40,7 @@ bevy_manifold_test_support::test_main! {
         a_product_camera_shades_each_copy_by_its_cell,
         a_product_camera_is_lit_by_its_roots_lights,
         meshes_in_a_product_space_are_traced,
+        light_images_are_worked_out_once_for_every_camera_that_shows_them,
         a_cone_traced_view_is_the_cpu_cone_trace_and_nearer_supersampling,
         the_pass_draws_exact_cells_and_walls_far_from_the_origin_copy,
         the_pass_draws_what_the_tracer_computes_in_every_space,

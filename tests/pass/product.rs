@@ -318,3 +318,69 @@ pub fn meshes_in_a_product_space_are_traced() {
         assert!(after.bytes - before.bytes < 4096, "{before:?} {after:?}");
     }
 }
+
+/// Two product cameras showing the same lit scene (as a headset's two
+/// eyes do) share one working-out of the light images, off the main
+/// thread; when a light moves, the images are worked out once more and
+/// both cameras come to draw the new lighting (what the CPU reference
+/// traces, within 3/255 in 98% of the pixels).
+pub fn light_images_are_worked_out_once_for_every_camera_that_shows_them() {
+    use bevy_manifold::product::render::ProductLightJobs;
+    use bevy_manifold::product::{ProductBody, ProductPointLight, ProductSpaceRoot};
+    use std::sync::Arc;
+    let space = ProductSpace::genus_two_x_s1(2.0);
+    let mut app = headless_app(true);
+    let images = [target(&mut app, W, H), target(&mut app, W, H)];
+    let mut scene = ProductScene::lit_for(&space);
+    let root = app.world_mut().spawn(ProductSpaceRoot(Arc::new(space.clone()))).id();
+    for b in &scene.balls {
+        app.world_mut().spawn((ChildOf(root), ProductBody::from(*b)));
+    }
+    let lights: Vec<Entity> = scene
+        .lights
+        .iter()
+        .map(|l| app.world_mut().spawn((ChildOf(root), ProductPointLight(*l))).id())
+        .collect();
+    for image in &images {
+        let camera = spawn_product_camera(&mut app, image, ProductCamera::default_for(space.clone()));
+        app.world_mut().entity_mut(camera).insert(ChildOf(root));
+    }
+    wait_for_pipelines(&mut app);
+    let started = |app: &App| {
+        app.sub_app(bevy::render::RenderApp)
+            .world()
+            .resource::<ProductLightJobs>()
+            .started
+    };
+    let agree = |app: &mut App, scene: &ProductScene| -> [f64; 2] {
+        let cpu: Vec<[f32; 3]> = render(&space, scene, W, H).iter().map(|p| p.color).collect();
+        images.clone().map(|image| close_to(&capture(app, &image), &cpu, 3))
+    };
+    let first = agree(&mut app, &scene);
+    eprintln!("two cameras, lit: {first:?} of pixels within 3/255 of the CPU reference");
+    assert!(first.iter().all(|&a| a >= 0.98), "{first:?}");
+    assert_eq!(started(&app), 1, "one working-out for both cameras");
+    // The warm light moved down the circle.
+    scene.lights[0].position.height -= 0.5;
+    app.world_mut()
+        .get_mut::<ProductPointLight>(lights[0])
+        .expect("the light")
+        .0 = scene.lights[0];
+    let mut now = [0.0; 2];
+    for _ in 0..60 {
+        app.update();
+        now = agree(&mut app, &scene);
+        if now.iter().all(|&a| a >= 0.98) {
+            break;
+        }
+    }
+    eprintln!("the light moved: {now:?} within 3/255 of the new CPU reference");
+    assert!(now.iter().all(|&a| a >= 0.98), "{now:?}");
+    assert_eq!(started(&app), 2, "one more working-out, for both cameras");
+    assert!(
+        agree(&mut app, &ProductScene::lit_for(&space))
+            .iter()
+            .all(|&a| a < 0.95),
+        "the light's move changed nothing"
+    );
+}
