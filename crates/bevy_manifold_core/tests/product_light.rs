@@ -450,3 +450,96 @@ fn a_lit_scene_is_lit_and_shaded() {
         assert!(brighter > 0, "{}: no shadow anywhere", space.name);
     }
 }
+
+/// A spot light shines by the angle at the light between its axis and the
+/// geodesic leaving it towards the lit point: points reached by shooting
+/// from the light at angles 0 to 80 degrees from its axis (straight
+/// down) get `smoothstep(cos 40, cos 20, cos angle)` of its light, in
+/// H2xR and S2xR; in H2xR `direct` gives the point light's light times
+/// that share, and an image of the spot through a face has its axis
+/// turned with it.
+#[test]
+fn a_spot_shines_by_the_angle_at_the_light() {
+    use bevy_manifold_core::trace::product::{ProductSpot, light_arcs, spot_share};
+    let smoothstep = |e0: f64, e1: f64, x: f64| {
+        let t = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
+        t * t * (3.0 - 2.0 * t)
+    };
+    let (inner, outer) = (20f64.to_radians(), 40f64.to_radians());
+    for space in [ProductSpace::genus_two_x_s1(40.0), ProductSpace::s2_x_s1(40.0)] {
+        let g = space.geometry;
+        let at = ProductPoint::new(DVec3::Z, 0.5);
+        let down = ProductTangent::new(DVec3::ZERO, -1.0);
+        let spot = ProductLight {
+            spot: Some(ProductSpot {
+                axis: down,
+                inner,
+                outer,
+            }),
+            ..ProductLight::point(at, 3.0)
+        };
+        let plain = ProductLight::point(at, 3.0);
+        let lighting = ProductLighting {
+            images: 0,
+            shadows: false,
+        };
+        let (spot_image, point_image) = (
+            light_images(&space, &[spot], lighting),
+            light_images(&space, &[plain], lighting),
+        );
+        for degrees in [0.0f64, 10.0, 25.0, 30.0, 35.0, 45.0, 80.0] {
+            let a = degrees.to_radians();
+            let leaving = ProductTangent::new(DVec3::X * a.sin(), -a.cos());
+            let (x, _) = g.exp(at, leaving, 0.7);
+            let expected = smoothstep(outer.cos(), inner.cos(), a.cos());
+            let arc = light_arcs(g, x, at)[0];
+            let share = spot_share(g, x, &arc, spot_image[0].spot.expect("a spot"));
+            assert!(
+                (share - expected).abs() < 1e-9,
+                "{} at {degrees}: {share} against {expected}",
+                g.name()
+            );
+            if g.curvature() < 0.0 {
+                // Facing the light: the point light's light, times the share.
+                let normal = arc.dir;
+                let lit = |images: &[bevy_manifold_core::trace::product::ProductLightImage]| {
+                    direct(
+                        &space,
+                        &ProductObjects::default(),
+                        images,
+                        (x, normal, normal),
+                        [1.0; 3],
+                        0.0,
+                        false,
+                        0,
+                    )
+                };
+                let (with, without) = (lit(&spot_image), lit(&point_image));
+                assert!(
+                    (f64::from(with[0]) - f64::from(without[0]) * expected).abs() < 1e-6 * f64::from(without[0]),
+                    "at {degrees}: {with:?} against {without:?} x {expected}"
+                );
+            }
+        }
+    }
+    // Through the top of S2 x S1 (circle 2), the image 2 above is the
+    // light lifted: its axis is still straight down, and a point straight
+    // below that image (above the prism's top) gets all its light.
+    let space = ProductSpace::s2_x_s1(2.0);
+    let spot = ProductLight {
+        spot: Some(ProductSpot {
+            axis: ProductTangent::new(DVec3::ZERO, -1.0),
+            inner,
+            outer,
+        }),
+        range: Some(3.0),
+        ..ProductLight::point(ProductPoint::new(DVec3::Z, 0.5), 3.0)
+    };
+    let found = light_images(&space, &[spot], ProductLighting::default());
+    let lifted = found
+        .iter()
+        .find(|i| (i.position.height - 2.5).abs() < 1e-9)
+        .expect("the image 2 up");
+    let (axis, _, _) = lifted.spot.expect("a spot");
+    assert!((axis.height + 1.0).abs() < 1e-12, "{axis:?}");
+}

@@ -75,15 +75,18 @@ struct ProductBall {
     pad: u32,
 }
 
-// One image of a light: its colour (rgb) and power (w). Rust twin:
-// `GpuProductLight` (the core's `ProductLightImage`).
+// One image of a light: its colour (rgb) and power (w), and a spot's
+// cone (the cosines of its angles, its axis at the image; a zero axis for
+// a point light). Rust twin: `GpuProductLight` (the core's
+// `ProductLightImage`).
 struct ProductLight {
     position: vec4<f32>,
     color: vec4<f32>,
     inv_range_sq: f32,
     min_area: f32,
-    pad_a: u32,
-    pad_b: u32,
+    spot_inner: f32,
+    spot_outer: f32,
+    spot_axis: vec4<f32>,
 }
 
 // A mesh or one of its images through the faces: the isometry taking the
@@ -1051,6 +1054,22 @@ fn arc_irradiance(l: u32, length: f32, surface: f32) -> f32 {
     return lights[l].color.w * window * window / area * exp(-params.fog * length);
 }
 
+// The share of spot image l's light reaching x along the unit tangent
+// `dir` for `length`: the geodesic followed to the light, the tangent it
+// arrives with turned back against the axis, smoothstep between the
+// outer and inner cosines. Rust twins: `spot_share` and
+// `ProductSpot::share`.
+fn spot_share(l: u32, x: vec4<f32>, dir: vec4<f32>, length: f32) -> f32 {
+    let arriving = advance(ProductRay(x, dir), length).dir;
+    let c = -dot4(arriving, lights[l].spot_axis);
+    let inner = lights[l].spot_inner;
+    let outer = lights[l].spot_outer;
+    if inner <= outer {
+        return select(0.0, 1.0, c >= outer);
+    }
+    return smoothstep(outer, inner, c);
+}
+
 // Whether a ball, an edge's tube or a mesh stands on the way from x (unit normal `normal`) along
 // the unit tangent `dir` for `length`, walked through the faces from
 // SHADOW_OFFSET off the surface. Rust twin: `shadowed`.
@@ -1124,7 +1143,10 @@ fn direct(x: vec4<f32>, normal: vec4<f32>, view: vec4<f32>, albedo: vec3<f32>) -
             if nl <= 0.0 {
                 continue;
             }
-            let e = arc_irradiance(l, s, along);
+            var e = arc_irradiance(l, s, along);
+            if any(lights[l].spot_axis != vec4<f32>(0.0)) {
+                e *= spot_share(l, x, dir, s);
+            }
             if e <= 0.0 {
                 continue;
             }

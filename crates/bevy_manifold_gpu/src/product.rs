@@ -289,10 +289,13 @@ pub struct GpuProductLight {
     pub inv_range_sq: f32,
     /// The least area its power spreads over.
     pub min_area: f32,
-    /// Padding.
-    pub pad_a: u32,
-    /// Padding.
-    pub pad_b: u32,
+    /// A spot's `cos` of its inner angle.
+    pub spot_inner: f32,
+    /// A spot's `cos` of its outer angle.
+    pub spot_outer: f32,
+    /// A spot's unit axis at the image (surface xyz, height w); all 0
+    /// for a point light.
+    pub spot_axis: [f32; 4],
 }
 
 /// WGSL twin: `ProductPixel` in `shaders/product.wgsl`. What one pixel
@@ -469,8 +472,9 @@ impl GpuProductScene {
                 color: [l.color[0], l.color[1], l.color[2], l.intensity as f32],
                 inv_range_sq: l.inv_range_sq as f32,
                 min_area: l.min_area as f32,
-                pad_a: 0,
-                pad_b: 0,
+                spot_inner: l.spot.map_or(0.0, |s| s.1 as f32),
+                spot_outer: l.spot.map_or(0.0, |s| s.2 as f32),
+                spot_axis: l.spot.map_or([0.0; 4], |s| tangent(s.0)),
             })
             .collect()
     }

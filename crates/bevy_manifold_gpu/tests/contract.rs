@@ -92,7 +92,9 @@ fn product_layouts() -> Vec<RustLayout> {
         rust_layout!(GpuProductMesh => "ProductMesh" {
             to_chart, placement, center, color, to_flip, to_shift, across, across_trig, tall, id, nodes, triangles,
         }),
-        rust_layout!(GpuProductLight => "ProductLight" { position, color, inv_range_sq, min_area, pad_a, pad_b }),
+        rust_layout!(GpuProductLight => "ProductLight" {
+            position, color, inv_range_sq, min_area, spot_inner, spot_outer, spot_axis,
+        }),
         rust_layout!(GpuProductFace => "ProductFace" { normal, corner, surface, flip, shift, partner, cross_steps }),
         rust_layout!(GpuProductBall => "ProductBall" { center, color, radius, id, reach_trig, pad }),
         rust_layout!(GpuProductPixel => "ProductPixel" { color, object, crossings, cell }),

@@ -238,6 +238,42 @@ fn lit_scenes_agree() {
     }
 }
 
+/// The lit scenes with their warm light made a spot (20 and 35 degrees,
+/// pointing at the axis ball): the GPU's `spot_share` against the core's,
+/// each image's cone turned with it; the spot darkens what lies outside
+/// its cone.
+fn spot_lights_agree() {
+    use bevy_manifold_core::trace::product::ProductSpot;
+    let mut gpu = tracer();
+    let (w, h) = (96, 54);
+    for space in spaces() {
+        let lit = ProductScene::lit_for(&space);
+        let mut scene = lit.clone();
+        let g = space.geometry;
+        let light = &mut scene.lights[0];
+        let (axis, _) = g.log(light.position, lit.balls[0].center).expect("apart");
+        light.spot = Some(ProductSpot {
+            axis,
+            inner: 20f64.to_radians(),
+            outer: 35f64.to_radians(),
+        });
+        let cpu = render(&space, &scene, w, h);
+        let ours = gpu.render_product(&space, &scene, w, h).expect("GPU trace");
+        check(
+            &format!("{} lit by a spot", space.name),
+            &agreement(&ours, &cpu, space.geometry.curvature()),
+        );
+        let point = render(&space, &lit, w, h);
+        let darker = cpu
+            .iter()
+            .zip(&point)
+            .filter(|(a, b)| a.object != 0 && b.color[0] - a.color[0] > 0.02)
+            .count();
+        eprintln!("  {darker} pixels darker than under the point light");
+        assert!(darker > 100, "{}: {darker}", space.name);
+    }
+}
+
 /// The prism's edges drawn as tubes (radius 0.08, so that a tube is
 /// more than its silhouette at this size), seen to a distance of 6: the GPU's
 /// `edge_entry` against the core's `ProductTubes::entry`, in the spaces
@@ -347,6 +383,7 @@ bevy_manifold_test_support::test_main! {
         the_gpu_traces_each_product_space_as_the_cpu_reference,
         eight_levels_and_a_steep_view_agree_too,
         lit_scenes_agree,
+        spot_lights_agree,
         the_prisms_edges_agree,
         the_meshes_agree,
         bad_product_input_is_refused,

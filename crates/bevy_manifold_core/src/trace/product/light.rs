@@ -56,6 +56,37 @@ pub struct ProductLight {
     /// surface (and where an S2's rays refocus it is capped so). 0: a
     /// point.
     pub radius: f64,
+    /// A spot light's cone; `None`: it shines every way.
+    pub spot: Option<ProductSpot>,
+}
+
+/// A spot light's cone, as Bevy's `SpotLight` has it: full within
+/// `inner` of its axis, none past `outer`, a smoothstep between; the
+/// angle is that at the light between the axis and the geodesic leaving
+/// it towards the lit point (each image's axis turned as its isometry
+/// turns the light).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProductSpot {
+    /// Where it points: a tangent at the light (made unit).
+    pub axis: ProductTangent,
+    /// The full cone's half-angle, radians.
+    pub inner: f64,
+    /// The outer cone's half-angle, radians.
+    pub outer: f64,
+}
+
+impl ProductSpot {
+    /// The share of its light a geodesic leaving it at cosine `cos` from
+    /// the axis carries: `smoothstep(cos outer, cos inner, cos)`. WGSL
+    /// twin: `spot_share` in `product.wgsl`.
+    #[must_use]
+    pub fn share(cos_inner: f64, cos_outer: f64, cos: f64) -> f64 {
+        if cos_inner <= cos_outer {
+            return if cos >= cos_outer { 1.0 } else { 0.0 };
+        }
+        let t = ((cos - cos_outer) / (cos_inner - cos_outer)).clamp(0.0, 1.0);
+        t * t * (3.0 - 2.0 * t)
+    }
 }
 
 impl ProductLight {
@@ -68,6 +99,7 @@ impl ProductLight {
             color: [1.0; 3],
             range: None,
             radius: 0.0,
+            spot: None,
         }
     }
 }
@@ -107,6 +139,10 @@ pub struct ProductLightImage {
     pub inv_range_sq: f64,
     /// The least area its power spreads over (its light's size).
     pub min_area: f64,
+    /// A spot's unit axis at this image (its light's turned by the
+    /// image's isometry), and the cosines of its inner and outer angles;
+    /// `None` for a point light.
+    pub spot: Option<(ProductTangent, f64, f64)>,
 }
 
 /// Most light images a product scene holds.
@@ -145,7 +181,17 @@ pub fn light_images(
 ) -> Vec<ProductLightImage> {
     let g = space.geometry;
     let lights = &lights[..lights.len().min(MAX_PRODUCT_LIGHT_IMAGES)];
-    let image = |l: &ProductLight, position: ProductPoint, range: f64| ProductLightImage {
+    let spot = |l: &ProductLight, m: &ProductIsometry, at: ProductPoint| {
+        l.spot
+            .filter(|s| s.axis.length(g) > 0.0 && s.inner.is_finite() && s.outer.is_finite())
+            .map(|s| {
+                let axis = g.normalize_tangent(at, m.apply_tangent(s.axis));
+                let outer = s.outer.clamp(0.0, std::f64::consts::PI);
+                (axis, s.inner.clamp(0.0, outer).cos(), outer.cos())
+            })
+    };
+    let image = |l: &ProductLight, (position, m): (ProductPoint, ProductIsometry), range: f64| ProductLightImage {
+        spot: spot(l, &m, position),
         position,
         intensity: if l.intensity.is_finite() {
             l.intensity.max(0.0)
@@ -163,7 +209,10 @@ pub fn light_images(
             .max(MIN_AREA),
     };
     if lighting.images == 0 {
-        return lights.iter().map(|l| image(l, l.position, f64::INFINITY)).collect();
+        return lights
+            .iter()
+            .map(|l| image(l, (l.position, ProductIsometry::IDENTITY), f64::INFINITY))
+            .collect();
     }
     let budget = (lighting.images as usize)
         .min(MAX_PRODUCT_LIGHT_IMAGES / lights.len().max(1))
@@ -171,7 +220,7 @@ pub fn light_images(
     let mut out = Vec::new();
     for l in lights {
         let (images, range) = images_of(space, l, budget);
-        out.extend(images.into_iter().map(|p| image(l, p, range)));
+        out.extend(images.into_iter().map(|pm| image(l, pm, range)));
     }
     out
 }
@@ -216,8 +265,9 @@ fn from_prism(space: &ProductSpace, vertices: &[DVec3], p: ProductPoint) -> (f64
     (ds, dh)
 }
 
-/// The images of light `l` that light the prism, at most `budget`, and
-/// the range they are complete to (infinite: no cut-off).
+/// The images of light `l` that light the prism (each with the isometry
+/// taking the light to it), at most `budget`, and the range they are
+/// complete to (infinite: no cut-off).
 ///
 /// They are found by walking the copies of the prism from the prism,
 /// each across a face of the last (`h` to `h G_f`, the light's image in
@@ -234,7 +284,7 @@ fn from_prism(space: &ProductSpace, vertices: &[DVec3], p: ProductPoint) -> (f64
 /// central anchor halves `far_s` against the light's own image: the
 /// genus-2 octagon's corners are 2.45 from its centre, 4.9 apart, and
 /// the copies walked grow as `e` to that slack.)
-fn images_of(space: &ProductSpace, l: &ProductLight, budget: usize) -> (Vec<ProductPoint>, f64) {
+fn images_of(space: &ProductSpace, l: &ProductLight, budget: usize) -> (Vec<(ProductPoint, ProductIsometry)>, f64) {
     let g = space.geometry;
     let vertices = space.vertices();
     let holds = |q: DVec3| space.sides.iter().all(|s| g.form(*s, q) <= 0.0);
@@ -272,7 +322,7 @@ fn images_of(space: &ProductSpace, l: &ProductLight, budget: usize) -> (Vec<Prod
     // images some of whose neighbours lay past the last reach are looked
     // at again.
     let mut reach = requested.min(1.0);
-    let mut last: Option<(Vec<ProductPoint>, f64)> = None;
+    let mut last: Option<(Vec<(ProductPoint, ProductIsometry)>, f64)> = None;
     let start = (
         from_prism(space, &vertices, l.position),
         l.position,
@@ -333,22 +383,23 @@ fn images_of(space: &ProductSpace, l: &ProductLight, budget: usize) -> (Vec<Prod
             again.clear();
             continue;
         }
-        let mut found: Vec<(f64, ProductPoint)> = found.iter().map(|f| (f.0.0.hypot(f.0.1), f.1)).collect();
+        let mut found: Vec<(f64, ProductPoint, ProductIsometry)> =
+            found.iter().map(|f| (f.0.0.hypot(f.0.1), f.1, f.2)).collect();
         found.sort_by(|a, b| a.0.total_cmp(&b.0));
         // One image once (a point on the grid's edge may have two keys).
-        let mut images: Vec<(f64, ProductPoint)> = Vec::with_capacity(found.len());
-        for &(near, p) in &found {
+        let mut images: Vec<(f64, ProductPoint, ProductIsometry)> = Vec::with_capacity(found.len());
+        for &(near, p, e) in &found {
             let twice = images
                 .iter()
                 .rev()
                 .take_while(|i| i.0 > near - 1e-3)
                 .any(|i| g.distance(i.1, p) < 1e-3);
             if !twice {
-                images.push((near, p));
+                images.push((near, p, e));
             }
         }
         let within = |r: f64| images.partition_point(|f| f.0 < r);
-        let keep = |r: f64| (images[..within(r)].iter().map(|f| f.1).collect(), r);
+        let keep = |r: f64| (images[..within(r)].iter().map(|f| (f.1, f.2)).collect(), r);
         if capped {
             // The walk could not finish: what the last whole one found.
             return last.unwrap_or((Vec::new(), 0.0));
@@ -404,6 +455,22 @@ pub fn light_arcs(g: ProductGeometry, x: ProductPoint, light: ProductPoint) -> V
         });
     }
     arcs
+}
+
+/// The share of a spot image's light that reaches `x` along `arc`: the
+/// geodesic followed to the light, the tangent it arrives with turned
+/// back (the way it leaves the light towards `x`) against the spot's
+/// axis ([`ProductSpot::share`]). WGSL twin: `spot_share`.
+#[must_use]
+pub fn spot_share(
+    g: ProductGeometry,
+    x: ProductPoint,
+    arc: &LightArc,
+    (axis, cos_inner, cos_outer): (ProductTangent, f64, f64),
+) -> f64 {
+    let (_, arriving) = g.exp(x, arc.dir, arc.length);
+    let cos = -g.dot(arriving, axis);
+    ProductSpot::share(cos_inner, cos_outer, cos)
 }
 
 /// The irradiance a light image gives along an arc of `length` whose
@@ -483,7 +550,10 @@ pub fn direct(
             if nl <= 0.0 {
                 continue;
             }
-            let e = arc_irradiance(g, l, (arc.length, arc.surface), fog);
+            let mut e = arc_irradiance(g, l, (arc.length, arc.surface), fog);
+            if let Some((axis, cos_inner, cos_outer)) = l.spot {
+                e *= spot_share(g, x, &arc, (axis, cos_inner, cos_outer));
+            }
             if e <= 0.0 {
                 continue;
             }

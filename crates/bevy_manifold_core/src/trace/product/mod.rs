@@ -37,8 +37,8 @@ pub use edges::{EDGE_ID, ProductEdge, ProductEdges, ProductTubes};
 pub use mesh::{ProductMesh, ProductMeshError, ProductMeshImage, mesh_images};
 
 pub use light::{
-    DIM_LIGHT, LightArc, MAX_PRODUCT_LIGHT_IMAGES, ProductLight, ProductLightImage, ProductLighting, SHADOW_OFFSET,
-    arc_irradiance, direct, light_arcs, light_images, shadowed,
+    DIM_LIGHT, LightArc, MAX_PRODUCT_LIGHT_IMAGES, ProductLight, ProductLightImage, ProductLighting, ProductSpot,
+    SHADOW_OFFSET, arc_irradiance, direct, light_arcs, light_images, shadowed, spot_share,
 };
 pub use view::{AMBIENT, FOG_COLOR, ProductPixel, ProductScene, ProductView, palette, render};
 
