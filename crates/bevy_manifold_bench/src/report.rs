@@ -63,7 +63,7 @@ const AREAS: &[Area] = &[
     },
     Area {
         title: "The product geometries against Seifert-Weber",
-        method: "GPU frame time of the product spaces' tracer (H2xR and S2xR: exact geodesics, faces crossed in closed form, geodesic balls by sphere tracing, and on the CPU in H2xR by Newton's method) in the five product spaces, each with its default scene (lit from the eye) and lit by two point lights (32 images of each, with shadows, and without them) and with the prism's edges drawn as tubes, over the main tracer's in Seifert-Weber's space with its default scene, at the same size and levels (the goal: within 1.5x); and the CPU f64 reference's frame.",
+        method: "GPU frame time of the product spaces' tracer (H2xR and S2xR: exact geodesics, faces crossed in closed form, geodesic balls by sphere tracing, and on the CPU in H2xR by Newton's method) in the five product spaces, each with its default scene (lit from the eye) lit by two point lights (32 images of each, with shadows, and without them), with the prism's edges drawn as tubes, and with two meshes (the airplane and a box, 156 triangles, traced in the product metric), over the main tracer's in Seifert-Weber's space with its default scene, at the same size and levels (the goal: within 1.5x); and the CPU f64 reference's frame.",
         args: &["product", "--runs", "3"],
     },
     Area {
