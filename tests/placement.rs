@@ -1000,3 +1000,54 @@ fn product_casts_meet_meshes() {
         .expect("the cast runs");
     assert_eq!(first.iter().map(|h| h.entity).collect::<Vec<_>>(), [ball, mesh]);
 }
+
+/// [`ProductContacts`]: in S2 x S1 of circle 2, bodies of radius 0.3 at
+/// heights 0.9 and -0.9 touch through the top (0.2 apart, 0.4 deep), a
+/// third at height 0 touches neither (0.9 from each), and bodies of
+/// another space are not asked about.
+///
+/// [`ProductContacts`]: bevy_manifold::product::ProductContacts
+#[test]
+fn product_bodies_touch_through_the_faces() {
+    use bevy::ecs::system::RunSystemOnce;
+    use bevy_manifold::geometry::product::ProductPoint;
+    use bevy_manifold::product::{ProductBody, ProductContacts, ProductSpaceRoot};
+    use bevy_manifold::space::product::ProductSpace;
+    use std::sync::Arc;
+    let mut app = app(Duration::from_millis(16));
+    let root = app
+        .world_mut()
+        .spawn(ProductSpaceRoot(Arc::new(ProductSpace::s2_x_s1(2.0))))
+        .id();
+    let other = app
+        .world_mut()
+        .spawn(ProductSpaceRoot(Arc::new(ProductSpace::s2_x_s1(2.0))))
+        .id();
+    let mut body = |parent: Entity, h: f64| {
+        app.world_mut()
+            .spawn((
+                ChildOf(parent),
+                ProductBody {
+                    center: ProductPoint::new(DVec3::Z, h),
+                    radius: 0.3,
+                    id: 1,
+                },
+            ))
+            .id()
+    };
+    let (a, b, c, d) = (body(root, 0.9), body(root, -0.9), body(root, 0.0), body(other, -0.9));
+    app.update();
+    let (from_a, from_c, a_d) = app
+        .world_mut()
+        .run_system_once(move |contacts: ProductContacts| {
+            let from_a: Vec<(Entity, f64)> = contacts
+                .touching(a)
+                .into_iter()
+                .map(|(e, t)| (e, (t[0].depth * 1e9).round() / 1e9))
+                .collect();
+            (from_a, contacts.touching(c), contacts.contacts(a, d))
+        })
+        .expect("the query runs");
+    assert_eq!(from_a, vec![(b, 0.4)]);
+    assert!(from_c.is_empty() && a_d.is_empty(), "{from_c:?} {a_d:?}");
+}

@@ -14,7 +14,8 @@
 //! [`ProductMeshPlacement`] becomes one) among its children are what the
 //! [`ProductCamera`]s among its children show, lit by the
 //! [`ProductPointLight`]s among its children (every image of each, with
-//! shadows); [`ProductRayCast`] casts rays against the bodies and meshes.
+//! shadows); [`ProductRayCast`] casts rays against the bodies and meshes,
+//! and [`ProductContacts`] says which bodies touch.
 //! A [`ProductTourPlayer`] flies a camera through a product tour.
 //!
 //! ```no_run
@@ -37,10 +38,12 @@
 //! ```
 
 pub mod cast;
+pub mod contact;
 #[cfg(feature = "render")]
 pub mod render;
 
 pub use cast::{ProductRayCast, ProductRayHit};
+pub use contact::ProductContacts;
 
 use crate::placement::{GeodesicVelocity, ManifoldSystems};
 use bevy::prelude::*;

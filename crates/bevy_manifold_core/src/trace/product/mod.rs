@@ -28,6 +28,7 @@ use crate::geometry::product::{ProductGeometry, ProductIsometry, ProductPoint, P
 use crate::space::product::ProductSpace;
 use glam::DVec3;
 
+pub mod contact;
 mod edges;
 mod light;
 pub mod mesh;
