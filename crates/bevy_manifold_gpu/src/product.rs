@@ -443,49 +443,6 @@ impl GpuProductScene {
         space: &ProductSpace,
         scene: &ProductScene,
         (lights, words): (Vec<GpuProductLight>, Arc<ProductMeshWords>),
-        size: (u32, u32),
-    ) -> Self {
-        let mut packed = Self::pack_lit(
-            space,
-            &ProductScene {
-                meshes: Vec::new(),
-                ..scene.clone()
-            },
-            lights,
-            size,
-        );
-        packed.meshes = pack_meshes(space, &mesh_images(space, &scene.meshes), &words);
-        packed.params.mesh_count = packed.meshes.len() as u32;
-        packed.mesh_data = words;
-        packed
-    }
-
-    /// The images of `scene`'s lights as the GPU reads them (the core's
-    /// [`light_images`]): worked out once while the lights stay, as the
-    /// Bevy pass does.
-    #[must_use]
-    pub fn pack_lights(space: &ProductSpace, scene: &ProductScene) -> Vec<GpuProductLight> {
-        light_images(space, &scene.lights, scene.lighting)
-            .iter()
-            .map(|l| GpuProductLight {
-                position: point(l.position),
-                color: [l.color[0], l.color[1], l.color[2], l.intensity as f32],
-                inv_range_sq: l.inv_range_sq as f32,
-                min_area: l.min_area as f32,
-                spot_inner: l.spot.map_or(0.0, |s| s.1 as f32),
-                spot_outer: l.spot.map_or(0.0, |s| s.2 as f32),
-                spot_axis: l.spot.map_or([0.0; 4], |s| tangent(s.0)),
-            })
-            .collect()
-    }
-
-    /// `scene` in `space` lit by `lights` (its lights' images, packed by
-    /// [`GpuProductScene::pack_lights`]), for a `width x height` image.
-    #[must_use]
-    pub fn pack_lit(
-        space: &ProductSpace,
-        scene: &ProductScene,
-        lights: Vec<GpuProductLight>,
         (width, height): (u32, u32),
     ) -> Self {
         let view = &scene.view;
@@ -504,10 +461,9 @@ impl GpuProductScene {
                 }
             })
             .collect();
-        let mesh_data = Arc::new(ProductMeshWords::of(&scene.meshes));
-        let meshes = pack_meshes(space, &mesh_images(space, &scene.meshes), &mesh_data);
+        let meshes = pack_meshes(space, &mesh_images(space, &scene.meshes), &words);
         let corners = space.vertices();
-        let tubes = ProductTubes::of(space, scene.edges);
+        let tube_radius = ProductTubes::radius_of(space, scene.edges);
         let faces = (0..space.face_count())
             .map(|f| {
                 let m = space.gluings[f].isometry();
@@ -541,8 +497,8 @@ impl GpuProductScene {
                 frustum: view
                     .frustum
                     .map_or([0.0; 4], |f| f.half_extent_and_centre().map(|v| v as f32)),
-                edges: match scene.edges {
-                    Some(e) if !tubes.edges.is_empty() => [e.color[0], e.color[1], e.color[2], tubes.radius as f32],
+                edges: match (scene.edges, tube_radius) {
+                    (Some(e), Some(r)) => [e.color[0], e.color[1], e.color[2], r as f32],
                     _ => [0.0; 4],
                 },
                 width,
@@ -574,8 +530,44 @@ impl GpuProductScene {
             balls,
             lights,
             meshes,
-            mesh_data,
+            mesh_data: words,
         }
+    }
+
+    /// The images of `scene`'s lights as the GPU reads them (the core's
+    /// [`light_images`]): worked out once while the lights stay, as the
+    /// Bevy pass does.
+    #[must_use]
+    pub fn pack_lights(space: &ProductSpace, scene: &ProductScene) -> Vec<GpuProductLight> {
+        light_images(space, &scene.lights, scene.lighting)
+            .iter()
+            .map(|l| GpuProductLight {
+                position: point(l.position),
+                color: [l.color[0], l.color[1], l.color[2], l.intensity as f32],
+                inv_range_sq: l.inv_range_sq as f32,
+                min_area: l.min_area as f32,
+                spot_inner: l.spot.map_or(0.0, |s| s.1 as f32),
+                spot_outer: l.spot.map_or(0.0, |s| s.2 as f32),
+                spot_axis: l.spot.map_or([0.0; 4], |s| tangent(s.0)),
+            })
+            .collect()
+    }
+
+    /// `scene` in `space` lit by `lights` (its lights' images, packed by
+    /// [`GpuProductScene::pack_lights`]), for a `width x height` image.
+    #[must_use]
+    pub fn pack_lit(
+        space: &ProductSpace,
+        scene: &ProductScene,
+        lights: Vec<GpuProductLight>,
+        (width, height): (u32, u32),
+    ) -> Self {
+        Self::pack_with(
+            space,
+            scene,
+            (lights, Arc::new(ProductMeshWords::of(&scene.meshes))),
+            (width, height),
+        )
     }
 }
 

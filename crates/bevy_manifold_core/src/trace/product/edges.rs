@@ -130,7 +130,7 @@ impl ProductTubes {
     /// `None` or its radius is not finite and positive.
     #[must_use]
     pub fn of(space: &ProductSpace, edges: Option<ProductEdges>) -> Self {
-        let Some(radius) = edges.map(|e| e.radius).filter(|r| r.is_finite() && *r > 0.0) else {
+        let Some(radius) = Self::radius_of(space, edges) else {
             return Self::default();
         };
         let g = space.geometry;
@@ -152,6 +152,15 @@ impl ProductTubes {
             bottom: -space.height / 2.0,
             top: space.height / 2.0,
         }
+    }
+
+    /// The radius of the tubes [`ProductTubes::of`] makes: `None` where
+    /// `edges` is `None`, its radius is not finite and positive, or the
+    /// prism has no edges (S2 x S1, the whole sphere).
+    #[must_use]
+    pub fn radius_of(space: &ProductSpace, edges: Option<ProductEdges>) -> Option<f64> {
+        let radius = edges.map(|e| e.radius).filter(|r| r.is_finite() && *r > 0.0)?;
+        (!space.sides.is_empty()).then_some(radius)
     }
 
     /// The first distance in `[0, length]` at which `ray` (in the prism)
