@@ -22,7 +22,7 @@ use bevy_manifold::geometry::product::{ProductPoint, ProductTangent};
 use bevy_manifold::product::{ProductBody, ProductCamera, ProductSpaceRoot};
 use bevy_manifold::space::product::ProductSpace;
 use bevy_manifold::trace::product::{
-    ProductBall, ProductEdges, ProductRay, ProductScene, ProductView, flow, hits, images,
+    ProductBall, ProductEdges, ProductObjects, ProductRay, ProductScene, ProductView, flow, hits_in, images,
 };
 use glam::DVec3;
 use std::sync::Arc;
@@ -286,7 +286,10 @@ pub fn sweep_product_shots(
         return;
     };
     let list: Vec<Entity> = targets.iter().map(|(e, _)| e).collect();
-    let mut balls: Vec<ProductBall> = targets
+    let player_id = list.len() as u32;
+    // The grown balls' images, made once a tick: the targets', then the
+    // player's (for the shots past their grace).
+    let grown: Vec<ProductBall> = targets
         .iter()
         .enumerate()
         .map(|(k, (_, b))| ProductBall {
@@ -295,7 +298,20 @@ pub fn sweep_product_shots(
             id: k as u32,
         })
         .collect();
-    let player_id = list.len() as u32;
+    let target_images = images(&space, &grown);
+    let player = ProductBall {
+        center: eye,
+        radius: rules.player_radius + rules.shot_radius,
+        id: player_id,
+    };
+    let with_player = ProductObjects {
+        balls: [target_images.clone(), images(&space, &[player])].concat(),
+        ..ProductObjects::default()
+    };
+    let without_player = ProductObjects {
+        balls: target_images,
+        ..ProductObjects::default()
+    };
     for (entity, shot, body) in &shots {
         let speed = shot.velocity.length(g);
         if speed <= 0.0 {
@@ -305,22 +321,20 @@ pub fn sweep_product_shots(
             origin: body.center,
             dir: shot.velocity.unit(g),
         };
-        balls.truncate(list.len());
-        if shot.age >= rules.grace {
-            balls.push(ProductBall {
-                center: eye,
-                radius: rules.player_radius + rules.shot_radius,
-                id: player_id,
-            });
-        }
+        let objects = if shot.age >= rules.grace {
+            &with_player
+        } else {
+            &without_player
+        };
         // A shot already in a grown ball (a target it was fired into)
         // hits it where it is; else the first ball its step enters.
-        let inside = images(&space, &balls)
-            .into_iter()
+        let inside = objects
+            .balls
+            .iter()
             .find(|b| g.distance(b.center, body.center) <= b.radius)
             .map(|b| (b.id, 0.0, 0));
         let entered = || {
-            hits(&space, &balls, ray, speed * dt, 64)
+            hits_in(&space, objects, ray, speed * dt, 64)
                 .into_iter()
                 .next()
                 .map(|h| (h.object, h.distance, h.faces.len()))
