@@ -16,6 +16,25 @@ fn product_uploads(app: &App) -> bevy_manifold::product::render::ProductUploads 
         .uploads
 }
 
+/// A `ProductSpaceRoot` of `space` with `scene`'s balls and lights among
+/// its children: the root and the lights.
+fn spawn_lit_root(app: &mut App, space: &ProductSpace, scene: &ProductScene) -> (Entity, Vec<Entity>) {
+    use bevy_manifold::product::{ProductBody, ProductPointLight, ProductSpaceRoot};
+    let root = app
+        .world_mut()
+        .spawn(ProductSpaceRoot(std::sync::Arc::new(space.clone())))
+        .id();
+    for b in &scene.balls {
+        app.world_mut().spawn((ChildOf(root), ProductBody::from(*b)));
+    }
+    let lights = scene
+        .lights
+        .iter()
+        .map(|l| app.world_mut().spawn((ChildOf(root), ProductPointLight(*l))).id())
+        .collect();
+    (root, lights)
+}
+
 /// A product camera on a `Camera3d` that renders into `image`.
 fn spawn_product_camera(app: &mut App, image: &Handle<Image>, camera: ProductCamera) -> Entity {
     app.world_mut()
@@ -182,21 +201,11 @@ pub fn a_product_camera_shades_each_copy_by_its_cell() {
 /// traces (within 3/255 in 98% of the pixels); with the lights taken away
 /// it draws the scene lit from the eye again.
 pub fn a_product_camera_is_lit_by_its_roots_lights() {
-    use bevy_manifold::product::{ProductBody, ProductPointLight, ProductSpaceRoot};
-    use std::sync::Arc;
     for space in [ProductSpace::s2_x_s1(2.0), ProductSpace::genus_two_x_s1(2.0)] {
         let mut app = headless_app(true);
         let image = target(&mut app, W, H);
         let scene = ProductScene::lit_for(&space);
-        let root = app.world_mut().spawn(ProductSpaceRoot(Arc::new(space.clone()))).id();
-        for b in &scene.balls {
-            app.world_mut().spawn((ChildOf(root), ProductBody::from(*b)));
-        }
-        let lights: Vec<Entity> = scene
-            .lights
-            .iter()
-            .map(|l| app.world_mut().spawn((ChildOf(root), ProductPointLight(*l))).id())
-            .collect();
+        let (root, lights) = spawn_lit_root(&mut app, &space, &scene);
         let camera = spawn_product_camera(&mut app, &image, ProductCamera::default_for(space.clone()));
         app.world_mut().entity_mut(camera).insert(ChildOf(root));
         wait_for_pipelines(&mut app);
@@ -325,22 +334,13 @@ pub fn meshes_in_a_product_space_are_traced() {
 /// both cameras come to draw the new lighting (what the CPU reference
 /// traces, within 3/255 in 98% of the pixels).
 pub fn light_images_are_worked_out_once_for_every_camera_that_shows_them() {
+    use bevy_manifold::product::ProductPointLight;
     use bevy_manifold::product::render::ProductLightJobs;
-    use bevy_manifold::product::{ProductBody, ProductPointLight, ProductSpaceRoot};
-    use std::sync::Arc;
     let space = ProductSpace::genus_two_x_s1(2.0);
     let mut app = headless_app(true);
     let images = [target(&mut app, W, H), target(&mut app, W, H)];
     let mut scene = ProductScene::lit_for(&space);
-    let root = app.world_mut().spawn(ProductSpaceRoot(Arc::new(space.clone()))).id();
-    for b in &scene.balls {
-        app.world_mut().spawn((ChildOf(root), ProductBody::from(*b)));
-    }
-    let lights: Vec<Entity> = scene
-        .lights
-        .iter()
-        .map(|l| app.world_mut().spawn((ChildOf(root), ProductPointLight(*l))).id())
-        .collect();
+    let (root, lights) = spawn_lit_root(&mut app, &space, &scene);
     for image in &images {
         let camera = spawn_product_camera(&mut app, image, ProductCamera::default_for(space.clone()));
         app.world_mut().entity_mut(camera).insert(ChildOf(root));

@@ -337,27 +337,13 @@ fn a_light_above_a_ball_lights_it_once_per_circle_and_its_copies_shade_it() {
     // one crossing of the top face.
     let arcs = light_arcs(g, x, ProductPoint::new(DVec3::Z, 2.6));
     assert_eq!(arcs.len(), 1, "straight up: no way round the sphere");
-    assert!(shadowed(
-        &space,
-        &ProductObjects {
-            balls: balls.clone(),
-            ..ProductObjects::default()
-        },
-        (x, up),
-        &arcs[0],
-        8
-    ));
+    let objects = ProductObjects {
+        balls: balls.clone(),
+        ..ProductObjects::default()
+    };
+    assert!(shadowed(&space, &objects, (x, up), &arcs[0], 8));
     assert!(
-        !shadowed(
-            &space,
-            &ProductObjects {
-                balls: balls.clone(),
-                ..ProductObjects::default()
-            },
-            (x, up),
-            &arcs[0],
-            0
-        ),
+        !shadowed(&space, &objects, (x, up), &arcs[0], 0),
         "the copy is past a face"
     );
 }

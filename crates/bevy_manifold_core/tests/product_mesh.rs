@@ -42,6 +42,11 @@ fn octahedron(a: f32) -> Arc<MeshData> {
     MeshData::shared(TriMesh::new(positions, None, None, triangles).unwrap())
 }
 
+/// What rays meet in `space`: the one mesh, placed, with `id`.
+fn alone(space: &ProductSpace, mesh: Arc<MeshData>, placement: ProductIsometry, id: u32) -> ProductObjects {
+    ProductObjects::new(space, &[], None, &[ProductMesh { mesh, placement, id }])
+}
+
 /// A random generator (xorshift), in [0, 1).
 fn rng(mut seed: u64) -> impl FnMut() -> f64 {
     move || {
@@ -113,78 +118,66 @@ fn entries_agree_in(
     (mesh, inside): (Arc<MeshData>, &dyn Fn(DVec3) -> f64),
     seed: u64,
 ) {
-    {
-        let space = space.clone();
-        let g = space.geometry;
-        let objects = ProductObjects::new(
-            &space,
-            &[],
-            None,
-            &[ProductMesh {
-                mesh: mesh.clone(),
-                placement,
-                id: 5,
-            }],
+    let g = space.geometry;
+    let objects = alone(space, mesh.clone(), placement, 5);
+    let to_chart = placement.inverse(g);
+    let center = placement.apply(ProductPoint::ORIGIN);
+    let mut random = rng(seed);
+    let (mut hits, mut misses, mut skipped) = (0, 0, 0);
+    for k in 0..600 {
+        let from = ProductPoint::new(
+            chart_point(g, DVec3::new(0.8 * random() - 0.4, 0.8 * random() - 0.4, 0.0)).surface,
+            0.3 + 1.2 * random() - 0.6,
         );
-        let to_chart = placement.inverse(g);
-        let center = placement.apply(ProductPoint::ORIGIN);
-        let mut random = rng(seed);
-        let (mut hits, mut misses, mut skipped) = (0, 0, 0);
-        for k in 0..600 {
-            let from = ProductPoint::new(
-                chart_point(g, DVec3::new(0.8 * random() - 0.4, 0.8 * random() - 0.4, 0.0)).surface,
-                0.3 + 1.2 * random() - 0.6,
-            );
-            let (toward, d) = g.log(from, center).unwrap();
-            let side = g.normalize_tangent(
-                from,
-                ProductTangent::new(
-                    DVec3::new(random() - 0.5, random() - 0.5, random() - 0.5),
-                    random() - 0.5,
-                ),
-            );
-            let off = 0.6 * random();
-            let dir = g.normalize_tangent(
-                from,
-                ProductTangent::new(toward.surface + side.surface * off, toward.height + side.height * off),
-            );
-            let ray = ProductRay { origin: from, dir };
-            if inside(chart_of(to_chart.apply(from))) <= 0.0 {
-                continue;
+        let (toward, d) = g.log(from, center).unwrap();
+        let side = g.normalize_tangent(
+            from,
+            ProductTangent::new(
+                DVec3::new(random() - 0.5, random() - 0.5, random() - 0.5),
+                random() - 0.5,
+            ),
+        );
+        let off = 0.6 * random();
+        let dir = g.normalize_tangent(
+            from,
+            ProductTangent::new(toward.surface + side.surface * off, toward.height + side.height * off),
+        );
+        let ray = ProductRay { origin: from, dir };
+        if inside(chart_of(to_chart.apply(from))) <= 0.0 {
+            continue;
+        }
+        let end = d + 0.5;
+        let seen = hits_in(space, &objects, ray, end, 8);
+        match sampled_entry(g, &to_chart, ray, end, inside) {
+            Some(None) => skipped += 1,
+            None => {
+                assert!(
+                    seen.is_empty(),
+                    "{} ray {k}: sampled a miss, traced {:?}",
+                    g.name(),
+                    seen[0].distance
+                );
+                misses += 1;
             }
-            let end = d + 0.5;
-            let seen = hits_in(&space, &objects, ray, end, 8);
-            match sampled_entry(g, &to_chart, ray, end, inside) {
-                Some(None) => skipped += 1,
-                None => {
-                    assert!(
-                        seen.is_empty(),
-                        "{} ray {k}: sampled a miss, traced {:?}",
-                        g.name(),
-                        seen[0].distance
-                    );
-                    misses += 1;
-                }
-                Some(Some(s)) => {
-                    let hit = seen
-                        .first()
-                        .unwrap_or_else(|| panic!("{} ray {k}: sampled {s}", g.name()));
-                    assert_eq!(hit.object, 5);
-                    assert!(
-                        (hit.distance - s).abs() < 1e-9,
-                        "{} ray {k}: traced {}, sampled {s}",
-                        g.name(),
-                        hit.distance
-                    );
-                    // The normal faces the ray.
-                    assert!(g.dot(hit.normal, hit.dir) < 0.0);
-                    hits += 1;
-                }
+            Some(Some(s)) => {
+                let hit = seen
+                    .first()
+                    .unwrap_or_else(|| panic!("{} ray {k}: sampled {s}", g.name()));
+                assert_eq!(hit.object, 5);
+                assert!(
+                    (hit.distance - s).abs() < 1e-9,
+                    "{} ray {k}: traced {}, sampled {s}",
+                    g.name(),
+                    hit.distance
+                );
+                // The normal faces the ray.
+                assert!(g.dot(hit.normal, hit.dir) < 0.0);
+                hits += 1;
             }
         }
-        eprintln!("{}: {hits} hits, {misses} misses, {skipped} too near a graze", g.name());
-        assert!(hits > 150 && misses > 50 && skipped < 10, "{hits} {misses} {skipped}");
     }
+    eprintln!("{}: {hits} hits, {misses} misses, {skipped} too near a graze", g.name());
+    assert!(hits > 150 && misses > 50 && skipped < 10, "{hits} {misses} {skipped}");
 }
 
 #[test]
@@ -237,16 +230,7 @@ fn a_boxs_walls_and_top_have_the_models_normals_and_distances() {
     for space in [ProductSpace::s2_x_s1(40.0), ProductSpace::genus_two_x_s1(40.0)] {
         let g = space.geometry;
         let k = g.curvature();
-        let objects = ProductObjects::new(
-            &space,
-            &[],
-            None,
-            &[ProductMesh {
-                mesh: cube(a as f32),
-                placement: ProductIsometry::IDENTITY,
-                id: 1,
-            }],
-        );
+        let objects = alone(&space, cube(a as f32), ProductIsometry::IDENTITY, 1);
         let across = match g {
             ProductGeometry::H2xR => a.atanh(),
             ProductGeometry::S2xR => a.atan(),
@@ -288,16 +272,7 @@ fn a_slanted_faces_normal_is_orthogonal_to_the_face() {
             ProductGeometry::H2xR => ProductSpace::genus_two_x_s1(40.0),
             ProductGeometry::S2xR => ProductSpace::s2_x_s1(40.0),
         };
-        let objects = ProductObjects::new(
-            &space,
-            &[],
-            None,
-            &[ProductMesh {
-                mesh: octahedron(a as f32),
-                placement: ProductIsometry::IDENTITY,
-                id: 1,
-            }],
-        );
+        let objects = alone(&space, octahedron(a as f32), ProductIsometry::IDENTITY, 1);
         // From the chart's point (0.3, 0.3, 0.3) (outside) back towards
         // the origin.
         let from = chart_point(g, DVec3::splat(0.3));
@@ -368,15 +343,11 @@ fn a_mesh_repeats_up_the_circle_and_round_the_sphere() {
 fn a_mesh_shadows_a_light() {
     let space = ProductSpace::genus_two_x_s1(4.0);
     let g = space.geometry;
-    let objects = ProductObjects::new(
+    let objects = alone(
         &space,
-        &[],
-        None,
-        &[ProductMesh {
-            mesh: cube(0.125),
-            placement: ProductIsometry::new(g.translation(0.0, 0.3), 1.0, 0.0),
-            id: 1,
-        }],
+        cube(0.125),
+        ProductIsometry::new(g.translation(0.0, 0.3), 1.0, 0.0),
+        1,
     );
     let up = ProductTangent::new(DVec3::ZERO, 1.0);
     let arc = |surface: DVec3| LightArc {
